@@ -1,0 +1,22 @@
+"""springbalance: design gravity-balancing springs for robot arms described by URDF.
+
+Data flows one way: :class:`Mechanism` → :class:`Workspace` → springs →
+:class:`DesignProblem` → solve → :class:`DesignResult` → report.
+"""
+
+from .errors import ConfigError, InputError, SolverError, SpringBalanceError
+from .mechanism import GROUND, Joint, Mechanism
+from .objectives import OBJECTIVES
+from .params import Anchor, Free, Plane, Segment
+from .problem import DesignProblem, Evaluation
+from .result import DesignResult
+from .springs import ExtensionSpring, Spring, ZeroFreeLengthSpring
+from .workspace import Coupling, Workspace
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "Anchor", "ConfigError", "Coupling", "DesignProblem", "DesignResult", "Evaluation", "ExtensionSpring",
+    "Free", "GROUND", "InputError", "Joint", "Mechanism", "OBJECTIVES", "Plane", "Segment", "SolverError",
+    "Spring", "SpringBalanceError", "Workspace", "ZeroFreeLengthSpring",
+]

@@ -1,0 +1,34 @@
+"""Typed failures.
+
+Every error a user can cause is a :class:`SpringBalanceError` whose message names the
+culprit (file, body, joint, config key or value). The command-line tool prints the
+message on one line and exits with status 2.
+"""
+
+from __future__ import annotations
+
+
+class SpringBalanceError(Exception):
+    """Base class of every error springbalance raises on purpose."""
+
+
+class InputError(SpringBalanceError, ValueError):
+    """Bad input: unknown names, inconsistent bounds, malformed files or configs."""
+
+
+class ConfigError(InputError):
+    """A configuration file (YAML/JSON) that does not match the documented schema."""
+
+
+class SolverError(SpringBalanceError):
+    """No start of a design problem produced a usable design.
+
+    Attributes:
+        problem: the :class:`~springbalance.problem.DesignProblem` that was solved.
+        starts: per-start records with the solver's own status string.
+    """
+
+    def __init__(self, message: str, problem=None, starts=None):
+        super().__init__(message)
+        self.problem = problem
+        self.starts = starts or []

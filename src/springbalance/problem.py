@@ -1,0 +1,240 @@
+r"""The design problem: mechanism + workspace + springs + objective → an inspectable NLP.
+
+``DesignProblem(mechanism, workspace, springs, objective="rms").solve(starts=8)`` is the
+one-line use. In between, :meth:`DesignProblem.build` returns an :class:`Nlp` whose
+variables, bounds and CasADi expressions can be inspected or handed to another solver.
+
+Scaling (what the solvers see): each design variable ``x_k ∈ [lower_k, upper_k]`` is
+mapped to ``z_k ∈ [0, 1]``; torques are divided by ``S``, the RMS of the unbalanced
+weighted gravity torque [N·m]; potentials by the standard deviation of the unbalanced
+potential [J]. Solutions and reports are always in physical units.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Mapping, Sequence
+
+import casadi as ca
+import numpy as np
+
+from .errors import InputError
+from .mechanism import Mechanism
+from .objectives import Objective, objective_named
+from .springs import Spring
+from .torque_model import SampleEvaluator, TorqueModel
+from .workspace import Workspace
+
+
+@dataclasses.dataclass
+class Evaluation:
+    """Numeric state of a design over the workspace (physical units).
+
+    Attributes:
+        x: design vector.
+        tau: residual actuator torque N×nv [N·m or N].
+        potential: total potential ``V_g + Σ V_s`` per sample (N) [J].
+        lengths: spring lengths N×n_s [m]; tensions: N×n_s [N].
+        constraint_rows: N×n_c, ``≥ 0`` when feasible.
+    """
+
+    x: np.ndarray
+    tau: np.ndarray
+    potential: np.ndarray
+    lengths: np.ndarray
+    tensions: np.ndarray
+    constraint_rows: np.ndarray
+
+    @property
+    def max_violation(self) -> float:
+        """Largest constraint violation (0 when feasible)."""
+        if self.constraint_rows.size == 0:
+            return 0.0
+        return float(max(0.0, -np.min(self.constraint_rows)))
+
+
+@dataclasses.dataclass
+class Nlp:
+    """The optimisation problem as the solvers see it (scaled).
+
+    ``z`` are the scaled design variables in [0, 1] followed by any epigraph variables of the
+    objective; ``cost`` and ``rows`` (≥ 0) are CasADi MX expressions of ``z``.
+    """
+
+    z: ca.MX
+    lower: np.ndarray
+    upper: np.ndarray
+    cost: ca.MX
+    rows: ca.MX
+    n_design: int
+    extra_start: object  # callable(weighted tau N×nv) -> starts of the extra variables
+
+    @property
+    def size(self) -> int:
+        return int(self.z.numel())
+
+    @property
+    def n_rows(self) -> int:
+        return int(self.rows.numel())
+
+
+class DesignProblem:
+    """Choose spring parameters so that the actuators carry as little gravity torque as possible.
+
+    Args:
+        mechanism: the arm.
+        workspace: samples over which the design is judged (of ``mechanism``).
+        springs: spring objects; unnamed ones are called ``s1``, ``s2``, … in order.
+        objective: ``"rms"``, ``"peak"``, ``"pe_variance"`` or ``"energy"`` (ordered workspace).
+        weights: per-joint weights ``w_j`` (joint name → weight ≥ 0); default 1 for every joint.
+    """
+
+    def __init__(self, mechanism: Mechanism, workspace: Workspace, springs: Sequence[Spring],
+                 objective: str | Objective = "rms", weights: Mapping[str, float] | None = None):
+        if workspace.mechanism is not mechanism:
+            raise InputError("the workspace was sampled for a different mechanism object; build it from the same Mechanism")
+        self.mechanism, self.workspace = mechanism, workspace
+        self.springs = _named_springs(springs)
+        self.objective = objective_named(objective)
+        if self.objective.needs_path and not workspace.ordered:
+            raise InputError(f"objective {self.objective.name!r} needs an ordered workspace (grid, sweep or trajectory), "
+                             f"got a {workspace.description.get('kind')} sample")
+        self.weights = _weights(mechanism, weights)
+        self.model = TorqueModel(mechanism, self.springs)
+        kinematics = workspace.kinematics()
+        self.data = self.model.data_matrix(kinematics)
+        self.path_steps = np.abs(np.diff(workspace.joint_values, axis=0)) if workspace.ordered and workspace.size > 1 else None
+        gravity = kinematics.gravity_torque * self.weights
+        self.torque_scale = float(np.sqrt(np.mean(gravity**2))) or 1.0       # S [N·m]
+        self.potential_scale = float(np.std(kinematics.potential)) or 1.0    # [J]
+        self._evaluator = None
+        self._check_springs()
+
+    # ---------------------------------------------------------------- variables
+    @property
+    def variables(self):
+        """Design variables (names, units, bounds, first guess) in physical units."""
+        return self.model.variables
+
+    def scale(self, z: np.ndarray) -> np.ndarray:
+        """Physical design vector from scaled ``z ∈ [0, 1]``."""
+        lower, upper = self.variables.bounds()
+        return lower + (upper - lower) * np.asarray(z, dtype=float)
+
+    def unscale(self, x: np.ndarray) -> np.ndarray:
+        lower, upper = self.variables.bounds()
+        width = np.where(upper > lower, upper - lower, 1.0)
+        return (np.asarray(x, dtype=float) - lower) / width
+
+    # ---------------------------------------------------------------- numeric evaluation
+    def evaluate(self, x=None) -> Evaluation:
+        """Residual torque, potential, lengths, tensions and constraint rows of design ``x``."""
+        x = np.array(self.variables.start if x is None else x, dtype=float)
+        if x.shape != (self.variables.size,):
+            raise InputError(f"design vector has {x.size} entries, problem has {self.variables.size}: "
+                             f"{', '.join(self.variables.names)}")
+        if self._evaluator is None:
+            self._evaluator = SampleEvaluator(self.model.sample, self.data)
+        tau, potential, lengths, tensions, rows = (np.array(out) for out in self._evaluator(x))
+        n = self.workspace.size
+        return Evaluation(x, tau.reshape(n, -1), potential.reshape(n), lengths.reshape(n, -1),
+                          tensions.reshape(n, -1), rows.reshape(n, -1))
+
+    def objective_value(self, evaluation: Evaluation) -> float:
+        return self.objective.value(evaluation.tau * self.weights, evaluation.potential, self.path_steps)
+
+    # ---------------------------------------------------------------- NLP
+    def build(self) -> Nlp:
+        """The scaled NLP (CasADi MX) for this problem: variables, bounds, cost, rows ≥ 0."""
+        n = self.workspace.size
+        design = ca.MX.sym("z", self.variables.size)
+        lower, upper = self.variables.bounds()
+        x = ca.DM(lower) + ca.DM(upper - lower) * design
+        tau, potential, _, _, rows = self.model.mapped(n)(x, ca.DM(self.data))
+        weighted = ca.DM(self.weights) * tau if self.mechanism.nv > 1 else float(self.weights[0]) * tau
+        pieces = self.objective.nlp(weighted, potential, self.path_steps, self.torque_scale, self.potential_scale)
+        variables = [design]
+        z_lower, z_upper = [np.zeros(self.variables.size)], [np.ones(self.variables.size)]
+        if pieces.variables is not None:
+            variables.append(pieces.variables)
+            z_lower.append(pieces.lower)
+            z_upper.append(pieces.upper)
+        all_rows = [ca.vec(rows)] if self.model.n_constraints else []
+        if pieces.rows is not None:
+            all_rows.append(pieces.rows)
+        return Nlp(ca.vertcat(*variables), np.concatenate(z_lower), np.concatenate(z_upper), pieces.cost,
+                   ca.vertcat(*all_rows) if all_rows else ca.MX(0, 1), self.variables.size, pieces.start)
+
+    def solve(self, starts: int = 8, seed: int = 0, method: str = "auto", progress: bool | None = None,
+              max_iterations: int = 500, tolerance: float = 1e-10):
+        """Multi-start solve; returns the best feasible :class:`~springbalance.result.DesignResult`.
+
+        Args:
+            starts: number of starts: the user's initial guess, then scrambled Sobol points of the bounds.
+            seed: seed of the start points (the result is deterministic given it).
+            method: ``"auto"`` (least squares where the objective has that structure, IPOPT
+                where it does not or where constraints bind), ``"least_squares"`` or ``"ipopt"``.
+            progress: show a progress bar (default: when more than one start and stderr is a terminal).
+            max_iterations: iteration limit per start and phase.
+            tolerance: relative stopping tolerance on the scaled objective.
+        """
+        from .solve import solve_problem
+
+        return solve_problem(self, starts=starts, seed=seed, method=method, progress=progress,
+                             max_iterations=max_iterations, tolerance=tolerance)
+
+    def result(self, x, **info):
+        """A :class:`~springbalance.result.DesignResult` for a given design vector (no optimisation)."""
+        from .result import DesignResult
+
+        return DesignResult(self, np.asarray(x, dtype=float), **info)
+
+    # ---------------------------------------------------------------- checks
+    def _check_springs(self) -> None:
+        mechanism = self.mechanism
+        for spring in self.springs:
+            a, b = spring.a, spring.b
+            same_body = a.body == b.body or (mechanism.is_ground(a.body) and mechanism.is_ground(b.body))
+            if same_body:
+                where = f"body {a.body!r}" if a.body == b.body else f"the ground ({a.body!r}, {b.body!r})"
+                raise InputError(f"spring {spring.name!r}: both ends are on {where}; it cannot act on the mechanism")
+            if not a.is_free and not b.is_free:
+                evaluation = self.evaluate()
+                column = self.springs.index(spring)
+                shortest = float(np.min(evaluation.lengths[:, column]))
+                if shortest < 1e-9:
+                    sample = int(np.argmin(evaluation.lengths[:, column]))
+                    raise InputError(f"spring {spring.name!r}: its ends coincide (zero length) at workspace sample {sample}")
+
+    def __repr__(self) -> str:
+        return (f"DesignProblem({self.mechanism.name!r}, N={self.workspace.size}, springs={len(self.springs)}, "
+                f"variables={self.variables.size}, objective={self.objective.name!r})")
+
+
+def _named_springs(springs: Sequence[Spring]) -> list[Spring]:
+    springs = list(springs)
+    if not springs:
+        raise InputError("a design problem needs at least one spring")
+    names = set()
+    for index, spring in enumerate(springs, start=1):
+        if not isinstance(spring, Spring):
+            raise InputError(f"spring #{index} is a {type(spring).__name__}, not a Spring")
+        if spring.name is None:
+            spring.name = f"s{index}"
+        if spring.name in names:
+            raise InputError(f"two springs are called {spring.name!r}; spring names must be unique")
+        names.add(spring.name)
+    return springs
+
+
+def _weights(mechanism: Mechanism, weights) -> np.ndarray:
+    vector = np.ones(mechanism.nv)
+    for name, value in (weights or {}).items():
+        joint = mechanism.joint(name)
+        value = float(value)
+        if not np.isfinite(value) or value < 0:
+            raise InputError(f"weight of joint {name!r} must be a finite number ≥ 0, got {value}")
+        vector[joint.index_v] = value
+    if not np.any(vector > 0):
+        raise InputError("every joint weight is zero; nothing to balance")
+    return vector

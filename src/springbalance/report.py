@@ -1,0 +1,56 @@
+"""Plain-text tables of a design result (springs, per-joint torques, objectives)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def result_table(result) -> str:
+    """What the actuators still carry, before/after, plus the spring design."""
+    metrics = result.metrics()
+    problem = result.problem
+    lines = [f"springbalance: {problem.mechanism.name}, {problem.workspace.size} samples, "
+             f"objective {problem.objective.name}, status: {result.status}"]
+    spread = result.spread()
+    if spread.get("starts", 0) > 1:
+        lines.append(f"multi-start: {spread['feasible']}/{spread['starts']} feasible, objective best "
+                     f"{spread.get('best', float('nan')):.6g}, median {spread.get('median', float('nan')):.6g}, "
+                     f"worst {spread.get('worst', float('nan')):.6g}")
+    lines.append("")
+    lines.append("Springs (anchor points in body frames) [m]")
+    evaluation = result.evaluation
+    for column, record in enumerate(result.springs):
+        lengths, tensions = evaluation.lengths[:, column], evaluation.tensions[:, column]
+        lines.append(f"  {record['name']} ({record['type']})")
+        for end in ("a", "b"):
+            point = ", ".join(f"{v:+.4f}" for v in record[end]["point"])
+            lines.append(f"    {end}: {record[end]['body']:<18s} [{point}]")
+        spring = problem.springs[column]
+        parameters = "  ".join(f"{key} {record[key]:.6g} {unit}" for key, unit in spring.parameter_units.items())
+        lines.append(f"    {parameters}")
+        lines.append(f"    length {lengths.min():.4f} … {lengths.max():.4f} m   "
+                     f"tension {tensions.min():.4g} … {tensions.max():.4g} N")
+    lines.append("")
+    header = f"  {'joint':<22s}{'peak before':>13s}{'peak after':>12s}{'Δ%':>8s}{'rms before':>13s}{'rms after':>12s}{'Δ%':>8s}"
+    lines.append("Actuator torque (gravity only vs with springs)")
+    lines.append(header)
+    for row in metrics["joints"]:
+        lines.append(f"  {row['joint'] + ' [' + row['unit'] + ']':<22s}{row['peak_before']:13.4g}{row['peak_after']:12.4g}"
+                     f"{_percent(row['peak_reduction_percent'])}{row['rms_before']:13.4g}{row['rms_after']:12.4g}"
+                     f"{_percent(row['rms_reduction_percent'])}")
+    lines.append("")
+    lines.append(f"  {'objective':<22s}{'before':>13s}{'after':>12s}{'Δ%':>8s}")
+    for name, row in metrics["objectives"].items():
+        mark = " *" if name == metrics["optimised"] else ""
+        if np.isnan(row["before"]):
+            lines.append(f"  {name + ' [' + row['unit'] + ']':<22s}{'—':>13s}{'—':>12s}{'':>8s}  (needs an ordered workspace)")
+            continue
+        lines.append(f"  {name + ' [' + row['unit'] + ']':<22s}{row['before']:13.4g}{row['after']:12.4g}"
+                     f"{_percent(row['reduction_percent'])}{mark}")
+    if metrics["max_violation"] > 0:
+        lines.append(f"\n  constraint violation: {metrics['max_violation']:.3g}")
+    return "\n".join(lines)
+
+
+def _percent(value: float) -> str:
+    return f"{'—':>8s}" if not np.isfinite(value) else f"{value:8.1f}"

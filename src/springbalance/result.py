@@ -1,0 +1,243 @@
+"""The result of a design: values with names, residual torque, metrics, save/load.
+
+A :class:`DesignResult` is the one source of truth for a design's numbers: the design
+vector ``x`` of its problem. Reports, the CLI and exports read from it. Metrics compare
+the balanced mechanism with the unbalanced one (gravity only) on the same workspace:
+peak and RMS of each joint's torque and the percentage reduction, and every objective of
+MODEL.md §5 before and after, whichever one was optimised.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from .errors import InputError
+from .mechanism import Mechanism
+from .objectives import OBJECTIVES
+from .springs import spring_from_dict
+from .workspace import Workspace
+
+FORMAT = "springbalance-design/1"
+
+
+class DesignResult:
+    """A design (spring parameter values) evaluated on its problem's workspace.
+
+    Attributes:
+        problem: the :class:`~springbalance.problem.DesignProblem`.
+        x: design vector in physical units (names in ``problem.variables.names``).
+        starts: per-start records of the multi-start (empty when not optimised).
+        status: the solver status of the chosen start.
+    """
+
+    def __init__(self, problem, x, starts=(), method: str = "evaluate", seed: int | None = None,
+                 status: str = "evaluated"):
+        self.problem = problem
+        self.x = np.asarray(x, dtype=float)
+        self.starts = list(starts)
+        self.method, self.seed, self.status = method, seed, status
+        self.evaluation = problem.evaluate(self.x)
+
+    # ---------------------------------------------------------------- values
+    @property
+    def variables(self) -> dict[str, float]:
+        """Design variable name → value (physical units)."""
+        return dict(zip(self.problem.variables.names, self.x.tolist()))
+
+    @property
+    def springs(self) -> list[dict]:
+        """Per spring: type, anchors (body and body-frame point [m]) and parameter values."""
+        model = self.problem.model
+        records = []
+        for spring in self.problem.springs:
+            record = {"name": spring.name, "type": spring.kind}
+            for end in ("a", "b"):
+                record[end] = {"body": getattr(spring, end).body,
+                               "point": model.anchor_point(spring, end, self.x).tolist()}
+            record.update(model.spring_values(spring, self.x))
+            records.append(record)
+        return records
+
+    def spring(self, name: str) -> dict:
+        """Values of the spring called ``name``."""
+        for record in self.springs:
+            if record["name"] == name:
+                return record
+        raise InputError(f"unknown spring {name!r}; springs: {', '.join(s.name for s in self.problem.springs)}")
+
+    def fixed_springs(self) -> list:
+        """The springs with every free parameter and anchor fixed at this design's values."""
+        records = []
+        for spring, values in zip(self.problem.springs, self.springs):
+            record = {**spring.to_dict(), **{k: v for k, v in values.items() if k not in ("a", "b")}}
+            record["a"] = {"body": values["a"]["body"], "point": values["a"]["point"]}
+            record["b"] = {"body": values["b"]["body"], "point": values["b"]["point"]}
+            records.append(spring_from_dict(record))
+        return records
+
+    # ---------------------------------------------------------------- torques
+    def residual_torque(self, joint_values=None, degrees: bool = False) -> np.ndarray:
+        """Actuator torque ``tau(q)`` with the springs (N×nv) [N·m or N].
+
+        ``joint_values``: N×nv joint coordinates (or one row); default: the workspace.
+        """
+        if joint_values is None:
+            return self.evaluation.tau.copy()
+        return self.evaluate_on(Workspace.from_array(self.problem.mechanism, joint_values, degrees=degrees)).tau
+
+    def evaluate_on(self, workspace: Workspace):
+        """Evaluation of this design on another workspace of the same mechanism."""
+        from .problem import DesignProblem
+
+        problem = DesignProblem(self.problem.mechanism, workspace, self.fixed_springs(),
+                                objective="rms", weights=self._weights_by_name())
+        return problem.evaluate(np.zeros(0))
+
+    def on_workspace(self, workspace: Workspace) -> "DesignResult":
+        """This design re-evaluated on ``workspace`` (same objective when the workspace allows it)."""
+        from .problem import DesignProblem
+
+        objective = self.problem.objective.name
+        if OBJECTIVES[objective].needs_path and not workspace.ordered:
+            objective = "rms"
+        problem = DesignProblem(self.problem.mechanism, workspace, self.fixed_springs(), objective=objective,
+                                weights=self._weights_by_name())
+        return DesignResult(problem, np.zeros(0), method="evaluate", status="evaluated")
+
+    def _weights_by_name(self) -> dict[str, float]:
+        return {joint.name: float(w) for joint, w in zip(self.problem.mechanism.joints, self.problem.weights)}
+
+    # ---------------------------------------------------------------- metrics
+    def metrics(self) -> dict:
+        """Per-joint peak/RMS before and after, reduction %, and every objective before and after."""
+        problem = self.problem
+        kinematics = problem.workspace.kinematics()
+        before_tau, after_tau = kinematics.gravity_torque, self.evaluation.tau
+        joints = []
+        for joint in problem.mechanism.joints:
+            j = joint.index_v
+            peak_before, peak_after = float(np.max(np.abs(before_tau[:, j]))), float(np.max(np.abs(after_tau[:, j])))
+            rms_before = float(np.sqrt(np.mean(before_tau[:, j] ** 2)))
+            rms_after = float(np.sqrt(np.mean(after_tau[:, j] ** 2)))
+            joints.append({"joint": joint.name, "unit": joint.torque_unit,
+                           "peak_before": peak_before, "peak_after": peak_after,
+                           "peak_reduction_percent": _reduction(peak_before, peak_after),
+                           "rms_before": rms_before, "rms_after": rms_after,
+                           "rms_reduction_percent": _reduction(rms_before, rms_after)})
+        objectives = {}
+        for name, cls in OBJECTIVES.items():
+            objective = cls()
+            before = objective.value(before_tau * problem.weights, kinematics.potential, problem.path_steps)
+            after = objective.value(after_tau * problem.weights, self.evaluation.potential, problem.path_steps)
+            objectives[name] = {"before": before, "after": after, "unit": objective.unit,
+                                "reduction_percent": _reduction(before, after)}
+        return {"joints": joints, "objectives": objectives, "optimised": problem.objective.name,
+                "max_violation": self.evaluation.max_violation, "samples": problem.workspace.size}
+
+    def spread(self) -> dict:
+        """Objective values across multi-start starts: best, median, worst, feasible count."""
+        values = np.array([record.objective for record in self.starts if record.feasible])
+        if values.size == 0:
+            return {"starts": len(self.starts), "feasible": 0}
+        return {"starts": len(self.starts), "feasible": int(values.size), "best": float(values.min()),
+                "median": float(np.median(values)), "worst": float(values.max())}
+
+    def table(self) -> str:
+        """Plain-text report: springs, per-joint torques before/after, objectives."""
+        from .report import result_table
+
+        return result_table(self)
+
+    # ---------------------------------------------------------------- persistence
+    def to_dict(self) -> dict:
+        problem = self.problem
+        workspace = problem.workspace
+        return {
+            "format": FORMAT,
+            "mechanism": problem.mechanism.source,
+            "workspace": {"description": workspace.description, "ordered": workspace.ordered,
+                          "joint_values": workspace.joint_values.tolist()},
+            "objective": problem.objective.name,
+            "weights": self._weights_by_name(),
+            "springs": [spring.to_dict() for spring in problem.springs],
+            "variables": self.variables,
+            "design": self.springs,
+            "solver": {"method": self.method, "seed": self.seed, "status": self.status, "spread": self.spread(),
+                       "starts": [record.to_dict() for record in self.starts]},
+            "metrics": self.metrics(),
+        }
+
+    def save(self, path: str | Path) -> Path:
+        """Write the design as JSON (atomically: no half-written file on failure)."""
+        return write_json_atomic(path, self.to_dict())
+
+    @classmethod
+    def load(cls, path: str | Path, mechanism: Mechanism | None = None, workspace: Workspace | None = None) -> "DesignResult":
+        """Read a design saved by :meth:`save`; values round-trip exactly.
+
+        ``mechanism`` overrides the saved mechanism source; ``workspace`` evaluates the
+        design on other samples (of that mechanism).
+        """
+        from .problem import DesignProblem
+
+        path = Path(path)
+        try:
+            record = json.loads(path.read_text())
+        except FileNotFoundError:
+            raise InputError(f"design file {str(path)!r} does not exist") from None
+        except (json.JSONDecodeError, UnicodeDecodeError) as error:
+            raise InputError(f"design file {str(path)!r} is not valid JSON: {error}") from None
+        if not isinstance(record, dict) or record.get("format") != FORMAT:
+            raise InputError(f"design file {str(path)!r} is not a springbalance design (format {FORMAT!r})")
+        try:
+            mechanism = mechanism or Mechanism.from_source(record["mechanism"])
+            if workspace is None:
+                saved = record["workspace"]
+                workspace = Workspace(mechanism, saved["joint_values"], ordered=saved["ordered"],
+                                      description=saved["description"])
+            springs = [spring_from_dict(s, f"{path.name}: springs[{i}]") for i, s in enumerate(record["springs"])]
+            objective = record["objective"]
+            if OBJECTIVES[objective].needs_path and not workspace.ordered:
+                objective = "rms"
+            problem = DesignProblem(mechanism, workspace, springs, objective=objective, weights=record["weights"])
+            values = record["variables"]
+            missing = [name for name in problem.variables.names if name not in values]
+            if missing:
+                raise InputError(f"design file {str(path)!r} lacks values of {', '.join(missing)}")
+            x = np.array([values[name] for name in problem.variables.names], dtype=float)
+        except KeyError as error:
+            raise InputError(f"design file {str(path)!r} lacks key {error}") from None
+        solver = record.get("solver", {})
+        return cls(problem, x, method=solver.get("method", "evaluate"), seed=solver.get("seed"),
+                   status=solver.get("status", "loaded"))
+
+    def __repr__(self) -> str:
+        return f"DesignResult({self.problem!r}, status={self.status!r})"
+
+
+def _reduction(before: float, after: float) -> float:
+    if not np.isfinite(before) or before == 0:
+        return float("nan")
+    return 100.0 * (before - after) / before
+
+
+def write_json_atomic(path: str | Path, record: dict) -> Path:
+    """Write ``record`` as JSON to ``path`` via a temporary file in the same folder."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
+    try:
+        with os.fdopen(handle, "w") as stream:
+            json.dump(record, stream, indent=1, allow_nan=True)
+            stream.write("\n")
+        os.replace(temporary, path)
+    except BaseException:
+        if os.path.exists(temporary):
+            os.unlink(temporary)
+        raise
+    return path

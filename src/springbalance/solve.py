@@ -1,0 +1,218 @@
+r"""Solvers for a :class:`~springbalance.problem.DesignProblem`, with multi-start.
+
+Backends:
+
+- ``least_squares``: for objectives with least-squares structure (``rms``,
+  ``pe_variance``) the residual vector ``r(z)`` and its exact Jacobian come from the
+  per-sample CasADi function (its symbolic Jacobian, mapped over the samples and
+  evaluated into NumPy buffers). SciPy's bounded trust-region reflective solver then
+  takes Gauss–Newton/Levenberg–Marquardt steps; its damping copes with the flat valleys
+  of the degenerate design problem (e.g. only ``k·a·b`` matters for a zero-free-length
+  spring) where a Newton-type interior-point method crawls.
+- ``ipopt``: the general NLP of :meth:`DesignProblem.build` with exact derivatives from
+  CasADi; used for peak and energy objectives (epigraph form) and whenever practical
+  constraints bind at the least-squares solution (warm-started from it).
+
+``auto`` chains them: least squares first (on the rms objective when the objective has no
+least-squares form), then IPOPT only when the objective or a violated constraint needs it.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import sys
+import time
+
+import casadi as ca
+import numpy as np
+from scipy.optimize import least_squares
+from scipy.stats import qmc
+
+from .errors import InputError, SolverError
+from .objectives import Rms
+from .torque_model import SampleEvaluator
+
+METHODS = ("auto", "least_squares", "ipopt")
+FEASIBILITY_TOLERANCE = 1e-6  # [m or N]
+
+
+@dataclasses.dataclass
+class StartRecord:
+    """What one start of the multi-start did."""
+
+    index: int
+    z0: np.ndarray
+    x: np.ndarray
+    objective: float
+    max_violation: float
+    status: str
+    iterations: int
+    seconds: float
+
+    @property
+    def feasible(self) -> bool:
+        return self.max_violation <= FEASIBILITY_TOLERANCE and np.isfinite(self.objective)
+
+    def to_dict(self) -> dict:
+        return {"index": self.index, "objective": self.objective, "max_violation": self.max_violation,
+                "status": self.status, "iterations": self.iterations, "seconds": self.seconds,
+                "feasible": bool(self.feasible), "x": self.x.tolist()}
+
+
+def start_points(problem, starts: int, seed: int) -> np.ndarray:
+    """Scaled start points: the problem's initial guess, then scrambled Sobol points in [0, 1]^n."""
+    n = problem.variables.size
+    first = np.clip(problem.unscale(problem.variables.start), 0.0, 1.0)
+    if starts <= 1 or n == 0:
+        return first[None, :]
+    sobol = qmc.Sobol(d=n, scramble=True, seed=np.random.default_rng(seed))
+    others = sobol.random(1 << int(np.ceil(np.log2(starts - 1)))) if starts > 2 else sobol.random(1)
+    return np.vstack([first, others[: starts - 1]])
+
+
+def solve_problem(problem, starts=8, seed=0, method="auto", progress=None, max_iterations=500, tolerance=1e-10):
+    """Run every start and return the best feasible design (see :meth:`DesignProblem.solve`)."""
+    from .result import DesignResult
+
+    if method not in METHODS:
+        raise InputError(f"unknown solver method {method!r}; valid: {', '.join(METHODS)}")
+    starts = int(starts)
+    if starts < 1:
+        raise InputError(f"starts must be ≥ 1, got {starts}")
+    if method == "least_squares" and not problem.objective.least_squares:
+        raise InputError(f"method 'least_squares' cannot minimise objective {problem.objective.name!r}; "
+                         "use 'ipopt' or 'auto'")
+    solver = _MultiStartSolver(problem, method, max_iterations, tolerance)
+    points = start_points(problem, starts, seed)
+    if progress is None:
+        progress = len(points) > 1 and sys.stderr.isatty()
+    iterator = range(len(points))
+    bar = None
+    if progress:
+        from tqdm.auto import tqdm
+
+        bar = tqdm(total=len(points), desc="starts", unit="start")
+    records = []
+    for index in iterator:
+        records.append(solver.run(index, points[index]))
+        if bar is not None:
+            best = min((r.objective for r in records if r.feasible), default=float("nan"))
+            bar.set_postfix(best=f"{best:.4g}")
+            bar.update()
+    if bar is not None:
+        bar.close()
+    feasible = [record for record in records if record.feasible]
+    if not feasible:
+        summary = "; ".join(f"start {r.index}: {r.status}, violation {r.max_violation:.3g}" for r in records)
+        raise SolverError(f"no start gave a feasible design ({summary})", problem=problem, starts=records)
+    best = min(feasible, key=lambda record: record.objective)
+    return DesignResult(problem, best.x, starts=records, method=method, seed=seed, status=best.status)
+
+
+class _MultiStartSolver:
+    def __init__(self, problem, method, max_iterations, tolerance):
+        self.problem = problem
+        self.method = method
+        self.max_iterations = max_iterations
+        self.tolerance = tolerance
+        self._ls = None
+        self._ipopt = None
+        self._nlp = None
+
+    # ------------------------------------------------------------------ one start
+    def run(self, index: int, z0: np.ndarray) -> StartRecord:
+        problem = self.problem
+        clock = time.perf_counter()
+        z, status, iterations = np.array(z0, dtype=float), "evaluated", 0
+        if problem.variables.size:
+            if self.method in ("auto", "least_squares"):
+                z, status, iterations = self._least_squares(z)
+            evaluation = problem.evaluate(problem.scale(z))
+            needs_nlp = self.method == "ipopt" or (
+                self.method == "auto"
+                and (not problem.objective.least_squares or evaluation.max_violation > FEASIBILITY_TOLERANCE))
+            if needs_nlp:
+                z, status, more = self._ipopt_solve(z, evaluation)
+                iterations += more
+        evaluation = problem.evaluate(problem.scale(z))
+        return StartRecord(index, np.asarray(z0), evaluation.x, problem.objective_value(evaluation),
+                           evaluation.max_violation, status, iterations, time.perf_counter() - clock)
+
+    # ------------------------------------------------------------------ least squares
+    def _least_squares(self, z0):
+        problem = self.problem
+        if self._ls is None:
+            self._ls = _LeastSquaresResiduals(problem)
+        result = least_squares(self._ls.residuals, np.clip(z0, 0, 1), jac=self._ls.jacobian, bounds=(0.0, 1.0),
+                               method="trf", x_scale=1.0, ftol=self.tolerance, xtol=self.tolerance,
+                               gtol=self.tolerance, max_nfev=self.max_iterations)
+        status = f"least_squares: {_LS_STATUS.get(result.status, result.message)}"
+        return np.clip(result.x, 0, 1), status, int(result.nfev)
+
+    # ------------------------------------------------------------------ IPOPT
+    def _ipopt_solve(self, z, evaluation):
+        problem = self.problem
+        if self._ipopt is None:
+            self._nlp = problem.build()
+            options = {"print_time": False, "ipopt.print_level": 0, "ipopt.sb": "yes",
+                       "ipopt.max_iter": self.max_iterations, "ipopt.tol": max(self.tolerance, 1e-10),
+                       "ipopt.acceptable_tol": 1e-8, "ipopt.mu_strategy": "adaptive"}
+            self._ipopt = ca.nlpsol("springbalance", "ipopt", {"x": self._nlp.z, "f": self._nlp.cost,
+                                                               "g": self._nlp.rows}, options)
+        nlp = self._nlp
+        start = z
+        if nlp.size > nlp.n_design:
+            start = np.concatenate([z, nlp.extra_start(evaluation.tau * problem.weights)])
+        solution = self._ipopt(x0=start, lbx=nlp.lower, ubx=nlp.upper, lbg=0.0, ubg=np.inf)
+        stats = self._ipopt.stats()
+        z_new = np.clip(np.array(solution["x"]).reshape(-1)[: nlp.n_design], 0.0, 1.0)
+        return z_new, f"ipopt: {stats.get('return_status', 'unknown')}", int(stats.get("iter_count", 0))
+
+
+class _LeastSquaresResiduals:
+    """Scaled residuals ``r(z)`` and exact Jacobian ``dr/dz`` of a least-squares objective.
+
+    For ``pe_variance`` the residual is the centred total potential; otherwise (``rms``, and the
+    warm-start phase of ``peak``/``energy``) the weighted torque divided by ``S·sqrt(N·nv)``.
+    """
+
+    def __init__(self, problem):
+        self.problem = problem
+        self.variance = problem.objective.name == "pe_variance"
+        self.evaluator = SampleEvaluator(problem.model.sample_jacobian, problem.data)
+        lower, upper = problem.variables.bounds()
+        self.width = upper - lower
+        n, nv = problem.workspace.size, problem.mechanism.nv
+        self.torque_factor = problem.weights[None, :] / (problem.torque_scale * np.sqrt(n * nv))
+        self.potential_factor = 1.0 / (problem.potential_scale * np.sqrt(n))
+        self._last_z = None
+
+    def _evaluate(self, z):
+        if self._last_z is None or not np.array_equal(z, self._last_z):
+            self.outputs = self.evaluator(self.problem.scale(z))
+            self._last_z = np.array(z)
+        return self.outputs
+
+    def residuals(self, z):
+        tau, _, potential, _ = self._evaluate(z)
+        if self.variance:
+            values = potential[:, 0, 0]
+            return (values - values.mean()) * self.potential_factor
+        return (tau[:, :, 0] * self.torque_factor).reshape(-1)
+
+    def jacobian(self, z):
+        _, dtau, _, dpotential = self._evaluate(z)
+        if self.variance:
+            rows = dpotential[:, 0, :]
+            return (rows - rows.mean(axis=0)) * (self.potential_factor * self.width)
+        return (dtau * self.torque_factor[:, :, None] * self.width).reshape(-1, self.width.size)
+
+
+_LS_STATUS = {
+    -1: "improper input",
+    0: "iteration limit reached",
+    1: "converged (gradient)",
+    2: "converged (cost change)",
+    3: "converged (step size)",
+    4: "converged (cost and step)",
+}

@@ -1,0 +1,301 @@
+r"""Residual torque as a CasADi function of the design variables only.
+
+Pinocchio stays numeric: for each workspace sample the :class:`~springbalance.kinematics.WorkspaceKinematics`
+cache supplies ``g(q)``, ``V_g(q)`` and, for every moving body that carries a spring end,
+its placement ``(R, t)`` and Jacobian ``J`` (LOCAL_WORLD_ALIGNED). These numbers form the
+*sample data* column. For a fixed sample each spring end is affine in its anchor
+coordinates (MODEL.md §2):
+
+.. math::
+    r = R\,p,\quad x = t + r,\quad J_p^T f = J_{lin}^T f + J_{ang}^T (r \times f),
+
+so the per-sample CasADi function ``sample(x, data) -> (tau, V, L, F)`` is small and exact,
+and ``sample.map(N)`` evaluates it over the workspace with exact derivatives:
+
+.. math:: \tau = g + \sum_s F_s(L_s)\,(J_{p_b} - J_{p_a})^T u_s,\qquad V = V_g + \sum_s V_s(L_s).
+
+Outputs per sample: ``tau`` (nv) [N·m or N], ``V`` (1) [J], spring lengths ``L`` (n_s) [m],
+tensions ``F`` (n_s) [N], and the constraint rows ``C`` (≥ 0 when feasible).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+
+import casadi as ca
+import numpy as np
+import pinocchio as pin
+
+from .errors import InputError
+from .mechanism import Mechanism
+from .params import Free
+from .springs import Spring
+
+
+@dataclasses.dataclass
+class DesignVariables:
+    """The design vector ``x`` in physical units: names, bounds and first guess."""
+
+    names: list[str] = dataclasses.field(default_factory=list)
+    units: list[str] = dataclasses.field(default_factory=list)
+    lower: list[float] = dataclasses.field(default_factory=list)
+    upper: list[float] = dataclasses.field(default_factory=list)
+    start: list[float] = dataclasses.field(default_factory=list)
+
+    def add(self, name: str, unit: str, lower: float, upper: float, start: float) -> int:
+        self.names.append(name)
+        self.units.append(unit)
+        self.lower.append(float(lower))
+        self.upper.append(float(upper))
+        self.start.append(float(start))
+        return len(self.names) - 1
+
+    @property
+    def size(self) -> int:
+        return len(self.names)
+
+    def bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        return np.array(self.lower), np.array(self.upper)
+
+
+@dataclasses.dataclass(frozen=True)
+class ConstraintBlock:
+    """Rows of one practical constraint of one spring: N rows, one per sample, ``≥ 0``."""
+
+    spring: str
+    name: str
+    unit: str
+    offset: int  # first row of this block in the per-sample constraint vector
+
+
+class TorqueModel:
+    """Symbolic residual torque of a mechanism carrying springs.
+
+    Attributes:
+        variables: the design variables (names, bounds, first guess) in physical units.
+        bodies: moving bodies whose kinematics enter the sample data.
+        sample: ``Function(x, data) -> (tau, V, L, F, C)`` for one sample.
+        constraint_blocks: which spring constraint each row of ``C`` belongs to.
+    """
+
+    def __init__(self, mechanism: Mechanism, springs: list[Spring]):
+        self.mechanism = mechanism
+        self.springs = springs
+        self.variables = DesignVariables()
+        nv = mechanism.nv
+        self.bodies = _moving_bodies(mechanism, springs)
+        self._ground = _ground_placements(mechanism, springs)
+
+        # Design variables: every Free parameter and every free anchor coordinate.
+        variable_slots = []  # (spring index, key, region, index list)
+        for spring in springs:
+            for end in ("a", "b"):
+                anchor = getattr(spring, end)
+                region = anchor.region()
+                indices = [self.variables.add(f"{spring.name}.{end}.{label}", "m" if len(region.labels) != 1 or label != "s" else "1",
+                                              lo, hi, s0)
+                           for label, lo, hi, s0 in zip(region.labels, region.lower, region.upper, region.start)]
+                variable_slots.append((spring, end, region, indices))
+            for key, value in spring.parameters.items():
+                if isinstance(value, Free) and value.upper > value.lower:
+                    self.variables.add(f"{spring.name}.{key}", spring.parameter_units[key],
+                                       float(value.lower), float(value.upper), float(value.start))
+        x = ca.SX.sym("x", self.variables.size)
+        self._index = {name: i for i, name in enumerate(self.variables.names)}
+
+        # Sample data: g (nv), V_g (1), then per moving body t (3), R (9, row-major), J (6·nv, row-major).
+        self.data_size = nv + 1 + len(self.bodies) * (12 + 6 * nv)
+        data = ca.SX.sym("data", self.data_size)
+        gravity_torque, gravity_potential = data[:nv], data[nv]
+        body_data = {}
+        offset = nv + 1
+        for body in self.bodies:
+            t = data[offset:offset + 3]
+            R = ca.reshape(data[offset + 3:offset + 12], 3, 3).T
+            J = ca.reshape(data[offset + 12:offset + 12 + 6 * nv], nv, 6).T
+            body_data[body] = (t, R, J)
+            offset += 12 + 6 * nv
+
+        tau, potential = gravity_torque, gravity_potential
+        lengths, tensions, constraint_rows = [], [], []
+        self.constraint_blocks: list[ConstraintBlock] = []
+        points = {}
+        for spring, end, region, indices in variable_slots:
+            local = ca.DM(region.offset) + (ca.mtimes(ca.DM(region.basis), x[indices]) if indices else 0)
+            points[(spring.name, end)] = local
+        for spring in springs:
+            parameters = self.parameter_values(spring, x)
+            ends = []
+            for end in ("a", "b"):
+                body = getattr(spring, end).body
+                local = points[(spring.name, end)]
+                if body in body_data:
+                    t, R, J = body_data[body]
+                    lever = ca.mtimes(R, local)                  # R p, world-aligned [m]
+                    ends.append((t + lever, lever, J))
+                else:
+                    t0, R0 = self._ground[body]
+                    ends.append((ca.DM(t0) + ca.mtimes(ca.DM(R0), local), None, None))
+            (xa, lever_a, Ja), (xb, lever_b, Jb) = ends
+            d = xb - xa                                          # [m]
+            length = ca.sqrt(ca.dot(d, d))                       # L [m]
+            force = spring.tension_per_length(length, parameters) * d  # F u [N], pulls b towards a
+            if Jb is not None:                                   # + J_pb^T (F u)
+                tau = tau + ca.mtimes(Jb[:3, :].T, force) + ca.mtimes(Jb[3:, :].T, ca.cross(lever_b, force))
+            if Ja is not None:                                   # - J_pa^T (F u)
+                tau = tau - ca.mtimes(Ja[:3, :].T, force) - ca.mtimes(Ja[3:, :].T, ca.cross(lever_a, force))
+            potential = potential + spring.potential(length, parameters)
+            tension = spring.tension(length, parameters)
+            lengths.append(length)
+            tensions.append(tension)
+            for constraint in spring.constraints():
+                self.constraint_blocks.append(ConstraintBlock(spring.name, constraint.name, constraint.unit,
+                                                              len(constraint_rows)))
+                constraint_rows.append(constraint.rows(length, tension, parameters))
+
+        self.n_springs = len(springs)
+        self.n_constraints = len(constraint_rows)
+        outputs = [tau, potential, ca.vertcat(*lengths), ca.vertcat(*tensions), ca.vertcat(*constraint_rows)]
+        self.sample = ca.Function("sample", [x, data], outputs, ["x", "data"], ["tau", "V", "L", "F", "C"])
+        self._x = x
+
+    # ---------------------------------------------------------------- design vector
+    def parameter_values(self, spring: Spring, x):
+        """Map of the spring's parameters to numbers or entries of ``x``."""
+        values = {}
+        for key, value in spring.parameters.items():
+            name = f"{spring.name}.{key}"
+            if name in self._index:
+                values[key] = x[self._index[name]]
+            else:
+                values[key] = float(value.lower) if isinstance(value, Free) else float(value)
+        return values
+
+    def anchor_point(self, spring: Spring, end: str, x: np.ndarray) -> np.ndarray:
+        """Body-frame anchor point [m] of end ``"a"``/``"b"`` for design vector ``x``."""
+        region = getattr(spring, end).region()
+        coordinates = [x[self._index[f"{spring.name}.{end}.{label}"]] for label in region.labels]
+        return region.point(coordinates)
+
+    def spring_values(self, spring: Spring, x: np.ndarray) -> dict:
+        """Numeric parameter values of ``spring`` for design vector ``x``."""
+        return {key: float(value) for key, value in self.parameter_values(spring, np.asarray(x, dtype=float)).items()}
+
+    # ---------------------------------------------------------------- numeric data
+    def data_matrix(self, kinematics) -> np.ndarray:
+        """Sample data columns (data_size × N) from a workspace's numeric cache."""
+        kinematics.prepare(self.bodies)
+        n = kinematics.gravity_torque.shape[0]
+        blocks = [kinematics.gravity_torque, kinematics.potential[:, None]]
+        for body in self.bodies:
+            body_kinematics = kinematics.body(body)
+            blocks += [body_kinematics.translation, body_kinematics.rotation.reshape(n, 9),
+                       body_kinematics.jacobian.reshape(n, -1)]
+        return np.ascontiguousarray(np.hstack(blocks).T)
+
+    @functools.lru_cache(maxsize=8)
+    def mapped(self, n: int) -> ca.Function:
+        """``sample`` evaluated on ``n`` data columns (serial map: a loop in C)."""
+        return self.sample.map(n, "serial")
+
+    @functools.lru_cache(maxsize=8)
+    def mapped_jacobian(self, n: int) -> ca.Function:
+        """Per-sample Jacobians of ``tau`` and ``V`` with respect to ``x``, mapped over ``n`` samples.
+
+        Returns ``Function(x, data) -> (dtau, dV)`` with ``dtau`` nv × (n_x · n).
+        """
+        x, data = self._x, ca.SX.sym("data", self.data_size)
+        tau, potential, *_ = self.sample(x, data)
+        jacobian = ca.Function("sample_jacobian", [x, data], [ca.jacobian(tau, x), ca.jacobian(potential, x)])
+        return jacobian.map(n, "serial")
+
+    @functools.cached_property
+    def sample_jacobian(self) -> ca.Function:
+        """``Function(x, data) -> (tau, dtau/dx, V, dV/dx)`` for one sample (exact, symbolic)."""
+        x, data = self._x, ca.SX.sym("data", self.data_size)
+        tau, potential, *_ = self.sample(x, data)
+        return ca.Function("sample_jacobian", [x, data],
+                           [tau, ca.jacobian(tau, x), potential, ca.jacobian(potential, x)])
+
+    def evaluate(self, x, data: np.ndarray) -> dict[str, np.ndarray]:
+        """Numeric outputs over the samples: tau (N×nv), V (N), L (N×n_s), F (N×n_s), C (N×n_c)."""
+        n = data.shape[1]
+        tau, potential, lengths, tensions, rows = self.mapped(n)(np.asarray(x, dtype=float), data)
+        return {
+            "tau": np.array(tau).T.reshape(n, -1),
+            "V": np.array(potential).reshape(-1),
+            "L": np.array(lengths).T.reshape(n, self.n_springs),
+            "F": np.array(tensions).T.reshape(n, self.n_springs),
+            "C": np.array(rows).T.reshape(n, self.n_constraints),
+        }
+
+
+def _moving_bodies(mechanism: Mechanism, springs: list[Spring]) -> list[str]:
+    bodies = []
+    for spring in springs:
+        for body in (spring.a.body, spring.b.body):
+            try:
+                ground = mechanism.is_ground(body)
+            except InputError as error:
+                raise InputError(f"spring {spring.name!r}: {error}") from None
+            if not ground and body not in bodies:
+                bodies.append(body)
+    return bodies
+
+
+def _ground_placements(mechanism: Mechanism, springs: list[Spring]) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    model = mechanism.model
+    data = model.createData()
+    pin.framesForwardKinematics(model, data, pin.neutral(model))
+    placements = {}
+    for spring in springs:
+        for body in (spring.a.body, spring.b.body):
+            if mechanism.is_ground(body):
+                placement = data.oMf[mechanism.frame_id(body)]
+                placements[body] = (np.array(placement.translation), np.array(placement.rotation))
+    return placements
+
+
+class SampleEvaluator:
+    """Fast numeric evaluation of a per-sample function over fixed sample data.
+
+    Wraps ``function(x, data) -> outputs`` mapped over the N data columns with ``x``
+    shared, and evaluates through CasADi's zero-copy buffer interface into preallocated
+    NumPy arrays. Each output of per-sample shape ``(rows, cols)`` is returned as an
+    array ``(N, rows, cols)`` (dense; structural zeros stay zero).
+    """
+
+    def __init__(self, function: ca.Function, data: np.ndarray):
+        n = data.shape[1]
+        self.n_samples = n
+        self.mapped = function.map(f"{function.name()}_map", "serial", n, [0], [], {})
+        self._x = np.zeros(function.size1_in(0))
+        self._data = np.asfortranarray(data).reshape(-1, order="F")
+        self._buffer, self._trigger = self.mapped.buffer()
+        self._buffer.set_arg(0, memoryview(self._x))
+        self._buffer.set_arg(1, memoryview(self._data))
+        self._raw, self._scatter, self.outputs = [], [], []
+        for i in range(function.n_out()):
+            sparsity = function.sparsity_out(i)
+            raw = np.zeros(sparsity.nnz() * n)
+            self._buffer.set_res(i, memoryview(raw))
+            self._raw.append(raw)
+            rows, cols = sparsity.get_triplet()
+            dense = np.zeros((n, sparsity.size1(), sparsity.size2()))
+            self.outputs.append(dense)
+            self._scatter.append((np.array(rows, dtype=int), np.array(cols, dtype=int), sparsity.nnz(),
+                                  sparsity.is_dense()))
+
+    def __call__(self, x) -> list[np.ndarray]:
+        self._x[:] = x
+        self._trigger()
+        for raw, (rows, cols, nnz, dense), out in zip(self._raw, self._scatter, self.outputs):
+            if nnz == 0:
+                continue
+            values = raw.reshape(self.n_samples, nnz)
+            if dense:
+                out[:] = values.reshape(self.n_samples, out.shape[2], out.shape[1]).transpose(0, 2, 1)
+            else:
+                out[:, rows, cols] = values
+        return self.outputs
