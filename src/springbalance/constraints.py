@@ -17,6 +17,7 @@ class StaysInTension:
 
     name = "tension"
     unit = "m"
+    scale = 0.1  # [m] typical size of a violation, for the solver's scaling
 
     def rows(self, length, force, parameters):
         return length - parameters["free_length"]
@@ -29,6 +30,7 @@ class MaxStretch:
     ratio: float
     name = "max_stretch"
     unit = "m"
+    scale = 0.1  # [m]
 
     def rows(self, length, force, parameters):
         return self.ratio * parameters["free_length"] - length
@@ -45,6 +47,10 @@ class MaxForce:
     name = "max_force"
     unit = "N"
 
+    @property
+    def scale(self):
+        return self.limit  # [N]
+
     def rows(self, length, force, parameters):
         return (self.limit * self.limit - force * force) / self.limit
 
@@ -57,6 +63,10 @@ class MaxLength:
     name = "max_length"
     unit = "m"
 
+    @property
+    def scale(self):
+        return self.limit  # [m]
+
     def rows(self, length, force, parameters):
         return self.limit - length
 
@@ -68,6 +78,10 @@ class MinLength:
     limit: float
     name = "min_length"
     unit = "m"
+
+    @property
+    def scale(self):
+        return self.limit  # [m]
 
     def rows(self, length, force, parameters):
         return length - self.limit

@@ -61,9 +61,13 @@ class WorkspaceKinematics:
         n = configurations.shape[0]
         self.gravity_torque = np.empty((n, model.nv))
         self.potential = np.empty(n)
+        gravity = np.array(model.gravity.linear)
         for i, q in enumerate(configurations):
             self.gravity_torque[i] = pin.computeGeneralizedGravity(model, data, q)
-            self.potential[i] = pin.computePotentialEnergy(model, data, q)
+            # V_g = -Σ_j m_j g·c_j over the moving bodies, as computePotentialEnergy (which rejects mimic joints)
+            pin.forwardKinematics(model, data, q)
+            self.potential[i] = -sum(model.inertias[j].mass * float(gravity @ data.oMi[j].act(model.inertias[j].lever))
+                                     for j in range(1, model.njoints))
         self._bodies: dict[str, BodyKinematics] = {}
 
     def body(self, name: str) -> BodyKinematics:

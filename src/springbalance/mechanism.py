@@ -241,7 +241,10 @@ def _degrees_of_freedom(model: pin.Model) -> list[Joint]:
 
 
 def _gravity_vector(gravity) -> np.ndarray:
-    vector = np.asarray(gravity, dtype=float)
+    try:
+        vector = np.asarray(gravity, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"gravity must be a magnitude or a finite 3-vector, got {gravity!r}") from None
     if vector.ndim == 0:
         vector = np.array([0.0, 0.0, -float(vector)])
     if vector.shape != (3,) or not np.all(np.isfinite(vector)):

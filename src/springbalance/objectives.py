@@ -4,13 +4,13 @@ With ``tau_ij`` the residual torque of joint ``j`` at sample ``i`` and joint wei
 ``w_j``, every objective maps the weighted torques ``w_j tau_ij`` (N×nv) and the total
 potential ``V_i`` (N) to a number. :meth:`Objective.value` works on NumPy arrays (metrics);
 :meth:`Objective.nlp` returns the CasADi pieces for the optimiser: extra variables, the
-cost and constraint rows. Objectives with least-squares structure also give
-:meth:`Objective.residuals`, a vector ``r`` with ``value = h(|r|²)``, which the
-Gauss–Newton/Levenberg–Marquardt backend exploits.
+cost and constraint rows. Objectives with ``least_squares = True`` (rms, pe_variance) are
+sums of squares, which the Levenberg–Marquardt backend of :mod:`springbalance.solve` exploits.
 """
 
 from __future__ import annotations
 
+import abc
 import dataclasses
 from typing import ClassVar
 
@@ -32,7 +32,7 @@ class NlpPieces:
     rows: ca.MX | None  # ≥ 0
 
 
-class Objective:
+class Objective(abc.ABC):
     """Base: subclasses set ``name``, ``unit`` and implement ``value`` and ``nlp``."""
 
     name: ClassVar[str] = ""
@@ -40,18 +40,15 @@ class Objective:
     least_squares: ClassVar[bool] = False
     needs_path: ClassVar[bool] = False
 
+    @abc.abstractmethod
     def value(self, weighted_tau: np.ndarray, potential: np.ndarray, path: np.ndarray) -> float:
         """Objective of numeric torques (N×nv), potentials (N) and path steps |Δq| ((N-1)×nv)."""
-        raise NotImplementedError  # abstract
 
+    @abc.abstractmethod
     def nlp(self, weighted_tau: ca.MX, potential: ca.MX, path: np.ndarray, torque_scale: float,
             potential_scale: float) -> NlpPieces:
         """CasADi cost (and epigraph) for torques (nv×N MX) and potentials (1×N MX)."""
-        raise NotImplementedError  # abstract
 
-    def residuals(self, weighted_tau, potential, torque_scale: float, potential_scale: float):
-        """Least-squares residual vector (objectives with ``least_squares = True``)."""
-        raise NotImplementedError  # abstract
 
 
 class Rms(Objective):
@@ -62,9 +59,6 @@ class Rms(Objective):
     def value(self, weighted_tau, potential, path):
         return float(np.sqrt(np.mean(np.square(weighted_tau))))
 
-    def residuals(self, weighted_tau, potential, torque_scale, potential_scale):
-        # |r|² = mean((w τ)²) / S²: the squared rms in units of the unbalanced rms S.
-        return weighted_tau / (torque_scale * np.sqrt(weighted_tau.size))
 
     def nlp(self, weighted_tau, potential, path, torque_scale, potential_scale):
         r = ca.vec(weighted_tau) / (torque_scale * np.sqrt(weighted_tau.numel()))
@@ -101,9 +95,6 @@ class PotentialVariance(Objective):
     def value(self, weighted_tau, potential, path):
         return float(np.var(potential))
 
-    def residuals(self, weighted_tau, potential, torque_scale, potential_scale):
-        centred = potential - np.mean(potential)
-        return centred / (potential_scale * np.sqrt(centred.size))
 
     def nlp(self, weighted_tau, potential, path, torque_scale, potential_scale):
         n = potential.numel()

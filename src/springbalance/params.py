@@ -30,9 +30,13 @@ class Free:
     """
 
     def __init__(self, lower, upper, init=None):
-        self.lower = np.asarray(lower, dtype=float)
-        self.upper = np.asarray(upper, dtype=float)
-        self.init = None if init is None else np.asarray(init, dtype=float)
+        try:
+            self.lower = np.asarray(lower, dtype=float)
+            self.upper = np.asarray(upper, dtype=float)
+            self.init = None if init is None else np.asarray(init, dtype=float)
+        except (TypeError, ValueError):
+            raise InputError(f"Free bounds must be numbers (or equal-length lists of numbers), got lower {lower!r}, "
+                             f"upper {upper!r}" + ("" if init is None else f", init {init!r}")) from None
         if self.lower.shape != self.upper.shape:
             raise InputError(f"Free bounds have different shapes: lower {lower!r}, upper {upper!r}")
         for label, value in (("lower", self.lower), ("upper", self.upper)) + ((("init", self.init),) if init is not None else ()):

@@ -12,6 +12,7 @@ potential [J]. Solutions and reports are always in physical units.
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 from typing import Mapping, Sequence
 
@@ -166,7 +167,7 @@ class DesignProblem:
                    ca.vertcat(*all_rows) if all_rows else ca.MX(0, 1), self.variables.size, pieces.start)
 
     def solve(self, starts: int = 8, seed: int = 0, method: str = "auto", progress: bool | None = None,
-              max_iterations: int = 500, tolerance: float = 1e-10):
+              max_iterations: int = 100, tolerance: float = 1e-6):
         """Multi-start solve; returns the best feasible :class:`~springbalance.result.DesignResult`.
 
         Args:
@@ -176,7 +177,8 @@ class DesignProblem:
                 where it does not or where constraints bind), ``"least_squares"`` or ``"ipopt"``.
             progress: show a progress bar (default: when more than one start and stderr is a terminal).
             max_iterations: iteration limit per start and phase.
-            tolerance: relative stopping tolerance on the scaled objective.
+            tolerance: stop when the objective fell by less than this fraction over the last 5
+                accepted steps (least squares), IPOPT's own tolerance is min(tolerance, 1e-8).
         """
         from .solve import solve_problem
 
@@ -212,6 +214,7 @@ class DesignProblem:
 
 
 def _named_springs(springs: Sequence[Spring]) -> list[Spring]:
+    """The springs, unnamed ones copied and named ``s<position>`` (the caller's objects are not changed)."""
     springs = list(springs)
     if not springs:
         raise InputError("a design problem needs at least one spring")
@@ -220,7 +223,9 @@ def _named_springs(springs: Sequence[Spring]) -> list[Spring]:
         if not isinstance(spring, Spring):
             raise InputError(f"spring #{index} is a {type(spring).__name__}, not a Spring")
         if spring.name is None:
+            spring = copy.copy(spring)
             spring.name = f"s{index}"
+            springs[index - 1] = spring
         if spring.name in names:
             raise InputError(f"two springs are called {spring.name!r}; spring names must be unique")
         names.add(spring.name)

@@ -232,6 +232,9 @@ def write_json_atomic(path: str | Path, record: dict) -> Path:
     path.parent.mkdir(parents=True, exist_ok=True)
     handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
     try:
+        umask = os.umask(0)
+        os.umask(umask)
+        os.fchmod(handle, 0o666 & ~umask)
         with os.fdopen(handle, "w") as stream:
             json.dump(record, stream, indent=1, allow_nan=True)
             stream.write("\n")

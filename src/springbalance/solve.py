@@ -25,10 +25,10 @@ import time
 
 import casadi as ca
 import numpy as np
-from scipy.optimize import least_squares
 from scipy.stats import qmc
 
 from .errors import InputError, SolverError
+from .levenberg_marquardt import levenberg_marquardt
 from .objectives import Rms
 from .torque_model import SampleEvaluator
 
@@ -70,7 +70,7 @@ def start_points(problem, starts: int, seed: int) -> np.ndarray:
     return np.vstack([first, others[: starts - 1]])
 
 
-def solve_problem(problem, starts=8, seed=0, method="auto", progress=None, max_iterations=500, tolerance=1e-10):
+def solve_problem(problem, starts=8, seed=0, method="auto", progress=None, max_iterations=100, tolerance=1e-6):
     """Run every start and return the best feasible design (see :meth:`DesignProblem.solve`)."""
     from .result import DesignResult
 
@@ -140,14 +140,35 @@ class _MultiStartSolver:
 
     # ------------------------------------------------------------------ least squares
     def _least_squares(self, z0):
+        """Bounded Gauss–Newton (SciPy TRF) on the residuals; practical constraints by an
+        augmented Lagrangian whose penalty rows ``max(0, λ - μ c)/√μ`` join the residuals."""
         problem = self.problem
         if self._ls is None:
             self._ls = _LeastSquaresResiduals(problem)
-        result = least_squares(self._ls.residuals, np.clip(z0, 0, 1), jac=self._ls.jacobian, bounds=(0.0, 1.0),
-                               method="trf", x_scale=1.0, ftol=self.tolerance, xtol=self.tolerance,
-                               gtol=self.tolerance, max_nfev=self.max_iterations)
-        status = f"least_squares: {_LS_STATUS.get(result.status, result.message)}"
-        return np.clip(result.x, 0, 1), status, int(result.nfev)
+        ls = self._ls
+        z = np.clip(z0, 0.0, 1.0)
+        ls.set_penalty(None, 0.0)
+        multipliers = np.zeros(ls.n_constraint_rows)
+        penalty, iterations, status = 10.0, 0, "least_squares: not run"
+        previous_violation = np.inf
+        for _ in range(12 if ls.n_constraint_rows else 1):
+            if ls.n_constraint_rows:
+                ls.set_penalty(multipliers, penalty)
+            result = levenberg_marquardt(ls.residuals_and_jacobian, z, max_iterations=self.max_iterations,
+                                         ftol=self.tolerance)
+            z, iterations = result.z, iterations + result.iterations
+            status = f"least_squares: {result.status}"
+            if not ls.n_constraint_rows:
+                break
+            rows = ls.constraint_rows(z)
+            violation = float(max(0.0, -np.min(rows)))
+            if violation * ls.smallest_row_scale <= FEASIBILITY_TOLERANCE:
+                break
+            multipliers = np.maximum(0.0, multipliers - penalty * rows)
+            if violation > 0.25 * previous_violation:
+                penalty *= 10.0
+            previous_violation = violation
+        return z, status, iterations
 
     # ------------------------------------------------------------------ IPOPT
     def _ipopt_solve(self, z, evaluation):
@@ -155,7 +176,7 @@ class _MultiStartSolver:
         if self._ipopt is None:
             self._nlp = problem.build()
             options = {"print_time": False, "ipopt.print_level": 0, "ipopt.sb": "yes",
-                       "ipopt.max_iter": self.max_iterations, "ipopt.tol": max(self.tolerance, 1e-10),
+                       "ipopt.max_iter": self.max_iterations, "ipopt.tol": min(self.tolerance, 1e-8),
                        "ipopt.acceptable_tol": 1e-8, "ipopt.mu_strategy": "adaptive"}
             self._ipopt = ca.nlpsol("springbalance", "ipopt", {"x": self._nlp.z, "f": self._nlp.cost,
                                                                "g": self._nlp.rows}, options)
@@ -174,6 +195,8 @@ class _LeastSquaresResiduals:
 
     For ``pe_variance`` the residual is the centred total potential; otherwise (``rms``, and the
     warm-start phase of ``peak``/``energy``) the weighted torque divided by ``S·sqrt(N·nv)``.
+    With a penalty set, the augmented-Lagrangian rows ``max(0, λ - μ c)/√μ`` of the scaled
+    constraint rows ``c`` (≥ 0 when feasible) follow.
     """
 
     def __init__(self, problem):
@@ -185,7 +208,15 @@ class _LeastSquaresResiduals:
         n, nv = problem.workspace.size, problem.mechanism.nv
         self.torque_factor = problem.weights[None, :] / (problem.torque_scale * np.sqrt(n * nv))
         self.potential_factor = 1.0 / (problem.potential_scale * np.sqrt(n))
+        blocks = problem.model.constraint_blocks
+        self.row_scale = np.array([block.scale for block in blocks]) if blocks else np.ones(0)
+        self.smallest_row_scale = float(np.min(self.row_scale)) if blocks else 1.0
+        self.n_constraint_rows = n * len(blocks)
+        self.multipliers, self.penalty = None, 0.0
         self._last_z = None
+
+    def set_penalty(self, multipliers, penalty: float) -> None:
+        self.multipliers, self.penalty = multipliers, penalty
 
     def _evaluate(self, z):
         if self._last_z is None or not np.array_equal(z, self._last_z):
@@ -193,19 +224,43 @@ class _LeastSquaresResiduals:
             self._last_z = np.array(z)
         return self.outputs
 
+    def constraint_rows(self, z) -> np.ndarray:
+        """Scaled constraint rows (N·n_c), ≥ 0 when feasible."""
+        rows = self._evaluate(z)[4][:, :, 0]
+        return (rows / self.row_scale).reshape(-1)
+
+    def _penalty_active(self, z):
+        shifted = self.multipliers - self.penalty * self.constraint_rows(z)
+        return shifted > 0, shifted
+
+    def residuals_and_jacobian(self, z):
+        return self.residuals(z), self.jacobian(z)
+
     def residuals(self, z):
-        tau, _, potential, _ = self._evaluate(z)
+        tau, _, potential, _, _, _ = self._evaluate(z)
         if self.variance:
             values = potential[:, 0, 0]
-            return (values - values.mean()) * self.potential_factor
-        return (tau[:, :, 0] * self.torque_factor).reshape(-1)
+            objective = (values - values.mean()) * self.potential_factor
+        else:
+            objective = (tau[:, :, 0] * self.torque_factor).reshape(-1)
+        if self.multipliers is None:
+            return objective
+        active, shifted = self._penalty_active(z)
+        return np.concatenate([objective, np.where(active, shifted, 0.0) / np.sqrt(self.penalty)])
 
     def jacobian(self, z):
-        _, dtau, _, dpotential = self._evaluate(z)
+        _, dtau, _, dpotential, _, drows = self._evaluate(z)
         if self.variance:
             rows = dpotential[:, 0, :]
-            return (rows - rows.mean(axis=0)) * (self.potential_factor * self.width)
-        return (dtau * self.torque_factor[:, :, None] * self.width).reshape(-1, self.width.size)
+            objective = (rows - rows.mean(axis=0)) * (self.potential_factor * self.width)
+        else:
+            objective = (dtau * self.torque_factor[:, :, None] * self.width).reshape(-1, self.width.size)
+        if self.multipliers is None:
+            return objective
+        active, _ = self._penalty_active(z)
+        constraint = (drows / self.row_scale[None, :, None] * self.width).reshape(-1, self.width.size)
+        penalty_rows = np.where(active[:, None], -np.sqrt(self.penalty) * constraint, 0.0)
+        return np.vstack([objective, penalty_rows])
 
 
 _LS_STATUS = {

@@ -14,6 +14,8 @@ parameter name to its value. Every parameter is a number or :class:`~springbalan
 
 from __future__ import annotations
 
+import abc
+
 from typing import ClassVar
 
 import numpy as np
@@ -23,7 +25,7 @@ from .errors import InputError
 from .params import Anchor, Free
 
 
-class Spring:
+class Spring(abc.ABC):
     """Base class of two-point springs. Subclasses set ``kind``, ``parameter_units`` and the law."""
 
     kind: ClassVar[str] = ""
@@ -53,13 +55,13 @@ class Spring:
         self.min_length = _positive_option(self, "min_length", min_length)
 
     # ---------------------------------------------------------------- the law
+    @abc.abstractmethod
     def tension(self, length, parameters):
         """Tension ``F(L)`` [N], positive when the spring pulls its ends together."""
-        raise NotImplementedError  # abstract: every concrete law overrides it
 
+    @abc.abstractmethod
     def potential(self, length, parameters):
         """Stored energy ``V_s(L)`` [J]."""
-        raise NotImplementedError  # abstract: every concrete law overrides it
 
     def tension_per_length(self, length, parameters):
         """``F(L) / L`` [N/m]; the force on end b is ``-(F/L) d`` with ``d = x_b - x_a``."""
@@ -211,7 +213,7 @@ def spring_from_dict(record, where: str = "spring") -> Spring:
     if not isinstance(record, dict):
         raise InputError(f"{where}: expected a mapping, got {record!r}")
     kind = record.get("type", "extension")
-    if kind not in SPRING_TYPES:
+    if not isinstance(kind, str) or kind not in SPRING_TYPES:
         raise InputError(f"{where}.type: unknown spring type {kind!r}; valid: {', '.join(SPRING_TYPES)}")
     cls = SPRING_TYPES[kind]
     options = _SPRING_OPTIONS + (_EXTENSION_OPTIONS if issubclass(cls, ExtensionSpring) else ())
@@ -225,6 +227,8 @@ def spring_from_dict(record, where: str = "spring") -> Spring:
     b = anchor_from_dict(record["b"], f"{where}.b")
     parameters = {key: value_from_record(record[key], f"{where}.{key}") for key in cls.parameter_units if key in record}
     extra = {key: record[key] for key in options if key in record}
+    if not isinstance(extra.get("keep_tension", True), bool):
+        raise InputError(f"{where}.keep_tension: expected true or false, got {extra['keep_tension']!r}")
     try:
         return cls(a, b, None if name is None else str(name), **parameters, **extra)
     except InputError as error:

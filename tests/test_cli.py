@@ -1,0 +1,235 @@
+"""The ``springbalance`` command line: design/evaluate round trip, exit codes, one-line errors."""
+
+from __future__ import annotations
+
+import copy
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+import yaml
+
+from springbalance.cli import main
+from springbalance.result import FORMAT
+
+ROOT = Path(__file__).resolve().parents[1]
+URDF = ROOT / "urdf" / "two_link_planar.urdf"
+
+# One spring from just above the shoulder to link1; the elbow is held straight, so the
+# shoulder carries a single-link load that one extension spring balances well.
+BASE = {
+    "mechanism": {"urdf": str(URDF)},
+    "workspace": {"kind": "sobol", "n": 64, "seed": 0, "degrees": True,
+                  "ranges": {"shoulder": [-90, 90], "elbow": [0, 0]}},
+    "springs": [{
+        "name": "s1", "type": "extension",
+        "a": {"body": "universe", "point": [0, 0, 0.1]},
+        "b": {"body": "link1", "box": {"lower": [0.05, 0, 0], "upper": [0.5, 0, 0]}},
+        "stiffness": {"lower": 0, "upper": 10000},
+        "free_length": {"lower": 0.05, "upper": 1.0},
+    }],
+    "objective": "rms",
+    "weights": {"elbow": 0.0},
+    "solve": {"starts": 2, "seed": 0},
+}
+
+
+def write_config(tmp_path: Path, record=None, name: str = "config.yaml") -> Path:
+    path = tmp_path / name
+    path.write_text(yaml.safe_dump(BASE if record is None else record, sort_keys=False))
+    return path
+
+
+def edited(**changes) -> dict:
+    """A deep copy of BASE with ``section__key=value`` changes."""
+    record = copy.deepcopy(BASE)
+    for dotted, value in changes.items():
+        keys = dotted.split("__")
+        node = record
+        for key in keys[:-1]:
+            node = node[int(key)] if isinstance(node, list) else node[key]
+        node[keys[-1]] = value
+    return record
+
+
+def run_error(capsys, argv, code=2) -> str:
+    """Run ``main(argv)``, expect exit ``code`` and one error line on stderr; return that line."""
+    assert main(argv) == code
+    captured = capsys.readouterr()
+    lines = captured.err.splitlines()
+    assert len(lines) == 1, captured.err
+    assert lines[0].startswith("springbalance: error: ")
+    assert "Traceback" not in captured.err
+    assert captured.out == ""
+    return lines[0]
+
+
+# ---------------------------------------------------------------------- round trip
+def test_design_then_evaluate_round_trip(tmp_path, capsys):
+    config = write_config(tmp_path)
+    out = tmp_path / "results" / "design.json"
+    assert main(["design", str(config), "--out", str(out), "--starts", "2", "--seed", "1"]) == 0
+    printed = capsys.readouterr().out
+    assert "Actuator torque (gravity only vs with springs)" in printed
+    assert f"design saved to {out}" in printed
+
+    record = json.loads(out.read_text())
+    assert record["format"] == FORMAT
+    assert record["solver"]["seed"] == 1 and len(record["solver"]["starts"]) == 2
+    shoulder = record["metrics"]["joints"][0]
+    assert shoulder["joint"] == "shoulder"
+    assert shoulder["rms_reduction_percent"] > 80  # one spring nearly balances a single link
+
+    assert main(["evaluate", str(out)]) == 0
+    evaluated = capsys.readouterr().out
+    # Same design, same workspace: the shoulder row of the report is identical.
+    shoulder_row = next(line for line in printed.splitlines() if line.strip().startswith("shoulder ["))
+    assert shoulder_row in evaluated.splitlines()
+    assert "64 samples" in evaluated
+
+    workspace = tmp_path / "workspace.yaml"
+    workspace.write_text(yaml.safe_dump({"workspace": {"kind": "grid", "n": {"shoulder": 7, "elbow": 1}}}))
+    assert main(["evaluate", str(out), "--workspace", str(workspace)]) == 0
+    assert "7 samples" in capsys.readouterr().out
+
+
+def test_quiet_design_prints_nothing(tmp_path, capsys):
+    out = tmp_path / "design.json"
+    assert main(["design", str(write_config(tmp_path)), "--out", str(out), "--starts", "1", "--quiet"]) == 0
+    captured = capsys.readouterr()
+    assert captured.out == "" and captured.err == ""
+    assert out.is_file()
+
+
+# ---------------------------------------------------------------------- bad input: exit 2, no output file
+def broken_urdf(tmp_path: Path) -> dict:
+    (tmp_path / "broken.urdf").write_text('<robot name="broken"><link name="a"><joint></robot>')
+    return edited(mechanism={"urdf": "broken.urdf"})
+
+
+CASES = {
+    "unknown key": (lambda tmp: edited(workspace__nn=10),
+                    ["workspace: unknown key 'nn'; valid keys: kind, n, seed, degrees, ranges"]),
+    "unknown body": (lambda tmp: edited(springs__0__b__body="forearm"),
+                     ["springs[0] 's1'.b.body: unknown body 'forearm'", "bodies: universe, base, link1, link2, tool"]),
+    "unknown joint": (lambda tmp: edited(workspace__ranges={"wrist": [0, 90]}),
+                      ["workspace.ranges: unknown joint 'wrist'", "joints: shoulder, elbow"]),
+    "lower > upper": (lambda tmp: edited(springs__0__free_length={"lower": 1.0, "upper": 0.5}),
+                      ["springs[0] 's1'.free_length", "lower 1.0 > upper 0.5"]),
+    "nan bound": (lambda tmp: edited(springs__0__stiffness={"lower": 0, "upper": float("nan")}),
+                  ["springs[0].stiffness.upper: nan is not allowed"]),
+    "malformed urdf": (broken_urdf, ["mechanism.urdf: URDF file", "broken.urdf", "could not be parsed"]),
+    "missing urdf": (lambda tmp: edited(mechanism={"urdf": "missing.urdf"}),
+                     ["mechanism.urdf: URDF file", "missing.urdf' does not exist"]),
+    "zero-length spring": (lambda tmp: edited(springs__0__a={"body": "universe", "point": [0, 0, 0]},
+                                              springs__0__b={"body": "link1", "point": [0, 0, 0]}),
+                           ["spring 's1': its ends coincide (zero length)"]),
+}
+
+
+@pytest.mark.parametrize("case", CASES, ids=list(CASES))
+def test_bad_config_exits_2_with_one_line_and_no_output(tmp_path, capsys, case):
+    make_record, expected = CASES[case]
+    config = write_config(tmp_path, make_record(tmp_path))
+    out = tmp_path / "design.json"
+    line = run_error(capsys, ["design", str(config), "--out", str(out)])
+    assert line.startswith(f"springbalance: error: {config}: ")
+    for text in expected:
+        assert text in line
+    assert not out.exists()
+    assert [p.name for p in tmp_path.iterdir() if p.name.startswith(".design.json")] == []
+
+
+def test_missing_config_file(tmp_path, capsys):
+    out = tmp_path / "design.json"
+    line = run_error(capsys, ["design", str(tmp_path / "absent.yaml"), "--out", str(out)])
+    assert "absent.yaml' does not exist" in line
+    assert not out.exists()
+
+
+def test_yaml_syntax_error(tmp_path, capsys):
+    config = tmp_path / "config.yaml"
+    config.write_text("mechanism: {urdf: arm.urdf\nworkspace:\n\t- x\n")
+    out = tmp_path / "design.json"
+    line = run_error(capsys, ["design", str(config), "--out", str(out)])
+    assert "config.yaml: YAML syntax error at line" in line
+    assert not out.exists()
+
+
+def test_failed_design_leaves_an_existing_output_untouched(tmp_path, capsys):
+    out = tmp_path / "design.json"
+    out.write_text("previous design\n")
+    run_error(capsys, ["design", str(write_config(tmp_path, edited(workspace__nn=1))), "--out", str(out)])
+    assert out.read_text() == "previous design\n"
+
+
+def test_out_is_a_directory_fails_before_solving(tmp_path, capsys):
+    line = run_error(capsys, ["design", str(write_config(tmp_path)), "--out", str(tmp_path)])
+    assert "is a directory" in line
+
+
+def test_solver_failure_exits_1_with_statuses(tmp_path, capsys):
+    # free length 1 m but the ends are never more than 0.3 m apart: no tension spring fits.
+    record = edited(springs__0__b={"body": "link1", "point": [0.2, 0, 0]}, springs__0__free_length=1.0)
+    record["solve"] = {"starts": 1}
+    out = tmp_path / "design.json"
+    line = run_error(capsys, ["design", str(write_config(tmp_path, record)), "--out", str(out)], code=1)
+    assert "no start gave a feasible design" in line and "start 0: ipopt:" in line
+    assert not out.exists()
+
+
+def test_evaluate_errors(tmp_path, capsys):
+    assert "design file" in run_error(capsys, ["evaluate", str(tmp_path / "none.json")])
+    (tmp_path / "bad.json").write_text("{")
+    assert "is not valid JSON" in run_error(capsys, ["evaluate", str(tmp_path / "bad.json")])
+
+
+def test_evaluate_with_bad_workspace_file(tmp_path, capsys):
+    out = tmp_path / "design.json"
+    assert main(["design", str(write_config(tmp_path)), "--out", str(out), "--starts", "1", "--quiet"]) == 0
+    workspace = tmp_path / "workspace.yaml"
+    workspace.write_text(yaml.safe_dump({"workspace": {"kind": "grid", "n": {"knee": 3}}}))
+    line = run_error(capsys, ["evaluate", str(out), "--workspace", str(workspace)])
+    assert f"{workspace}: workspace.n: unknown joint 'knee'" in line
+
+
+# ---------------------------------------------------------------------- other commands, help
+def test_robots_lists_example_robot_data(capsys):
+    assert main(["robots"]) == 0
+    names = capsys.readouterr().out.split()
+    assert "ur5" in names and "panda" in names
+
+
+@pytest.mark.parametrize("argv", [[], ["design"], ["evaluate"], ["robots"]])
+def test_help(capsys, argv):
+    with pytest.raises(SystemExit) as exit_info:
+        main([*argv, "--help"])
+    assert exit_info.value.code == 0
+    assert capsys.readouterr().out.startswith(f"usage: springbalance {' '.join(argv)}".rstrip())
+
+
+def test_bad_option_values_are_usage_errors(tmp_path, capsys):
+    with pytest.raises(SystemExit) as exit_info:
+        main(["design", str(write_config(tmp_path)), "--out", str(tmp_path / "d.json"), "--starts", "0"])
+    assert exit_info.value.code == 2
+    assert "--starts: must be ≥ 1" in capsys.readouterr().err
+    assert not (tmp_path / "d.json").exists()
+
+
+# ---------------------------------------------------------------------- the installed console script
+def test_console_script_error_is_one_line_without_traceback(tmp_path):
+    script = Path(sys.executable).with_name("springbalance")
+    assert script.is_file(), "console script not installed: pip install -e ."
+    config = write_config(tmp_path, edited(springs__0__b__body="forearm"))
+    out = tmp_path / "design.json"
+    completed = subprocess.run([str(script), "design", str(config), "--out", str(out)],
+                               capture_output=True, text=True, timeout=120)
+    assert completed.returncode == 2
+    lines = completed.stderr.splitlines()
+    assert len(lines) == 1, completed.stderr
+    assert lines[0].startswith("springbalance: error: ") and "unknown body 'forearm'" in lines[0]
+    assert "Traceback" not in completed.stderr
+    assert completed.stdout == ""
+    assert not out.exists()
