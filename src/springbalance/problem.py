@@ -167,7 +167,7 @@ class DesignProblem:
                    ca.vertcat(*all_rows) if all_rows else ca.MX(0, 1), self.variables.size, pieces.start)
 
     def solve(self, starts: int = 8, seed: int = 0, method: str = "auto", progress: bool | None = None,
-              max_iterations: int = 100, tolerance: float = 1e-6):
+              max_iterations: int = 100, tolerance: float = 1e-6, polish_iterations: int | None = None):
         """Multi-start solve; returns the best feasible :class:`~springbalance.result.DesignResult`.
 
         Args:
@@ -176,14 +176,17 @@ class DesignProblem:
             method: ``"auto"`` (least squares where the objective has that structure, IPOPT
                 where it does not or where constraints bind), ``"least_squares"`` or ``"ipopt"``.
             progress: show a progress bar (default: when more than one start and stderr is a terminal).
-            max_iterations: iteration limit per start and phase.
+            max_iterations: iteration limit per start and phase (the screening budget).
+            polish_iterations: further iterations for the best start when it stopped on the
+                limit (default 4 × max_iterations; 0 disables).
             tolerance: stop when the objective fell by less than this fraction over the last 5
                 accepted steps (least squares), IPOPT's own tolerance is min(tolerance, 1e-8).
         """
         from .solve import solve_problem
 
         return solve_problem(self, starts=starts, seed=seed, method=method, progress=progress,
-                             max_iterations=max_iterations, tolerance=tolerance)
+                             max_iterations=max_iterations, tolerance=tolerance,
+                             polish_iterations=polish_iterations)
 
     def result(self, x, **info):
         """A :class:`~springbalance.result.DesignResult` for a given design vector (no optimisation)."""

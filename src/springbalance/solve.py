@@ -25,12 +25,13 @@ import time
 
 import casadi as ca
 import numpy as np
+from scipy.optimize import lsq_linear
 from scipy.stats import qmc
 
 from .errors import InputError, SolverError
 from .levenberg_marquardt import levenberg_marquardt
 from .objectives import Rms
-from .torque_model import SampleEvaluator
+from .torque_model import SampleEvaluator, compiled
 
 METHODS = ("auto", "least_squares", "ipopt")
 FEASIBILITY_TOLERANCE = 1e-6  # [m or N]
@@ -70,8 +71,15 @@ def start_points(problem, starts: int, seed: int) -> np.ndarray:
     return np.vstack([first, others[: starts - 1]])
 
 
-def solve_problem(problem, starts=8, seed=0, method="auto", progress=None, max_iterations=100, tolerance=1e-6):
-    """Run every start and return the best feasible design (see :meth:`DesignProblem.solve`)."""
+def solve_problem(problem, starts=8, seed=0, method="auto", progress=None, max_iterations=100, tolerance=1e-6,
+                  polish_iterations=None):
+    """Run every start and return the best feasible design (see :meth:`DesignProblem.solve`).
+
+    Screen, then polish: every start runs with ``max_iterations``; the best feasible one then
+    continues from where it stopped for up to ``polish_iterations`` (default 4 × max_iterations)
+    when it stopped on the iteration limit. Starts that stall far from the best cost only their
+    budget, and the chosen design still converges.
+    """
     from .result import DesignResult
 
     if method not in METHODS:
@@ -106,6 +114,16 @@ def solve_problem(problem, starts=8, seed=0, method="auto", progress=None, max_i
         summary = "; ".join(f"start {r.index}: {r.status}, violation {r.max_violation:.3g}" for r in records)
         raise SolverError(f"no start gave a feasible design ({summary})", problem=problem, starts=records)
     best = min(feasible, key=lambda record: record.objective)
+    polish = 4 * max_iterations if polish_iterations is None else int(polish_iterations)
+    if polish > 0 and "iteration limit" in best.status and problem.variables.size:
+        solver.max_iterations = polish
+        polished = solver.run(best.index, problem.unscale(best.x))
+        polished.status = f"{polished.status} (polished after {best.iterations} iterations)"
+        polished.iterations += best.iterations
+        polished.seconds += best.seconds
+        if polished.feasible and polished.objective <= best.objective:
+            records[records.index(best)] = polished
+            best = polished
     return DesignResult(problem, best.x, starts=records, method=method, seed=seed, status=best.status)
 
 
@@ -146,8 +164,8 @@ class _MultiStartSolver:
         if self._ls is None:
             self._ls = _LeastSquaresResiduals(problem)
         ls = self._ls
-        z = np.clip(z0, 0.0, 1.0)
         ls.set_penalty(None, 0.0)
+        z = self._fit_linear_variables(np.clip(z0, 0.0, 1.0))
         multipliers = np.zeros(ls.n_constraint_rows)
         penalty, iterations, status = 10.0, 0, "least_squares: not run"
         previous_violation = np.inf
@@ -169,6 +187,26 @@ class _MultiStartSolver:
                 penalty *= 10.0
             previous_violation = violation
         return z, status, iterations
+
+    def _fit_linear_variables(self, z):
+        """Replace the start's stiffnesses and initial tensions by their bounded linear least-squares
+        optimum for the start's geometry. The residual is exactly affine in them,
+        ``r(z) = r(z0) + J_lin (z_lin - z0_lin)``, so one evaluation and one BVLS solve suffice.
+        This keeps a start from wasting its budget on a stiffness guess off by orders of magnitude
+        (and from stalling at k = 0, where the anchors have no gradient)."""
+        linear = self.problem.model.linear_indices
+        if not linear:
+            return z
+        r, J = self._ls.residuals_and_jacobian(z)
+        columns = J[:, linear]
+        # Keep every linear variable at least 10 % into its range: at k = 0 a spring's anchors have
+        # no gradient (a saddle the start could not leave); the solver may still drive k to 0.
+        fit = lsq_linear(columns, columns @ z[linear] - r, bounds=(0.1, 1.0), method="bvls")
+        if not fit.success:
+            return z
+        z = z.copy()
+        z[linear] = np.clip(fit.x, 0.1, 1.0)
+        return z
 
     # ------------------------------------------------------------------ IPOPT
     def _ipopt_solve(self, z, evaluation):
@@ -193,25 +231,38 @@ class _MultiStartSolver:
 class _LeastSquaresResiduals:
     """Scaled residuals ``r(z)`` and exact Jacobian ``dr/dz`` of a least-squares objective.
 
-    For ``pe_variance`` the residual is the centred total potential; otherwise (``rms``, and the
-    warm-start phase of ``peak``/``energy``) the weighted torque divided by ``S·sqrt(N·nv)``.
-    With a penalty set, the augmented-Lagrangian rows ``max(0, λ - μ c)/√μ`` of the scaled
-    constraint rows ``c`` (≥ 0 when feasible) follow.
+    One per-sample CasADi function of the *scaled* variables ``z`` gives the sample's
+    residual rows and their transposed Jacobian, already scaled, so that the mapped,
+    JIT-compiled evaluation lands in NumPy buffers that *are* ``r`` and ``J`` (no copies):
+
+    - ``rms`` (and the warm-start phase of ``peak``/``energy``): ``w ⊙ tau / (S·sqrt(N·nv))``;
+    - ``pe_variance``: the total potential over ``P·sqrt(N)``, centred here in NumPy;
+    - constraint rows ``c / scale`` (≥ 0 when feasible) for the augmented Lagrangian, whose
+      penalty rows ``max(0, λ - μ c)/√μ`` follow the objective rows when a penalty is set.
     """
 
     def __init__(self, problem):
         self.problem = problem
         self.variance = problem.objective.name == "pe_variance"
-        self.evaluator = SampleEvaluator(problem.model.sample_jacobian, problem.data)
+        model = problem.model
         lower, upper = problem.variables.bounds()
-        self.width = upper - lower
         n, nv = problem.workspace.size, problem.mechanism.nv
-        self.torque_factor = problem.weights[None, :] / (problem.torque_scale * np.sqrt(n * nv))
-        self.potential_factor = 1.0 / (problem.potential_scale * np.sqrt(n))
-        blocks = problem.model.constraint_blocks
+        blocks = model.constraint_blocks
         self.row_scale = np.array([block.scale for block in blocks]) if blocks else np.ones(0)
         self.smallest_row_scale = float(np.min(self.row_scale)) if blocks else 1.0
         self.n_constraint_rows = n * len(blocks)
+
+        z = ca.SX.sym("z", problem.variables.size)
+        data = ca.SX.sym("data", model.data_size)
+        tau, potential, _, _, rows = model.sample(ca.DM(lower) + ca.DM(upper - lower) * z, data)
+        if self.variance:
+            residual = potential / (problem.potential_scale * np.sqrt(n))
+        else:
+            residual = tau * ca.DM(problem.weights / (problem.torque_scale * np.sqrt(n * nv)))
+        scaled_rows = rows / ca.DM(self.row_scale) if blocks else rows
+        function = ca.Function("scaled_residual", [z, data],
+                               [residual, ca.jacobian(residual, z).T, scaled_rows, ca.jacobian(scaled_rows, z).T])
+        self.evaluator = SampleEvaluator(compiled(function), problem.data)
         self.multipliers, self.penalty = None, 0.0
         self._last_z = None
 
@@ -220,54 +271,25 @@ class _LeastSquaresResiduals:
 
     def _evaluate(self, z):
         if self._last_z is None or not np.array_equal(z, self._last_z):
-            self.outputs = self.evaluator(self.problem.scale(z))
+            self.outputs = self.evaluator(z)
             self._last_z = np.array(z)
         return self.outputs
 
     def constraint_rows(self, z) -> np.ndarray:
         """Scaled constraint rows (N·n_c), ≥ 0 when feasible."""
-        rows = self._evaluate(z)[4][:, :, 0]
-        return (rows / self.row_scale).reshape(-1)
-
-    def _penalty_active(self, z):
-        shifted = self.multipliers - self.penalty * self.constraint_rows(z)
-        return shifted > 0, shifted
+        return self._evaluate(z)[2].reshape(-1)
 
     def residuals_and_jacobian(self, z):
-        return self.residuals(z), self.jacobian(z)
-
-    def residuals(self, z):
-        tau, _, potential, _, _, _ = self._evaluate(z)
-        if self.variance:
-            values = potential[:, 0, 0]
-            objective = (values - values.mean()) * self.potential_factor
-        else:
-            objective = (tau[:, :, 0] * self.torque_factor).reshape(-1)
+        residual, jacobian, rows, row_jacobian = self._evaluate(z)
+        n_x = jacobian.shape[2]
+        r, J = residual.reshape(-1), jacobian.reshape(-1, n_x)
+        if self.variance:  # centre the potential: r_i - mean(r), J_i - mean(J)
+            r, J = r - r.mean(), J - J.mean(axis=0)
         if self.multipliers is None:
-            return objective
-        active, shifted = self._penalty_active(z)
-        return np.concatenate([objective, np.where(active, shifted, 0.0) / np.sqrt(self.penalty)])
-
-    def jacobian(self, z):
-        _, dtau, _, dpotential, _, drows = self._evaluate(z)
-        if self.variance:
-            rows = dpotential[:, 0, :]
-            objective = (rows - rows.mean(axis=0)) * (self.potential_factor * self.width)
-        else:
-            objective = (dtau * self.torque_factor[:, :, None] * self.width).reshape(-1, self.width.size)
-        if self.multipliers is None:
-            return objective
-        active, _ = self._penalty_active(z)
-        constraint = (drows / self.row_scale[None, :, None] * self.width).reshape(-1, self.width.size)
-        penalty_rows = np.where(active[:, None], -np.sqrt(self.penalty) * constraint, 0.0)
-        return np.vstack([objective, penalty_rows])
-
-
-_LS_STATUS = {
-    -1: "improper input",
-    0: "iteration limit reached",
-    1: "converged (gradient)",
-    2: "converged (cost change)",
-    3: "converged (step size)",
-    4: "converged (cost and step)",
-}
+            return r, J
+        shifted = self.multipliers - self.penalty * rows.reshape(-1)
+        active = shifted > 0
+        penalty_r = np.where(active, shifted, 0.0) / np.sqrt(self.penalty)
+        penalty_J = np.zeros((active.size, n_x))
+        penalty_J[active] = -np.sqrt(self.penalty) * row_jacobian.reshape(-1, n_x)[active]
+        return np.concatenate([r, penalty_r]), np.vstack([J, penalty_J])

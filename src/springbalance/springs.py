@@ -34,6 +34,9 @@ class Spring(abc.ABC):
     #: parameters that must be ≥ 0.
     nonnegative: ClassVar[tuple[str, ...]] = ()
     defaults: ClassVar[dict[str, float]] = {}
+    #: parameters that the tension F(L), hence the torque and the potential, depend on linearly
+    #: (the solver fits them exactly by linear least squares at every start).
+    linear_parameters: ClassVar[tuple[str, ...]] = ()
 
     def __init__(self, a: Anchor, b: Anchor, name: str | None = None, *, max_force: float | None = None,
                  max_length: float | None = None, min_length: float | None = None, **parameters):
@@ -104,6 +107,7 @@ class ZeroFreeLengthSpring(Spring):
     kind = "zero_free_length"
     parameter_units = {"stiffness": "N/m"}
     nonnegative = ("stiffness",)
+    linear_parameters = ("stiffness",)
 
     def tension(self, length, parameters):
         return parameters["stiffness"] * length                       # [N/m]·[m] = [N]
@@ -130,6 +134,7 @@ class ExtensionSpring(Spring):
     parameter_units = {"stiffness": "N/m", "free_length": "m", "initial_tension": "N"}
     nonnegative = ("stiffness", "free_length", "initial_tension")
     defaults = {"initial_tension": 0.0}
+    linear_parameters = ("stiffness", "initial_tension")
 
     def __init__(self, a: Anchor, b: Anchor, name: str | None = None, *, keep_tension: bool = True,
                  max_stretch: float | None = None, **kwargs):

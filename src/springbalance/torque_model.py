@@ -175,6 +175,13 @@ class TorqueModel:
                 values[key] = float(value.lower) if isinstance(value, Free) else float(value)
         return values
 
+    @property
+    def linear_indices(self) -> list[int]:
+        """Indices of design variables that the torque and the potential depend on linearly
+        (stiffness, initial tension): for fixed other variables they solve a linear least-squares problem."""
+        return [self._index[f"{spring.name}.{key}"] for spring in self.springs for key in spring.linear_parameters
+                if f"{spring.name}.{key}" in self._index]
+
     def anchor_point(self, spring: Spring, end: str, x: np.ndarray) -> np.ndarray:
         """Body-frame anchor point [m] of end ``"a"``/``"b"`` for design vector ``x``."""
         region = getattr(spring, end).region()
@@ -201,15 +208,6 @@ class TorqueModel:
     def mapped(self, n: int) -> ca.Function:
         """``sample`` evaluated on ``n`` data columns (serial map: a loop in C)."""
         return self.sample.map(n, "serial")
-
-    @functools.cached_property
-    def sample_jacobian(self) -> ca.Function:
-        """``Function(x, data) -> (tau, dtau/dx, V, dV/dx, C, dC/dx)`` for one sample (exact, symbolic)."""
-        x, data = self._x, ca.SX.sym("data", self.data_size)
-        tau, potential, _, _, rows = self.sample(x, data)
-        return compiled(ca.Function("sample_jacobian", [x, data],
-                                    [tau, ca.jacobian(tau, x), potential, ca.jacobian(potential, x),
-                                     rows, ca.jacobian(rows, x)]))
 
     def evaluate(self, x, data: np.ndarray) -> dict[str, np.ndarray]:
         """Numeric outputs over the samples: tau (N×nv), V (N), L (N×n_s), F (N×n_s), C (N×n_c)."""
@@ -290,8 +288,9 @@ class SampleEvaluator:
 
     Wraps ``function(x, data) -> outputs`` mapped over the N data columns with ``x``
     shared, and evaluates through CasADi's zero-copy buffer interface into preallocated
-    NumPy arrays. Each output of per-sample shape ``(rows, cols)`` is returned as an
-    array ``(N, rows, cols)`` (dense; structural zeros stay zero).
+    NumPy arrays. An output of per-sample shape ``(rows, cols)`` comes back as an array
+    ``(N, cols, rows)`` — the per-sample *transpose*, which is CasADi's column-major
+    memory read row-major (a view, no copy, for dense outputs).
     """
 
     def __init__(self, function: ca.Function, data: np.ndarray):
@@ -303,27 +302,27 @@ class SampleEvaluator:
         self._buffer, self._trigger = self.mapped.buffer()
         self._buffer.set_arg(0, memoryview(self._x))
         self._buffer.set_arg(1, memoryview(self._data))
-        self._raw, self._scatter, self.outputs = [], [], []
+        self.outputs = []
+        self._sparse = []
         for i in range(function.n_out()):
             sparsity = function.sparsity_out(i)
+            rows, cols = sparsity.size1(), sparsity.size2()
             raw = np.zeros(sparsity.nnz() * n)
             self._buffer.set_res(i, memoryview(raw))
-            self._raw.append(raw)
-            rows, cols = sparsity.get_triplet()
-            dense = np.zeros((n, sparsity.size1(), sparsity.size2()))
-            self.outputs.append(dense)
-            self._scatter.append((np.array(rows, dtype=int), np.array(cols, dtype=int), sparsity.nnz(),
-                                  sparsity.is_dense()))
+            if sparsity.is_dense():
+                self.outputs.append(raw.reshape(n, cols, rows))
+                self._sparse.append(None)
+            else:
+                triplet_rows, triplet_cols = sparsity.get_triplet()
+                self.outputs.append(np.zeros((n, cols, rows)))
+                self._sparse.append((raw, np.array(triplet_cols, dtype=int), np.array(triplet_rows, dtype=int),
+                                     sparsity.nnz()))
 
     def __call__(self, x) -> list[np.ndarray]:
         self._x[:] = x
         self._trigger()
-        for raw, (rows, cols, nnz, dense), out in zip(self._raw, self._scatter, self.outputs):
-            if nnz == 0:
-                continue
-            values = raw.reshape(self.n_samples, nnz)
-            if dense:
-                out[:] = values.reshape(self.n_samples, out.shape[2], out.shape[1]).transpose(0, 2, 1)
-            else:
-                out[:, rows, cols] = values
+        for sparse, out in zip(self._sparse, self.outputs):
+            if sparse is not None and sparse[3]:
+                raw, cols, rows, nnz = sparse
+                out[:, cols, rows] = raw.reshape(self.n_samples, nnz)
         return self.outputs
