@@ -5,7 +5,7 @@ springs ground→upper arm, ground→forearm, upper arm→forearm, shoulder→fo
 free in a ±0.3 m box of its body, stiffness in [0, 5000] N/m, free length in [0.05, 1] m;
 4,096 Sobol samples of the URDF joint ranges; rms objective.
 
-Part 1 compares, from the same start and on the same bounded (unconstrained) problem:
+Part 1 compares, from the same start points and on the same bounded (unconstrained) problem:
   - springbalance: exact Jacobian of the CasADi per-sample model (JIT-compiled when a C compiler
     is available) + bounded Levenberg–Marquardt;
   - SciPy `least_squares` (trf) with 2-point finite differences on the same residuals;
@@ -13,7 +13,9 @@ Part 1 compares, from the same start and on the same bounded (unconstrained) pro
 Part 2 runs the default multi-start (with the tension constraint L ≥ l0 of every spring) and
 prints the time per start and the per-joint table.
 
-Run: .venv/bin/python benchmarks/bench_ur5.py [--samples 4096] [--starts 8] [--baseline-iterations 100]
+Run: .venv/bin/python benchmarks/bench_ur5.py [--samples 4096] [--starts 8] [--compare-starts 4]
+                                              [--baseline-iterations 100] [--cma-evaluations 3000]
+(about 4 minutes on 2 cores, most of it in the baselines)
 """
 
 import argparse
@@ -29,6 +31,7 @@ parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--samples", type=int, default=4096)
 parser.add_argument("--starts", type=int, default=8)
 parser.add_argument("--baseline-iterations", type=int, default=100)
+parser.add_argument("--compare-starts", type=int, default=4)
 parser.add_argument("--cma-evaluations", type=int, default=3000)
 args = parser.parse_args()
 
@@ -48,17 +51,12 @@ problem = sb.DesignProblem(mechanism, workspace, springs(keep_tension=False))
 print(f"UR5, {workspace.size} Sobol samples, {problem.variables.size} design variables, unbalanced rms "
       f"{problem.torque_scale:.4f} N·m")
 
-# ---------------------------------------------------------------- part 1: same start, three solvers
-z0 = start_points(problem, 2, seed=0)[1]
+# ---------------------------------------------------------------- part 1: same starts, three solvers
+starts = start_points(problem, args.compare_starts, seed=0)
 solver = _MultiStartSolver(problem, "least_squares", args.baseline_iterations, 1e-6)
 clock = time.perf_counter()
-solver.run(0, z0)  # first call builds and JIT-compiles the Jacobian: timed separately
+solver.run(0, starts[0])  # the first call builds and JIT-compiles the model: timed separately
 setup = time.perf_counter() - clock
-clock = time.perf_counter()
-ours = solver.run(0, z0)
-ours_time = time.perf_counter() - clock
-print(f"\nspringbalance LM     : {ours_time:7.2f} s  rms {ours.objective:.5f} N·m  ({ours.iterations} iterations, "
-      f"{ours.status}; one-time model build + compile {setup:.2f} s)")
 
 
 def residuals(z):  # the same scaled residuals, evaluated numerically (CasADi virtual machine, no JIT)
@@ -66,26 +64,41 @@ def residuals(z):  # the same scaled residuals, evaluated numerically (CasADi vi
     return (evaluation.tau * problem.weights).reshape(-1) / (problem.torque_scale * np.sqrt(evaluation.tau.size))
 
 
-clock = time.perf_counter()
-scipy_result = least_squares(residuals, z0, jac="2-point", bounds=(0.0, 1.0), method="trf",
-                             max_nfev=args.baseline_iterations)
-scipy_time = time.perf_counter() - clock
-scipy_rms = float(np.sqrt(2 * scipy_result.cost)) * problem.torque_scale
-print(f"SciPy FD least_sq    : {scipy_time:7.2f} s  rms {scipy_rms:.5f} N·m  ({scipy_result.nfev} iterations, "
-      f"{scipy_result.message})")
-
 import cma  # noqa: E402  (benchmark-only dependency)
 
-clock = time.perf_counter()
-strategy = cma.CMAEvolutionStrategy(z0, 0.2, {"bounds": [0, 1], "maxfevals": args.cma_evaluations, "verbose": -9,
-                                              "seed": 1})
-strategy.optimize(lambda z: float(np.sum(residuals(np.asarray(z)) ** 2)))
-cma_time = time.perf_counter() - clock
-cma_rms = float(np.sqrt(strategy.result.fbest)) * problem.torque_scale
-print(f"CMA-ES               : {cma_time:7.2f} s  rms {cma_rms:.5f} N·m  ({strategy.result.evaluations} evaluations)")
+rows = []
+for index, z0 in enumerate(starts):
+    clock = time.perf_counter()
+    ours = solver.run(index, z0)
+    ours_time = time.perf_counter() - clock
 
-print(f"\nspeed-up vs SciPy FD : {scipy_time / ours_time:6.1f}×   objective ratio ours/SciPy {ours.objective / scipy_rms:.4f}")
-print(f"speed-up vs CMA-ES   : {cma_time / ours_time:6.1f}×   objective ratio ours/CMA-ES {ours.objective / cma_rms:.4f}")
+    clock = time.perf_counter()
+    fd = least_squares(residuals, z0, jac="2-point", bounds=(0.0, 1.0), method="trf", max_nfev=args.baseline_iterations)
+    fd_time = time.perf_counter() - clock
+    fd_rms = float(np.sqrt(2 * fd.cost)) * problem.torque_scale
+
+    clock = time.perf_counter()
+    strategy = cma.CMAEvolutionStrategy(z0, 0.2, {"bounds": [0, 1], "maxfevals": args.cma_evaluations,
+                                                  "verbose": -9, "seed": 1})
+    strategy.optimize(lambda z: float(np.sum(residuals(np.asarray(z)) ** 2)))
+    cma_time = time.perf_counter() - clock
+    cma_rms = float(np.sqrt(strategy.result.fbest)) * problem.torque_scale
+    rows.append((ours_time, ours.objective, fd_time, fd_rms, cma_time, cma_rms))
+    print(f"start {index}: springbalance {ours_time:6.2f} s rms {ours.objective:.5f} | SciPy FD {fd_time:6.2f} s "
+          f"rms {fd_rms:.5f} | CMA-ES {cma_time:6.2f} s rms {cma_rms:.5f}", flush=True)
+
+rows = np.array(rows)
+print(f"\n(one-time model build + JIT compile: {setup:.2f} s; budgets: {args.baseline_iterations} iterations for both "
+      f"least-squares solvers, {args.cma_evaluations} evaluations for CMA-ES)")
+print(f"time per start, median  : springbalance {np.median(rows[:, 0]):.2f} s, SciPy FD {np.median(rows[:, 2]):.2f} s, "
+      f"CMA-ES {np.median(rows[:, 4]):.2f} s")
+print(f"speed-up (total time)   : {rows[:, 2].sum() / rows[:, 0].sum():.1f}× vs SciPy FD, "
+      f"{rows[:, 4].sum() / rows[:, 0].sum():.1f}× vs CMA-ES")
+best_ours, best_fd, best_cma = rows[:, 1].min(), rows[:, 3].min(), rows[:, 5].min()
+print(f"best rms over the starts: springbalance {best_ours:.5f}, SciPy FD {best_fd:.5f} "
+      f"(ours/SciPy {best_ours / best_fd:.4f}), CMA-ES {best_cma:.5f}")
+print(f"median rms over starts  : springbalance {np.median(rows[:, 1]):.5f}, SciPy FD {np.median(rows[:, 3]):.5f}, "
+      f"CMA-ES {np.median(rows[:, 5]):.5f}")
 
 # ---------------------------------------------------------------- part 2: multi-start with tension constraints
 constrained = sb.DesignProblem(mechanism, workspace, springs(keep_tension=True))

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import copy
 import json
 import subprocess
 import sys
@@ -13,6 +12,7 @@ import yaml
 
 from springbalance.cli import main
 from springbalance.result import FORMAT
+from config_helpers import edited_record
 
 ROOT = Path(__file__).resolve().parents[1]
 URDF = ROOT / "urdf" / "two_link_planar.urdf"
@@ -44,14 +44,7 @@ def write_config(tmp_path: Path, record=None, name: str = "config.yaml") -> Path
 
 def edited(**changes) -> dict:
     """A deep copy of BASE with ``section__key=value`` changes."""
-    record = copy.deepcopy(BASE)
-    for dotted, value in changes.items():
-        keys = dotted.split("__")
-        node = record
-        for key in keys[:-1]:
-            node = node[int(key)] if isinstance(node, list) else node[key]
-        node[keys[-1]] = value
-    return record
+    return edited_record(BASE, **changes)
 
 
 def run_error(capsys, argv, code=2) -> str:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import copy
 import json
 import math
 from pathlib import Path
@@ -15,6 +14,7 @@ from springbalance import ConfigError, InputError
 from springbalance.config import (WORKSPACE_KEYS, config_from_dict, load_config, load_workspace,
                                   workspace_from_dict)
 from springbalance.mechanism import Mechanism
+from config_helpers import edited_record
 
 ROOT = Path(__file__).resolve().parents[1]
 URDF = ROOT / "urdf" / "two_link_planar.urdf"
@@ -56,17 +56,7 @@ def config_error(tmp_path: Path, record, name: str = "config.yaml") -> str:
 
 def edited(**changes) -> dict:
     """A deep copy of BASE with ``section__key=value`` changes (value None deletes the key)."""
-    record = copy.deepcopy(BASE)
-    for dotted, value in changes.items():
-        keys = dotted.split("__")
-        node = record
-        for key in keys[:-1]:
-            node = node[int(key)] if isinstance(node, list) else node[key]
-        if value is None:
-            del node[keys[-1]]
-        else:
-            node[keys[-1]] = value
-    return record
+    return edited_record(BASE, **changes)
 
 
 # ---------------------------------------------------------------------- valid configs

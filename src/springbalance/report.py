@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .solve import FEASIBILITY_TOLERANCE
+
 
 def result_table(result) -> str:
     """What the actuators still carry, before/after, plus the spring design."""
@@ -47,8 +49,9 @@ def result_table(result) -> str:
             continue
         lines.append(f"  {name + ' [' + row['unit'] + ']':<22s}{row['before']:13.4g}{row['after']:12.4g}"
                      f"{_percent(row['reduction_percent'])}{mark}")
-    if metrics["max_violation"] > 0:
-        lines.append(f"\n  constraint violation: {metrics['max_violation']:.3g}")
+    if metrics["max_violation"] > FEASIBILITY_TOLERANCE:
+        lines.append(f"\n  INFEASIBLE: largest constraint violation {metrics['max_violation']:.3g} "
+                     f"(tolerance {FEASIBILITY_TOLERANCE:g})")
     return "\n".join(lines)
 
 

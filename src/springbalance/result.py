@@ -119,6 +119,8 @@ class DesignResult:
         kinematics = problem.workspace.kinematics()
         before_tau, after_tau = kinematics.gravity_torque, self.evaluation.tau
         joints = []
+        # a joint that gravity does not load (|g| at round-off level) has no meaningful reduction
+        negligible = 1e-9 * max(float(np.max(np.abs(before_tau))), 1e-300)
         for joint in problem.mechanism.joints:
             j = joint.index_v
             peak_before, peak_after = float(np.max(np.abs(before_tau[:, j]))), float(np.max(np.abs(after_tau[:, j])))
@@ -126,9 +128,9 @@ class DesignResult:
             rms_after = float(np.sqrt(np.mean(after_tau[:, j] ** 2)))
             joints.append({"joint": joint.name, "unit": joint.torque_unit,
                            "peak_before": peak_before, "peak_after": peak_after,
-                           "peak_reduction_percent": _reduction(peak_before, peak_after),
+                           "peak_reduction_percent": _reduction(peak_before, peak_after, negligible),
                            "rms_before": rms_before, "rms_after": rms_after,
-                           "rms_reduction_percent": _reduction(rms_before, rms_after)})
+                           "rms_reduction_percent": _reduction(rms_before, rms_after, negligible)})
         objectives = {}
         for name, cls in OBJECTIVES.items():
             objective = cls()
@@ -220,8 +222,9 @@ class DesignResult:
         return f"DesignResult({self.problem!r}, status={self.status!r})"
 
 
-def _reduction(before: float, after: float) -> float:
-    if not np.isfinite(before) or before == 0:
+def _reduction(before: float, after: float, negligible: float = 0.0) -> float:
+    """Percentage reduction; NaN when there was nothing to reduce (``before ≤ negligible``)."""
+    if not np.isfinite(before) or before <= negligible:
         return float("nan")
     return 100.0 * (before - after) / before
 

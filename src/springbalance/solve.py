@@ -3,18 +3,27 @@ r"""Solvers for a :class:`~springbalance.problem.DesignProblem`, with multi-star
 Backends:
 
 - ``least_squares``: for objectives with least-squares structure (``rms``,
-  ``pe_variance``) the residual vector ``r(z)`` and its exact Jacobian come from the
-  per-sample CasADi function (its symbolic Jacobian, mapped over the samples and
-  evaluated into NumPy buffers). SciPy's bounded trust-region reflective solver then
-  takes Gauss–Newton/Levenberg–Marquardt steps; its damping copes with the flat valleys
-  of the degenerate design problem (e.g. only ``k·a·b`` matters for a zero-free-length
-  spring) where a Newton-type interior-point method crawls.
+  ``pe_variance``) one per-sample CasADi function of the scaled variables gives the residual
+  rows and their exact Jacobian; mapped over the samples, JIT-compiled to C when a compiler
+  is available, and evaluated straight into NumPy buffers. A bounded Levenberg–Marquardt
+  (:mod:`springbalance.levenberg_marquardt`) works on the normal equations (n×n with
+  n ≈ 30, while the residual has N·nv ≈ 25,000 rows). Practical constraints (tension,
+  stretch, force, length) enter through an augmented Lagrangian: penalty rows
+  ``max(0, λ - μ c)/√μ`` join the residual and the multipliers are updated between runs.
 - ``ipopt``: the general NLP of :meth:`DesignProblem.build` with exact derivatives from
-  CasADi; used for peak and energy objectives (epigraph form) and whenever practical
-  constraints bind at the least-squares solution (warm-started from it).
+  CasADi; used for the ``peak`` and ``energy`` objectives (epigraph form), warm-started from
+  the rms least-squares solution.
 
 ``auto`` chains them: least squares first (on the rms objective when the objective has no
-least-squares form), then IPOPT only when the objective or a violated constraint needs it.
+least-squares form), then IPOPT only when the objective needs it or a constraint is still
+violated.
+
+Every start is prepared the same way: free lengths are moved into the interval the
+start's spring lengths allow (``max L/ρ ≤ l0 ≤ min L``), and the variables the torque is
+linear in (stiffness, initial tension) are set to their bounded linear least-squares
+optimum for the start's geometry (kept ≥ 10 % into their range so that no spring starts at
+``k = 0``, where its anchors would have no gradient). Then each start runs with the
+iteration budget, and the best one is polished with a larger budget ("screen, then polish").
 """
 
 from __future__ import annotations
@@ -30,7 +39,6 @@ from scipy.stats import qmc
 
 from .errors import InputError, SolverError
 from .levenberg_marquardt import levenberg_marquardt
-from .objectives import Rms
 from .torque_model import SampleEvaluator, compiled
 
 METHODS = ("auto", "least_squares", "ipopt")
@@ -115,15 +123,20 @@ def solve_problem(problem, starts=8, seed=0, method="auto", progress=None, max_i
         raise SolverError(f"no start gave a feasible design ({summary})", problem=problem, starts=records)
     best = min(feasible, key=lambda record: record.objective)
     polish = 4 * max_iterations if polish_iterations is None else int(polish_iterations)
-    if polish > 0 and "iteration limit" in best.status and problem.variables.size:
+    if polish > 0 and problem.variables.size:
+        # continue the starts that are close to the best and were stopped by the budget
+        candidates = sorted((r for r in feasible if "iteration limit" in r.status and r.objective <= 1.25 * best.objective),
+                            key=lambda record: record.objective)[:3]
         solver.max_iterations = polish
-        polished = solver.run(best.index, problem.unscale(best.x))
-        polished.status = f"{polished.status} (polished after {best.iterations} iterations)"
-        polished.iterations += best.iterations
-        polished.seconds += best.seconds
-        if polished.feasible and polished.objective <= best.objective:
-            records[records.index(best)] = polished
-            best = polished
+        for record in candidates:
+            polished = solver.run(record.index, problem.unscale(record.x), prepare=False)
+            polished.z0 = record.z0
+            polished.status = f"{polished.status} (polished after {record.iterations} iterations)"
+            polished.iterations += record.iterations
+            polished.seconds += record.seconds
+            if polished.feasible and polished.objective <= record.objective:
+                records[records.index(record)] = polished
+        best = min((r for r in records if r.feasible), key=lambda record: record.objective)
     return DesignResult(problem, best.x, starts=records, method=method, seed=seed, status=best.status)
 
 
@@ -138,13 +151,13 @@ class _MultiStartSolver:
         self._nlp = None
 
     # ------------------------------------------------------------------ one start
-    def run(self, index: int, z0: np.ndarray) -> StartRecord:
+    def run(self, index: int, z0: np.ndarray, prepare: bool = True) -> StartRecord:
         problem = self.problem
         clock = time.perf_counter()
         z, status, iterations = np.array(z0, dtype=float), "evaluated", 0
         if problem.variables.size:
             if self.method in ("auto", "least_squares"):
-                z, status, iterations = self._least_squares(z)
+                z, status, iterations = self._least_squares(z, prepare)
             evaluation = problem.evaluate(problem.scale(z))
             needs_nlp = self.method == "ipopt" or (
                 self.method == "auto"
@@ -157,7 +170,7 @@ class _MultiStartSolver:
                            evaluation.max_violation, status, iterations, time.perf_counter() - clock)
 
     # ------------------------------------------------------------------ least squares
-    def _least_squares(self, z0):
+    def _least_squares(self, z0, prepare=True):
         """Bounded Gauss–Newton (SciPy TRF) on the residuals; practical constraints by an
         augmented Lagrangian whose penalty rows ``max(0, λ - μ c)/√μ`` join the residuals."""
         problem = self.problem
@@ -165,7 +178,9 @@ class _MultiStartSolver:
             self._ls = _LeastSquaresResiduals(problem)
         ls = self._ls
         ls.set_penalty(None, 0.0)
-        z = self._fit_linear_variables(np.clip(z0, 0.0, 1.0))
+        z = np.clip(z0, 0.0, 1.0)
+        if prepare:
+            z = self._fit_linear_variables(z)
         multipliers = np.zeros(ls.n_constraint_rows)
         penalty, iterations, status = 10.0, 0, "least_squares: not run"
         previous_violation = np.inf
@@ -194,6 +209,7 @@ class _MultiStartSolver:
         ``r(z) = r(z0) + J_lin (z_lin - z0_lin)``, so one evaluation and one BVLS solve suffice.
         This keeps a start from wasting its budget on a stiffness guess off by orders of magnitude
         (and from stalling at k = 0, where the anchors have no gradient)."""
+        z = self._feasible_free_lengths(z)
         linear = self.problem.model.linear_indices
         if not linear:
             return z
@@ -207,6 +223,30 @@ class _MultiStartSolver:
         z = z.copy()
         z[linear] = np.clip(fit.x, 0.1, 1.0)
         return z
+
+    def _feasible_free_lengths(self, z):
+        """Move each free length of the start into the interval its spring's length range allows,
+        ``max(L)/ρ ≤ l0 ≤ min(L)`` (tension and stretch constraints), where that interval meets
+        the bounds, so that the augmented Lagrangian starts feasible for these constraints."""
+        problem = self.problem
+        evaluation = problem.evaluate(problem.scale(z))
+        names = {name: i for i, name in enumerate(problem.variables.names)}
+        lower, upper = problem.variables.bounds()
+        z = z.copy()
+        for column, spring in enumerate(problem.springs):
+            index = names.get(f"{spring.name}.free_length")
+            if index is None:
+                continue
+            lengths = evaluation.lengths[:, column]
+            low, high = lower[index], upper[index]
+            if getattr(spring, "max_stretch", None):
+                low = max(low, float(np.max(lengths)) / spring.max_stretch)
+            if getattr(spring, "keep_tension", False):
+                high = min(high, float(np.min(lengths)))
+            if low <= high:
+                value = float(np.clip(problem.scale(z)[index], low, high))
+                z[index] = (value - lower[index]) / (upper[index] - lower[index])
+        return np.clip(z, 0.0, 1.0)
 
     # ------------------------------------------------------------------ IPOPT
     def _ipopt_solve(self, z, evaluation):
