@@ -5,7 +5,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: demo test bench clean
+.PHONY: demo test bench clean chromium demo-check
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -19,8 +19,40 @@ demo: $(STAMP)
 	$(BIN)/springbalance design examples/two_link.yaml --out design.json
 	$(BIN)/springbalance evaluate design.json
 
-test: $(STAMP)
+test: $(STAMP) chromium
 	$(BIN)/python -m pytest -q
+
+# Headless Chromium renders scene.html in the browser test of tests/test_viz.py and in
+# `make demo-check`. It is installed here (Debian package `chromium`) when it is missing
+# and this machine allows it: apt-get, run as root or through passwordless sudo.
+# Otherwise the browser test is skipped with the reason. This step never fails the build.
+chromium:
+	@if command -v chromium >/dev/null 2>&1 || command -v chromium-browser >/dev/null 2>&1 \
+	    || [ -n "$$SPRINGBALANCE_CHROMIUM" ]; then \
+	    :; \
+	elif ! command -v apt-get >/dev/null 2>&1; then \
+	    echo "make: chromium is missing and there is no apt-get: the browser test will be skipped"; \
+	else \
+	    if [ "$$(id -u)" = 0 ]; then sudo=""; \
+	    elif command -v sudo >/dev/null 2>&1 && sudo -n true 2>/dev/null; then sudo="sudo -n"; \
+	    else sudo="none"; fi; \
+	    if [ "$$sudo" = none ]; then \
+	        echo "make: chromium is missing and installing it needs root: the browser test will be skipped"; \
+	    else \
+	        echo "make: installing chromium with apt-get (for the browser test)"; \
+	        { $$sudo env DEBIAN_FRONTEND=noninteractive apt-get update -qq \
+	          && $$sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null; } \
+	        || echo "make: could not install chromium: the browser test will be skipped"; \
+	    fi; \
+	fi
+
+# The browser check of the demo: design the two-link arm, write its report, render
+# out/demo/scene.html in headless Chromium and count the arm's and the springs' pixels on the
+# screenshot (out/demo/scene.png). Prints PASSED, FAILED or SKIPPED (no Chromium).
+demo-check: $(STAMP) chromium
+	$(BIN)/springbalance design examples/two_link.yaml --out design.json --quiet
+	$(BIN)/springbalance report design.json --out out/demo
+	@$(BIN)/python -m springbalance.browser out/demo/scene.html --screenshot out/demo/scene.png || test $$? -eq 77
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_ur5.py

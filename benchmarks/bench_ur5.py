@@ -7,7 +7,8 @@ free in a ±0.3 m box of its body, stiffness in [0, 5000] N/m, free length in [0
 
 Part 1 compares, from the same start points and on the same bounded (unconstrained) problem:
   - springbalance: exact Jacobian of the CasADi per-sample model (JIT-compiled when a C compiler
-    is available) + bounded Levenberg–Marquardt;
+    is available), start preparation, and SciPy's trust-region reflective method on the
+    compressed (n+1-row) residual;
   - SciPy `least_squares` (trf) with 2-point finite differences on the same residuals;
   - CMA-ES (`cma`) on the same scaled variables.
 Part 2 runs the default multi-start (with the tension constraint L ≥ l0 of every spring) and
@@ -26,6 +27,9 @@ from scipy.optimize import least_squares
 
 import springbalance as sb
 from springbalance.solve import _MultiStartSolver, start_points
+from threadpoolctl import threadpool_limits
+
+threadpool_limits(limits=1, user_api="blas")  # every solver below with single-threaded BLAS, as springbalance runs
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--samples", type=int, default=4096)

@@ -80,7 +80,8 @@ def test_example_config_is_valid():
     config = load_config(EXAMPLE)
     assert config.workspace.size == 512
     assert config.problem.objective.name == "rms"
-    assert len(config.springs) == 2 and all(spring.kind == "extension" for spring in config.springs)
+    assert len(config.springs) == 3 and all(spring.kind == "extension" for spring in config.springs)
+    assert all(spring.max_force == 300 for spring in config.springs)
     assert config.solve_options["starts"] == 4
 
 

@@ -10,13 +10,17 @@ from .objectives import OBJECTIVES
 from .params import Anchor, Free, Plane, Segment
 from .problem import DesignProblem, Evaluation
 from .result import DesignResult
-from .springs import ExtensionSpring, Spring, ZeroFreeLengthSpring
+from .sizing import MATERIALS, Helical, HelicalDesign, Material, size_helical_spring
+from .springs import (CoilMass, CompressionSpring, ConstantForceSpring, ExtensionSpring, GasSpring, Spring,
+                      TorsionalSpring, TwoPointSpring, ZeroFreeLengthSpring)
 from .workspace import Coupling, Workspace
 
 __version__ = "0.1.0"
 
 __all__ = [
-    "Anchor", "ConfigError", "Coupling", "DesignProblem", "DesignResult", "Evaluation", "ExtensionSpring",
-    "Free", "GROUND", "InputError", "Joint", "Mechanism", "OBJECTIVES", "Plane", "Segment", "SolverError",
-    "Spring", "SpringBalanceError", "Workspace", "ZeroFreeLengthSpring",
+    "Anchor", "CoilMass", "CompressionSpring", "ConfigError", "ConstantForceSpring", "Coupling", "DesignProblem",
+    "DesignResult", "Evaluation", "ExtensionSpring", "Free", "GROUND", "GasSpring", "Helical", "HelicalDesign",
+    "InputError", "Joint", "MATERIALS", "Material", "Mechanism", "OBJECTIVES", "Plane", "Segment", "SolverError",
+    "Spring", "SpringBalanceError", "TorsionalSpring", "TwoPointSpring", "Workspace", "ZeroFreeLengthSpring",
+    "size_helical_spring",
 ]

@@ -4,6 +4,8 @@
 
     springbalance design CONFIG.yaml --out design.json [--starts N] [--seed S] [--method M] [--quiet]
     springbalance evaluate design.json [--workspace WORKSPACE.yaml]
+    springbalance view design.json [--port P] [--open] [--frames N]
+    springbalance report design.json --out FOLDER [--no-scene]
     springbalance robots
 
 Exit status: 0 on success, 1 when the solver finds no feasible design, 2 on bad input
@@ -87,6 +89,32 @@ def build_parser() -> argparse.ArgumentParser:
                                "to evaluate the design on instead of its own workspace")
     evaluate.set_defaults(handler=_evaluate)
 
+    view = commands.add_parser(
+        "view", help="show a saved design in Meshcat, served on 127.0.0.1",
+        description="Serve the 3-D scene of a saved design on this machine only (127.0.0.1): the arm, each "
+                    "spring as a helix coloured by its tension, animated through a sweep of each joint. "
+                    "Prints the URL and serves until Ctrl-C.")
+    view.add_argument("design", metavar="DESIGN.json", help="design file written by 'springbalance design'")
+    view.add_argument("--port", type=_port, metavar="P", help="web port (default: the first free one from 7000)")
+    view.add_argument("--open", action="store_true", help="also open the URL in the default web browser")
+    view.add_argument("--frames", type=_positive_int, default=48, metavar="N",
+                      help="animation frames per swept joint (default 48)")
+    view.set_defaults(handler=_view)
+
+    report = commands.add_parser(
+        "report", help="write an HTML report of a saved design (tables, plots, 3-D scene)",
+        description="Write FOLDER/report.html (design and metrics tables, plots), FOLDER/scene.html (the "
+                    "self-contained Meshcat scene, opens without a server or network), FOLDER/torques.png/.svg "
+                    "and FOLDER/histogram.png/.svg.")
+    report.add_argument("design", metavar="DESIGN.json", help="design file written by 'springbalance design'")
+    report.add_argument("--out", "-o", required=True, metavar="FOLDER", help="folder for the report (created)")
+    report.add_argument("--workspace", "-w", metavar="WORKSPACE.yaml",
+                        help="report on another workspace (as for 'evaluate')")
+    report.add_argument("--no-scene", action="store_true", help="leave out scene.html")
+    report.add_argument("--frames", type=_positive_int, default=48, metavar="N",
+                        help="animation frames per swept joint in scene.html (default 48)")
+    report.set_defaults(handler=_report)
+
     robots = commands.add_parser(
         "robots", help="list the robots of example-robot-data",
         description="List the robot names accepted by 'mechanism: {robot: NAME}' in a config.")
@@ -123,6 +151,56 @@ def _evaluate(args) -> int:
     return 0
 
 
+def _view(args) -> int:
+    import time
+
+    from .result import DesignResult
+    from .viz import DesignScene, MeshcatServer
+
+    result = DesignResult.load(args.design)
+    scene = DesignScene(result, frames_per_joint=args.frames)
+    server = MeshcatServer(port=args.port)
+    try:
+        scene.draw(server.visualizer())
+        print(f"{PROG}: the scene of {args.design} is at {server.web_url}")
+        print(f"  {scene.color_scale.describe()}")
+        if scene.skipped:
+            print(f"  not drawn (they act in a joint): {', '.join(scene.skipped)}")
+        print("  press Ctrl-C to stop", flush=True)
+        if args.open:
+            import webbrowser
+
+            webbrowser.open(server.web_url, new=2)
+        while server.running:
+            time.sleep(0.25)
+        raise SpringBalanceError("the meshcat server stopped unexpectedly")
+    except KeyboardInterrupt:
+        print(f"{PROG}: stopped", flush=True)
+        return 0
+    finally:
+        server.stop()
+
+
+def _report(args) -> int:
+    from .result import DesignResult
+
+    out = Path(args.out)
+    if out.exists() and not out.is_dir():
+        raise InputError(f"--out {str(out)!r} is a file; give a folder")
+    result = DesignResult.load(args.design)
+    if args.workspace is not None:
+        from .config import load_workspace
+
+        workspace = load_workspace(args.workspace, result.problem.mechanism)
+        result = DesignResult.load(args.design, mechanism=result.problem.mechanism, workspace=workspace)
+    path = result.report(out, scene=not args.no_scene, frames_per_joint=args.frames)
+    files = ["report.html"] + ([] if args.no_scene else ["scene.html"]) + [
+        "torques.png", "torques.svg", "histogram.png", "histogram.svg"]
+    print(f"report written to {path}")
+    print(f"  files in {out}: {', '.join(files)}")
+    return 0
+
+
 def _robots(args) -> int:
     from .robots import available_robots
 
@@ -156,6 +234,13 @@ def _positive_int(text: str) -> int:
     value = _nonnegative_int(text)
     if value < 1:
         raise argparse.ArgumentTypeError(f"must be ≥ 1, got {text!r}")
+    return value
+
+
+def _port(text: str) -> int:
+    value = _nonnegative_int(text)
+    if not 1 <= value <= 65535:
+        raise argparse.ArgumentTypeError(f"a port is 1 … 65535, got {text!r}")
     return value
 
 

@@ -257,12 +257,16 @@ def springs_from_list(mechanism: Mechanism, records, where: str = "springs") -> 
     for index, record in enumerate(records):
         label = f"{where}[{index}]"
         spring = spring_from_dict(record, label)
-        for end in ("a", "b"):
-            body = getattr(spring, end).body
+        name = f" {spring.name!r}" if spring.name else ""
+        for end, anchor in spring.anchors.items():
+            body = anchor.body
             if body not in mechanism.body_names:
-                name = f" {spring.name!r}" if spring.name else ""
                 raise ConfigError(f"{label}{name}.{end}.body: unknown body {body!r} in mechanism {mechanism.name!r}; "
                                   f"bodies: {', '.join(mechanism.body_names)}")
+        for joint in spring.joints:
+            if joint not in mechanism.joint_names:
+                raise ConfigError(f"{label}{name}.joint: unknown joint {joint!r} in mechanism {mechanism.name!r}; "
+                                  f"joints: {', '.join(mechanism.joint_names)}")
         springs.append(spring)
     return springs
 

@@ -5,7 +5,7 @@ With ``tau_ij`` the residual torque of joint ``j`` at sample ``i`` and joint wei
 potential ``V_i`` (N) to a number. :meth:`Objective.value` works on NumPy arrays (metrics);
 :meth:`Objective.nlp` returns the CasADi pieces for the optimiser: extra variables, the
 cost and constraint rows. Objectives with ``least_squares = True`` (rms, pe_variance) are
-sums of squares, which the Levenberg–Marquardt backend of :mod:`springbalance.solve` exploits.
+sums of squares, which the trust-region least-squares backend of :mod:`springbalance.solve` exploits.
 """
 
 from __future__ import annotations

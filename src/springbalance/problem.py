@@ -35,7 +35,10 @@ class Evaluation:
         x: design vector.
         tau: residual actuator torque N×nv [N·m or N].
         potential: total potential ``V_g + Σ V_s`` per sample (N) [J].
-        lengths: spring lengths N×n_s [m]; tensions: N×n_s [N].
+        lengths: spring states N×n_s: lengths [m] of two-point springs, joint angles [rad] of
+            torsional springs.
+        tensions: generalised spring forces N×n_s: tensions [N] (negative when pushing),
+            torques [N·m] of torsional springs.
         constraint_rows: N×n_c, ``≥ 0`` when feasible.
     """
 
@@ -179,8 +182,8 @@ class DesignProblem:
             max_iterations: iteration limit per start and phase (the screening budget).
             polish_iterations: further iterations for the best start when it stopped on the
                 limit (default 4 × max_iterations; 0 disables).
-            tolerance: stop when the objective fell by less than this fraction over the last 5
-                accepted steps (least squares), IPOPT's own tolerance is min(tolerance, 1e-8).
+            tolerance: least squares stop when a step lowers the cost by less than this fraction
+                (a flat valley); IPOPT's own tolerance is min(tolerance, 1e-8).
         """
         from .solve import solve_problem
 
@@ -196,16 +199,12 @@ class DesignProblem:
 
     # ---------------------------------------------------------------- checks
     def _check_springs(self) -> None:
-        mechanism = self.mechanism
-        for spring in self.springs:
-            a, b = spring.a, spring.b
-            same_body = a.body == b.body or (mechanism.is_ground(a.body) and mechanism.is_ground(b.body))
-            if same_body:
-                where = f"body {a.body!r}" if a.body == b.body else f"the ground ({a.body!r}, {b.body!r})"
-                raise InputError(f"spring {spring.name!r}: both ends are on {where}; it cannot act on the mechanism")
-            if not a.is_free and not b.is_free:
+        # Each spring checked its own bodies and joints when the torque model was built
+        # (Spring.check); what needs an evaluation is a two-point spring of zero length.
+        for column, spring in enumerate(self.springs):
+            anchors = list(spring.anchors.values())
+            if len(anchors) == 2 and not any(anchor.is_free for anchor in anchors):
                 evaluation = self.evaluate()
-                column = self.springs.index(spring)
                 shortest = float(np.min(evaluation.lengths[:, column]))
                 if shortest < 1e-9:
                     sample = int(np.argmin(evaluation.lengths[:, column]))

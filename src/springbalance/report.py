@@ -22,16 +22,30 @@ def result_table(result) -> str:
     lines.append("Springs (anchor points in body frames) [m]")
     evaluation = result.evaluation
     for column, record in enumerate(result.springs):
-        lengths, tensions = evaluation.lengths[:, column], evaluation.tensions[:, column]
+        spring = problem.springs[column]
+        states, forces = evaluation.lengths[:, column], evaluation.tensions[:, column]
         lines.append(f"  {record['name']} ({record['type']})")
-        for end in ("a", "b"):
+        for end in spring.anchors:
             point = ", ".join(f"{v:+.4f}" for v in record[end]["point"])
             lines.append(f"    {end}: {record[end]['body']:<18s} [{point}]")
-        spring = problem.springs[column]
+        if "joint" in record:
+            lines.append(f"    joint: {record['joint']}")
         parameters = "  ".join(f"{key} {record[key]:.6g} {unit}" for key, unit in spring.parameter_units.items())
         lines.append(f"    {parameters}")
-        lines.append(f"    length {lengths.min():.4f} … {lengths.max():.4f} m   "
-                     f"tension {tensions.min():.4g} … {tensions.max():.4g} N")
+        if "mass" in record:
+            wire = f" (wire diameter {1e3 * record['wire_diameter']:.3g} mm for this rate)" if "wire_diameter" in record else ""
+            lines.append(f"    spring mass {record['mass']:.4g} kg, half at each end{wire}")
+        (state, state_unit), (force, force_unit) = spring.state_quantity, spring.force_quantity
+        lines.append(f"    {state} {states.min():.4f} … {states.max():.4f} {state_unit}   "
+                     f"{force} {forces.min():.4g} … {forces.max():.4g} {force_unit}")
+    sizing = result.helical_sizing()
+    if sizing:
+        lines.append("")
+        lines.append("Helical springs (Shigley's Mechanical Engineering Design, ch. 10)")
+        for name, design in sizing.items():
+            text = design.summary().splitlines()
+            lines.append(f"  {name}: {text[0]}")
+            lines.extend(f"    {line}" for line in text[1:])
     lines.append("")
     header = f"  {'joint':<22s}{'peak before':>13s}{'peak after':>12s}{'Δ%':>8s}{'rms before':>13s}{'rms after':>12s}{'Δ%':>8s}"
     lines.append("Actuator torque (gravity only vs with springs)")

@@ -19,7 +19,8 @@ import numpy as np
 from .errors import InputError
 from .mechanism import Mechanism
 from .objectives import OBJECTIVES
-from .springs import spring_from_dict
+from .sizing import size_helical_spring
+from .springs import CoilMass, spring_from_dict
 from .workspace import Workspace
 
 FORMAT = "springbalance-design/1"
@@ -51,15 +52,28 @@ class DesignResult:
 
     @property
     def springs(self) -> list[dict]:
-        """Per spring: type, anchors (body and body-frame point [m]) and parameter values."""
+        """Per spring: name, type, where it acts and its values.
+
+        Two-point springs give their anchors ``a`` and ``b`` (body and body-frame point [m]);
+        torsional springs their ``joint``. Then every parameter value (SI units), and for a
+        spring that carries mass its ``mass`` [kg] (and, when the mass is coupled to the rate
+        through the coil, the ``wire_diameter`` [m] that gives that rate).
+        """
         model = self.problem.model
         records = []
         for spring in self.problem.springs:
             record = {"name": spring.name, "type": spring.kind}
-            for end in ("a", "b"):
-                record[end] = {"body": getattr(spring, end).body,
-                               "point": model.anchor_point(spring, end, self.x).tolist()}
-            record.update(model.spring_values(spring, self.x))
+            for end, anchor in spring.anchors.items():
+                record[end] = {"body": anchor.body, "point": model.anchor_point(spring, end, self.x).tolist()}
+            for joint in spring.joints:
+                record["joint"] = joint
+            values = model.spring_values(spring, self.x)
+            record.update(values)
+            mass = getattr(spring, "mass", None)
+            if mass is not None:
+                record["mass"] = float(spring.spring_mass(values))                     # [kg]
+                if isinstance(mass, CoilMass):
+                    record["wire_diameter"] = float(mass.wire_diameter(values["stiffness"]))  # [m]
             records.append(record)
         return records
 
@@ -74,11 +88,37 @@ class DesignResult:
         """The springs with every free parameter and anchor fixed at this design's values."""
         records = []
         for spring, values in zip(self.problem.springs, self.springs):
-            record = {**spring.to_dict(), **{k: v for k, v in values.items() if k not in ("a", "b")}}
-            record["a"] = {"body": values["a"]["body"], "point": values["a"]["point"]}
-            record["b"] = {"body": values["b"]["body"], "point": values["b"]["point"]}
+            record = {**spring.to_dict(), **{key: values[key] for key in spring.parameter_units}}
+            for end in spring.anchors:
+                record[end] = {"body": values[end]["body"], "point": values[end]["point"]}
             records.append(spring_from_dict(record))
         return records
+
+    def helical_sizing(self, material=None) -> dict:
+        """Helical springs that realise this design (:func:`springbalance.sizing.size_helical_spring`).
+
+        Sizes every spring with a ``helical`` option (with its material), or, when ``material``
+        is given, every extension and compression spring (not gas springs) with that material.
+        Inputs per spring: its rate ``k``, free length ``l0``, the longest and shortest length
+        and the largest force magnitude over the workspace. Returns spring name →
+        :class:`~springbalance.sizing.HelicalDesign` (``feasible`` False with the reasons when no
+        helical spring can do it).
+        """
+        designs = {}
+        for column, spring in enumerate(self.problem.springs):
+            option = getattr(spring, "helical", None)
+            kind = getattr(spring, "helical_kind", None)
+            if kind is None or (option is None and material is None):
+                continue
+            values = self.problem.model.spring_values(spring, self.x)
+            lengths, forces = self.evaluation.lengths[:, column], self.evaluation.tensions[:, column]
+            chosen = material if material is not None else option.material
+            if values["stiffness"] <= 0:
+                continue
+            designs[spring.name] = size_helical_spring(
+                values["stiffness"], values["free_length"], float(np.max(lengths)), float(np.max(np.abs(forces))),
+                material=chosen, kind=kind, min_length=float(np.min(lengths)))
+        return designs
 
     # ---------------------------------------------------------------- torques
     def residual_torque(self, joint_values=None, degrees: bool = False) -> np.ndarray:
@@ -155,6 +195,35 @@ class DesignResult:
 
         return result_table(self)
 
+    # ---------------------------------------------------------------- seeing the design
+    # (viz, plots and html_report sit downstream of the result: imported only when called)
+    def show(self, joint_values=None, static: bool = False, **options):
+        """Draw the design in Meshcat: the arm, its springs as helices coloured by tension, animated.
+
+        By default the scene goes to a local Meshcat server (127.0.0.1 only, started on
+        first use) and a ``LiveScene`` with its ``url`` is returned; it shows inline in
+        Jupyter. ``static=True`` returns a self-contained page instead (no server).
+        ``joint_values`` (N×nv) is the animation path; default a sweep of each joint.
+        See :func:`springbalance.viz.show` for the options.
+        """
+        from .viz import show
+
+        return show(self, joint_values, static=static, **options)
+
+    def plot_torques(self, path=None, points: int = 121):
+        """matplotlib figure of each joint's torque along a sweep of that joint, before and after;
+        ``path``: also save it as PNG and SVG. See :func:`springbalance.plots.plot_torques`."""
+        from .plots import plot_torques
+
+        return plot_torques(self, points=points, path=path)
+
+    def report(self, folder, scene: bool = True, **scene_options) -> Path:
+        """Write ``report.html``, ``scene.html`` and the torque plots into ``folder``; returns
+        the report's path. See :func:`springbalance.html_report.write_report`."""
+        from .html_report import write_report
+
+        return write_report(self, folder, scene=scene, **scene_options)
+
     # ---------------------------------------------------------------- persistence
     def to_dict(self) -> dict:
         problem = self.problem
@@ -169,6 +238,7 @@ class DesignResult:
             "springs": [spring.to_dict() for spring in problem.springs],
             "variables": self.variables,
             "design": self.springs,
+            "sizing": {name: design.to_dict() for name, design in self.helical_sizing().items()},
             "solver": {"method": self.method, "seed": self.seed, "status": self.status, "spread": self.spread(),
                        "starts": [record.to_dict() for record in self.starts]},
             "metrics": self.metrics(),

@@ -5,11 +5,12 @@ Backends:
 - ``least_squares``: for objectives with least-squares structure (``rms``,
   ``pe_variance``) one per-sample CasADi function of the scaled variables gives the residual
   rows and their exact Jacobian; mapped over the samples, JIT-compiled to C when a compiler
-  is available, and evaluated straight into NumPy buffers. A bounded Levenberg–Marquardt
-  (:mod:`springbalance.levenberg_marquardt`) works on the normal equations (n×n with
-  n ≈ 30, while the residual has N·nv ≈ 25,000 rows). Practical constraints (tension,
-  stretch, force, length) enter through an augmented Lagrangian: penalty rows
-  ``max(0, λ - μ c)/√μ`` join the residual and the multipliers are updated between runs.
+  is available, and evaluated straight into NumPy buffers. SciPy's bounded
+  trust-region-reflective method then works on an equivalent *compressed* residual of n+1
+  rows (n ≈ 30 variables, while the residual has N·nv ≈ 25,000 rows), see
+  :meth:`_MultiStartSolver._trust_region`. Practical constraints (tension, stretch, force,
+  length) enter through an augmented Lagrangian: penalty rows ``max(0, λ - μ c)/√μ`` join
+  the residual and the multipliers are updated between runs.
 - ``ipopt``: the general NLP of :meth:`DesignProblem.build` with exact derivatives from
   CasADi; used for the ``peak`` and ``energy`` objectives (epigraph form), warm-started from
   the rms least-squares solution.
@@ -22,8 +23,9 @@ Every start is prepared the same way: free lengths are moved into the interval t
 start's spring lengths allow (``max L/ρ ≤ l0 ≤ min L``), and the variables the torque is
 linear in (stiffness, initial tension) are set to their bounded linear least-squares
 optimum for the start's geometry (kept ≥ 10 % into their range so that no spring starts at
-``k = 0``, where its anchors would have no gradient). Then each start runs with the
-iteration budget, and the best one is polished with a larger budget ("screen, then polish").
+``k = 0``, where its anchors would have no gradient). Each start then runs with the
+iteration budget, and the starts within 25 % of the best that stopped on the budget are
+continued with a larger one ("screen, then polish").
 """
 
 from __future__ import annotations
@@ -34,11 +36,11 @@ import time
 
 import casadi as ca
 import numpy as np
-from scipy.optimize import lsq_linear
+from scipy.optimize import least_squares, lsq_linear
 from scipy.stats import qmc
+from threadpoolctl import threadpool_limits
 
 from .errors import InputError, SolverError
-from .levenberg_marquardt import levenberg_marquardt
 from .torque_model import SampleEvaluator, compiled
 
 METHODS = ("auto", "least_squares", "ipopt")
@@ -88,8 +90,6 @@ def solve_problem(problem, starts=8, seed=0, method="auto", progress=None, max_i
     when it stopped on the iteration limit. Starts that stall far from the best cost only their
     budget, and the chosen design still converges.
     """
-    from .result import DesignResult
-
     if method not in METHODS:
         raise InputError(f"unknown solver method {method!r}; valid: {', '.join(METHODS)}")
     starts = int(starts)
@@ -98,6 +98,15 @@ def solve_problem(problem, starts=8, seed=0, method="auto", progress=None, max_i
     if method == "least_squares" and not problem.objective.least_squares:
         raise InputError(f"method 'least_squares' cannot minimise objective {problem.objective.name!r}; "
                          "use 'ipopt' or 'auto'")
+    # The linear algebra here is small (n ≈ 30 columns): BLAS threads only contend with each
+    # other and with the evaluation, badly so on a loaded machine, so use one.
+    with threadpool_limits(limits=1, user_api="blas"):
+        return _solve(problem, starts, seed, method, progress, max_iterations, tolerance, polish_iterations)
+
+
+def _solve(problem, starts, seed, method, progress, max_iterations, tolerance, polish_iterations):
+    from .result import DesignResult
+
     solver = _MultiStartSolver(problem, method, max_iterations, tolerance)
     points = start_points(problem, starts, seed)
     if progress is None:
@@ -187,10 +196,8 @@ class _MultiStartSolver:
         for _ in range(12 if ls.n_constraint_rows else 1):
             if ls.n_constraint_rows:
                 ls.set_penalty(multipliers, penalty)
-            result = levenberg_marquardt(ls.residuals_and_jacobian, z, max_iterations=self.max_iterations,
-                                         ftol=self.tolerance)
-            z, iterations = result.z, iterations + result.iterations
-            status = f"least_squares: {result.status}"
+            z, used, status = self._trust_region(ls, z)
+            iterations += used
             if not ls.n_constraint_rows:
                 break
             rows = ls.constraint_rows(z)
@@ -202,6 +209,40 @@ class _MultiStartSolver:
                 penalty *= 10.0
             previous_violation = violation
         return z, status, iterations
+
+    def _trust_region(self, ls, z):
+        """SciPy's bounded trust-region-reflective least squares on the *compressed* residual.
+
+        With ``JᵀJ = V Λ Vᵀ`` and ``R = Λ^½ Vᵀ``, ``q = Λ^-½ Vᵀ Jᵀ r`` (directions with
+        ``λ ≤ 1e-13 λ_max`` dropped) and ``ρ² = |r|² - |q|²``, the residual ``(q, ρ)`` with
+        Jacobian ``[R; 0]`` has the same norm and the same Gauss–Newton model,
+        ``|r + J δ|² = |q + R δ|² + ρ²``, as the full one. The solver's iterates are unchanged
+        while its linear algebra shrinks from N·nv rows to n+1 (the Gram matrix costs one
+        BLAS product).
+        """
+        cache = {}
+
+        def compressed(zz):
+            key = zz.tobytes()
+            if key not in cache:
+                r, J = ls.residuals_and_jacobian(zz)
+                gram, projected = J.T @ J, J.T @ r
+                eigenvalues, vectors = np.linalg.eigh(gram)
+                keep = eigenvalues > 1e-13 * max(float(eigenvalues[-1]), 1e-300)
+                root = np.sqrt(eigenvalues[keep])
+                n = J.shape[1]
+                reduced, jacobian = np.zeros(n + 1), np.zeros((n + 1, n))
+                reduced[: root.size] = (vectors[:, keep].T @ projected) / root
+                jacobian[: root.size] = root[:, None] * vectors[:, keep].T
+                reduced[n] = np.sqrt(max(float(r @ r) - float(reduced[:n] @ reduced[:n]), 0.0))
+                cache.clear()
+                cache[key] = (reduced, jacobian)
+            return cache[key]
+
+        result = least_squares(lambda zz: compressed(zz)[0], z, jac=lambda zz: compressed(zz)[1], bounds=(0.0, 1.0),
+                               method="trf", x_scale="jac", ftol=self.tolerance, xtol=1e-10, gtol=1e-10,
+                               max_nfev=self.max_iterations)
+        return np.clip(result.x, 0.0, 1.0), int(result.nfev), f"least_squares: {_STATUS.get(result.status, result.message)}"
 
     def _fit_linear_variables(self, z):
         """Replace the start's stiffnesses and initial tensions by their bounded linear least-squares
@@ -215,19 +256,23 @@ class _MultiStartSolver:
             return z
         r, J = self._ls.residuals_and_jacobian(z)
         columns = J[:, linear]
-        # Keep every linear variable at least 10 % into its range: at k = 0 a spring's anchors have
-        # no gradient (a saddle the start could not leave); the solver may still drive k to 0.
-        fit = lsq_linear(columns, columns @ z[linear] - r, bounds=(0.1, 1.0), method="bvls")
+        # Keep every stiffness at least 10 % into its range: at k = 0 a spring's anchors have no
+        # gradient (a saddle the start could not leave); the solver may still drive k to 0.
+        # Other linear variables (initial tension, constant force, preload) may start anywhere.
+        names = self.problem.variables.names
+        floor = np.array([0.1 if names[i].endswith(".stiffness") else 0.0 for i in linear])
+        fit = lsq_linear(columns, columns @ z[linear] - r, bounds=(floor, np.ones(len(linear))), method="bvls")
         if not fit.success:
             return z
         z = z.copy()
-        z[linear] = np.clip(fit.x, 0.1, 1.0)
+        z[linear] = np.clip(fit.x, floor, 1.0)
         return z
 
     def _feasible_free_lengths(self, z):
-        """Move each free length of the start into the interval its spring's length range allows,
-        ``max(L)/ρ ≤ l0 ≤ min(L)`` (tension and stretch constraints), where that interval meets
-        the bounds, so that the augmented Lagrangian starts feasible for these constraints."""
+        """Move each free length of the start into the interval its spring's length range allows
+        (``Spring.free_length_interval``: e.g. ``max L/ρ ≤ l0 ≤ min L`` for an extension spring),
+        where that interval meets the bounds, so that the augmented Lagrangian starts feasible
+        for these constraints."""
         problem = self.problem
         evaluation = problem.evaluate(problem.scale(z))
         names = {name: i for i, name in enumerate(problem.variables.names)}
@@ -238,11 +283,8 @@ class _MultiStartSolver:
             if index is None:
                 continue
             lengths = evaluation.lengths[:, column]
-            low, high = lower[index], upper[index]
-            if getattr(spring, "max_stretch", None):
-                low = max(low, float(np.max(lengths)) / spring.max_stretch)
-            if getattr(spring, "keep_tension", False):
-                high = min(high, float(np.min(lengths)))
+            spring_low, spring_high = spring.free_length_interval(lengths)
+            low, high = max(lower[index], spring_low), min(upper[index], spring_high)
             if low <= high:
                 value = float(np.clip(problem.scale(z)[index], low, high))
                 z[index] = (value - lower[index]) / (upper[index] - lower[index])
@@ -302,7 +344,8 @@ class _LeastSquaresResiduals:
         scaled_rows = rows / ca.DM(self.row_scale) if blocks else rows
         function = ca.Function("scaled_residual", [z, data],
                                [residual, ca.jacobian(residual, z).T, scaled_rows, ca.jacobian(scaled_rows, z).T])
-        self.evaluator = SampleEvaluator(compiled(function), problem.data)
+        self.function = compiled(function)
+        self.evaluator = SampleEvaluator(self.function, problem.data)
         self.multipliers, self.penalty = None, 0.0
         self._last_z = None
 
@@ -333,3 +376,13 @@ class _LeastSquaresResiduals:
         penalty_J = np.zeros((active.size, n_x))
         penalty_J[active] = -np.sqrt(self.penalty) * row_jacobian.reshape(-1, n_x)[active]
         return np.concatenate([r, penalty_r]), np.vstack([J, penalty_J])
+
+
+_STATUS = {
+    -1: "improper input",
+    0: "iteration limit reached",
+    1: "converged (gradient)",
+    2: "converged (cost change)",
+    3: "converged (step size)",
+    4: "converged (cost change and step size)",
+}

@@ -2,20 +2,28 @@ r"""Residual torque as a CasADi function of the design variables only.
 
 Pinocchio stays numeric: for each workspace sample the :class:`~springbalance.kinematics.WorkspaceKinematics`
 cache supplies ``g(q)``, ``V_g(q)`` and, for every moving body that carries a spring end,
-its placement ``(R, t)`` and Jacobian ``J`` (LOCAL_WORLD_ALIGNED). These numbers form the
+its placement ``(R, t)`` and Jacobian ``J`` (LOCAL_WORLD_ALIGNED); the workspace supplies
+the coordinates ``q_i`` of the joints that carry torsional springs. These numbers form the
 *sample data* column. For a fixed sample each spring end is affine in its anchor
 coordinates (MODEL.md §2):
 
 .. math::
     r = R\,p,\quad x = t + r,\quad J_p^T f = J_{lin}^T f + J_{ang}^T (r \times f),
 
-so the per-sample CasADi function ``sample(x, data) -> (tau, V, L, F)`` is small and exact,
-and ``sample.map(N)`` evaluates it over the workspace with exact derivatives:
+so the per-sample CasADi function ``sample(x, data) -> (tau, V, L, F, C)`` is small and exact,
+and ``sample.map(N)`` evaluates it over the workspace with exact derivatives. Each spring
+element (:class:`~springbalance.springs.Spring`) adds its own share through
+:meth:`~springbalance.springs.Spring.contribution`, given a :class:`SampleContext`:
 
-.. math:: \tau = g + \sum_s F_s(L_s)\,(J_{p_b} - J_{p_a})^T u_s,\qquad V = V_g + \sum_s V_s(L_s).
+.. math:: \tau = g + \sum_s \tau_s,\qquad V = V_g + \sum_s V_s,
 
-Outputs per sample: ``tau`` (nv) [N·m or N], ``V`` (1) [J], spring lengths ``L`` (n_s) [m],
-tensions ``F`` (n_s) [N], and the constraint rows ``C`` (≥ 0 when feasible).
+with :math:`\tau_s = F_s(L_s)\,(J_{p_b} - J_{p_a})^T u_s` (plus the weight of the spring's
+own mass) for a two-point spring and :math:`\tau_s = (k (q_i - q_0) + \tau_0)\, e_i` for a
+torsional spring.
+
+Outputs per sample: ``tau`` (nv) [N·m or N], ``V`` (1) [J], spring states ``L`` (n_s: length
+[m] or joint angle [rad]), generalised forces ``F`` (n_s: tension [N] or torque [N·m]), and
+the constraint rows ``C`` (≥ 0 when feasible).
 """
 
 from __future__ import annotations
@@ -72,12 +80,61 @@ class ConstraintBlock:
     scale: float  # typical size of a violation [unit], for the solver's scaling
 
 
+class SampleContext:
+    """What a spring element sees of one sample (CasADi symbols of the data column).
+
+    ``point(body, p)`` → :class:`PointKinematics` of the body-fixed point ``p``;
+    ``coordinate(joint)`` → the joint coordinate ``q_i`` [rad or m];
+    ``direction(joint)`` → the unit torque vector ``e_i`` (nv); ``zero()`` → nv zeros;
+    ``gravity`` → the gravity vector (3) [m/s²].
+    """
+
+    def __init__(self, nv: int, gravity: np.ndarray, bodies: dict, ground: dict, coordinates: dict, joint_index: dict):
+        self.nv = nv
+        self.gravity = ca.DM(np.asarray(gravity, dtype=float).reshape(3, 1))
+        self._bodies, self._ground, self._coordinates, self._joint_index = bodies, ground, coordinates, joint_index
+
+    def point(self, body: str, local) -> "PointKinematics":
+        if body in self._bodies:
+            t, R, J = self._bodies[body]
+            lever = ca.mtimes(R, local)                  # R p, world-aligned [m]
+            return PointKinematics(t + lever, lever, J, self.nv)
+        t0, R0 = self._ground[body]
+        return PointKinematics(ca.DM(t0) + ca.mtimes(ca.DM(R0), local), None, None, self.nv)
+
+    def coordinate(self, joint: str):
+        return self._coordinates[joint]
+
+    def direction(self, joint: str) -> ca.DM:
+        unit = np.zeros(self.nv)
+        unit[self._joint_index[joint]] = 1.0
+        return ca.DM(unit)
+
+    def zero(self) -> ca.DM:
+        return ca.DM.zeros(self.nv, 1)
+
+
+class PointKinematics:
+    """A body-fixed point at one sample: world ``position`` and the map ``f -> J_p^T f``."""
+
+    def __init__(self, position, lever, jacobian, nv: int):
+        self.position, self._lever, self._jacobian, self._nv = position, lever, jacobian, nv
+
+    def generalized(self, force):
+        """``J_p^T f`` (nv): the joint torques of a force ``f`` [N] applied at the point (0 on the ground)."""
+        if self._jacobian is None:
+            return ca.DM.zeros(self._nv, 1)
+        J = self._jacobian
+        return ca.mtimes(J[:3, :].T, force) + ca.mtimes(J[3:, :].T, ca.cross(self._lever, force))
+
+
 class TorqueModel:
     """Symbolic residual torque of a mechanism carrying springs.
 
     Attributes:
         variables: the design variables (names, bounds, first guess) in physical units.
         bodies: moving bodies whose kinematics enter the sample data.
+        joints: joints whose coordinates enter the sample data (torsional springs).
         sample: ``Function(x, data) -> (tau, V, L, F, C)`` for one sample.
         constraint_blocks: which spring constraint each row of ``C`` belongs to.
     """
@@ -88,13 +145,13 @@ class TorqueModel:
         self.variables = DesignVariables()
         nv = mechanism.nv
         self.bodies = _moving_bodies(mechanism, springs)
+        self.joints = _spring_joints(mechanism, springs)
         self._ground = _ground_placements(mechanism, springs)
 
-        # Design variables: every Free parameter and every free anchor coordinate.
-        variable_slots = []  # (spring index, key, region, index list)
+        # Design variables: every free anchor coordinate and every Free parameter.
+        variable_slots = []  # (spring, end, region, index list)
         for spring in springs:
-            for end in ("a", "b"):
-                anchor = getattr(spring, end)
+            for end, anchor in spring.anchors.items():
                 region = anchor.region()
                 indices = [self.variables.add(f"{spring.name}.{end}.{label}", "m" if len(region.labels) != 1 or label != "s" else "1",
                                               lo, hi, s0)
@@ -107,21 +164,25 @@ class TorqueModel:
         x = ca.SX.sym("x", self.variables.size)
         self._index = {name: i for i, name in enumerate(self.variables.names)}
 
-        # Sample data: g (nv), V_g (1), then per moving body t (3), R (9, row-major), J (6·nv, row-major).
-        self.data_size = nv + 1 + len(self.bodies) * (12 + 6 * nv)
+        # Sample data: g (nv), V_g (1), q_i of each spring joint (n_j), then per moving body
+        # t (3), R (9, row-major), J (6·nv, row-major).
+        self.data_size = nv + 1 + len(self.joints) + len(self.bodies) * (12 + 6 * nv)
         data = ca.SX.sym("data", self.data_size)
         gravity_torque, gravity_potential = data[:nv], data[nv]
+        coordinates = {joint: data[nv + 1 + slot] for slot, joint in enumerate(self.joints)}
         body_data = {}
-        offset = nv + 1
+        offset = nv + 1 + len(self.joints)
         for body in self.bodies:
             t = data[offset:offset + 3]
             R = ca.reshape(data[offset + 3:offset + 12], 3, 3).T
             J = ca.reshape(data[offset + 12:offset + 12 + 6 * nv], nv, 6).T
             body_data[body] = (t, R, J)
             offset += 12 + 6 * nv
+        context = SampleContext(nv, mechanism.gravity, body_data, self._ground, coordinates,
+                                {joint: mechanism.joint(joint).index_v for joint in self.joints})
 
         tau, potential = gravity_torque, gravity_potential
-        lengths, tensions, constraint_rows = [], [], []
+        states, forces, constraint_rows = [], [], []
         self.constraint_blocks: list[ConstraintBlock] = []
         points = {}
         for spring, end, region, indices in variable_slots:
@@ -129,37 +190,25 @@ class TorqueModel:
             points[(spring.name, end)] = local
         for spring in springs:
             parameters = self.parameter_values(spring, x)
-            ends = []
-            for end in ("a", "b"):
-                body = getattr(spring, end).body
-                local = points[(spring.name, end)]
-                if body in body_data:
-                    t, R, J = body_data[body]
-                    lever = ca.mtimes(R, local)                  # R p, world-aligned [m]
-                    ends.append((t + lever, lever, J))
-                else:
-                    t0, R0 = self._ground[body]
-                    ends.append((ca.DM(t0) + ca.mtimes(ca.DM(R0), local), None, None))
-            (xa, lever_a, Ja), (xb, lever_b, Jb) = ends
-            d = xb - xa                                          # [m]
-            length = ca.sqrt(ca.dot(d, d))                       # L [m]
-            force = spring.tension_per_length(length, parameters) * d  # F u [N], pulls b towards a
-            if Jb is not None:                                   # + J_pb^T (F u)
-                tau = tau + ca.mtimes(Jb[:3, :].T, force) + ca.mtimes(Jb[3:, :].T, ca.cross(lever_b, force))
-            if Ja is not None:                                   # - J_pa^T (F u)
-                tau = tau - ca.mtimes(Ja[:3, :].T, force) - ca.mtimes(Ja[3:, :].T, ca.cross(lever_a, force))
-            potential = potential + spring.potential(length, parameters)
-            tension = spring.tension(length, parameters)
-            lengths.append(length)
-            tensions.append(tension)
+            own_points = {end: points[(spring.name, end)] for end in spring.anchors}
+            share = spring.contribution(context, parameters, own_points)
+            tau = tau + share.torque
+            potential = potential + share.potential
+            states.append(share.state)
+            forces.append(share.force)
             for constraint in spring.constraints():
-                self.constraint_blocks.append(ConstraintBlock(spring.name, constraint.name, constraint.unit,
-                                                              len(constraint_rows), float(constraint.scale)))
-                constraint_rows.append(constraint.rows(length, tension, parameters))
+                parts = getattr(constraint, "parts", None)
+                rows = constraint.rows(share.state, share.force, parameters)
+                if parts is None:
+                    parts, rows = ((constraint.name, constraint.unit, constraint.scale),), [rows]
+                for (name, unit, scale), row in zip(parts, rows):
+                    self.constraint_blocks.append(ConstraintBlock(spring.name, name, unit, len(constraint_rows),
+                                                                  float(scale)))
+                    constraint_rows.append(row)
 
         self.n_springs = len(springs)
         self.n_constraints = len(constraint_rows)
-        outputs = [tau, potential, ca.vertcat(*lengths), ca.vertcat(*tensions), ca.vertcat(*constraint_rows)]
+        outputs = [tau, potential, ca.vertcat(*states), ca.vertcat(*forces), ca.vertcat(*constraint_rows)]
         self.sample = ca.Function("sample", [x, data], outputs, ["x", "data"], ["tau", "V", "L", "F", "C"])
         self._x = x
 
@@ -178,13 +227,14 @@ class TorqueModel:
     @property
     def linear_indices(self) -> list[int]:
         """Indices of design variables that the torque and the potential depend on linearly
-        (stiffness, initial tension): for fixed other variables they solve a linear least-squares problem."""
+        (stiffness, initial tension, preload, constant force; not the stiffness of a spring whose
+        mass is coupled to it): for fixed other variables they solve a linear least-squares problem."""
         return [self._index[f"{spring.name}.{key}"] for spring in self.springs for key in spring.linear_parameters
                 if f"{spring.name}.{key}" in self._index]
 
     def anchor_point(self, spring: Spring, end: str, x: np.ndarray) -> np.ndarray:
         """Body-frame anchor point [m] of end ``"a"``/``"b"`` for design vector ``x``."""
-        region = getattr(spring, end).region()
+        region = spring.anchors[end].region()
         coordinates = [x[self._index[f"{spring.name}.{end}.{label}"]] for label in region.labels]
         return region.point(coordinates)
 
@@ -198,6 +248,10 @@ class TorqueModel:
         kinematics.prepare(self.bodies)
         n = kinematics.gravity_torque.shape[0]
         blocks = [kinematics.gravity_torque, kinematics.potential[:, None]]
+        joint_values = kinematics.workspace.joint_values
+        for joint in self.joints:
+            column = self.mechanism.joint(joint).index_v
+            blocks.append(joint_values[:, column:column + 1])
         for body in self.bodies:
             body_kinematics = kinematics.body(body)
             blocks += [body_kinematics.translation, body_kinematics.rotation.reshape(n, 9),
@@ -225,7 +279,7 @@ class TorqueModel:
 def _moving_bodies(mechanism: Mechanism, springs: list[Spring]) -> list[str]:
     bodies = []
     for spring in springs:
-        for body in (spring.a.body, spring.b.body):
+        for body in spring.bodies:
             try:
                 ground = mechanism.is_ground(body)
             except InputError as error:
@@ -235,13 +289,23 @@ def _moving_bodies(mechanism: Mechanism, springs: list[Spring]) -> list[str]:
     return bodies
 
 
+def _spring_joints(mechanism: Mechanism, springs: list[Spring]) -> list[str]:
+    joints = []
+    for spring in springs:
+        spring.check(mechanism)
+        for joint in spring.joints:
+            if joint not in joints:
+                joints.append(joint)
+    return joints
+
+
 def _ground_placements(mechanism: Mechanism, springs: list[Spring]) -> dict[str, tuple[np.ndarray, np.ndarray]]:
     model = mechanism.model
     data = model.createData()
     pin.framesForwardKinematics(model, data, pin.neutral(model))
     placements = {}
     for spring in springs:
-        for body in (spring.a.body, spring.b.body):
+        for body in spring.bodies:
             if mechanism.is_ground(body):
                 placement = data.oMf[mechanism.frame_id(body)]
                 placements[body] = (np.array(placement.translation), np.array(placement.rotation))

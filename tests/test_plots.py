@@ -1,0 +1,78 @@
+"""Torque plots: the curves are the model's numbers, the files are real PNG and SVG."""
+
+from __future__ import annotations
+
+import xml.etree.ElementTree as ElementTree
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import springbalance as sb
+from springbalance import plots, sweeps
+from scene_helpers import URDF, two_link_design
+
+
+@pytest.fixture(scope="module")
+def design():
+    return two_link_design()
+
+
+def test_sweep_panels_show_the_model_torques(design):
+    figure = design.plot_torques(points=31)
+    axes = [a for a in figure.axes if a.lines]
+    assert [a.get_xlabel() for a in axes] == ["shoulder [deg]", "elbow [deg]"]
+    mechanism = design.problem.mechanism
+    model, data = mechanism.model, mechanism.model.createData()
+    lower, upper = sweeps.workspace_ranges(design)
+    for axis, joint in zip(axes, mechanism.joints):
+        before, after = axis.lines[0], axis.lines[1]
+        assert before.get_label() == "gravity only" and after.get_label() == "with springs"
+        angles = np.deg2rad(after.get_xdata())
+        np.testing.assert_allclose(angles[[0, -1]], [lower[joint.index_v], upper[joint.index_v]])
+        path = np.tile((lower + upper) / 2, (len(angles), 1))
+        path[:, joint.index_v] = angles
+        # after: the design's own residual torque; before: Pinocchio's gravity torque, independently
+        np.testing.assert_allclose(after.get_ydata(), design.residual_torque(path)[:, joint.index_v], atol=1e-9)
+        gravity = [pin.computeGeneralizedGravity(model, data, q)[joint.index_v] for q in mechanism.configurations(path)]
+        np.testing.assert_allclose(before.get_ydata(), gravity, atol=1e-9)
+        assert axis.get_ylabel() == f"{joint.name} torque [N·m]"
+
+
+def test_a_joint_held_still_gets_no_panel():
+    mechanism = sb.Mechanism.from_urdf(URDF / "two_link_planar.urdf")
+    workspace = sb.Workspace.sobol(mechanism, 64, ranges={"shoulder": [-90, 90], "elbow": [0, 0]}, degrees=True)
+    spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", (0, 0, 0.1)), sb.Anchor("link1", (0.3, 0, 0)),
+                                     stiffness=500.0)
+    result = sb.DesignProblem(mechanism, workspace, [spring]).result(np.zeros(0))
+    figure = plots.plot_torques(result, points=21)
+    assert [a.get_xlabel() for a in figure.axes if a.lines] == ["shoulder [deg]"]
+
+
+def test_histogram_counts_every_sample_before_and_after(design):
+    figure = plots.plot_histogram(design, bins=12)
+    size = design.problem.workspace.size
+    for axis in figure.axes:
+        before, after = axis.containers[0], axis.containers[1]
+        assert sum(bar.get_height() for bar in before) == size
+        assert sum(bar.get_height() for bar in after) == size
+        assert len(before) == len(after) == 12
+    assert [a.get_xlabel() for a in figure.axes] == ["shoulder torque [N·m]", "elbow torque [N·m]"]
+
+
+def test_figures_are_written_as_png_and_svg(design, tmp_path):
+    written = plots.save_figure(plots.plot_torques(design, points=21), tmp_path / "plots" / "torques.png")
+    png, svg = written
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 10_000
+    root = ElementTree.parse(svg).getroot()
+    assert root.tag.endswith("svg")
+    text = svg.read_text()
+    assert "shoulder" in text and "gravity only" in text
+    from PIL import Image
+
+    with Image.open(png) as image:
+        width, height = image.size
+        assert width > 400 and height > 200
+        colours = np.asarray(image.convert("RGB")).reshape(-1, 3)
+    # the "with springs" curve is drawn in its colour (#d7301f)
+    assert np.count_nonzero(np.all(np.abs(colours.astype(int) - [0xd7, 0x30, 0x1f]) < 30, axis=1)) > 100
