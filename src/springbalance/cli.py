@@ -6,6 +6,8 @@
     springbalance evaluate design.json [--workspace WORKSPACE.yaml]
     springbalance view design.json [--port P] [--open] [--frames N]
     springbalance report design.json --out FOLDER [--no-scene]
+    springbalance export design.json [--urdf OUT.urdf] [--mjcf OUT.xml] [--resolve-packages]
+    springbalance payload-range design.json --body BODY [--point X Y Z] [--masses M ...] [--max-residual R] [--plot PATH]
     springbalance robots
 
 Exit status: 0 on success, 1 when the solver finds no feasible design, 2 on bad input
@@ -115,6 +117,36 @@ def build_parser() -> argparse.ArgumentParser:
                         help="animation frames per swept joint in scene.html (default 48)")
     report.set_defaults(handler=_report)
 
+    export = commands.add_parser(
+        "export", help="write the balanced arm as a URDF with spring anchors and/or a MuJoCo model",
+        description="Write the design's URDF with a massless link at every spring anchor and the spring "
+                    "records (plus a .springs.json sidecar), and/or a MuJoCo model (MJCF) with a tendon per "
+                    "spring. Springs whose real law MuJoCo's linear two-sided spring cannot express at some "
+                    "workspace sample are listed as warnings; files are written atomically.")
+    export.add_argument("design", metavar="DESIGN.json", help="design file written by 'springbalance design'")
+    export.add_argument("--urdf", metavar="OUT.urdf", help="URDF to write (with OUT.springs.json next to it)")
+    export.add_argument("--mjcf", metavar="OUT.xml", help="MuJoCo model to write")
+    export.add_argument("--resolve-packages", action="store_true",
+                        help="replace package:// mesh paths of the URDF by absolute paths")
+    export.set_defaults(handler=_export)
+
+    payload = commands.add_parser(
+        "payload-range", help="anchor position against payload, and the largest payload, of a saved design",
+        description="For a saved design with per-scenario variables (an adjustable anchor), keep the shared "
+                    "variables and re-fit the per-scenario ones for each payload MASS at POINT of BODY; print the "
+                    "table and the largest payload balanced to --max-residual. A design without per-scenario "
+                    "variables prints its residual torque against the payload instead.")
+    payload.add_argument("design", metavar="DESIGN.json", help="design file written by 'springbalance design'")
+    payload.add_argument("--body", required=True, help="body (URDF link) that carries the payload")
+    payload.add_argument("--point", type=float, nargs=3, default=(0.0, 0.0, 0.0), metavar=("X", "Y", "Z"),
+                         help="payload position in the body frame [m] (default 0 0 0)")
+    payload.add_argument("--masses", type=float, nargs="+", metavar="M", help="payloads of the table [kg]")
+    payload.add_argument("--max-residual", type=float, metavar="R",
+                         help="peak residual torque [N·m] up to which a payload counts as balanced "
+                              "(default 1e-6 of the bare arm's peak gravity torque)")
+    payload.add_argument("--plot", metavar="PATH", help="also save the plot as PATH.png and PATH.svg")
+    payload.set_defaults(handler=_payload_range)
+
     robots = commands.add_parser(
         "robots", help="list the robots of example-robot-data",
         description="List the robot names accepted by 'mechanism: {robot: NAME}' in a config.")
@@ -201,6 +233,54 @@ def _report(args) -> int:
     return 0
 
 
+def _export(args) -> int:
+    from .export import law_warnings, mjcf_string, sidecar_path, urdf_strings, write_text_atomic
+    from .result import DesignResult
+
+    if args.urdf is None and args.mjcf is None:
+        raise InputError("export: give --urdf OUT.urdf and/or --mjcf OUT.xml")
+    for option, value, example in (("--urdf", args.urdf, "balanced.urdf"), ("--mjcf", args.mjcf, "balanced.xml")):
+        if value is not None:
+            _check_output(Path(value), option, example)
+    result = DesignResult.load(args.design)
+    # both texts are built (and checked) before anything is written: a failure leaves no file
+    files, warnings = {}, law_warnings(result)
+    if args.urdf is not None:
+        urdf, sidecar = urdf_strings(result, Path(args.urdf).name, resolve_packages=args.resolve_packages)
+        files.update({Path(args.urdf): urdf, sidecar_path(args.urdf): sidecar})
+    if args.mjcf is not None:
+        mjcf, mjcf_warnings = mjcf_string(result)
+        files[Path(args.mjcf)] = mjcf
+        warnings += [warning for warning in mjcf_warnings if warning not in warnings]
+    for path, text in files.items():
+        write_text_atomic(path, text)
+    print(f"wrote {', '.join(str(path) for path in files)}")
+    for warning in warnings:
+        print(f"{PROG}: warning: {warning}", file=sys.stderr)
+    return 0
+
+
+def _payload_range(args) -> int:
+    import numpy as np
+
+    from .payload import payload_range, residual_vs_payload
+    from .result import DesignResult
+
+    result = DesignResult.load(args.design)
+    if args.body not in result.problem.mechanism.body_names:
+        raise InputError(f"--body: unknown body {args.body!r}; bodies: {', '.join(result.problem.mechanism.body_names)}")
+    if result.problem.model.per_scenario:
+        study = payload_range(result, args.body, args.point, max_residual=args.max_residual, masses=args.masses)
+    else:
+        masses = args.masses if args.masses else np.linspace(0.0, 2.0, 5)
+        study = residual_vs_payload(result, args.body, masses, args.point)
+    print(study.table())
+    if args.plot:
+        study.plot(args.plot)
+        print(f"plot saved to {Path(args.plot).with_suffix('.png')} and .svg")
+    return 0
+
+
 def _robots(args) -> int:
     from .robots import available_robots
 
@@ -212,17 +292,17 @@ def _robots(args) -> int:
 
 
 # ---------------------------------------------------------------------- helpers
-def _check_output(out: Path) -> None:
-    """Fail before solving when the design could not be saved at ``out``."""
+def _check_output(out: Path, option: str = "--out", example: str = "design.json") -> None:
+    """Fail before solving (or exporting) when the file could not be saved at ``out``."""
     if out.is_dir():
-        raise InputError(f"--out {str(out)!r} is a directory; give a file name such as design.json")
+        raise InputError(f"{option} {str(out)!r} is a directory; give a file name such as {example}")
     folder = out.parent
     while not folder.exists() and folder != folder.parent:
         folder = folder.parent
     if not folder.is_dir():
-        raise InputError(f"--out {str(out)!r}: {str(folder)!r} is not a directory")
+        raise InputError(f"{option} {str(out)!r}: {str(folder)!r} is not a directory")
     if not os.access(folder, os.W_OK | os.X_OK):
-        raise InputError(f"--out {str(out)!r}: folder {str(folder)!r} is not writable")
+        raise InputError(f"{option} {str(out)!r}: folder {str(folder)!r} is not writable")
 
 
 def _print_error(error) -> None:

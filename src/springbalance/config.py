@@ -1,7 +1,7 @@
 """Configuration files (YAML or JSON) → a :class:`~springbalance.problem.DesignProblem` + solve options.
 
 A config file is one mapping with the sections ``mechanism``, ``workspace``, ``springs``
-(required) and ``objective``, ``weights``, ``solve`` (optional); README.md ("Config
+(required) and ``objective``, ``weights``, ``solve``, ``scenarios`` (optional); README.md ("Config
 reference") documents every key. Every problem is reported as a :class:`ConfigError`
 whose one-line message starts with the file and the key path of the culprit, e.g.
 ``config.yaml: workspace: unknown key 'nn'; valid keys: kind, n, ...``.
@@ -39,13 +39,17 @@ from .springs import Spring, spring_from_dict
 from .workspace import Coupling, Workspace
 
 #: top-level sections of a config file.
-SECTIONS = ("mechanism", "workspace", "springs", "objective", "weights", "solve")
+SECTIONS = ("mechanism", "workspace", "springs", "objective", "weights", "solve", "scenarios")
 REQUIRED_SECTIONS = ("mechanism", "workspace", "springs")
 MECHANISM_KEYS = ("urdf", "robot", "gravity", "mimic")
 WORKSPACE_KEYS = ("kind", "n", "seed", "degrees", "ranges", "couplings", "joint", "values", "file", "ordered")
 WORKSPACE_KINDS = ("grid", "sobol", "random", "sweep", "array")
 COUPLING_KEYS = ("expression", "range")
 SOLVE_KEYS = ("starts", "seed", "method", "max_iterations", "tolerance")
+SCENARIOS_KEYS = ("cases", "payload_range", "per_scenario", "aggregate")
+CASE_KEYS = ("name", "payloads", "mass_scale")
+PAYLOAD_KEYS = ("body", "mass", "point")
+PAYLOAD_RANGE_KEYS = ("body", "point", "masses")
 
 #: which workspace keys apply to which kind (``kind`` and ``degrees`` apply to all).
 _KIND_KEYS = {
@@ -117,7 +121,9 @@ def config_from_dict(record, base_dir: str | Path = ".", label: str = "config", 
         objective = _objective(record.get("objective", "rms"), f"{label}: objective")
         weights = _weights(mechanism, record.get("weights"), f"{label}: weights")
         solve_options = solve_options_from_dict(record.get("solve"), f"{label}: solve")
-        problem = DesignProblem(mechanism, workspace, springs, objective=objective, weights=weights)
+        scenario_options = scenarios_from_dict(mechanism, record.get("scenarios"), f"{label}: scenarios")
+        problem = DesignProblem(mechanism, workspace, springs, objective=objective, weights=weights,
+                                **scenario_options)
     return Config(path, mechanism, workspace, springs, problem, solve_options)
 
 
@@ -294,6 +300,85 @@ def solve_options_from_dict(record, where: str = "solve") -> dict:
             raise ConfigError(f"{where}.tolerance: must be > 0, got {tolerance!r}")
         options["tolerance"] = tolerance
     return options
+
+
+def scenarios_from_dict(mechanism: Mechanism, record, where: str = "scenarios") -> dict:
+    """``{cases | payload_range, per_scenario?, aggregate?}`` → keyword arguments of :class:`DesignProblem`.
+
+    ``cases``: list of ``{name, payloads?: [{body, mass, point?}], mass_scale?: β | {body: β}}``;
+    ``payload_range``: ``{body, point?, masses: [m1, m2, ...]}``, one scenario per mass [kg].
+    """
+    from .problem import AGGREGATES
+    from .scenarios import Payload, Scenario, payload_scenarios
+
+    if record is None:
+        return {}
+    check_keys(record, SCENARIOS_KEYS, where)
+    if ("cases" in record) == ("payload_range" in record):
+        raise ConfigError(f"{where}: give exactly one of 'cases' (a list of load cases) or 'payload_range'")
+    if "cases" in record:
+        cases = record["cases"]
+        if not isinstance(cases, list) or not cases:
+            raise ConfigError(f"{where}.cases: expected a non-empty list of cases, got {cases!r}")
+        scenarios = []
+        for index, case in enumerate(cases):
+            label = f"{where}.cases[{index}]"
+            check_keys(case, CASE_KEYS, label)
+            name = _string(case.get("name", f"case {index + 1}"), f"{label}.name")
+            payloads = case.get("payloads", [])
+            if not isinstance(payloads, list):
+                raise ConfigError(f"{label}.payloads: expected a list of {{body, mass, point}}, got {payloads!r}")
+            items = []
+            for number, payload in enumerate(payloads):
+                spot = f"{label}.payloads[{number}]"
+                check_keys(payload, PAYLOAD_KEYS, spot)
+                for key in ("body", "mass"):
+                    if key not in payload:
+                        raise ConfigError(f"{spot}: missing key {key!r}")
+                body = _known_body(mechanism, payload["body"], f"{spot}.body")
+                point = _vector(payload.get("point", [0.0, 0.0, 0.0]), f"{spot}.point")
+                with _prefixed(spot):
+                    items.append(Payload(body, _number(payload["mass"], f"{spot}.mass"), point))
+            scale = case.get("mass_scale")
+            if isinstance(scale, dict):
+                scale = {_known_body(mechanism, body, f"{label}.mass_scale"): _number(value, f"{label}.mass_scale.{body}")
+                         for body, value in scale.items()}
+            elif scale is not None:
+                scale = _number(scale, f"{label}.mass_scale")
+            with _prefixed(label):
+                scenarios.append(Scenario(name, items, scale))
+    else:
+        spec = record["payload_range"]
+        label = f"{where}.payload_range"
+        check_keys(spec, PAYLOAD_RANGE_KEYS, label)
+        for key in ("body", "masses"):
+            if key not in spec:
+                raise ConfigError(f"{label}: missing key {key!r}")
+        body = _known_body(mechanism, spec["body"], f"{label}.body")
+        masses = spec["masses"]
+        if not isinstance(masses, list) or not masses or not all(_is_number(m) and m >= 0 for m in masses):
+            raise ConfigError(f"{label}.masses: expected a non-empty list of masses ≥ 0 [kg], got {masses!r}")
+        scenarios = payload_scenarios(body, masses, _vector(spec.get("point", [0.0, 0.0, 0.0]), f"{label}.point"))
+    per_scenario = record.get("per_scenario", [])
+    if not isinstance(per_scenario, list) or not all(isinstance(name, str) and name for name in per_scenario):
+        raise ConfigError(f"{where}.per_scenario: expected a list of variable names (e.g. [s1.b]), got {per_scenario!r}")
+    aggregate = record.get("aggregate", "sum")
+    if aggregate not in AGGREGATES:
+        raise ConfigError(f"{where}.aggregate: unknown aggregate {aggregate!r}; valid: {', '.join(AGGREGATES)}")
+    return {"scenarios": scenarios, "per_scenario": per_scenario, "aggregate": aggregate}
+
+
+def _known_body(mechanism: Mechanism, name, where: str) -> str:
+    if not isinstance(name, str) or name not in mechanism.body_names:
+        raise ConfigError(f"{where}: unknown body {name!r} in mechanism {mechanism.name!r}; "
+                          f"bodies: {', '.join(mechanism.body_names)}")
+    return name
+
+
+def _vector(value, where: str) -> list[float]:
+    if not isinstance(value, list) or len(value) != 3 or not all(_is_number(v) for v in value):
+        raise ConfigError(f"{where}: expected three numbers [m], got {value!r}")
+    return [float(v) for v in value]
 
 
 # ---------------------------------------------------------------------- pieces

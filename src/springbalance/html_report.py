@@ -94,8 +94,9 @@ def _with_unit(value, unit: str, default_unit: str, digits: int = 5) -> str:
 
 
 def report_html(result, scene: str | None = "scene.html", torques: str | None = "torques.svg",
-                histogram: str | None = "histogram.svg", legend: str = "") -> str:
-    """The report page; ``scene``, ``torques`` and ``histogram`` are relative links (None: left out)."""
+                histogram: str | None = "histogram.svg", legend: str = "", exports=()) -> str:
+    """The report page; ``scene``, ``torques`` and ``histogram`` are relative links (None: left out);
+    ``exports``: relative links to exported URDF/MJCF files (``springbalance export``)."""
     problem = result.problem
     metrics = result.metrics()
     e = html.escape
@@ -117,6 +118,9 @@ def report_html(result, scene: str | None = "scene.html", torques: str | None = 
                      "animated through a sweep of each joint; opens offline).</p>")
         if legend:
             parts.append(f'<div style="position:relative;height:64px">{legend}</div>')
+    if exports:
+        links = ", ".join(f'<a href="{e(name)}"><code>{e(name)}</code></a>' for name in exports)
+        parts.append(f"<p>Exported models (URDF with spring anchors, MuJoCo model with tendon springs): {links}.</p>")
 
     parts.append("<h2>Springs</h2>")
     parts.append("<p class=\"note\">Anchor points in the frame of their body [m]. Lengths and forces over the "
@@ -175,6 +179,19 @@ def report_html(result, scene: str | None = "scene.html", torques: str | None = 
     return "\n".join(parts)
 
 
+def exported_files(folder: Path) -> list[str]:
+    """Names of the URDF (``*.urdf``) and MuJoCo (``*.xml`` with a ``<mujoco>`` root) files in ``folder``."""
+    names = []
+    for path in sorted(Path(folder).glob("*")):
+        if path.suffix == ".urdf":
+            names.append(path.name)
+        elif path.suffix == ".xml":
+            with open(path, "rb") as stream:
+                if b"<mujoco" in stream.read(512):
+                    names.append(path.name)
+    return names
+
+
 def write_report(result, folder: str | Path, scene: bool = True, **scene_options) -> Path:
     """Write ``report.html``, ``scene.html`` and the plots (PNG and SVG) into ``folder``.
 
@@ -192,5 +209,5 @@ def write_report(result, folder: str | Path, scene: bool = True, **scene_options
         design_scene = viz.DesignScene(result, **scene_options)
         viz.write_text(folder / "scene.html", design_scene.html())
         legend = design_scene.color_scale.legend_html(design_scene.compression, position="absolute")
-    page = report_html(result, scene="scene.html" if scene else None, legend=legend)
+    page = report_html(result, scene="scene.html" if scene else None, legend=legend, exports=exported_files(folder))
     return viz.write_text(folder / "report.html", page)

@@ -49,6 +49,22 @@ class BodyKinematics:
         return self.jacobian[:, :3, :] - np.cross(lever[:, :, None], angular, axis=1)
 
 
+def gravity_and_potential(model: pin.Model, configurations: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``g(q_i)`` (N×nv) [N·m or N] and ``V_g(q_i)`` (N) [J] of ``model`` at the configurations (N×nq)."""
+    data = model.createData()
+    n = configurations.shape[0]
+    gravity_torque = np.empty((n, model.nv))
+    potential = np.empty(n)
+    gravity = np.array(model.gravity.linear)
+    for i, q in enumerate(configurations):
+        gravity_torque[i] = pin.computeGeneralizedGravity(model, data, q)
+        # V_g = -Σ_j m_j g·c_j over the moving bodies, as computePotentialEnergy (which rejects mimic joints)
+        pin.forwardKinematics(model, data, q)
+        potential[i] = -sum(model.inertias[j].mass * float(gravity @ data.oMi[j].act(model.inertias[j].lever))
+                            for j in range(1, model.njoints))
+    return gravity_torque, potential
+
+
 class WorkspaceKinematics:
     """Gravity, potential energy and body kinematics of a workspace, computed once."""
 
@@ -57,17 +73,7 @@ class WorkspaceKinematics:
         self.mechanism = workspace.mechanism
         model = self.mechanism.model
         configurations = workspace.configurations
-        data = model.createData()
-        n = configurations.shape[0]
-        self.gravity_torque = np.empty((n, model.nv))
-        self.potential = np.empty(n)
-        gravity = np.array(model.gravity.linear)
-        for i, q in enumerate(configurations):
-            self.gravity_torque[i] = pin.computeGeneralizedGravity(model, data, q)
-            # V_g = -Σ_j m_j g·c_j over the moving bodies, as computePotentialEnergy (which rejects mimic joints)
-            pin.forwardKinematics(model, data, q)
-            self.potential[i] = -sum(model.inertias[j].mass * float(gravity @ data.oMi[j].act(model.inertias[j].lever))
-                                     for j in range(1, model.njoints))
+        self.gravity_torque, self.potential = gravity_and_potential(model, configurations)
         self._bodies: dict[str, BodyKinematics] = {}
 
     def body(self, name: str) -> BodyKinematics:
@@ -99,3 +105,39 @@ class WorkspaceKinematics:
                 jacobians[slot, i] = np.reshape(pin.getFrameJacobian(model, data, frame_id, pin.LOCAL_WORLD_ALIGNED), (6, nv))
         for slot, name in enumerate(missing):
             self._bodies[name] = BodyKinematics(translations[slot], rotations[slot], jacobians[slot])
+
+
+class StackedKinematics:
+    """The kinematics of a workspace repeated once per scenario (see :mod:`springbalance.scenarios`).
+
+    Block ``s`` (rows ``s·N … (s+1)·N - 1``) holds the gravity torque and potential of
+    ``mechanisms[s]`` (same joints and bodies, other masses); body placements and Jacobians
+    are the base workspace's, repeated, because masses do not change kinematics.
+
+    Attributes:
+        n_blocks: number of scenarios ``S``; ``block_size``: samples per scenario ``N``.
+    """
+
+    def __init__(self, workspace, base: WorkspaceKinematics, mechanisms):
+        self.workspace = workspace
+        self.mechanism = base.mechanism
+        self.base = base
+        self.n_blocks = len(mechanisms)
+        self.block_size = base.gravity_torque.shape[0]
+        configurations = base.workspace.configurations
+        blocks = [gravity_and_potential(mechanism.model, configurations) for mechanism in mechanisms]
+        self.gravity_torque = np.vstack([torque for torque, _ in blocks])
+        self.potential = np.concatenate([potential for _, potential in blocks])
+        self._bodies: dict[str, BodyKinematics] = {}
+
+    def body(self, name: str) -> BodyKinematics:
+        if name not in self._bodies:
+            single = self.base.body(name)
+            repeat = (self.n_blocks,) + (1,) * (single.translation.ndim - 1)
+            self._bodies[name] = BodyKinematics(np.tile(single.translation, repeat),
+                                                np.tile(single.rotation, (self.n_blocks, 1, 1)),
+                                                np.tile(single.jacobian, (self.n_blocks, 1, 1)))
+        return self._bodies[name]
+
+    def prepare(self, names) -> None:
+        self.base.prepare(names)

@@ -8,6 +8,10 @@ Scaling (what the solvers see): each design variable ``x_k ∈ [lower_k, upper_k
 mapped to ``z_k ∈ [0, 1]``; torques are divided by ``S``, the RMS of the unbalanced
 weighted gravity torque [N·m]; potentials by the standard deviation of the unbalanced
 potential [J]. Solutions and reports are always in physical units.
+
+Scenarios (payloads, scaled link masses; :mod:`springbalance.scenarios`): with ``scenarios=[...]``
+the workspace is stacked once per scenario and ``per_scenario=[...]`` names the variables that
+take one value per scenario (``s1.b`` → ``s1.b.s[<scenario>]``); the others are shared.
 """
 
 from __future__ import annotations
@@ -21,10 +25,13 @@ import numpy as np
 
 from .errors import InputError
 from .mechanism import Mechanism
-from .objectives import Objective, objective_named
-from .springs import Spring
+from .objectives import NlpPieces, Objective, objective_named
+from .scenarios import Scenario, ScenarioWorkspace, check_scenarios
+from .springs import Spring, spring_from_dict
 from .torque_model import SampleEvaluator, TorqueModel
 from .workspace import Workspace
+
+AGGREGATES = ("sum", "worst")
 
 
 @dataclasses.dataclass
@@ -91,23 +98,51 @@ class DesignProblem:
         springs: spring objects; unnamed ones are called ``s1``, ``s2``, … in order.
         objective: ``"rms"``, ``"peak"``, ``"pe_variance"`` or ``"energy"`` (ordered workspace).
         weights: per-joint weights ``w_j`` (joint name → weight ≥ 0); default 1 for every joint.
+        scenarios: optional load cases (:class:`~springbalance.scenarios.Scenario`: payloads,
+            scaled link masses). The problem then covers every scenario over the same poses:
+            its :attr:`workspace` is the given one stacked once per scenario (``N·S`` samples,
+            block ``s`` = scenario ``s``), and :attr:`base_workspace` the given one.
+        per_scenario: design variables that take one value per scenario (an adjustable anchor,
+            a preload): names or prefixes of names, e.g. ``"s1.b"`` for every coordinate of
+            spring s1's end b. They become ``<name>[<scenario>]``; every other variable is shared.
+        aggregate: how the objective combines scenarios: ``"sum"`` (the objective over all
+            stacked samples: the sum of squares for ``rms``, the largest torque for ``peak``) or
+            ``"worst"`` (the largest per-scenario value, an epigraph solved with IPOPT).
     """
 
     def __init__(self, mechanism: Mechanism, workspace: Workspace, springs: Sequence[Spring],
-                 objective: str | Objective = "rms", weights: Mapping[str, float] | None = None):
+                 objective: str | Objective = "rms", weights: Mapping[str, float] | None = None,
+                 scenarios: Sequence[Scenario] | None = None, per_scenario: Sequence[str] = (),
+                 aggregate: str = "sum"):
         if workspace.mechanism is not mechanism:
             raise InputError("the workspace was sampled for a different mechanism object; build it from the same Mechanism")
+        if aggregate not in AGGREGATES:
+            raise InputError(f"unknown scenario aggregate {aggregate!r}; valid: {', '.join(AGGREGATES)}")
+        self.base_workspace = workspace
+        self.scenarios = check_scenarios(mechanism, scenarios) if scenarios is not None else []
+        self.per_scenario = [str(name) for name in per_scenario]
+        self.aggregate = aggregate
+        if self.scenarios:
+            workspace = ScenarioWorkspace(workspace, self.scenarios)
         self.mechanism, self.workspace = mechanism, workspace
         self.springs = _named_springs(springs)
         self.objective = objective_named(objective)
         if self.objective.needs_path and not workspace.ordered:
             raise InputError(f"objective {self.objective.name!r} needs an ordered workspace (grid, sweep or trajectory), "
                              f"got a {workspace.description.get('kind')} sample")
+        if len(self.scenarios) > 1 and ((aggregate == "worst" and self.objective.name != "peak")
+                                        or self.objective.name == "pe_variance"):
+            # rms and peak over the stacked samples already are the sum of squares and the worst
+            # case; a potential's constant differs per scenario, so its variance is taken per scenario
+            self.objective = ScenarioAggregate(self.objective, len(self.scenarios), worst=aggregate == "worst")
         self.weights = _weights(mechanism, weights)
-        self.model = TorqueModel(mechanism, self.springs)
+        self.model = TorqueModel(mechanism, self.springs, [s.name for s in self.scenarios], self.per_scenario)
         kinematics = workspace.kinematics()
         self.data = self.model.data_matrix(kinematics)
         self.path_steps = np.abs(np.diff(workspace.joint_values, axis=0)) if workspace.ordered and workspace.size > 1 else None
+        if self.path_steps is not None and self.scenarios:
+            block = self.base_workspace.size
+            self.path_steps[block - 1::block] = 0.0   # no step from one scenario's last pose to the next one's first
         gravity = kinematics.gravity_torque * self.weights
         self.torque_scale = float(np.sqrt(np.mean(gravity**2))) or 1.0       # S [N·m]
         self.potential_scale = float(np.std(kinematics.potential)) or 1.0    # [J]
@@ -197,6 +232,75 @@ class DesignProblem:
 
         return DesignResult(self, np.asarray(x, dtype=float), **info)
 
+    # ---------------------------------------------------------------- scenarios
+    def scenario_springs(self, x, scenario: int = 0) -> list[Spring]:
+        """The springs with every variable fixed at its value in ``scenario`` (design ``x``)."""
+        records = []
+        for spring in self.springs:
+            values = self.model.spring_values(spring, x, scenario)
+            record = {**spring.to_dict(), **{key: values[key] for key in spring.parameter_units}}
+            for end, anchor in spring.anchors.items():
+                record[end] = {"body": anchor.body, "point": self.model.anchor_point(spring, end, x, scenario).tolist()}
+            records.append(spring_from_dict(record))
+        return records
+
+    def scenario_problem(self, scenario: int, springs: Sequence[Spring] | None = None,
+                         objective: str | Objective | None = None) -> "DesignProblem":
+        """A single-scenario problem: scenario ``scenario``'s mechanism on :attr:`base_workspace`.
+
+        ``springs`` default to this problem's springs (with their free variables).
+        """
+        mechanism = self.workspace.mechanisms[scenario] if self.scenarios else self.mechanism
+        workspace = Workspace(mechanism, self.base_workspace.joint_values, ordered=self.base_workspace.ordered,
+                              description=self.base_workspace.description)
+        if objective is None:
+            objective = self.objective.inner if isinstance(self.objective, ScenarioAggregate) else self.objective
+        return DesignProblem(mechanism, workspace, list(springs if springs is not None else self.springs),
+                             objective=objective, weights=self.weights_by_name())
+
+    def scenario_results(self, x) -> list:
+        """Per scenario, a :class:`~springbalance.result.DesignResult` of design ``x`` fixed in that scenario
+        (on the base workspace, with that scenario's masses)."""
+        results = []
+        for index in range(len(self.scenarios)):
+            problem = self.scenario_problem(index, self.scenario_springs(x, index))
+            results.append(problem.result(np.zeros(0), status=f"scenario {self.scenarios[index].name}"))
+        return results
+
+    def scenarios_record(self) -> dict:
+        """``{"scenarios": {cases, per_scenario, aggregate}}`` for a saved design (``{}`` without scenarios)."""
+        if not self.scenarios:
+            return {}
+        return {"scenarios": {"cases": [scenario.to_dict() for scenario in self.scenarios],
+                              "per_scenario": list(self.per_scenario), "aggregate": self.aggregate}}
+
+    @staticmethod
+    def scenario_options(record: dict) -> dict:
+        """Keyword arguments (scenarios, per_scenario, aggregate) from a saved design's record."""
+        saved = record.get("scenarios")
+        if not saved:
+            return {}
+        return {"scenarios": [Scenario.from_dict(case) for case in saved["cases"]],
+                "per_scenario": saved.get("per_scenario", []), "aggregate": saved.get("aggregate", "sum")}
+
+    def scenario_table(self, x) -> list[dict]:
+        """Per scenario: name, payload [kg], per-scenario variable values, peak and RMS residual [N·m]
+        (weighted, over all joints) of design ``x``."""
+        if not self.scenarios:
+            return []
+        tau = self.evaluate(x).tau * self.weights
+        names = [self.model.base_variables.names[i] for i in self.model.per_scenario]
+        rows = []
+        for index, (scenario, block) in enumerate(zip(self.scenarios, np.split(tau, len(self.scenarios)))):
+            base = self.model.scenario_vector(x, index)
+            rows.append({"name": scenario.name, "payload": scenario.payload_mass,
+                         "variables": {name: float(base[i]) for name, i in zip(names, self.model.per_scenario)},
+                         "peak": float(np.max(np.abs(block))), "rms": float(np.sqrt(np.mean(block**2)))})
+        return rows
+
+    def weights_by_name(self) -> dict[str, float]:
+        return {joint.name: float(w) for joint, w in zip(self.mechanism.joints, self.weights)}
+
     # ---------------------------------------------------------------- checks
     def _check_springs(self) -> None:
         # Each spring checked its own bodies and joints when the torque model was built
@@ -213,6 +317,47 @@ class DesignProblem:
     def __repr__(self) -> str:
         return (f"DesignProblem({self.mechanism.name!r}, N={self.workspace.size}, springs={len(self.springs)}, "
                 f"variables={self.variables.size}, objective={self.objective.name!r})")
+
+
+class ScenarioAggregate(Objective):
+    r"""An objective over S scenario blocks of the samples: the worst block, :math:`\max_s f_s`, or
+    (``worst=False``) the mean :math:`\frac1S \sum_s f_s` (used for ``pe_variance``, whose potential
+    has its own constant in each scenario).
+
+    In the NLP the worst case is an epigraph variable ``t`` with :math:`t \ge f_s` (each block's
+    scaled cost), minimise ``t``; it is solved by IPOPT. The mean keeps least-squares structure.
+    """
+
+    def __init__(self, inner: Objective, blocks: int, worst: bool = True):
+        if inner.needs_path:
+            raise InputError(f"objective {inner.name!r} cannot be aggregated per scenario; use aggregate 'sum'")
+        self.inner, self.blocks, self.worst = inner, int(blocks), bool(worst)
+        self.name, self.unit = inner.name, inner.unit
+        self.least_squares = inner.least_squares and not self.worst
+
+    def _split(self, values, axis):
+        return np.split(np.asarray(values), self.blocks, axis=axis)
+
+    def value(self, weighted_tau, potential, path):
+        values = [self.inner.value(tau, v, None) for tau, v in zip(self._split(weighted_tau, 0),
+                                                                   self._split(potential, 0))]
+        return float(max(values) if self.worst else np.mean(values))
+
+    def nlp(self, weighted_tau, potential, path, torque_scale, potential_scale):
+        n = weighted_tau.shape[1] // self.blocks
+        costs = [self.inner.nlp(weighted_tau[:, s * n:(s + 1) * n], potential[:, s * n:(s + 1) * n], None,
+                                torque_scale, potential_scale).cost for s in range(self.blocks)]
+        if not self.worst:
+            return NlpPieces(None, None, None, None, sum(costs) / self.blocks, None)
+        t = ca.MX.sym("worst")
+        rows = ca.vertcat(*[t - cost for cost in costs])
+
+        def start(tau):
+            if self.inner.name != "rms":
+                return np.array([1.0])
+            return np.array([max(float(np.mean(block**2)) for block in self._split(tau, 0)) / torque_scale**2])
+
+        return NlpPieces(t, np.array([0.0]), np.array([np.inf]), start, t, rows)
 
 
 def _named_springs(springs: Sequence[Spring]) -> list[Spring]:

@@ -63,10 +63,36 @@ def result_table(result) -> str:
             continue
         lines.append(f"  {name + ' [' + row['unit'] + ']':<22s}{row['before']:13.4g}{row['after']:12.4g}"
                      f"{_percent(row['reduction_percent'])}{mark}")
+    balance = result.exact_balance()
+    unit = "/".join(sorted({joint.torque_unit for joint in problem.mechanism.joints}))
+    if balance["exact"]:
+        lines.append(f"\n  Exactly balanced: residual torque ≤ {balance['residual']:.3g} {unit} ({balance['relative_residual']:.2g} "
+                     f"of the unbalanced peak) at every sample; total potential constant at "
+                     f"{balance['potential']:.6g} J (spread {balance['potential_spread']:.2g} J)")
+    else:
+        lines.append(f"\n  Largest residual torque: {100 * balance['relative_residual']:.3g} % of the unbalanced peak")
+    if getattr(problem, "scenarios", None):
+        lines.extend(scenario_lines(result))
     if metrics["max_violation"] > FEASIBILITY_TOLERANCE:
         lines.append(f"\n  INFEASIBLE: largest constraint violation {metrics['max_violation']:.3g} "
                      f"(tolerance {FEASIBILITY_TOLERANCE:g})")
     return "\n".join(lines)
+
+
+def scenario_lines(result) -> list[str]:
+    """Per scenario of a multi-scenario design: payload, per-scenario variables, peak and RMS residual."""
+    problem = result.problem
+    rows = problem.scenario_table(result.x)
+    names = list(rows[0]["variables"]) if rows else []
+    shared = "every variable shared" if not names else f"per-scenario variables: {', '.join(problem.per_scenario)}"
+    lines = ["", f"Scenarios ({len(rows)}, objective aggregated as {problem.aggregate!r}; {shared}; "
+                 "the tables above cover all scenarios' samples)",
+             f"  {'scenario':<18s}{'payload [kg]':>13s}" + "".join(f"{name:>26s}" for name in names) +
+             f"{'peak [N·m]':>13s}{'rms [N·m]':>12s}"]
+    for row in rows:
+        values = "".join(f"{row['variables'][name]:26.6g}" for name in names)
+        lines.append(f"  {row['name']:<18s}{row['payload']:13.4g}{values}{row['peak']:13.4g}{row['rms']:12.4g}")
+    return lines
 
 
 def _percent(value: float) -> str:

@@ -181,6 +181,21 @@ class DesignResult:
         return {"joints": joints, "objectives": objectives, "optimised": problem.objective.name,
                 "max_violation": self.evaluation.max_violation, "samples": problem.workspace.size}
 
+    def exact_balance(self, tolerance: float = 1e-9) -> dict:
+        """Whether the design balances exactly: residual torque zero to solver precision.
+
+        ``relative_residual``: largest ``|tau|`` over joints and samples divided by the largest
+        unbalanced ``|g|`` [1]; ``exact``: ``relative_residual ≤ tolerance``; ``potential``: the
+        mean total potential ``V_g + Σ V_s`` [J] (constant when exact); ``potential_spread``: its
+        max − min over the samples [J].
+        """
+        unbalanced = float(np.max(np.abs(self.problem.workspace.kinematics().gravity_torque)))  # [N·m]
+        residual = float(np.max(np.abs(self.evaluation.tau)))                                   # [N·m]
+        relative = residual / unbalanced if unbalanced > 0 else float("nan")
+        potential = self.evaluation.potential                                                   # [J]
+        return {"exact": bool(relative <= tolerance), "relative_residual": relative, "residual": residual,
+                "potential": float(np.mean(potential)), "potential_spread": float(np.ptp(potential))}
+
     def spread(self) -> dict:
         """Objective values across multi-start starts: best, median, worst, feasible count."""
         values = np.array([record.objective for record in self.starts if record.feasible])
@@ -224,10 +239,26 @@ class DesignResult:
 
         return write_report(self, folder, scene=scene, **scene_options)
 
+    # ---------------------------------------------------------------- export (downstream, imported when called)
+    def to_urdf(self, path, resolve_packages: bool = False):
+        """Write the URDF with a massless link at every spring anchor and the spring records (and
+        ``<stem>.springs.json``); returns an :class:`~springbalance.export.ExportReport` whose
+        ``warnings`` list the springs MuJoCo cannot express exactly. See :func:`springbalance.export.export_urdf`."""
+        from .export import export_urdf
+
+        return export_urdf(self, path, resolve_packages=resolve_packages)
+
+    def to_mjcf(self, path):
+        """Write the balanced arm as a MuJoCo model (a tendon per spring); returns an
+        :class:`~springbalance.export.ExportReport`. See :func:`springbalance.export.export_mjcf`."""
+        from .export import export_mjcf
+
+        return export_mjcf(self, path)
+
     # ---------------------------------------------------------------- persistence
     def to_dict(self) -> dict:
         problem = self.problem
-        workspace = problem.workspace
+        workspace = problem.base_workspace  # the poses; scenarios (saved below) are stacked on them
         return {
             "format": FORMAT,
             "mechanism": problem.mechanism.source,
@@ -242,6 +273,7 @@ class DesignResult:
             "solver": {"method": self.method, "seed": self.seed, "status": self.status, "spread": self.spread(),
                        "starts": [record.to_dict() for record in self.starts]},
             "metrics": self.metrics(),
+            **problem.scenarios_record(),
         }
 
     def save(self, path: str | Path) -> Path:
@@ -276,7 +308,8 @@ class DesignResult:
             objective = record["objective"]
             if OBJECTIVES[objective].needs_path and not workspace.ordered:
                 objective = "rms"
-            problem = DesignProblem(mechanism, workspace, springs, objective=objective, weights=record["weights"])
+            problem = DesignProblem(mechanism, workspace, springs, objective=objective, weights=record["weights"],
+                                    **DesignProblem.scenario_options(record))
             values = record["variables"]
             missing = [name for name in problem.variables.names if name not in values]
             if missing:

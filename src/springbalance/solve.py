@@ -366,8 +366,10 @@ class _LeastSquaresResiduals:
         residual, jacobian, rows, row_jacobian = self._evaluate(z)
         n_x = jacobian.shape[2]
         r, J = residual.reshape(-1), jacobian.reshape(-1, n_x)
-        if self.variance:  # centre the potential: r_i - mean(r), J_i - mean(J)
-            r, J = r - r.mean(), J - J.mean(axis=0)
+        if self.variance:  # centre the potential (per scenario block): r_i - mean(r), J_i - mean(J)
+            blocks = self.problem.model.n_scenarios
+            r = (r.reshape(blocks, -1) - r.reshape(blocks, -1).mean(axis=1, keepdims=True)).reshape(-1)
+            J = (J.reshape(blocks, -1, n_x) - J.reshape(blocks, -1, n_x).mean(axis=1, keepdims=True)).reshape(-1, n_x)
         if self.multipliers is None:
             return r, J
         shifted = self.multipliers - self.penalty * rows.reshape(-1)
@@ -386,3 +388,28 @@ _STATUS = {
     3: "converged (step size)",
     4: "converged (cost change and step size)",
 }
+
+
+def refine(problem, x, iterations: int = 8) -> np.ndarray:
+    """A few bounded Gauss–Newton steps on a least-squares problem from design ``x``: each step solves
+    the linearised residual exactly within the bounds (BVLS), and is kept only when it lowers the cost.
+
+    Trust-region iterates slow down next to a bound; a design whose optimum lies just inside (or on)
+    a bound is finished here to round-off (used by :func:`springbalance.payload.payload_range`).
+    """
+    if not problem.objective.least_squares or problem.model.n_constraints or not problem.variables.size:
+        return np.asarray(x, dtype=float)
+    residuals = _LeastSquaresResiduals(problem)
+    z = np.clip(problem.unscale(x), 0.0, 1.0)
+    with threadpool_limits(limits=1, user_api="blas"):
+        r, J = (np.array(a) for a in residuals.residuals_and_jacobian(z))
+        cost = float(r @ r)
+        for _ in range(int(iterations)):
+            step = lsq_linear(J, -r, bounds=(-z, 1.0 - z), method="bvls")
+            trial = np.clip(z + step.x, 0.0, 1.0)
+            r_new, J_new = (np.array(a) for a in residuals.residuals_and_jacobian(trial))
+            cost_new = float(r_new @ r_new)
+            if not cost_new < cost:
+                break
+            z, r, J, cost = trial, r_new, J_new, cost_new
+    return problem.scale(z)

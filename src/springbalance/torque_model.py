@@ -21,6 +21,11 @@ with :math:`\tau_s = F_s(L_s)\,(J_{p_b} - J_{p_a})^T u_s` (plus the weight of th
 own mass) for a two-point spring and :math:`\tau_s = (k (q_i - q_0) + \tau_0)\, e_i` for a
 torsional spring.
 
+Scenarios (:mod:`springbalance.scenarios`): the samples of S load cases are stacked, and the data
+column ends with S selectors (1 for the sample's scenario, else 0). A per-scenario variable has S
+copies in ``x``; the springs see :math:`\sum_s \mathrm{sel}_s\, x_{copy_s}`, i.e. their own
+scenario's copy. Without scenarios nothing is added.
+
 Outputs per sample: ``tau`` (nv) [N·m or N], ``V`` (1) [J], spring states ``L`` (n_s: length
 [m] or joint angle [rad]), generalised forces ``F`` (n_s: tension [N] or torque [N·m]), and
 the constraint rows ``C`` (≥ 0 when feasible).
@@ -32,6 +37,7 @@ import dataclasses
 import functools
 import os
 import shutil
+from typing import Sequence
 
 import casadi as ca
 import numpy as np
@@ -139,7 +145,8 @@ class TorqueModel:
         constraint_blocks: which spring constraint each row of ``C`` belongs to.
     """
 
-    def __init__(self, mechanism: Mechanism, springs: list[Spring]):
+    def __init__(self, mechanism: Mechanism, springs: list[Spring], scenarios: Sequence[str] = (),
+                 per_scenario: Sequence[str] = ()):
         self.mechanism = mechanism
         self.springs = springs
         self.variables = DesignVariables()
@@ -161,13 +168,18 @@ class TorqueModel:
                 if isinstance(value, Free) and value.upper > value.lower:
                     self.variables.add(f"{spring.name}.{key}", spring.parameter_units[key],
                                        float(value.lower), float(value.upper), float(value.start))
-        x = ca.SX.sym("x", self.variables.size)
         self._index = {name: i for i, name in enumerate(self.variables.names)}
+        self.base_variables = self.variables
+        self.scenarios = list(scenarios)
+        self._columns = self._scenario_variables(per_scenario)
+        x = ca.SX.sym("x", self.variables.size)
 
         # Sample data: g (nv), V_g (1), q_i of each spring joint (n_j), then per moving body
-        # t (3), R (9, row-major), J (6·nv, row-major).
-        self.data_size = nv + 1 + len(self.joints) + len(self.bodies) * (12 + 6 * nv)
+        # t (3), R (9, row-major), J (6·nv, row-major); with scenarios, one selector per
+        # scenario last (1 in the samples of that scenario, else 0).
+        self.data_size = nv + 1 + len(self.joints) + len(self.bodies) * (12 + 6 * nv) + len(self.scenarios)
         data = ca.SX.sym("data", self.data_size)
+        local = self._local_symbols(x, data[self.data_size - len(self.scenarios):]) if self.scenarios else x
         gravity_torque, gravity_potential = data[:nv], data[nv]
         coordinates = {joint: data[nv + 1 + slot] for slot, joint in enumerate(self.joints)}
         body_data = {}
@@ -186,10 +198,10 @@ class TorqueModel:
         self.constraint_blocks: list[ConstraintBlock] = []
         points = {}
         for spring, end, region, indices in variable_slots:
-            local = ca.DM(region.offset) + (ca.mtimes(ca.DM(region.basis), x[indices]) if indices else 0)
-            points[(spring.name, end)] = local
+            point = ca.DM(region.offset) + (ca.mtimes(ca.DM(region.basis), local[indices]) if indices else 0)
+            points[(spring.name, end)] = point
         for spring in springs:
-            parameters = self.parameter_values(spring, x)
+            parameters = self.parameter_values(spring, local)
             own_points = {end: points[(spring.name, end)] for end in spring.anchors}
             share = spring.contribution(context, parameters, own_points)
             tau = tau + share.torque
@@ -212,9 +224,60 @@ class TorqueModel:
         self.sample = ca.Function("sample", [x, data], outputs, ["x", "data"], ["tau", "V", "L", "F", "C"])
         self._x = x
 
+    # ---------------------------------------------------------------- scenarios
+    def _scenario_variables(self, per_scenario) -> np.ndarray:
+        """With scenarios: replace every variable named in (or under) ``per_scenario`` by one copy
+        per scenario, ``<name>[<scenario>]``. Returns the S×n_base map base index → full index."""
+        base = self.base_variables
+        per_scenario = list(per_scenario)
+        self.per_scenario: list[int] = []  # base indices of the per-scenario variables
+        if not self.scenarios:
+            if per_scenario:
+                raise InputError(f"per-scenario variables {', '.join(per_scenario)} need scenarios")
+            return np.arange(base.size)[None, :]
+        adjustable = set()
+        for entry in per_scenario:
+            matches = [i for i, name in enumerate(base.names) if name == entry or name.startswith(entry + ".")]
+            if not matches:
+                raise InputError(f"per-scenario variable {entry!r} matches no design variable; variables: "
+                                 f"{', '.join(base.names) or '(none)'}")
+            adjustable.update(matches)
+        self.per_scenario = sorted(adjustable)
+        full = DesignVariables()
+        columns = np.zeros((len(self.scenarios), base.size), dtype=int)
+        for i, name in enumerate(base.names):
+            bounds = (base.units[i], base.lower[i], base.upper[i], base.start[i])
+            if i in adjustable:
+                for s, scenario in enumerate(self.scenarios):
+                    columns[s, i] = full.add(f"{name}[{scenario}]", *bounds)
+            else:
+                columns[:, i] = full.add(name, *bounds)
+        self.variables = full
+        return columns
+
+    def _local_symbols(self, x, selectors):
+        """The base design vector seen by one sample: shared entries of ``x``, and for per-scenario
+        variables ``Σ_s selector_s · x[copy_s]`` (the selector is 1 for the sample's scenario)."""
+        entries = []
+        for i in range(self.base_variables.size):
+            column = self._columns[:, i]
+            if np.all(column == column[0]):
+                entries.append(x[int(column[0])])
+            else:
+                entries.append(sum(selectors[s] * x[int(column[s])] for s in range(len(self.scenarios))))
+        return ca.vertcat(*entries) if entries else ca.SX(0, 1)
+
+    def scenario_vector(self, x, scenario: int = 0) -> np.ndarray:
+        """The base design vector (names in :attr:`base_variables`) of scenario ``scenario``."""
+        return np.asarray(x, dtype=float)[self._columns[scenario]]
+
+    @property
+    def n_scenarios(self) -> int:
+        return max(len(self.scenarios), 1)
+
     # ---------------------------------------------------------------- design vector
     def parameter_values(self, spring: Spring, x):
-        """Map of the spring's parameters to numbers or entries of ``x``."""
+        """Map of the spring's parameters to numbers or entries of the base vector ``x``."""
         values = {}
         for key, value in spring.parameters.items():
             name = f"{spring.name}.{key}"
@@ -229,18 +292,21 @@ class TorqueModel:
         """Indices of design variables that the torque and the potential depend on linearly
         (stiffness, initial tension, preload, constant force; not the stiffness of a spring whose
         mass is coupled to it): for fixed other variables they solve a linear least-squares problem."""
-        return [self._index[f"{spring.name}.{key}"] for spring in self.springs for key in spring.linear_parameters
+        base = [self._index[f"{spring.name}.{key}"] for spring in self.springs for key in spring.linear_parameters
                 if f"{spring.name}.{key}" in self._index]
+        return sorted({int(column) for i in base for column in self._columns[:, i]})
 
-    def anchor_point(self, spring: Spring, end: str, x: np.ndarray) -> np.ndarray:
-        """Body-frame anchor point [m] of end ``"a"``/``"b"`` for design vector ``x``."""
+    def anchor_point(self, spring: Spring, end: str, x: np.ndarray, scenario: int = 0) -> np.ndarray:
+        """Body-frame anchor point [m] of end ``"a"``/``"b"`` for design vector ``x`` (in ``scenario``)."""
+        x = self.scenario_vector(x, scenario)
         region = spring.anchors[end].region()
         coordinates = [x[self._index[f"{spring.name}.{end}.{label}"]] for label in region.labels]
         return region.point(coordinates)
 
-    def spring_values(self, spring: Spring, x: np.ndarray) -> dict:
-        """Numeric parameter values of ``spring`` for design vector ``x``."""
-        return {key: float(value) for key, value in self.parameter_values(spring, np.asarray(x, dtype=float)).items()}
+    def spring_values(self, spring: Spring, x: np.ndarray, scenario: int = 0) -> dict:
+        """Numeric parameter values of ``spring`` for design vector ``x`` (in ``scenario``)."""
+        x = self.scenario_vector(x, scenario)
+        return {key: float(value) for key, value in self.parameter_values(spring, x).items()}
 
     # ---------------------------------------------------------------- numeric data
     def data_matrix(self, kinematics) -> np.ndarray:
@@ -256,6 +322,10 @@ class TorqueModel:
             body_kinematics = kinematics.body(body)
             blocks += [body_kinematics.translation, body_kinematics.rotation.reshape(n, 9),
                        body_kinematics.jacobian.reshape(n, -1)]
+        if self.scenarios:
+            if n % len(self.scenarios):
+                raise InputError(f"{n} samples do not split into {len(self.scenarios)} scenario blocks")
+            blocks.append(np.kron(np.eye(len(self.scenarios)), np.ones((n // len(self.scenarios), 1))))
         return np.ascontiguousarray(np.hstack(blocks).T)
 
     @functools.lru_cache(maxsize=8)
