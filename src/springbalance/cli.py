@@ -234,7 +234,8 @@ def _report(args) -> int:
 
 
 def _export(args) -> int:
-    from .export import law_warnings, mjcf_string, sidecar_path, urdf_strings, write_text_atomic
+    from .export import law_warnings, mjcf_string, sidecar_path, urdf_strings
+    from .files import write_text_atomic
     from .result import DesignResult
 
     if args.urdf is None and args.mjcf is None:

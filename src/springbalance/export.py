@@ -57,12 +57,12 @@ from __future__ import annotations
 import dataclasses
 import json
 import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
 
 from .errors import InputError
+from .files import write_text_atomic
 
 URDF_NAMESPACE = "urn:springbalance:urdf-spring:1"
 SIDECAR_FORMAT = "springbalance-urdf-springs/1"
@@ -101,25 +101,6 @@ def _source_urdf(result):
     if kind == "urdf_string":
         return source["text"], None
     raise InputError(f"cannot export a mechanism built from a {kind!r} source: it has no URDF")
-
-
-def write_text_atomic(path: str | Path, text: str) -> Path:
-    """Write ``text`` to ``path`` via a temporary file in the same folder (no partial file)."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
-    try:
-        umask = os.umask(0)
-        os.umask(umask)
-        os.fchmod(handle, 0o666 & ~umask)
-        with os.fdopen(handle, "w") as stream:
-            stream.write(text)
-        os.replace(temporary, path)
-    except BaseException:
-        if os.path.exists(temporary):
-            os.unlink(temporary)
-        raise
-    return path
 
 
 def _number(value: float) -> str:

@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from . import __version__
+from .files import write_text_atomic
 
 
 def _number(value, digits: int = 4) -> str:
@@ -207,7 +208,7 @@ def write_report(result, folder: str | Path, scene: bool = True, **scene_options
     legend = ""
     if scene:
         design_scene = viz.DesignScene(result, **scene_options)
-        viz.write_text(folder / "scene.html", design_scene.html())
+        write_text_atomic(folder / "scene.html", design_scene.html())
         legend = design_scene.color_scale.legend_html(design_scene.compression, position="absolute")
     page = report_html(result, scene="scene.html" if scene else None, legend=legend, exports=exported_files(folder))
-    return viz.write_text(folder / "report.html", page)
+    return write_text_atomic(folder / "report.html", page)

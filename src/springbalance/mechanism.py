@@ -16,7 +16,7 @@ import dataclasses
 import os
 import sys
 from pathlib import Path
-from typing import Sequence
+
 
 import numpy as np
 import pinocchio as pin

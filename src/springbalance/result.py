@@ -10,13 +10,12 @@ MODEL.md §5 before and after, whichever one was optimised.
 from __future__ import annotations
 
 import json
-import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
 
 from .errors import InputError
+from .files import write_json_atomic
 from .mechanism import Mechanism
 from .objectives import OBJECTIVES
 from .sizing import size_helical_spring
@@ -330,23 +329,3 @@ def _reduction(before: float, after: float, negligible: float = 0.0) -> float:
     if not np.isfinite(before) or before <= negligible:
         return float("nan")
     return 100.0 * (before - after) / before
-
-
-def write_json_atomic(path: str | Path, record: dict) -> Path:
-    """Write ``record`` as JSON to ``path`` via a temporary file in the same folder."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
-    try:
-        umask = os.umask(0)
-        os.umask(umask)
-        os.fchmod(handle, 0o666 & ~umask)
-        with os.fdopen(handle, "w") as stream:
-            json.dump(record, stream, indent=1, allow_nan=True)
-            stream.write("\n")
-        os.replace(temporary, path)
-    except BaseException:
-        if os.path.exists(temporary):
-            os.unlink(temporary)
-        raise
-    return path

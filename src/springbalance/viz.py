@@ -42,7 +42,6 @@ import contextlib
 import dataclasses
 import html
 import io
-import os
 import selectors
 import subprocess
 import sys
@@ -65,6 +64,7 @@ with warnings.catch_warnings():
 
 from . import sweeps
 from .errors import SpringBalanceError
+from .files import write_text_atomic
 from .params import Free, Plane, Segment
 from .workspace import Workspace
 
@@ -854,7 +854,7 @@ class StaticScene:
         self.page = page
 
     def save(self, path: str | Path) -> Path:
-        return write_text(path, self.page)
+        return write_text_atomic(path, self.page)
 
     def _repr_html_(self) -> str:
         return (f'<iframe srcdoc="{html.escape(self.page, quote=True)}" style="width:100%;height:480px;border:none">'
@@ -872,7 +872,7 @@ def scene_html(result, joint_values=None, animate: bool = True, autoplay: bool =
 
 def save_scene_html(result, path: str | Path, **options) -> Path:
     """Write :func:`scene_html` to ``path`` (folders are created)."""
-    return write_text(path, scene_html(result, **options))
+    return write_text_atomic(path, scene_html(result, **options))
 
 
 def show(result, joint_values=None, static: bool = False, open_browser: bool = False, port: int | None = None,
@@ -895,17 +895,3 @@ def show(result, joint_values=None, static: bool = False, open_browser: bool = F
 
         webbrowser.open(server.web_url, new=2)
     return LiveScene(scene, server, visualizer)
-
-
-def write_text(path: str | Path, text: str) -> Path:
-    """Write ``text`` (UTF-8) to ``path`` through a temporary file; folders are created."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    temporary = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    try:
-        temporary.write_text(text, encoding="utf-8")
-        os.replace(temporary, path)
-    finally:
-        if temporary.exists():
-            temporary.unlink()
-    return path
