@@ -171,3 +171,20 @@ def test_synthesis_with_opposite_joint_axes():
                                    degrees=True, seed=4)
     result = sb.DesignProblem(mechanism, workspace, synthesis.require()).result(np.zeros(0))
     assert result.exact_balance()["relative_residual"] < 1e-9
+
+
+def test_exact_balance_judges_only_joints_with_weight():
+    """A single-link balance on the shoulder of the two-link arm with the elbow held straight: with the
+    elbow's weight 0 the shoulder is exactly balanced (k a b = m g c of the rigid pair), with weight 1 not."""
+    import springbalance as sb
+
+    mechanism = sb.Mechanism.from_urdf("urdf/two_link_planar.urdf", gravity=9.81)
+    workspace = sb.Workspace.grid(mechanism, {"shoulder": 91, "elbow": 1}, ranges={"elbow": [0, 0]})
+    moment = (2.0 * 0.25 + 1.0 * 0.7 + 0.5 * 0.9) * 9.81          # Σ m c g of link1, link2, tool [N·m]
+    spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", [0, 0, 0.1]), sb.Anchor("link1", [0.3, 0, 0]),
+                                     stiffness=moment / (0.1 * 0.3))
+    shoulder_only = sb.DesignProblem(mechanism, workspace, [spring], weights={"elbow": 0}).result(np.zeros(0))
+    both = sb.DesignProblem(mechanism, workspace, [spring]).result(np.zeros(0))
+    assert shoulder_only.exact_balance()["exact"]
+    assert "Exactly balanced on the joints with weight > 0" in shoulder_only.table()
+    assert not both.exact_balance()["exact"]     # the elbow still carries link2's weight

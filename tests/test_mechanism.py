@@ -308,3 +308,15 @@ def test_mimic_joint_mechanism_evaluates():
         expected = reference.torque(q)
         np.testing.assert_allclose(evaluation.tau[i], expected, rtol=0, atol=1e-6 * max(np.max(np.abs(expected)), 1.0))
         assert evaluation.potential[i] == pytest.approx(reference(q), rel=1e-10, abs=1e-10)
+
+
+def test_mimic_joints_loaded_without_mimic_warn():
+    urdf = Path(__file__).resolve().parents[1] / "urdf" / "parallelogram_arm.urdf"
+    with pytest.warns(UserWarning, match="declares mimic joints"):
+        independent = sb.Mechanism.from_urdf(urdf)
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        coupled = sb.Mechanism.from_urdf(urdf, mimic=True)
+    assert independent.nv > coupled.nv   # without mimic the follower joints become degrees of freedom

@@ -15,6 +15,7 @@ import contextlib
 import dataclasses
 import os
 import sys
+import warnings
 from pathlib import Path
 
 
@@ -103,6 +104,8 @@ class Mechanism:
                 model = pin.buildModelFromUrdf(str(path), mimic=mimic)
         except Exception as exc:  # Pinocchio raises RuntimeError/ValueError with C++ text
             raise InputError(f"URDF file {str(path)!r} could not be parsed: {_one_line(exc)}") from None
+        if not mimic:
+            _warn_unused_mimic(path.read_text(errors="replace"), str(path))
         source = {"kind": "urdf", "path": str(path.resolve()), "mimic": mimic}
         return cls(model, source=source, gravity=gravity)
 
@@ -114,6 +117,8 @@ class Mechanism:
                 model = pin.buildModelFromXML(text, mimic=mimic)
         except Exception as exc:
             raise InputError(f"URDF string could not be parsed: {_one_line(exc)}") from None
+        if not mimic:
+            _warn_unused_mimic(text, "URDF string")
         return cls(model, source={"kind": "urdf_string", "text": text, "mimic": mimic}, gravity=gravity)
 
     @classmethod
@@ -238,6 +243,21 @@ def _degrees_of_freedom(model: pin.Model) -> list[Joint]:
                 lower, upper = (-np.pi, np.pi) if kind == "revolute" else (-1.0, 1.0)
         joints.append(Joint(name, kind, iq, iv, lower, upper))
     return sorted(joints, key=lambda joint: joint.index_v)
+
+
+def _warn_unused_mimic(text: str, where: str) -> None:
+    """Warn when a URDF declares mimic joints but is loaded with ``mimic=False`` (they become independent)."""
+    import xml.etree.ElementTree as ElementTree
+
+    try:
+        root = ElementTree.fromstring(text)
+    except ElementTree.ParseError:
+        return
+    names = [joint.get("name", "?") for joint in root.iter("joint") if joint.find("mimic") is not None]
+    if names:
+        warnings.warn(f"{where} declares mimic joints ({', '.join(names)}); they are loaded as independent joints. "
+                      "Pass mimic=True (config: mechanism.mimic: true) to couple them to their primary joints.",
+                      stacklevel=3)
 
 
 def _gravity_vector(gravity) -> np.ndarray:

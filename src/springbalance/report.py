@@ -65,12 +65,15 @@ def result_table(result) -> str:
                      f"{_percent(row['reduction_percent'])}{mark}")
     balance = result.exact_balance()
     unit = "/".join(sorted({joint.torque_unit for joint in problem.mechanism.joints}))
+    every_joint = bool(np.all(problem.weights > 0))
+    joints = "" if every_joint else " on the joints with weight > 0"
     if balance["exact"]:
-        lines.append(f"\n  Exactly balanced: residual torque ≤ {balance['residual']:.3g} {unit} ({balance['relative_residual']:.2g} "
-                     f"of the unbalanced peak) at every sample; total potential constant at "
-                     f"{balance['potential']:.6g} J (spread {balance['potential_spread']:.2g} J)")
+        potential = (f"; total potential constant at {balance['potential']:.6g} J (spread {balance['potential_spread']:.2g} J)"
+                     if every_joint else "")
+        lines.append(f"\n  Exactly balanced{joints}: residual torque ≤ {balance['residual']:.3g} {unit} "
+                     f"({balance['relative_residual']:.2g} of the unbalanced peak) at every sample{potential}")
     else:
-        lines.append(f"\n  Largest residual torque: {100 * balance['relative_residual']:.3g} % of the unbalanced peak")
+        lines.append(f"\n  Largest residual torque{joints}: {100 * balance['relative_residual']:.3g} % of the unbalanced peak")
     if getattr(problem, "scenarios", None):
         lines.extend(scenario_lines(result))
     if metrics["max_violation"] > FEASIBILITY_TOLERANCE:

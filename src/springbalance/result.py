@@ -183,13 +183,15 @@ class DesignResult:
     def exact_balance(self, tolerance: float = 1e-9) -> dict:
         """Whether the design balances exactly: residual torque zero to solver precision.
 
-        ``relative_residual``: largest ``|tau|`` over joints and samples divided by the largest
-        unbalanced ``|g|`` [1]; ``exact``: ``relative_residual ≤ tolerance``; ``potential``: the
+        ``relative_residual``: largest ``|tau|`` over the samples and the joints with a weight
+        above 0 (the joints the design is asked to balance), divided by the largest unbalanced
+        ``|g|`` of those joints [1]; ``exact``: ``relative_residual ≤ tolerance``; ``potential``: the
         mean total potential ``V_g + Σ V_s`` [J] (constant when exact); ``potential_spread``: its
         max − min over the samples [J].
         """
-        unbalanced = float(np.max(np.abs(self.problem.workspace.kinematics().gravity_torque)))  # [N·m]
-        residual = float(np.max(np.abs(self.evaluation.tau)))                                   # [N·m]
+        balanced = self.problem.weights > 0  # joints with weight 0 are not asked to be balanced
+        unbalanced = float(np.max(np.abs(self.problem.workspace.kinematics().gravity_torque[:, balanced])))  # [N·m]
+        residual = float(np.max(np.abs(self.evaluation.tau[:, balanced])))                                   # [N·m]
         relative = residual / unbalanced if unbalanced > 0 else float("nan")
         potential = self.evaluation.potential                                                   # [J]
         return {"exact": bool(relative <= tolerance), "relative_residual": relative, "residual": residual,
