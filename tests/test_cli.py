@@ -12,7 +12,7 @@ import yaml
 
 from springbalance.cli import main
 from springbalance.result import FORMAT
-from config_helpers import edited_record
+from config_helpers import SHOULDER_SPRING, edited_record
 
 ROOT = Path(__file__).resolve().parents[1]
 URDF = ROOT / "urdf" / "two_link_planar.urdf"
@@ -23,13 +23,7 @@ BASE = {
     "mechanism": {"urdf": str(URDF)},
     "workspace": {"kind": "sobol", "n": 64, "seed": 0, "degrees": True,
                   "ranges": {"shoulder": [-90, 90], "elbow": [0, 0]}},
-    "springs": [{
-        "name": "s1", "type": "extension",
-        "a": {"body": "universe", "point": [0, 0, 0.1]},
-        "b": {"body": "link1", "box": {"lower": [0.05, 0, 0], "upper": [0.5, 0, 0]}},
-        "stiffness": {"lower": 0, "upper": 10000},
-        "free_length": {"lower": 0.05, "upper": 1.0},
-    }],
+    "springs": [SHOULDER_SPRING],
     "objective": "rms",
     "weights": {"elbow": 0.0},
     "solve": {"starts": 2, "seed": 0},

@@ -14,7 +14,7 @@ from springbalance import ConfigError, InputError
 from springbalance.config import (WORKSPACE_KEYS, config_from_dict, load_config, load_workspace,
                                   workspace_from_dict)
 from springbalance.mechanism import Mechanism
-from config_helpers import edited_record
+from config_helpers import SHOULDER_SPRING, edited_record
 
 ROOT = Path(__file__).resolve().parents[1]
 URDF = ROOT / "urdf" / "two_link_planar.urdf"
@@ -24,13 +24,7 @@ BASE = {
     "mechanism": {"urdf": str(URDF), "gravity": 9.81},
     "workspace": {"kind": "sobol", "n": 32, "seed": 0, "degrees": True,
                   "ranges": {"shoulder": [-90, 90], "elbow": [0, 0]}},
-    "springs": [{
-        "name": "s1", "type": "extension",
-        "a": {"body": "universe", "point": [0, 0, 0.1]},
-        "b": {"body": "link1", "box": {"lower": [0.05, 0, 0], "upper": [0.5, 0, 0]}},
-        "stiffness": {"lower": 0, "upper": 10000},
-        "free_length": {"lower": 0.05, "upper": 1.0},
-    }],
+    "springs": [SHOULDER_SPRING],
     "objective": "rms",
     "weights": {"shoulder": 1.0, "elbow": 0.0},
     "solve": {"starts": 2, "seed": 3, "method": "auto", "max_iterations": 200},
