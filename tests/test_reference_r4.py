@@ -89,3 +89,21 @@ def test_r4_fixed_design_residual_grows_with_payload(setup, tmp_path):
     figure = sweep.plot(tmp_path / "residual")
     assert (tmp_path / "residual.svg").stat().st_size > 0 and figure.axes
     assert "payload [kg]" in sweep.table()
+
+
+def test_r4_each_load_case_keeps_its_own_constant_potential(setup, tmp_path):
+    """With the slider set per payload both load cases are exactly balanced; each has a constant total
+    potential of its own (the payload's weight shifts the level), and the reports say so per scenario."""
+    mechanism, workspace = setup
+    w = 0.35
+    scenarios = [sb.Scenario("bare"), sb.Scenario("1 kg at 0.35 m", [sb.Payload("link1", 1.0, (w, 0, 0))])]
+    result = adjustable_design(mechanism, workspace, w, scenarios)
+    balance = result.exact_balance()
+    assert balance["exact"]
+    assert balance["potential_spread"] < 1e-9 * M * C * G
+    assert len(balance["scenario_potentials"]) == 2
+    assert "constant within each scenario" in result.table()
+    report_folder = tmp_path / "report"
+    result.report(report_folder, scene=False)
+    page = (report_folder / "report.html").read_text()
+    assert "<h2>Scenarios</h2>" in page and "1 kg at 0.35 m" in page and "Exactly balanced" in page

@@ -25,6 +25,7 @@ import numpy as np
 
 from . import __version__
 from .files import write_text_atomic
+from .report import balance_statement
 
 
 def _number(value, digits: int = 4) -> str:
@@ -165,6 +166,20 @@ def report_html(result, scene: str | None = "scene.html", torques: str | None = 
                      f"<td>{_number(row['after'])}</td><td>{_number(row['reduction_percent'], 3)}</td>"
                      f"<td class=l>{e(mark)}</td></tr>")
     parts.append("</table>")
+    parts.append(f"<p>{e(balance_statement(result))}.</p>")
+    problem = result.problem
+    if getattr(problem, "scenarios", None):
+        rows = problem.scenario_table(result.x)
+        names = list(rows[0]["variables"]) if rows else []
+        parts.append(f"<h2>Scenarios</h2><p>{len(rows)} load cases, objective aggregated as "
+                     f"{e(problem.aggregate)}; the tables above cover every scenario's samples.</p>")
+        parts.append("<table><tr><th class=l>scenario</th><th>payload [kg]</th>"
+                     + "".join(f"<th>{e(name)}</th>" for name in names) + "<th>peak [N·m]</th><th>rms [N·m]</th></tr>")
+        for row in rows:
+            parts.append(f"<tr><td class=l>{e(row['name'])}</td><td>{_number(row['payload'])}</td>"
+                         + "".join(f"<td>{_number(row['variables'][name], 6)}</td>" for name in names)
+                         + f"<td>{_number(row['peak'])}</td><td>{_number(row['rms'])}</td></tr>")
+        parts.append("</table>")
     if metrics["max_violation"] > 1e-6:
         parts.append(f"<p><b>Infeasible:</b> largest constraint violation {_number(metrics['max_violation'])}.</p>")
 

@@ -63,23 +63,34 @@ def result_table(result) -> str:
             continue
         lines.append(f"  {name + ' [' + row['unit'] + ']':<22s}{row['before']:13.4g}{row['after']:12.4g}"
                      f"{_percent(row['reduction_percent'])}{mark}")
-    balance = result.exact_balance()
-    unit = "/".join(sorted({joint.torque_unit for joint in problem.mechanism.joints}))
-    every_joint = bool(np.all(problem.weights > 0))
-    joints = "" if every_joint else " on the joints with weight > 0"
-    if balance["exact"]:
-        potential = (f"; total potential constant at {balance['potential']:.6g} J (spread {balance['potential_spread']:.2g} J)"
-                     if every_joint else "")
-        lines.append(f"\n  Exactly balanced{joints}: residual torque ≤ {balance['residual']:.3g} {unit} "
-                     f"({balance['relative_residual']:.2g} of the unbalanced peak) at every sample{potential}")
-    else:
-        lines.append(f"\n  Largest residual torque{joints}: {100 * balance['relative_residual']:.3g} % of the unbalanced peak")
+    lines.append("\n  " + balance_statement(result))
     if getattr(problem, "scenarios", None):
         lines.extend(scenario_lines(result))
     if metrics["max_violation"] > FEASIBILITY_TOLERANCE:
         lines.append(f"\n  INFEASIBLE: largest constraint violation {metrics['max_violation']:.3g} "
                      f"(tolerance {FEASIBILITY_TOLERANCE:g})")
     return "\n".join(lines)
+
+
+def balance_statement(result) -> str:
+    """One sentence: "Exactly balanced …" with the constant total potential, or the largest residual."""
+    problem = result.problem
+    balance = result.exact_balance()
+    unit = "/".join(sorted({joint.torque_unit for joint in problem.mechanism.joints}))
+    every_joint = bool(np.all(problem.weights > 0))
+    joints = "" if every_joint else " on the joints with weight > 0"
+    if balance["exact"]:
+        if not every_joint:
+            potential = ""
+        elif len(balance["scenario_potentials"]) > 1:
+            levels = ", ".join(f"{value:.6g}" for value in balance["scenario_potentials"])
+            potential = (f"; total potential constant within each scenario at {levels} J "
+                         f"(largest spread {balance['potential_spread']:.2g} J)")
+        else:
+            potential = f"; total potential constant at {balance['potential']:.6g} J (spread {balance['potential_spread']:.2g} J)"
+        return (f"Exactly balanced{joints}: residual torque ≤ {balance['residual']:.3g} {unit} "
+                f"({balance['relative_residual']:.2g} of the unbalanced peak) at every sample{potential}")
+    return f"Largest residual torque{joints}: {100 * balance['relative_residual']:.3g} % of the unbalanced peak"
 
 
 def scenario_lines(result) -> list[str]:

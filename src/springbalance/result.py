@@ -183,6 +183,8 @@ class DesignResult:
     def exact_balance(self, tolerance: float = 1e-9) -> dict:
         """Whether the design balances exactly: residual torque zero to solver precision.
 
+        With scenarios, ``potential_spread`` is the largest spread within one scenario and
+        ``scenario_potentials`` the mean potential of each.
         ``relative_residual``: largest ``|tau|`` over the samples and the joints with a weight
         above 0 (the joints the design is asked to balance), divided by the largest unbalanced
         ``|g|`` of those joints [1]; ``exact``: ``relative_residual ≤ tolerance``; ``potential``: the
@@ -193,9 +195,11 @@ class DesignResult:
         unbalanced = float(np.max(np.abs(self.problem.workspace.kinematics().gravity_torque[:, balanced])))  # [N·m]
         residual = float(np.max(np.abs(self.evaluation.tau[:, balanced])))                                   # [N·m]
         relative = residual / unbalanced if unbalanced > 0 else float("nan")
-        potential = self.evaluation.potential                                                   # [J]
+        # one block of samples per scenario: each load case has its own constant potential
+        potential = self.evaluation.potential.reshape(self.problem.model.n_scenarios, -1)       # [J]
         return {"exact": bool(relative <= tolerance), "relative_residual": relative, "residual": residual,
-                "potential": float(np.mean(potential)), "potential_spread": float(np.ptp(potential))}
+                "potential": float(np.mean(potential)), "potential_spread": float(np.max(np.ptp(potential, axis=1))),
+                "scenario_potentials": np.mean(potential, axis=1).tolist()}
 
     def spread(self) -> dict:
         """Objective values across multi-start starts: best, median, worst, feasible count."""
