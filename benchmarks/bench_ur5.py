@@ -55,7 +55,7 @@ print(f"UR5, {workspace.size} Sobol samples, {problem.variables.size} design var
 
 # ---------------------------------------------------------------- part 1: same starts, three solvers
 starts = start_points(problem, args.compare_starts, seed=0)
-solver = _MultiStartSolver(problem, "least_squares", args.baseline_iterations, 1e-6)
+solver = _MultiStartSolver(problem, "least_squares", args.baseline_iterations, 1e-8)  # the default tolerance of DesignProblem.solve
 clock = time.perf_counter()
 solver.run(0, starts[0])  # the first call builds and JIT-compiles the model: timed separately
 setup = time.perf_counter() - clock

@@ -205,7 +205,7 @@ class DesignProblem:
                    ca.vertcat(*all_rows) if all_rows else ca.MX(0, 1), self.variables.size, pieces.start)
 
     def solve(self, starts: int = 8, seed: int = 0, method: str = "auto", progress: bool | None = None,
-              max_iterations: int = 100, tolerance: float = 1e-6, polish_iterations: int | None = None):
+              max_iterations: int = 100, tolerance: float = 1e-8, polish_iterations: int | None = None):
         """Multi-start solve; returns the best feasible :class:`~springbalance.result.DesignResult`.
 
         Args:

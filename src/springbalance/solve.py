@@ -81,7 +81,7 @@ def start_points(problem, starts: int, seed: int) -> np.ndarray:
     return np.vstack([first, others[: starts - 1]])
 
 
-def solve_problem(problem, starts=8, seed=0, method="auto", progress=None, max_iterations=100, tolerance=1e-6,
+def solve_problem(problem, starts=8, seed=0, method="auto", progress=None, max_iterations=100, tolerance=1e-8,
                   polish_iterations=None):
     """Run every start and return the best feasible design (see :meth:`DesignProblem.solve`).
 
