@@ -85,10 +85,10 @@ def solve_problem(problem, starts=8, seed=0, method="auto", progress=None, max_i
                   polish_iterations=None):
     """Run every start and return the best feasible design (see :meth:`DesignProblem.solve`).
 
-    Screen, then polish: every start runs with ``max_iterations``; the best feasible one then
-    continues from where it stopped for up to ``polish_iterations`` (default 4 × max_iterations)
-    when it stopped on the iteration limit. Starts that stall far from the best cost only their
-    budget, and the chosen design still converges.
+    Screen, then polish: every start runs with ``max_iterations``; up to three feasible starts
+    within 25 % of the best that stopped on the iteration limit then continue from where they
+    stopped for up to ``polish_iterations`` (default 4 × max_iterations). Starts that stall far
+    from the best cost only their budget, and the chosen design still converges.
     """
     if method not in METHODS:
         raise InputError(f"unknown solver method {method!r}; valid: {', '.join(METHODS)}")
@@ -111,14 +111,13 @@ def _solve(problem, starts, seed, method, progress, max_iterations, tolerance, p
     points = start_points(problem, starts, seed)
     if progress is None:
         progress = len(points) > 1 and sys.stderr.isatty()
-    iterator = range(len(points))
     bar = None
     if progress:
         from tqdm.auto import tqdm
 
         bar = tqdm(total=len(points), desc="starts", unit="start")
     records = []
-    for index in iterator:
+    for index in range(len(points)):
         records.append(solver.run(index, points[index]))
         if bar is not None:
             best = min((r.objective for r in records if r.feasible), default=float("nan"))
