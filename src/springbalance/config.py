@@ -19,6 +19,8 @@ Parsing rules worth knowing:
 
 from __future__ import annotations
 
+import contextlib
+
 import csv
 import dataclasses
 import json
@@ -594,36 +596,26 @@ def _one_line(error: BaseException) -> str:
     return " ".join(str(error).split()) or type(error).__name__
 
 
-class _prefixed:
-    """Re-raise an :class:`InputError` from the library with the config key path in front."""
-
-    def __init__(self, where: str):
-        self.where = where
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, kind, error, traceback):
-        if isinstance(error, InputError) and not isinstance(error, ConfigError):
-            raise ConfigError(f"{self.where}: {_one_line(error)}") from None
-        return False
-
-
-class _errors_as_config_errors:
-    """Every :class:`InputError` leaves as a one-line :class:`ConfigError` that starts with ``label``."""
-
-    def __init__(self, label: str):
-        self.label = label
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, kind, error, traceback):
-        if isinstance(error, InputError):
-            message = _one_line(error)
-            if not message.startswith(self.label):
-                message = f"{self.label}: {message}"
-            if isinstance(error, ConfigError) and message == str(error):
-                return False
+@contextlib.contextmanager
+def _prefixed(where: str, config_errors: bool = False):
+    """Re-raise an :class:`InputError` of the library as a one-line :class:`ConfigError` that starts
+    with ``where`` (the config key path). ConfigErrors raised inside pass unchanged, unless
+    ``config_errors`` (the file-level guard): then they too get ``where`` in front when they lack it."""
+    try:
+        yield
+    except ConfigError as error:
+        if not config_errors or str(error).startswith(where):
+            raise
+        raise ConfigError(f"{where}: {_one_line(error)}") from None
+    except InputError as error:
+        message = _one_line(error)
+        if config_errors and message.startswith(where):
             raise ConfigError(message) from None
-        return False
+        raise ConfigError(f"{where}: {message}") from None
+
+
+def _errors_as_config_errors(label: str):
+    """Every :class:`InputError` leaves as a one-line :class:`ConfigError` that starts with ``label``."""
+    return _prefixed(label, config_errors=True)
+
+
