@@ -19,7 +19,9 @@ demo: $(STAMP)
 	$(BIN)/springbalance design examples/two_link.yaml --out design.json
 	$(BIN)/springbalance evaluate design.json
 
+# lint-imports checks that data flows one way through the subpackages (pyproject.toml [tool.importlinter])
 test: $(STAMP) chromium
+	$(BIN)/lint-imports --no-cache
 	$(BIN)/python -m pytest -q
 
 # Headless Chromium renders scene.html in the browser test of tests/test_viz.py and in
@@ -52,7 +54,7 @@ chromium:
 demo-check: $(STAMP) chromium
 	$(BIN)/springbalance design examples/two_link.yaml --out design.json --quiet
 	$(BIN)/springbalance report design.json --out out/demo
-	@$(BIN)/python -m springbalance.browser out/demo/scene.html --screenshot out/demo/scene.png || test $$? -eq 77
+	@$(BIN)/python -m springbalance.viz.browser out/demo/scene.html --screenshot out/demo/scene.png || test $$? -eq 77
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_ur5.py

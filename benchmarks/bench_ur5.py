@@ -26,7 +26,7 @@ import numpy as np
 from scipy.optimize import least_squares
 
 import springbalance as sb
-from springbalance.solve import _MultiStartSolver, start_points
+from springbalance.design.solvers import _MultiStartSolver, start_points
 from threadpoolctl import threadpool_limits
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])

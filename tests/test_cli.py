@@ -11,7 +11,7 @@ import pytest
 import yaml
 
 from springbalance.cli import main
-from springbalance.result import FORMAT
+from springbalance.results.result import FORMAT
 from config_helpers import SHOULDER_SPRING, edited_record
 
 ROOT = Path(__file__).resolve().parents[1]

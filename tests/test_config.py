@@ -11,9 +11,9 @@ import pytest
 import yaml
 
 from springbalance import ConfigError, InputError
-from springbalance.config import (WORKSPACE_KEYS, config_from_dict, load_config, load_workspace,
+from springbalance.io.config import (WORKSPACE_KEYS, config_from_dict, load_config, load_workspace,
                                   workspace_from_dict)
-from springbalance.mechanism import Mechanism
+from springbalance.model.mechanism import Mechanism
 from config_helpers import SHOULDER_SPRING, edited_record
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -20,12 +20,12 @@ import pytest
 import yourdfpy
 
 import springbalance as sb
-from springbalance import robots
+from springbalance.model import robots
 from springbalance.cli import main
-from springbalance.config import load_config
-from springbalance.export import anchor_link_name, sidecar_path, springs_from_urdf
-from springbalance.problem import DesignProblem
-from springbalance.result import DesignResult
+from springbalance.io.config import load_config
+from springbalance.io.export import anchor_link_name, sidecar_path, springs_from_urdf
+from springbalance.design.problem import DesignProblem
+from springbalance.results.result import DesignResult
 
 ROOT = Path(__file__).resolve().parents[1]
 TWO_LINK = ROOT / "urdf" / "two_link_planar.urdf"
@@ -363,7 +363,7 @@ def test_cli_export_errors_leave_no_file(tmp_path, capsys):
 
 
 def test_html_report_links_exported_files(two_link, tmp_path):
-    from springbalance.html_report import exported_files, report_html
+    from springbalance.results.html_report import exported_files, report_html
 
     two_link.to_urdf(tmp_path / "balanced.urdf")
     two_link.to_mjcf(tmp_path / "balanced.xml")

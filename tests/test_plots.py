@@ -9,7 +9,8 @@ import pinocchio as pin
 import pytest
 
 import springbalance as sb
-from springbalance import plots, sweeps
+from springbalance.model import sweeps
+from springbalance.results import plots
 from scene_helpers import URDF, two_link_design
 
 

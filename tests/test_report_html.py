@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from springbalance.cli import main
-from springbalance import html_report
+from springbalance.results import html_report
 from scene_helpers import two_link_design
 
 

@@ -17,7 +17,7 @@ import yaml
 
 import springbalance as sb
 from springbalance import ConfigError, InputError
-from springbalance.config import load_config
+from springbalance.io.config import load_config
 
 URDF = Path(__file__).resolve().parents[1] / "urdf"
 G = 9.81

@@ -27,7 +27,7 @@ import numpy as np
 import pytest
 
 import springbalance as sb
-from springbalance import sizing
+from springbalance.springs import sizing
 
 URDF = Path(__file__).resolve().parents[1] / "urdf"
 INCH, KPSI, LBF = 0.0254, 6.894757e6, 4.4482216  # [m], [Pa], [N]
@@ -127,7 +127,7 @@ def _exists_by_scan(k, l0, length, force, kind, index=8.0, min_coils=3.0, fracti
 def test_helical_rows_are_exact(kind):
     """The rows of HelicalSpringExists are all ≥ 0 exactly when a spring exists."""
     rng = np.random.default_rng(7 if kind == "extension" else 8)
-    constraint = sb.constraints.HelicalSpringExists(sb.Helical("music_wire", 8.0, 3.0), kind)
+    constraint = sb.springs.constraints.HelicalSpringExists(sb.Helical("music_wire", 8.0, 3.0), kind)
     agree = 0
     for _ in range(200):
         k = 10 ** rng.uniform(1, 4.5)                   # [N/m]

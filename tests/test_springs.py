@@ -188,7 +188,7 @@ def test_record_errors_name_the_key():
 
 
 def test_config_accepts_new_types_and_checks_joints(tmp_path):
-    from springbalance.config import load_config
+    from springbalance.io.config import load_config
 
     base = {"mechanism": {"urdf": str(URDF / "single_link_r2.urdf"), "gravity": 9.8},
             "workspace": {"kind": "grid", "n": 31, "degrees": True, "ranges": {"theta": [0, 60]}},

@@ -20,7 +20,9 @@ import pytest
 import umsgpack
 
 import springbalance as sb
-from springbalance import browser, sweeps, viz
+from springbalance.model import sweeps
+from springbalance.viz import browser
+from springbalance.viz import scene as viz
 
 meshcat = viz.meshcat   # imported by viz, which silences its import-time deprecation warning
 from meshcat.servers.tree import walk  # noqa: E402

@@ -1,24 +1,28 @@
 """springbalance: design gravity-balancing springs for robot arms described by URDF.
 
-Data flows one way: :class:`Mechanism` → :class:`Workspace` → springs →
-:class:`DesignProblem` → solve → :class:`DesignResult` → report.
+The subpackages are the data flow, each importing only those before it:
+:mod:`~springbalance.model` (mechanism, workspace, kinematics) → :mod:`~springbalance.springs`
+(anchors, parameters, spring laws, sizing) → :mod:`~springbalance.design` (problem, objectives,
+solvers, exact balance) → :mod:`~springbalance.io` and :mod:`~springbalance.viz` (config files,
+exports, Meshcat scenes) → :mod:`~springbalance.results` (:class:`DesignResult`, reports, plots)
+→ :mod:`springbalance.cli`.
 """
 
-from . import exact
-from .errors import ConfigError, InputError, SolverError, SpringBalanceError
-from .mechanism import GROUND, Joint, Mechanism
-from .objectives import OBJECTIVES
-from .params import Anchor, Free, Plane, Segment
-from .payload import PayloadRange, PayloadSweep, payload_range, residual_vs_payload
-from .problem import DesignProblem, Evaluation
-from .result import DesignResult
-from .scenarios import Payload, Scenario, payload_scenarios
-from .sizing import MATERIALS, Helical, HelicalDesign, Material, size_helical_spring
-from .springs import (CoilMass, CompressionSpring, ConstantForceSpring, ExtensionSpring, GasSpring, Spring,
-                      TorsionalSpring, TwoPointSpring, ZeroFreeLengthSpring)
-from .workspace import Coupling, Workspace
-
-__version__ = "0.1.0"
+from springbalance._version import __version__
+from springbalance.design import exact
+from springbalance.design.objectives import OBJECTIVES
+from springbalance.design.problem import DesignProblem, Evaluation
+from springbalance.design.scenarios import Payload, Scenario, payload_scenarios
+from springbalance.errors import ConfigError, InputError, SolverError, SpringBalanceError
+from springbalance.model.mechanism import GROUND, Joint, Mechanism
+from springbalance.model.workspace import Coupling, Workspace
+from springbalance.results.payload import PayloadRange, PayloadSweep, payload_range, residual_vs_payload
+from springbalance.results.result import DesignResult
+from springbalance.springs import constraints
+from springbalance.springs.laws import (CoilMass, CompressionSpring, ConstantForceSpring, ExtensionSpring, GasSpring,
+                                        Spring, TorsionalSpring, TwoPointSpring, ZeroFreeLengthSpring)
+from springbalance.springs.params import Anchor, Free, Plane, Segment
+from springbalance.springs.sizing import MATERIALS, Helical, HelicalDesign, Material, size_helical_spring
 
 __all__ = [
     "Anchor", "CoilMass", "CompressionSpring", "ConfigError", "ConstantForceSpring", "Coupling", "DesignProblem",
@@ -26,5 +30,6 @@ __all__ = [
     "InputError", "Joint", "MATERIALS", "Material", "Mechanism", "OBJECTIVES", "Payload", "PayloadRange",
     "PayloadSweep", "Plane", "Scenario", "Segment", "SolverError",
     "Spring", "SpringBalanceError", "TorsionalSpring", "TwoPointSpring", "Workspace", "ZeroFreeLengthSpring",
-    "payload_range", "payload_scenarios", "residual_vs_payload", "size_helical_spring",
+    "__version__", "constraints", "exact", "payload_range", "payload_scenarios", "residual_vs_payload",
+    "size_helical_spring",
 ]

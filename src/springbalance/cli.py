@@ -25,8 +25,8 @@ import sys
 import warnings
 from pathlib import Path
 
-from . import __version__
-from .errors import InputError, SolverError, SpringBalanceError
+from springbalance._version import __version__
+from springbalance.errors import InputError, SolverError, SpringBalanceError
 
 PROG = "springbalance"
 
@@ -67,7 +67,7 @@ def _print_warning(message, category, filename, lineno, file=None, line=None) ->
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from .solve import METHODS
+    from springbalance.design.solvers import METHODS
 
     parser = argparse.ArgumentParser(
         prog=PROG,
@@ -168,7 +168,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 # ---------------------------------------------------------------------- commands
 def _design(args) -> int:
-    from .config import load_config
+    from springbalance.io.config import load_config
 
     out = Path(args.out)
     _check_output(out)
@@ -183,8 +183,8 @@ def _design(args) -> int:
 
 
 def _evaluate(args) -> int:
-    from .config import load_workspace
-    from .result import DesignResult
+    from springbalance.io.config import load_workspace
+    from springbalance.results.result import DesignResult
 
     result = DesignResult.load(args.design)
     if args.workspace is not None:
@@ -197,8 +197,8 @@ def _evaluate(args) -> int:
 def _view(args) -> int:
     import time
 
-    from .result import DesignResult
-    from .viz import DesignScene, MeshcatServer
+    from springbalance.results.result import DesignResult
+    from springbalance.viz.scene import DesignScene, MeshcatServer
 
     result = DesignResult.load(args.design)
     scene = DesignScene(result, frames_per_joint=args.frames)
@@ -225,14 +225,14 @@ def _view(args) -> int:
 
 
 def _report(args) -> int:
-    from .result import DesignResult
+    from springbalance.results.result import DesignResult
 
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise InputError(f"--out {str(out)!r} is a file; give a folder")
     result = DesignResult.load(args.design)
     if args.workspace is not None:
-        from .config import load_workspace
+        from springbalance.io.config import load_workspace
 
         workspace = load_workspace(args.workspace, result.problem.mechanism)
         result = DesignResult.load(args.design, mechanism=result.problem.mechanism, workspace=workspace)
@@ -245,9 +245,9 @@ def _report(args) -> int:
 
 
 def _export(args) -> int:
-    from .export import law_warnings, mjcf_string, sidecar_path, urdf_strings
-    from .files import write_text_atomic
-    from .result import DesignResult
+    from springbalance.io.export import law_warnings, mjcf_string, sidecar_path, urdf_strings
+    from springbalance.files import write_text_atomic
+    from springbalance.results.result import DesignResult
 
     if args.urdf is None and args.mjcf is None:
         raise InputError("export: give --urdf OUT.urdf and/or --mjcf OUT.xml")
@@ -275,8 +275,8 @@ def _export(args) -> int:
 def _payload_range(args) -> int:
     import numpy as np
 
-    from .payload import payload_range, residual_vs_payload
-    from .result import DesignResult
+    from springbalance.results.payload import payload_range, residual_vs_payload
+    from springbalance.results.result import DesignResult
 
     result = DesignResult.load(args.design)
     if args.body not in result.problem.mechanism.body_names:
@@ -294,7 +294,7 @@ def _payload_range(args) -> int:
 
 
 def _robots(args) -> int:
-    from .robots import available_robots
+    from springbalance.model.robots import available_robots
 
     robots = available_robots()
     width = max((len(name) for name in robots), default=0)

@@ -24,7 +24,7 @@ class SolverError(SpringBalanceError):
     """No start of a design problem produced a usable design.
 
     Attributes:
-        problem: the :class:`~springbalance.problem.DesignProblem` that was solved.
+        problem: the :class:`~springbalance.design.problem.DesignProblem` that was solved.
         starts: per-start records with the solver's own status string.
     """
 

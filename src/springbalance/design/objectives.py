@@ -1,0 +1,141 @@
+r"""Objectives over the workspace (MODEL.md §5), one small class each.
+
+With ``tau_ij`` the residual torque of joint ``j`` at sample ``i`` and joint weights
+``w_j``, every objective maps the weighted torques ``w_j tau_ij`` (N×nv) and the total
+potential ``V_i`` (N) to a number. :meth:`Objective.value` works on NumPy arrays (metrics);
+:meth:`Objective.nlp` returns the CasADi pieces for the optimiser: extra variables, the
+cost and constraint rows. Objectives with ``least_squares = True`` (rms, pe_variance) are
+sums of squares, which the trust-region least-squares backend of :mod:`springbalance.design.solvers` exploits.
+"""
+
+from __future__ import annotations
+
+import abc
+import dataclasses
+from typing import ClassVar
+
+import casadi as ca
+import numpy as np
+
+from springbalance.errors import InputError
+
+
+@dataclasses.dataclass
+class NlpPieces:
+    """What an objective adds to the NLP (all scaled, dimensionless)."""
+
+    variables: ca.MX | None  # extra variables (epigraph), or None
+    lower: np.ndarray | None
+    upper: np.ndarray | None
+    start: object  # callable(weighted_tau_numeric (N×nv)) -> start values of the extra variables
+    cost: ca.MX
+    rows: ca.MX | None  # ≥ 0
+
+
+class Objective(abc.ABC):
+    """Base: subclasses set ``name``, ``unit`` and implement ``value`` and ``nlp``."""
+
+    name: ClassVar[str] = ""
+    unit: ClassVar[str] = ""
+    least_squares: ClassVar[bool] = False
+    needs_path: ClassVar[bool] = False
+
+    @abc.abstractmethod
+    def value(self, weighted_tau: np.ndarray, potential: np.ndarray, path: np.ndarray) -> float:
+        """Objective of numeric torques (N×nv), potentials (N) and path steps |Δq| ((N-1)×nv)."""
+
+    @abc.abstractmethod
+    def nlp(self, weighted_tau: ca.MX, potential: ca.MX, path: np.ndarray, torque_scale: float,
+            potential_scale: float) -> NlpPieces:
+        """CasADi cost (and epigraph) for torques (nv×N MX) and potentials (1×N MX)."""
+
+
+
+class Rms(Objective):
+    r"""Root mean square of the weighted residual torque, :math:`\sqrt{\mathrm{mean}_{ij}(w_j \tau_{ij})^2}` [N·m]."""
+
+    name, unit, least_squares = "rms", "N·m", True
+
+    def value(self, weighted_tau, potential, path):
+        return float(np.sqrt(np.mean(np.square(weighted_tau))))
+
+
+    def nlp(self, weighted_tau, potential, path, torque_scale, potential_scale):
+        r = ca.vec(weighted_tau) / (torque_scale * np.sqrt(weighted_tau.numel()))
+        return NlpPieces(None, None, None, None, ca.sumsqr(r), None)
+
+
+class Peak(Objective):
+    r"""Largest weighted residual torque, :math:`\max_{ij} |w_j \tau_{ij}|` [N·m].
+
+    In the NLP: epigraph variable ``t`` with :math:`-t \le w_j\tau_{ij} \le t`, minimise ``t``.
+    """
+
+    name, unit = "peak", "N·m"
+
+    def value(self, weighted_tau, potential, path):
+        return float(np.max(np.abs(weighted_tau)))
+
+    def nlp(self, weighted_tau, potential, path, torque_scale, potential_scale):
+        t = ca.MX.sym("peak")
+        scaled = ca.vec(weighted_tau) / torque_scale
+        rows = ca.vertcat(t - scaled, t + scaled)
+        start = lambda tau: np.array([np.max(np.abs(tau)) / torque_scale])
+        return NlpPieces(t, np.array([0.0]), np.array([np.inf]), start, t, rows)
+
+
+class PotentialVariance(Objective):
+    r"""Variance over the samples of the total potential :math:`V_g + \sum V_s` [J²].
+
+    Constant total potential means perfect balance.
+    """
+
+    name, unit, least_squares = "pe_variance", "J²", True
+
+    def value(self, weighted_tau, potential, path):
+        return float(np.var(potential))
+
+
+    def nlp(self, weighted_tau, potential, path, torque_scale, potential_scale):
+        n = potential.numel()
+        centred = potential - ca.sum2(potential) / n
+        return NlpPieces(None, None, None, None, ca.sumsqr(centred) / (n * potential_scale**2), None)
+
+
+class PathEnergy(Objective):
+    r"""Actuator work along the ordered samples, :math:`\sum_i \sum_j |w_j \tau_{ij}|\,|q_{i+1,j} - q_{ij}|` [J].
+
+    In the NLP: epigraph variables :math:`s_{ij} \ge |w_j\tau_{ij}|`, minimise :math:`\sum s_{ij}|\Delta q_{ij}|`.
+    """
+
+    name, unit, needs_path = "energy", "J", True
+
+    def value(self, weighted_tau, potential, path):
+        if path is None:
+            return float("nan")
+        return float(np.sum(np.abs(weighted_tau[:-1]) * path))
+
+    def nlp(self, weighted_tau, potential, path, torque_scale, potential_scale):
+        nv, n = weighted_tau.shape
+        steps = path.T  # nv×(N-1)
+        s = ca.MX.sym("abs_tau", nv * (n - 1))
+        scaled = ca.vec(weighted_tau[:, : n - 1]) / torque_scale
+        rows = ca.vertcat(s - scaled, s + scaled)
+        weights = steps.reshape(-1, order="F")
+        scale = max(float(np.sum(weights)), 1e-12)
+        start = lambda tau: np.abs(tau[:-1]).reshape(-1) / torque_scale
+        return NlpPieces(s, np.zeros(s.numel()), np.full(s.numel(), np.inf), start,
+                         ca.dot(ca.DM(weights), s) / scale, rows)
+
+
+#: objective name -> class.
+OBJECTIVES: dict[str, type[Objective]] = {cls.name: cls for cls in (Rms, Peak, PotentialVariance, PathEnergy)}
+
+
+def objective_named(name: str | Objective) -> Objective:
+    """The objective called ``name`` (``rms``, ``peak``, ``pe_variance``, ``energy``)."""
+    if isinstance(name, Objective):
+        return name
+    if name not in OBJECTIVES:
+        raise InputError(f"unknown objective {name!r}; valid: {', '.join(OBJECTIVES)}")
+    return OBJECTIVES[name]()

@@ -1,0 +1,408 @@
+r"""The design problem: mechanism + workspace + springs + objective → an inspectable NLP.
+
+``DesignProblem(mechanism, workspace, springs, objective="rms").solve(starts=8)`` is the
+one-line use. In between, :meth:`DesignProblem.build` returns an :class:`Nlp` whose
+variables, bounds and CasADi expressions can be inspected or handed to another solver.
+
+Scaling (what the solvers see): each design variable ``x_k ∈ [lower_k, upper_k]`` is
+mapped to ``z_k ∈ [0, 1]``; torques are divided by ``S``, the RMS of the unbalanced
+weighted gravity torque [N·m]; potentials by the standard deviation of the unbalanced
+potential [J]. Solutions and reports are always in physical units.
+
+Scenarios (payloads, scaled link masses; :mod:`springbalance.design.scenarios`): with ``scenarios=[...]``
+the workspace is stacked once per scenario and ``per_scenario=[...]`` names the variables that
+take one value per scenario (``s1.b`` → ``s1.b.s[<scenario>]``); the others are shared.
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+from typing import Mapping, Sequence
+
+import casadi as ca
+import numpy as np
+
+from springbalance.errors import InputError
+from springbalance.model.mechanism import Mechanism
+from springbalance.design.objectives import NlpPieces, Objective, objective_named
+from springbalance.design.scenarios import Scenario, ScenarioWorkspace, check_scenarios
+from springbalance.design.solvers import solve_problem
+from springbalance.springs.laws import Spring, spring_from_dict
+from springbalance.design.torque_model import SampleEvaluator, TorqueModel
+from springbalance.model.workspace import Workspace
+
+AGGREGATES = ("sum", "worst")
+
+#: What :meth:`DesignProblem.solve` and :meth:`DesignProblem.result` wrap a design vector in:
+#: :class:`springbalance.results.result.DesignResult`, which registers itself here when the
+#: results layer is imported (``import springbalance`` does that before any submodule runs).
+#: The design layer thus hands its solution up without importing the layers above it.
+_RESULT_TYPE = None
+
+
+def register_result_type(result_type) -> None:
+    """Make :meth:`DesignProblem.result` return ``result_type(problem, x, **info)``."""
+    global _RESULT_TYPE
+    _RESULT_TYPE = result_type
+
+
+@dataclasses.dataclass
+class Evaluation:
+    """Numeric state of a design over the workspace (physical units).
+
+    Attributes:
+        x: design vector.
+        tau: residual actuator torque N×nv [N·m or N].
+        potential: total potential ``V_g + Σ V_s`` per sample (N) [J].
+        lengths: spring states N×n_s: lengths [m] of two-point springs, joint angles [rad] of
+            torsional springs.
+        tensions: generalised spring forces N×n_s: tensions [N] (negative when pushing),
+            torques [N·m] of torsional springs.
+        constraint_rows: N×n_c, ``≥ 0`` when feasible.
+    """
+
+    x: np.ndarray
+    tau: np.ndarray
+    potential: np.ndarray
+    lengths: np.ndarray
+    tensions: np.ndarray
+    constraint_rows: np.ndarray
+
+    @property
+    def max_violation(self) -> float:
+        """Largest constraint violation (0 when feasible)."""
+        if self.constraint_rows.size == 0:
+            return 0.0
+        return float(max(0.0, -np.min(self.constraint_rows)))
+
+
+@dataclasses.dataclass
+class Nlp:
+    """The optimisation problem as the solvers see it (scaled).
+
+    ``z`` are the scaled design variables in [0, 1] followed by any epigraph variables of the
+    objective; ``cost`` and ``rows`` (≥ 0) are CasADi MX expressions of ``z``.
+    """
+
+    z: ca.MX
+    lower: np.ndarray
+    upper: np.ndarray
+    cost: ca.MX
+    rows: ca.MX
+    n_design: int
+    extra_start: object  # callable(weighted tau N×nv) -> starts of the extra variables
+
+    @property
+    def size(self) -> int:
+        return int(self.z.numel())
+
+    @property
+    def n_rows(self) -> int:
+        return int(self.rows.numel())
+
+
+class DesignProblem:
+    """Choose spring parameters so that the actuators carry as little gravity torque as possible.
+
+    Args:
+        mechanism: the arm.
+        workspace: samples over which the design is judged (of ``mechanism``).
+        springs: spring objects; unnamed ones are called ``s1``, ``s2``, … in order.
+        objective: ``"rms"``, ``"peak"``, ``"pe_variance"`` or ``"energy"`` (ordered workspace).
+        weights: per-joint weights ``w_j`` (joint name → weight ≥ 0); default 1 for every joint.
+        scenarios: optional load cases (:class:`~springbalance.design.scenarios.Scenario`: payloads,
+            scaled link masses). The problem then covers every scenario over the same poses:
+            its :attr:`workspace` is the given one stacked once per scenario (``N·S`` samples,
+            block ``s`` = scenario ``s``), and :attr:`base_workspace` the given one.
+        per_scenario: design variables that take one value per scenario (an adjustable anchor,
+            a preload): names or prefixes of names, e.g. ``"s1.b"`` for every coordinate of
+            spring s1's end b. They become ``<name>[<scenario>]``; every other variable is shared.
+        aggregate: how the objective combines scenarios: ``"sum"`` (the objective over all
+            stacked samples: the sum of squares for ``rms``, the largest torque for ``peak``) or
+            ``"worst"`` (the largest per-scenario value, an epigraph solved with IPOPT).
+    """
+
+    def __init__(self, mechanism: Mechanism, workspace: Workspace, springs: Sequence[Spring],
+                 objective: str | Objective = "rms", weights: Mapping[str, float] | None = None,
+                 scenarios: Sequence[Scenario] | None = None, per_scenario: Sequence[str] = (),
+                 aggregate: str = "sum"):
+        if workspace.mechanism is not mechanism:
+            raise InputError("the workspace was sampled for a different mechanism object; build it from the same Mechanism")
+        if aggregate not in AGGREGATES:
+            raise InputError(f"unknown scenario aggregate {aggregate!r}; valid: {', '.join(AGGREGATES)}")
+        self.base_workspace = workspace
+        self.scenarios = check_scenarios(mechanism, scenarios) if scenarios is not None else []
+        self.per_scenario = [str(name) for name in per_scenario]
+        self.aggregate = aggregate
+        if self.scenarios:
+            workspace = ScenarioWorkspace(workspace, self.scenarios)
+        self.mechanism, self.workspace = mechanism, workspace
+        self.springs = _named_springs(springs)
+        self.objective = objective_named(objective)
+        if self.objective.needs_path and not workspace.ordered:
+            raise InputError(f"objective {self.objective.name!r} needs an ordered workspace (grid, sweep or trajectory), "
+                             f"got a {workspace.description.get('kind')} sample")
+        if len(self.scenarios) > 1 and ((aggregate == "worst" and self.objective.name != "peak")
+                                        or self.objective.name == "pe_variance"):
+            # rms and peak over the stacked samples already are the sum of squares and the worst
+            # case; a potential's constant differs per scenario, so its variance is taken per scenario
+            self.objective = ScenarioAggregate(self.objective, len(self.scenarios), worst=aggregate == "worst")
+        self.weights = _weights(mechanism, weights)
+        self.model = TorqueModel(mechanism, self.springs, [s.name for s in self.scenarios], self.per_scenario)
+        kinematics = workspace.kinematics()
+        self.data = self.model.data_matrix(kinematics)
+        self.path_steps = np.abs(np.diff(workspace.joint_values, axis=0)) if workspace.ordered and workspace.size > 1 else None
+        if self.path_steps is not None and self.scenarios:
+            block = self.base_workspace.size
+            self.path_steps[block - 1::block] = 0.0   # no step from one scenario's last pose to the next one's first
+        gravity = kinematics.gravity_torque * self.weights
+        self.torque_scale = float(np.sqrt(np.mean(gravity**2))) or 1.0       # S [N·m]
+        self.potential_scale = float(np.std(kinematics.potential)) or 1.0    # [J]
+        self._evaluator = None
+        self._check_springs()
+
+    # ---------------------------------------------------------------- variables
+    @property
+    def variables(self):
+        """Design variables (names, units, bounds, first guess) in physical units."""
+        return self.model.variables
+
+    def scale(self, z: np.ndarray) -> np.ndarray:
+        """Physical design vector from scaled ``z ∈ [0, 1]``."""
+        lower, upper = self.variables.bounds()
+        return lower + (upper - lower) * np.asarray(z, dtype=float)
+
+    def unscale(self, x: np.ndarray) -> np.ndarray:
+        lower, upper = self.variables.bounds()
+        width = np.where(upper > lower, upper - lower, 1.0)
+        return (np.asarray(x, dtype=float) - lower) / width
+
+    # ---------------------------------------------------------------- numeric evaluation
+    def evaluate(self, x=None) -> Evaluation:
+        """Residual torque, potential, lengths, tensions and constraint rows of design ``x``."""
+        x = np.array(self.variables.start if x is None else x, dtype=float)
+        if x.shape != (self.variables.size,):
+            raise InputError(f"design vector has {x.size} entries, problem has {self.variables.size}: "
+                             f"{', '.join(self.variables.names)}")
+        if self._evaluator is None:
+            self._evaluator = SampleEvaluator(self.model.sample, self.data)
+        tau, potential, lengths, tensions, rows = (np.array(out) for out in self._evaluator(x))
+        n = self.workspace.size
+        return Evaluation(x, tau.reshape(n, -1), potential.reshape(n), lengths.reshape(n, -1),
+                          tensions.reshape(n, -1), rows.reshape(n, -1))
+
+    def objective_value(self, evaluation: Evaluation) -> float:
+        return self.objective.value(evaluation.tau * self.weights, evaluation.potential, self.path_steps)
+
+    # ---------------------------------------------------------------- NLP
+    def build(self) -> Nlp:
+        """The scaled NLP (CasADi MX) for this problem: variables, bounds, cost, rows ≥ 0."""
+        n = self.workspace.size
+        design = ca.MX.sym("z", self.variables.size)
+        lower, upper = self.variables.bounds()
+        x = ca.DM(lower) + ca.DM(upper - lower) * design
+        tau, potential, _, _, rows = self.model.mapped(n)(x, ca.DM(self.data))
+        weighted = ca.DM(self.weights) * tau if self.mechanism.nv > 1 else float(self.weights[0]) * tau
+        pieces = self.objective.nlp(weighted, potential, self.path_steps, self.torque_scale, self.potential_scale)
+        variables = [design]
+        z_lower, z_upper = [np.zeros(self.variables.size)], [np.ones(self.variables.size)]
+        if pieces.variables is not None:
+            variables.append(pieces.variables)
+            z_lower.append(pieces.lower)
+            z_upper.append(pieces.upper)
+        all_rows = [ca.vec(rows)] if self.model.n_constraints else []
+        if pieces.rows is not None:
+            all_rows.append(pieces.rows)
+        return Nlp(ca.vertcat(*variables), np.concatenate(z_lower), np.concatenate(z_upper), pieces.cost,
+                   ca.vertcat(*all_rows) if all_rows else ca.MX(0, 1), self.variables.size, pieces.start)
+
+    def solve(self, starts: int = 8, seed: int = 0, method: str = "auto", progress: bool | None = None,
+              max_iterations: int = 100, tolerance: float = 1e-8, polish_iterations: int | None = None):
+        """Multi-start solve; returns the best feasible :class:`~springbalance.results.result.DesignResult`.
+
+        Args:
+            starts: number of starts: the user's initial guess, then scrambled Sobol points of the bounds.
+            seed: seed of the start points (the result is deterministic given it).
+            method: ``"auto"`` (least squares where the objective has that structure, IPOPT
+                where it does not or where constraints bind), ``"least_squares"`` or ``"ipopt"``.
+            progress: show a progress bar (default: when more than one start and stderr is a terminal).
+            max_iterations: iteration limit per start and phase (the screening budget).
+            polish_iterations: further iterations for the best start when it stopped on the
+                limit (default 4 × max_iterations; 0 disables).
+            tolerance: least squares stop when a step lowers the cost by less than this fraction
+                (a flat valley); IPOPT's own tolerance is min(tolerance, 1e-8).
+        """
+        solution = solve_problem(self, starts=starts, seed=seed, method=method, progress=progress,
+                                 max_iterations=max_iterations, tolerance=tolerance,
+                                 polish_iterations=polish_iterations)
+        return self.result(solution.x, starts=solution.starts, method=solution.method, seed=solution.seed,
+                           status=solution.status)
+
+    def result(self, x, **info):
+        """A :class:`~springbalance.results.result.DesignResult` for a given design vector (no optimisation).
+
+        ``info``: ``starts``, ``method``, ``seed`` and ``status`` of the solve that found ``x``.
+        """
+        if _RESULT_TYPE is None:
+            raise RuntimeError("no result type registered: import springbalance (its results layer registers it)")
+        return _RESULT_TYPE(self, np.asarray(x, dtype=float), **info)
+
+    # ---------------------------------------------------------------- scenarios
+    def scenario_springs(self, x, scenario: int = 0) -> list[Spring]:
+        """The springs with every variable fixed at its value in ``scenario`` (design ``x``)."""
+        records = []
+        for spring in self.springs:
+            values = self.model.spring_values(spring, x, scenario)
+            record = {**spring.to_dict(), **{key: values[key] for key in spring.parameter_units}}
+            for end, anchor in spring.anchors.items():
+                record[end] = {"body": anchor.body, "point": self.model.anchor_point(spring, end, x, scenario).tolist()}
+            records.append(spring_from_dict(record))
+        return records
+
+    def scenario_problem(self, scenario: int, springs: Sequence[Spring] | None = None,
+                         objective: str | Objective | None = None) -> "DesignProblem":
+        """A single-scenario problem: scenario ``scenario``'s mechanism on :attr:`base_workspace`.
+
+        ``springs`` default to this problem's springs (with their free variables).
+        """
+        mechanism = self.workspace.mechanisms[scenario] if self.scenarios else self.mechanism
+        workspace = Workspace(mechanism, self.base_workspace.joint_values, ordered=self.base_workspace.ordered,
+                              description=self.base_workspace.description)
+        if objective is None:
+            objective = self.objective.inner if isinstance(self.objective, ScenarioAggregate) else self.objective
+        return DesignProblem(mechanism, workspace, list(springs if springs is not None else self.springs),
+                             objective=objective, weights=self.weights_by_name())
+
+    def scenario_results(self, x) -> list:
+        """Per scenario, a :class:`~springbalance.results.result.DesignResult` of design ``x`` fixed in that scenario
+        (on the base workspace, with that scenario's masses)."""
+        results = []
+        for index in range(len(self.scenarios)):
+            problem = self.scenario_problem(index, self.scenario_springs(x, index))
+            results.append(problem.result(np.zeros(0), status=f"scenario {self.scenarios[index].name}"))
+        return results
+
+    def scenarios_record(self) -> dict:
+        """``{"scenarios": {cases, per_scenario, aggregate}}`` for a saved design (``{}`` without scenarios)."""
+        if not self.scenarios:
+            return {}
+        return {"scenarios": {"cases": [scenario.to_dict() for scenario in self.scenarios],
+                              "per_scenario": list(self.per_scenario), "aggregate": self.aggregate}}
+
+    @staticmethod
+    def scenario_options(record: dict) -> dict:
+        """Keyword arguments (scenarios, per_scenario, aggregate) from a saved design's record."""
+        saved = record.get("scenarios")
+        if not saved:
+            return {}
+        return {"scenarios": [Scenario.from_dict(case) for case in saved["cases"]],
+                "per_scenario": saved.get("per_scenario", []), "aggregate": saved.get("aggregate", "sum")}
+
+    def scenario_table(self, x) -> list[dict]:
+        """Per scenario: name, payload [kg], per-scenario variable values, peak and RMS residual [N·m]
+        (weighted, over all joints) of design ``x``."""
+        if not self.scenarios:
+            return []
+        tau = self.evaluate(x).tau * self.weights
+        names = [self.model.base_variables.names[i] for i in self.model.per_scenario]
+        rows = []
+        for index, (scenario, block) in enumerate(zip(self.scenarios, np.split(tau, len(self.scenarios)))):
+            base = self.model.scenario_vector(x, index)
+            rows.append({"name": scenario.name, "payload": scenario.payload_mass,
+                         "variables": {name: float(base[i]) for name, i in zip(names, self.model.per_scenario)},
+                         "peak": float(np.max(np.abs(block))), "rms": float(np.sqrt(np.mean(block**2)))})
+        return rows
+
+    def weights_by_name(self) -> dict[str, float]:
+        return {joint.name: float(w) for joint, w in zip(self.mechanism.joints, self.weights)}
+
+    # ---------------------------------------------------------------- checks
+    def _check_springs(self) -> None:
+        # Each spring checked its own bodies and joints when the torque model was built
+        # (Spring.check); what needs an evaluation is a two-point spring of zero length.
+        for column, spring in enumerate(self.springs):
+            anchors = list(spring.anchors.values())
+            if len(anchors) == 2 and not any(anchor.is_free for anchor in anchors):
+                evaluation = self.evaluate()
+                shortest = float(np.min(evaluation.lengths[:, column]))
+                if shortest < 1e-9:
+                    sample = int(np.argmin(evaluation.lengths[:, column]))
+                    raise InputError(f"spring {spring.name!r}: its ends coincide (zero length) at workspace sample {sample}")
+
+    def __repr__(self) -> str:
+        return (f"DesignProblem({self.mechanism.name!r}, N={self.workspace.size}, springs={len(self.springs)}, "
+                f"variables={self.variables.size}, objective={self.objective.name!r})")
+
+
+class ScenarioAggregate(Objective):
+    r"""An objective over S scenario blocks of the samples: the worst block, :math:`\max_s f_s`, or
+    (``worst=False``) the mean :math:`\frac1S \sum_s f_s` (used for ``pe_variance``, whose potential
+    has its own constant in each scenario).
+
+    In the NLP the worst case is an epigraph variable ``t`` with :math:`t \ge f_s` (each block's
+    scaled cost), minimise ``t``; it is solved by IPOPT. The mean keeps least-squares structure.
+    """
+
+    def __init__(self, inner: Objective, blocks: int, worst: bool = True):
+        if inner.needs_path:
+            raise InputError(f"objective {inner.name!r} cannot be aggregated per scenario; use aggregate 'sum'")
+        self.inner, self.blocks, self.worst = inner, int(blocks), bool(worst)
+        self.name, self.unit = inner.name, inner.unit
+        self.least_squares = inner.least_squares and not self.worst
+
+    def _split(self, values, axis):
+        return np.split(np.asarray(values), self.blocks, axis=axis)
+
+    def value(self, weighted_tau, potential, path):
+        values = [self.inner.value(tau, v, None) for tau, v in zip(self._split(weighted_tau, 0),
+                                                                   self._split(potential, 0))]
+        return float(max(values) if self.worst else np.mean(values))
+
+    def nlp(self, weighted_tau, potential, path, torque_scale, potential_scale):
+        n = weighted_tau.shape[1] // self.blocks
+        costs = [self.inner.nlp(weighted_tau[:, s * n:(s + 1) * n], potential[:, s * n:(s + 1) * n], None,
+                                torque_scale, potential_scale).cost for s in range(self.blocks)]
+        if not self.worst:
+            return NlpPieces(None, None, None, None, sum(costs) / self.blocks, None)
+        t = ca.MX.sym("worst")
+        rows = ca.vertcat(*[t - cost for cost in costs])
+
+        def start(tau):
+            if self.inner.name != "rms":
+                return np.array([1.0])
+            return np.array([max(float(np.mean(block**2)) for block in self._split(tau, 0)) / torque_scale**2])
+
+        return NlpPieces(t, np.array([0.0]), np.array([np.inf]), start, t, rows)
+
+
+def _named_springs(springs: Sequence[Spring]) -> list[Spring]:
+    """The springs, unnamed ones copied and named ``s<position>`` (the caller's objects are not changed)."""
+    springs = list(springs)
+    if not springs:
+        raise InputError("a design problem needs at least one spring")
+    names = set()
+    for index, spring in enumerate(springs, start=1):
+        if not isinstance(spring, Spring):
+            raise InputError(f"spring #{index} is a {type(spring).__name__}, not a Spring")
+        if spring.name is None:
+            spring = copy.copy(spring)
+            spring.name = f"s{index}"
+            springs[index - 1] = spring
+        if spring.name in names:
+            raise InputError(f"two springs are called {spring.name!r}; spring names must be unique")
+        names.add(spring.name)
+    return springs
+
+
+def _weights(mechanism: Mechanism, weights) -> np.ndarray:
+    vector = np.ones(mechanism.nv)
+    for name, value in (weights or {}).items():
+        joint = mechanism.joint(name)
+        value = float(value)
+        if not np.isfinite(value) or value < 0:
+            raise InputError(f"weight of joint {name!r} must be a finite number ≥ 0, got {value}")
+        vector[joint.index_v] = value
+    if not np.any(vector > 0):
+        raise InputError("every joint weight is zero; nothing to balance")
+    return vector

@@ -1,0 +1,462 @@
+r"""Residual torque as a CasADi function of the design variables only.
+
+Pinocchio stays numeric: for each workspace sample the :class:`~springbalance.model.kinematics.WorkspaceKinematics`
+cache supplies ``g(q)``, ``V_g(q)`` and, for every moving body that carries a spring end,
+its placement ``(R, t)`` and Jacobian ``J`` (LOCAL_WORLD_ALIGNED); the workspace supplies
+the coordinates ``q_i`` of the joints that carry torsional springs. These numbers form the
+*sample data* column. For a fixed sample each spring end is affine in its anchor
+coordinates (MODEL.md §2):
+
+.. math::
+    r = R\,p,\quad x = t + r,\quad J_p^T f = J_{lin}^T f + J_{ang}^T (r \times f),
+
+so the per-sample CasADi function ``sample(x, data) -> (tau, V, L, F, C)`` is small and exact,
+and ``sample.map(N)`` evaluates it over the workspace with exact derivatives. Each spring
+element (:class:`~springbalance.springs.laws.Spring`) adds its own share through
+:meth:`~springbalance.springs.Spring.contribution`, given a :class:`SampleContext`:
+
+.. math:: \tau = g + \sum_s \tau_s,\qquad V = V_g + \sum_s V_s,
+
+with :math:`\tau_s = F_s(L_s)\,(J_{p_b} - J_{p_a})^T u_s` (plus the weight of the spring's
+own mass) for a two-point spring and :math:`\tau_s = (k (q_i - q_0) + \tau_0)\, e_i` for a
+torsional spring.
+
+Scenarios (:mod:`springbalance.design.scenarios`): the samples of S load cases are stacked, and the data
+column ends with S selectors (1 for the sample's scenario, else 0). A per-scenario variable has S
+copies in ``x``; the springs see :math:`\sum_s \mathrm{sel}_s\, x_{copy_s}`, i.e. their own
+scenario's copy. Without scenarios nothing is added.
+
+Outputs per sample: ``tau`` (nv) [N·m or N], ``V`` (1) [J], spring states ``L`` (n_s: length
+[m] or joint angle [rad]), generalised forces ``F`` (n_s: tension [N] or torque [N·m]), and
+the constraint rows ``C`` (≥ 0 when feasible).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import os
+import shutil
+from typing import Sequence
+
+import casadi as ca
+import numpy as np
+import pinocchio as pin
+
+from springbalance.errors import InputError
+from springbalance.model.mechanism import Mechanism
+from springbalance.springs.params import Free
+from springbalance.springs.laws import Spring
+
+
+@dataclasses.dataclass
+class DesignVariables:
+    """The design vector ``x`` in physical units: names, bounds and first guess."""
+
+    names: list[str] = dataclasses.field(default_factory=list)
+    units: list[str] = dataclasses.field(default_factory=list)
+    lower: list[float] = dataclasses.field(default_factory=list)
+    upper: list[float] = dataclasses.field(default_factory=list)
+    start: list[float] = dataclasses.field(default_factory=list)
+
+    def add(self, name: str, unit: str, lower: float, upper: float, start: float) -> int:
+        self.names.append(name)
+        self.units.append(unit)
+        self.lower.append(float(lower))
+        self.upper.append(float(upper))
+        self.start.append(float(start))
+        return len(self.names) - 1
+
+    @property
+    def size(self) -> int:
+        return len(self.names)
+
+    def bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        return np.array(self.lower), np.array(self.upper)
+
+
+@dataclasses.dataclass(frozen=True)
+class ConstraintBlock:
+    """Rows of one practical constraint of one spring: N rows, one per sample, ``≥ 0``."""
+
+    spring: str
+    name: str
+    unit: str
+    offset: int  # first row of this block in the per-sample constraint vector
+    scale: float  # typical size of a violation [unit], for the solver's scaling
+
+
+class SampleContext:
+    """What a spring element sees of one sample (CasADi symbols of the data column).
+
+    ``point(body, p)`` → :class:`PointKinematics` of the body-fixed point ``p``;
+    ``coordinate(joint)`` → the joint coordinate ``q_i`` [rad or m];
+    ``direction(joint)`` → the unit torque vector ``e_i`` (nv); ``zero()`` → nv zeros;
+    ``gravity`` → the gravity vector (3) [m/s²].
+    """
+
+    def __init__(self, nv: int, gravity: np.ndarray, bodies: dict, ground: dict, coordinates: dict, joint_index: dict):
+        self.nv = nv
+        self.gravity = ca.DM(np.asarray(gravity, dtype=float).reshape(3, 1))
+        self._bodies, self._ground, self._coordinates, self._joint_index = bodies, ground, coordinates, joint_index
+
+    def point(self, body: str, local) -> "PointKinematics":
+        if body in self._bodies:
+            t, R, J = self._bodies[body]
+            lever = ca.mtimes(R, local)                  # R p, world-aligned [m]
+            return PointKinematics(t + lever, lever, J, self.nv)
+        t0, R0 = self._ground[body]
+        return PointKinematics(ca.DM(t0) + ca.mtimes(ca.DM(R0), local), None, None, self.nv)
+
+    def coordinate(self, joint: str):
+        return self._coordinates[joint]
+
+    def direction(self, joint: str) -> ca.DM:
+        unit = np.zeros(self.nv)
+        unit[self._joint_index[joint]] = 1.0
+        return ca.DM(unit)
+
+    def zero(self) -> ca.DM:
+        return ca.DM.zeros(self.nv, 1)
+
+
+class PointKinematics:
+    """A body-fixed point at one sample: world ``position`` and the map ``f -> J_p^T f``."""
+
+    def __init__(self, position, lever, jacobian, nv: int):
+        self.position, self._lever, self._jacobian, self._nv = position, lever, jacobian, nv
+
+    def generalized(self, force):
+        """``J_p^T f`` (nv): the joint torques of a force ``f`` [N] applied at the point (0 on the ground)."""
+        if self._jacobian is None:
+            return ca.DM.zeros(self._nv, 1)
+        J = self._jacobian
+        return ca.mtimes(J[:3, :].T, force) + ca.mtimes(J[3:, :].T, ca.cross(self._lever, force))
+
+
+class TorqueModel:
+    """Symbolic residual torque of a mechanism carrying springs.
+
+    Attributes:
+        variables: the design variables (names, bounds, first guess) in physical units.
+        bodies: moving bodies whose kinematics enter the sample data.
+        joints: joints whose coordinates enter the sample data (torsional springs).
+        sample: ``Function(x, data) -> (tau, V, L, F, C)`` for one sample.
+        constraint_blocks: which spring constraint each row of ``C`` belongs to.
+    """
+
+    def __init__(self, mechanism: Mechanism, springs: list[Spring], scenarios: Sequence[str] = (),
+                 per_scenario: Sequence[str] = ()):
+        self.mechanism = mechanism
+        self.springs = springs
+        self.variables = DesignVariables()
+        nv = mechanism.nv
+        self.bodies = _moving_bodies(mechanism, springs)
+        self.joints = _spring_joints(mechanism, springs)
+        self._ground = _ground_placements(mechanism, springs)
+
+        # Design variables: every free anchor coordinate and every Free parameter.
+        variable_slots = []  # (spring, end, region, index list)
+        for spring in springs:
+            for end, anchor in spring.anchors.items():
+                region = anchor.region()
+                indices = [self.variables.add(f"{spring.name}.{end}.{label}", "m" if len(region.labels) != 1 or label != "s" else "1",
+                                              lo, hi, s0)
+                           for label, lo, hi, s0 in zip(region.labels, region.lower, region.upper, region.start)]
+                variable_slots.append((spring, end, region, indices))
+            for key, value in spring.parameters.items():
+                if isinstance(value, Free) and value.upper > value.lower:
+                    self.variables.add(f"{spring.name}.{key}", spring.parameter_units[key],
+                                       float(value.lower), float(value.upper), float(value.start))
+        self._index = {name: i for i, name in enumerate(self.variables.names)}
+        self.base_variables = self.variables
+        self.scenarios = list(scenarios)
+        self._columns = self._scenario_variables(per_scenario)
+        x = ca.SX.sym("x", self.variables.size)
+
+        # Sample data: g (nv), V_g (1), q_i of each spring joint (n_j), then per moving body
+        # t (3), R (9, row-major), J (6·nv, row-major); with scenarios, one selector per
+        # scenario last (1 in the samples of that scenario, else 0).
+        self.data_size = nv + 1 + len(self.joints) + len(self.bodies) * (12 + 6 * nv) + len(self.scenarios)
+        data = ca.SX.sym("data", self.data_size)
+        local = self._local_symbols(x, data[self.data_size - len(self.scenarios):]) if self.scenarios else x
+        gravity_torque, gravity_potential = data[:nv], data[nv]
+        coordinates = {joint: data[nv + 1 + slot] for slot, joint in enumerate(self.joints)}
+        body_data = {}
+        offset = nv + 1 + len(self.joints)
+        for body in self.bodies:
+            t = data[offset:offset + 3]
+            R = ca.reshape(data[offset + 3:offset + 12], 3, 3).T
+            J = ca.reshape(data[offset + 12:offset + 12 + 6 * nv], nv, 6).T
+            body_data[body] = (t, R, J)
+            offset += 12 + 6 * nv
+        context = SampleContext(nv, mechanism.gravity, body_data, self._ground, coordinates,
+                                {joint: mechanism.joint(joint).index_v for joint in self.joints})
+
+        tau, potential = gravity_torque, gravity_potential
+        states, forces, constraint_rows = [], [], []
+        self.constraint_blocks: list[ConstraintBlock] = []
+        points = {}
+        for spring, end, region, indices in variable_slots:
+            point = ca.DM(region.offset) + (ca.mtimes(ca.DM(region.basis), local[indices]) if indices else 0)
+            points[(spring.name, end)] = point
+        for spring in springs:
+            parameters = self.parameter_values(spring, local)
+            own_points = {end: points[(spring.name, end)] for end in spring.anchors}
+            share = spring.contribution(context, parameters, own_points)
+            tau = tau + share.torque
+            potential = potential + share.potential
+            states.append(share.state)
+            forces.append(share.force)
+            for constraint in spring.constraints():
+                parts = getattr(constraint, "parts", None)
+                rows = constraint.rows(share.state, share.force, parameters)
+                if parts is None:
+                    parts, rows = ((constraint.name, constraint.unit, constraint.scale),), [rows]
+                for (name, unit, scale), row in zip(parts, rows):
+                    self.constraint_blocks.append(ConstraintBlock(spring.name, name, unit, len(constraint_rows),
+                                                                  float(scale)))
+                    constraint_rows.append(row)
+
+        self.n_springs = len(springs)
+        self.n_constraints = len(constraint_rows)
+        outputs = [tau, potential, ca.vertcat(*states), ca.vertcat(*forces), ca.vertcat(*constraint_rows)]
+        self.sample = ca.Function("sample", [x, data], outputs, ["x", "data"], ["tau", "V", "L", "F", "C"])
+        self._x = x
+
+    # ---------------------------------------------------------------- scenarios
+    def _scenario_variables(self, per_scenario) -> np.ndarray:
+        """With scenarios: replace every variable named in (or under) ``per_scenario`` by one copy
+        per scenario, ``<name>[<scenario>]``. Returns the S×n_base map base index → full index."""
+        base = self.base_variables
+        per_scenario = list(per_scenario)
+        self.per_scenario: list[int] = []  # base indices of the per-scenario variables
+        if not self.scenarios:
+            if per_scenario:
+                raise InputError(f"per-scenario variables {', '.join(per_scenario)} need scenarios")
+            return np.arange(base.size)[None, :]
+        adjustable = set()
+        for entry in per_scenario:
+            matches = [i for i, name in enumerate(base.names) if name == entry or name.startswith(entry + ".")]
+            if not matches:
+                raise InputError(f"per-scenario variable {entry!r} matches no design variable; variables: "
+                                 f"{', '.join(base.names) or '(none)'}")
+            adjustable.update(matches)
+        self.per_scenario = sorted(adjustable)
+        full = DesignVariables()
+        columns = np.zeros((len(self.scenarios), base.size), dtype=int)
+        for i, name in enumerate(base.names):
+            bounds = (base.units[i], base.lower[i], base.upper[i], base.start[i])
+            if i in adjustable:
+                for s, scenario in enumerate(self.scenarios):
+                    columns[s, i] = full.add(f"{name}[{scenario}]", *bounds)
+            else:
+                columns[:, i] = full.add(name, *bounds)
+        self.variables = full
+        return columns
+
+    def _local_symbols(self, x, selectors):
+        """The base design vector seen by one sample: shared entries of ``x``, and for per-scenario
+        variables ``Σ_s selector_s · x[copy_s]`` (the selector is 1 for the sample's scenario)."""
+        entries = []
+        for i in range(self.base_variables.size):
+            column = self._columns[:, i]
+            if np.all(column == column[0]):
+                entries.append(x[int(column[0])])
+            else:
+                entries.append(sum(selectors[s] * x[int(column[s])] for s in range(len(self.scenarios))))
+        return ca.vertcat(*entries) if entries else ca.SX(0, 1)
+
+    def scenario_vector(self, x, scenario: int = 0) -> np.ndarray:
+        """The base design vector (names in :attr:`base_variables`) of scenario ``scenario``."""
+        return np.asarray(x, dtype=float)[self._columns[scenario]]
+
+    @property
+    def n_scenarios(self) -> int:
+        return max(len(self.scenarios), 1)
+
+    # ---------------------------------------------------------------- design vector
+    def parameter_values(self, spring: Spring, x):
+        """Map of the spring's parameters to numbers or entries of the base vector ``x``."""
+        values = {}
+        for key, value in spring.parameters.items():
+            name = f"{spring.name}.{key}"
+            if name in self._index:
+                values[key] = x[self._index[name]]
+            else:
+                values[key] = float(value.lower) if isinstance(value, Free) else float(value)
+        return values
+
+    @property
+    def linear_indices(self) -> list[int]:
+        """Indices of design variables that the torque and the potential depend on linearly
+        (stiffness, initial tension, preload, constant force; not the stiffness of a spring whose
+        mass is coupled to it): for fixed other variables they solve a linear least-squares problem."""
+        base = [self._index[f"{spring.name}.{key}"] for spring in self.springs for key in spring.linear_parameters
+                if f"{spring.name}.{key}" in self._index]
+        return sorted({int(column) for i in base for column in self._columns[:, i]})
+
+    def anchor_point(self, spring: Spring, end: str, x: np.ndarray, scenario: int = 0) -> np.ndarray:
+        """Body-frame anchor point [m] of end ``"a"``/``"b"`` for design vector ``x`` (in ``scenario``)."""
+        x = self.scenario_vector(x, scenario)
+        region = spring.anchors[end].region()
+        coordinates = [x[self._index[f"{spring.name}.{end}.{label}"]] for label in region.labels]
+        return region.point(coordinates)
+
+    def spring_values(self, spring: Spring, x: np.ndarray, scenario: int = 0) -> dict:
+        """Numeric parameter values of ``spring`` for design vector ``x`` (in ``scenario``)."""
+        x = self.scenario_vector(x, scenario)
+        return {key: float(value) for key, value in self.parameter_values(spring, x).items()}
+
+    # ---------------------------------------------------------------- numeric data
+    def data_matrix(self, kinematics) -> np.ndarray:
+        """Sample data columns (data_size × N) from a workspace's numeric cache."""
+        kinematics.prepare(self.bodies)
+        n = kinematics.gravity_torque.shape[0]
+        blocks = [kinematics.gravity_torque, kinematics.potential[:, None]]
+        joint_values = kinematics.workspace.joint_values
+        for joint in self.joints:
+            column = self.mechanism.joint(joint).index_v
+            blocks.append(joint_values[:, column:column + 1])
+        for body in self.bodies:
+            body_kinematics = kinematics.body(body)
+            blocks += [body_kinematics.translation, body_kinematics.rotation.reshape(n, 9),
+                       body_kinematics.jacobian.reshape(n, -1)]
+        if self.scenarios:
+            if n % len(self.scenarios):
+                raise InputError(f"{n} samples do not split into {len(self.scenarios)} scenario blocks")
+            blocks.append(np.kron(np.eye(len(self.scenarios)), np.ones((n // len(self.scenarios), 1))))
+        return np.ascontiguousarray(np.hstack(blocks).T)
+
+    @functools.lru_cache(maxsize=8)
+    def mapped(self, n: int) -> ca.Function:
+        """``sample`` evaluated on ``n`` data columns (serial map: a loop in C)."""
+        return self.sample.map(n, "serial")
+
+    def evaluate(self, x, data: np.ndarray) -> dict[str, np.ndarray]:
+        """Numeric outputs over the samples: tau (N×nv), V (N), L (N×n_s), F (N×n_s), C (N×n_c)."""
+        n = data.shape[1]
+        tau, potential, lengths, tensions, rows = self.mapped(n)(np.asarray(x, dtype=float), data)
+        return {
+            "tau": np.array(tau).T.reshape(n, -1),
+            "V": np.array(potential).reshape(-1),
+            "L": np.array(lengths).T.reshape(n, self.n_springs),
+            "F": np.array(tensions).T.reshape(n, self.n_springs),
+            "C": np.array(rows).T.reshape(n, self.n_constraints),
+        }
+
+
+def _moving_bodies(mechanism: Mechanism, springs: list[Spring]) -> list[str]:
+    bodies = []
+    for spring in springs:
+        for body in spring.bodies:
+            try:
+                ground = mechanism.is_ground(body)
+            except InputError as error:
+                raise InputError(f"spring {spring.name!r}: {error}") from None
+            if not ground and body not in bodies:
+                bodies.append(body)
+    return bodies
+
+
+def _spring_joints(mechanism: Mechanism, springs: list[Spring]) -> list[str]:
+    joints = []
+    for spring in springs:
+        spring.check(mechanism)
+        for joint in spring.joints:
+            if joint not in joints:
+                joints.append(joint)
+    return joints
+
+
+def _ground_placements(mechanism: Mechanism, springs: list[Spring]) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    model = mechanism.model
+    data = model.createData()
+    pin.framesForwardKinematics(model, data, pin.neutral(model))
+    placements = {}
+    for spring in springs:
+        for body in spring.bodies:
+            if mechanism.is_ground(body):
+                placement = data.oMf[mechanism.frame_id(body)]
+                placements[body] = (np.array(placement.translation), np.array(placement.rotation))
+    return placements
+
+
+def compiler_available() -> bool:
+    """True when a C compiler is on PATH, so CasADi can JIT-compile the per-sample functions."""
+    return shutil.which(os.environ.get("CC", "gcc")) is not None or shutil.which("cc") is not None
+
+
+def compiled(function: ca.Function) -> ca.Function:
+    """``function`` JIT-compiled to C when a compiler is available (about 8× faster than
+    CasADi's virtual machine for these functions), else ``function`` itself.
+
+    Set ``SPRINGBALANCE_JIT=0`` to disable compilation.
+    """
+    if os.environ.get("SPRINGBALANCE_JIT", "1") == "0" or not compiler_available():
+        return function
+    compiler = os.environ.get("CC", "gcc") if shutil.which(os.environ.get("CC", "gcc")) else "cc"
+    folder = _jit_folder()
+    options = {"jit": True, "compiler": "shell", "jit_cleanup": True, "jit_temp_suffix": True,
+               "jit_name": "springbalance_jit",  # written into `directory`
+               "jit_options": {"flags": ["-O2"], "compiler": compiler, "verbose": False,
+                               "directory": folder + os.sep}}
+    try:
+        return ca.Function(function.name(), function.sx_in(), function.call(function.sx_in()), options)
+    except RuntimeError:  # compiler present but unusable: stay on the virtual machine
+        return function
+
+
+@functools.lru_cache(maxsize=1)
+def _jit_folder() -> str:
+    """Folder for generated C code and shared objects (CasADi removes its files after use)."""
+    import tempfile
+
+    folder = os.path.join(tempfile.gettempdir(), f"springbalance-jit-{os.getuid() if hasattr(os, 'getuid') else 0}")
+    os.makedirs(folder, exist_ok=True)
+    return folder
+
+
+class SampleEvaluator:
+    """Fast numeric evaluation of a per-sample function over fixed sample data.
+
+    Wraps ``function(x, data) -> outputs`` mapped over the N data columns with ``x``
+    shared, and evaluates through CasADi's zero-copy buffer interface into preallocated
+    NumPy arrays. An output of per-sample shape ``(rows, cols)`` comes back as an array
+    ``(N, cols, rows)`` — the per-sample *transpose*, which is CasADi's column-major
+    memory read row-major (a view, no copy, for dense outputs).
+    """
+
+    def __init__(self, function: ca.Function, data: np.ndarray):
+        n = data.shape[1]
+        self.n_samples = n
+        self.mapped = function.map(f"{function.name()}_map", "serial", n, [0], [], {})
+        self._x = np.zeros(function.size1_in(0))
+        self._data = np.asfortranarray(data).reshape(-1, order="F")
+        self._buffer, self._trigger = self.mapped.buffer()
+        self._buffer.set_arg(0, memoryview(self._x))
+        self._buffer.set_arg(1, memoryview(self._data))
+        self.outputs = []
+        self._sparse = []
+        for i in range(function.n_out()):
+            sparsity = function.sparsity_out(i)
+            rows, cols = sparsity.size1(), sparsity.size2()
+            raw = np.zeros(sparsity.nnz() * n)
+            self._buffer.set_res(i, memoryview(raw))
+            if sparsity.is_dense():
+                self.outputs.append(raw.reshape(n, cols, rows))
+                self._sparse.append(None)
+            else:
+                triplet_rows, triplet_cols = sparsity.get_triplet()
+                self.outputs.append(np.zeros((n, cols, rows)))
+                self._sparse.append((raw, np.array(triplet_cols, dtype=int), np.array(triplet_rows, dtype=int),
+                                     sparsity.nnz()))
+
+    def __call__(self, x) -> list[np.ndarray]:
+        self._x[:] = x
+        self._trigger()
+        for sparse, out in zip(self._sparse, self.outputs):
+            if sparse is not None and sparse[3]:
+                raw, cols, rows, nnz = sparse
+                out[:, cols, rows] = raw.reshape(self.n_samples, nnz)
+        return self.outputs

@@ -1,0 +1,676 @@
+r"""Export a balanced arm: a URDF with the spring anchors and a MuJoCo model with tendon springs.
+
+``export_urdf(result, "balanced.urdf")`` writes
+
+- the original URDF unchanged (every element and number as in the source file; relative mesh
+  paths made absolute so the file can live anywhere, ``package://`` paths kept or, with
+  ``resolve_packages=True``, replaced by absolute paths of example-robot-data's folders);
+- for every end of every two-point spring a massless link ``<spring>_anchor_<end>``, fixed to
+  its body at the anchor point by the joint ``<spring>_anchor_<end>_joint`` (written by
+  yourdfpy; an end on ``universe`` hangs from the URDF's root link, whose frame is the world);
+- per spring one namespaced element ``<springbalance:spring>`` (namespace :data:`URDF_NAMESPACE`)
+  with the law, its parameter values [SI] and the names of its anchor links as attributes,
+  and the spring's full record as JSON text; the same records go to the sidecar
+  ``balanced.springs.json``.
+
+The original elements are copied from the source XML rather than re-serialised, so that
+joint origins keep their exact text (a rotation written back from a matrix differs in the
+last bits). :func:`springs_from_urdf` reads the springs back, with the anchor points taken from
+the anchor joints' origins.
+
+``export_mjcf(result, "balanced.xml")`` writes a MuJoCo model built from the same URDF: one
+body per URDF link (fixed joints become bodies without a joint, no fusing), the URDF inertials
+exactly (``inertiafromgeom="false"``, ``balanceinertia="false"``), the design's gravity, and
+
+- a site at every anchor and one spatial tendon per two-point spring. MuJoCo's tendon spring
+  acts on the tendon length with the force :math:`-k (L - L_s)` (``stiffness`` k,
+  ``springlength`` L_s; positive lengthens), i.e. the tension :math:`F = k (L - L_s)`. The
+  laws of MODEL.md §2 map onto it with
+
+  ========================  =========================================
+  extension                 :math:`L_s = l_0 - F_0 / k`
+  zero-free-length          :math:`L_s = 0`
+  compression, gas          :math:`L_s = l_0 + F_0 / k`
+  ========================  =========================================
+
+  (``springlength="-1"`` means "length at qpos0" to MuJoCo: a law that lands exactly there, and
+  every law with ``k = 0``, becomes a zero-free-length tendon spring plus a constant force);
+- a constant tension ``F0`` (constant-force element, or the constant part above) as a
+  ``general`` actuator on the tendon whose force does not depend on its control: gain 0 and
+  the affine bias ``biasprm[0] = -F0`` (actuator force is positive when it lengthens);
+- a torsional spring as joint ``stiffness`` k with ``springref`` :math:`q_0 - \tau_0 / k`
+  (MuJoCo's joint spring torque is :math:`-k (q - q_{ref})`; several springs on one joint are
+  summed), or a constant joint actuator when ``k = 0``;
+- a spring's own mass as two point masses (bodies without a joint) at its ends on moving bodies.
+
+MuJoCo's tendon spring is linear and two-sided, exactly like the laws springbalance evaluates;
+a real spring may behave differently outside its range (an extension spring goes slack, a
+gas spring hits its end stop). Such springs are reported in the returned warnings, never
+changed. The model is written with full-precision numbers (MuJoCo's own writer, ``MjSpec.to_xml``,
+prints 6 significant digits) and loaded back through ``mujoco.MjSpec`` and compiled before it is
+saved. With zero velocity and acceleration, ``mj_inverse``'s ``qfrc_inverse`` minus the
+actuators' ``qfrc_actuator`` is the holding torque ``result.residual_torque(q)``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import os
+from pathlib import Path
+
+import numpy as np
+
+from springbalance.errors import InputError
+from springbalance.files import write_text_atomic
+
+URDF_NAMESPACE = "urn:springbalance:urdf-spring:1"
+SIDECAR_FORMAT = "springbalance-urdf-springs/1"
+GROUND = "universe"
+#: mesh formats MuJoCo loads
+MUJOCO_MESH_FORMATS = (".stl", ".obj", ".msh")
+
+
+@dataclasses.dataclass
+class ExportReport:
+    """What an export wrote, and what it could not express exactly.
+
+    Attributes:
+        path: the file written.
+        files: every file written (the URDF's sidecar JSON too).
+        warnings: springs whose real law differs from the exported one somewhere in the
+            workspace (slack, beyond the stroke, ...), and things left out (mesh formats).
+    """
+
+    path: Path
+    files: list[Path]
+    warnings: list[str]
+
+
+# ====================================================================== common
+def _source_urdf(result):
+    """(XML text, folder of the file or None) of the design's mechanism."""
+    source = result.problem.mechanism.source
+    kind = source.get("kind")
+    if kind in ("urdf", "robot"):
+        path = Path(source["path"])
+        try:
+            return path.read_text(), path.parent
+        except OSError as error:
+            raise InputError(f"cannot read the URDF {str(path)!r} of the design: {error.strerror}") from None
+    if kind == "urdf_string":
+        return source["text"], None
+    raise InputError(f"cannot export a mechanism built from a {kind!r} source: it has no URDF")
+
+
+def _number(value: float) -> str:
+    """Shortest text that reads back as exactly ``value``."""
+    return repr(float(value))
+
+
+def _vector(values) -> str:
+    return " ".join(_number(v) for v in values)
+
+
+def anchor_link_name(spring: str, end: str) -> str:
+    """Name of the URDF link (and MuJoCo site) of end ``end`` of spring ``spring``."""
+    return f"{spring}_anchor_{end}"
+
+
+def law_warnings(result) -> list[str]:
+    """Springs whose real law differs from the linear two-sided law somewhere in the workspace.
+
+    springbalance and MuJoCo both evaluate each law as written in MODEL.md §2 at every length;
+    a physical spring does not: an extension spring below its free length goes slack (or
+    solid), a compression spring longer than its free length loses contact, a gas spring
+    stops at its extended length and bottoms out beyond its stroke, a constant-force element
+    ends at its stroke. Each case found at a workspace sample is one message.
+    """
+    evaluation = result.evaluation
+    warnings = []
+    for column, (spring, record) in enumerate(zip(result.problem.springs, result.springs)):
+        if not spring.anchors:
+            continue
+        lengths = evaluation.lengths[:, column]
+        count = lengths.size
+        kind = spring.kind
+        tolerance = 1e-9                                                      # [m]
+        if kind == "extension":
+            free = record["free_length"]
+            slack = int(np.sum(lengths < free - tolerance))
+            if slack:
+                option = "keep_tension is false" if not spring.keep_tension else "keep_tension is violated"
+                warnings.append(
+                    f"spring {spring.name!r} (extension) is shorter than its free length l0 = {free:.6g} m at "
+                    f"{slack} of {count} workspace samples (shortest {lengths.min():.6g} m; {option}): a real "
+                    "extension spring goes slack there, while the exported MuJoCo tendon spring (like springbalance's "
+                    "law) keeps the linear law and pushes")
+        elif kind in ("compression", "gas"):
+            free = record["free_length"]
+            longer = int(np.sum(lengths > free + tolerance))
+            if longer:
+                what = "stops at its extended length" if kind == "gas" else "loses contact"
+                warnings.append(
+                    f"spring {spring.name!r} ({kind}) is longer than its free length l0 = {free:.6g} m at {longer} of "
+                    f"{count} workspace samples (longest {lengths.max():.6g} m): a real {kind} spring {what} there, "
+                    "while the exported MuJoCo tendon spring keeps the linear law and pulls")
+            stroke = getattr(spring, "stroke", None)
+            if stroke is not None:
+                beyond = int(np.sum(lengths < free - stroke - tolerance))
+                if beyond:
+                    warnings.append(
+                        f"spring {spring.name!r} ({kind}) is compressed beyond its stroke {stroke:.6g} m at {beyond} "
+                        f"of {count} workspace samples (shortest {lengths.min():.6g} m, limit {free - stroke:.6g} m): "
+                        "a real one bottoms out there, the exported MuJoCo tendon spring keeps the linear law")
+        if getattr(spring, "min_length", None) is not None or getattr(spring, "max_length", None) is not None:
+            low = spring.min_length if spring.min_length is not None else -np.inf
+            high = spring.max_length if spring.max_length is not None else np.inf
+            outside = int(np.sum((lengths < low - tolerance) | (lengths > high + tolerance)))
+            if outside:
+                warnings.append(
+                    f"spring {spring.name!r} ({kind}) leaves its length range [{low:.6g}, {high:.6g}] m at {outside} "
+                    f"of {count} workspace samples: the exported law does not stop at the ends of the range")
+    return warnings
+
+
+# ====================================================================== URDF
+def export_urdf(result, path: str | Path, resolve_packages: bool = False, sidecar: bool = True) -> ExportReport:
+    """Write the design's URDF with anchor links and spring records; see the module docstring.
+
+    ``resolve_packages``: replace ``package://`` mesh paths by absolute paths (example-robot-data's
+    folders, :func:`springbalance.model.robots.package_directories`); by default they are kept.
+    ``sidecar``: also write ``<stem>.springs.json`` next to the URDF. Raises
+    :class:`~springbalance.errors.InputError` (nothing written) when a name is taken or the
+    written file does not read back.
+    """
+    path = Path(path)
+    xml, record = urdf_strings(result, path.name, resolve_packages)
+    files = [write_text_atomic(path, xml)]
+    if sidecar:
+        files.append(write_text_atomic(sidecar_path(path), record))
+    return ExportReport(path, files, law_warnings(result))
+
+
+def urdf_strings(result, name: str = "balanced.urdf", resolve_packages: bool = False) -> tuple[str, str]:
+    """(URDF text, sidecar JSON text) of :func:`export_urdf`, checked to load back."""
+    from lxml import etree
+
+    text, folder = _source_urdf(result)
+    try:
+        root = etree.fromstring(text.encode(), parser=etree.XMLParser(remove_blank_text=False))
+    except etree.XMLSyntaxError as error:
+        raise InputError(f"the design's URDF could not be parsed: {error}") from None
+    _rewrite_mesh_paths(root, folder, resolve_packages)
+    links = {element.get("name") for element in root.findall("link")}
+    joints = {element.get("name") for element in root.findall("joint")}
+    root_link = _root_link(root)
+
+    # the namespaced records: the root gets the namespace declaration
+    robot = etree.Element("robot", nsmap={"springbalance": URDF_NAMESPACE})
+    for key, value in root.attrib.items():
+        robot.set(key, value)
+    robot.text, robot.tail = root.text, root.tail
+    for child in list(root):
+        robot.append(child)
+    root = robot
+
+    anchor_elements = []
+    records = []
+    for spring, record, values in zip(result.problem.springs, result.fixed_springs(), result.springs):
+        saved = record.to_dict()
+        attributes = {"name": spring.name, "type": spring.kind}
+        for key in spring.parameter_units:
+            attributes[key] = _number(values[key])
+        if "joint" in values:
+            attributes["joint"] = values["joint"]
+        for end in spring.anchors:
+            link_name = anchor_link_name(spring.name, end)
+            joint_name = link_name + "_joint"
+            if link_name in links or joint_name in joints:
+                raise InputError(f"cannot add the anchor link {link_name!r}: the URDF already has a link or joint "
+                                 f"called {link_name!r} or {joint_name!r}")
+            body = values[end]["body"]
+            parent = root_link if body == GROUND else body
+            anchor_elements += _anchor_elements(link_name, joint_name, parent, values[end]["point"])
+            attributes[f"anchor_{end}"] = link_name
+            saved[end] = {"body": body, "point": [float(v) for v in values[end]["point"]], "link": link_name}
+        element = etree.SubElement(root, f"{{{URDF_NAMESPACE}}}spring", attrib=attributes)
+        element.text = json.dumps(saved)
+        records.append(saved)
+    for element in anchor_elements:
+        root.append(element)
+    etree.indent(root, space="  ")
+    xml = etree.tostring(root, xml_declaration=True, encoding="utf-8", pretty_print=True).decode()
+    _check_urdf(xml, result)
+    mechanism = result.problem.mechanism
+    sidecar = {"format": SIDECAR_FORMAT, "urdf": name, "namespace": URDF_NAMESPACE,
+               "gravity": mechanism.gravity.tolist(), "mimic": bool(mechanism.source.get("mimic", False)),
+               "joints": mechanism.joint_names, "springs": records}
+    return xml, json.dumps(sidecar, indent=1) + "\n"
+
+
+def sidecar_path(urdf_path: str | Path) -> Path:
+    """``balanced.urdf`` → ``balanced.springs.json``."""
+    urdf_path = Path(urdf_path)
+    return urdf_path.with_name(urdf_path.stem + ".springs.json")
+
+
+def _anchor_elements(link_name: str, joint_name: str, parent: str, point) -> list:
+    """The massless link and its fixed joint at ``point`` [m] of ``parent``, written by yourdfpy."""
+    import yourdfpy
+    from lxml import etree
+
+    origin = np.eye(4)
+    origin[:3, 3] = np.asarray(point, dtype=float)
+    writer = yourdfpy.URDF(robot=yourdfpy.Robot(name="anchor"), build_scene_graph=False, load_meshes=False)
+    holder = etree.Element("robot")
+    writer._write_link(holder, yourdfpy.Link(name=link_name))
+    writer._write_joint(holder, yourdfpy.Joint(name=joint_name, type="fixed", parent=parent, child=link_name,
+                                               origin=origin))
+    elements = list(holder)
+    # yourdfpy writes str(float), which reads back exactly; keep the rpy text plain zeros
+    for element in elements:
+        for origin_element in element.iter("origin"):
+            origin_element.set("xyz", _vector(point))
+            origin_element.set("rpy", "0 0 0")
+    return elements
+
+
+def _root_link(root) -> str:
+    children = {joint.find("child").get("link") for joint in root.findall("joint") if joint.find("child") is not None}
+    roots = [link.get("name") for link in root.findall("link") if link.get("name") not in children]
+    if len(roots) != 1:
+        raise InputError(f"the URDF has {len(roots)} root links ({', '.join(roots)}); expected one")
+    return roots[0]
+
+
+def _rewrite_mesh_paths(root, folder: Path | None, resolve_packages: bool) -> None:
+    from springbalance.model import robots
+
+    for mesh in root.iter("mesh"):
+        filename = mesh.get("filename")
+        if not filename:
+            continue
+        if filename.startswith("package://"):
+            if resolve_packages:
+                resolved = _resolve_package(filename, robots.package_directories())
+                if resolved is not None:
+                    mesh.set("filename", str(resolved))
+        elif filename.startswith("file://"):
+            continue
+        elif not os.path.isabs(filename) and folder is not None:
+            mesh.set("filename", str((folder / filename).resolve()))
+
+
+def _resolve_package(filename: str, directories) -> Path | None:
+    relative = filename[len("package://"):]
+    for directory in directories:
+        candidate = Path(directory) / relative
+        if candidate.is_file():
+            return candidate
+        package, _, rest = relative.partition("/")
+        candidate = Path(directory) / rest
+        if rest and candidate.is_file():
+            return candidate
+    return None
+
+
+def _check_urdf(xml: str, result) -> None:
+    """The written URDF loads in Pinocchio and yourdfpy, and its anchors are the design's."""
+    import io
+
+    import yourdfpy
+
+    from springbalance.model.mechanism import Mechanism
+
+    try:
+        Mechanism.from_urdf_string(xml, mimic=bool(result.problem.mechanism.source.get("mimic", False)))
+        yourdfpy.URDF.load(io.BytesIO(xml.encode()), build_scene_graph=False, load_meshes=False)
+    except Exception as error:
+        raise InputError(f"the exported URDF does not load back: {error}") from None
+
+
+def springs_from_urdf(path: str | Path) -> list:
+    """The springs recorded in a URDF written by :func:`export_urdf`, every value fixed.
+
+    The anchor points are read from the origins of the anchor links' joints, the other
+    values from the ``<springbalance:spring>`` records.
+    """
+    from lxml import etree
+
+    from springbalance.springs.laws import spring_from_dict
+
+    path = Path(path)
+    try:
+        root = etree.parse(str(path)).getroot()
+    except (OSError, etree.XMLSyntaxError) as error:
+        raise InputError(f"URDF {str(path)!r} could not be read: {error}") from None
+    joints = {joint.find("child").get("link"): joint for joint in root.findall("joint")}
+    root_link = _root_link(root)
+    springs = []
+    for element in root.iter(f"{{{URDF_NAMESPACE}}}spring"):
+        record = json.loads(element.text)
+        for end in ("a", "b"):
+            if end not in record:
+                continue
+            joint = joints.get(element.get(f"anchor_{end}"))
+            if joint is None:
+                raise InputError(f"URDF {str(path)!r}: spring {record['name']!r} has no anchor link for end {end!r}")
+            parent = joint.find("parent").get("link")
+            origin = joint.find("origin")
+            body = record[end]["body"] if parent == root_link and record[end]["body"] == GROUND else parent
+            record[end] = {"body": body, "point": [float(v) for v in origin.get("xyz").split()]}
+        springs.append(spring_from_dict(record, f"{path.name}: spring {record.get('name')!r}"))
+    if not springs:
+        raise InputError(f"URDF {str(path)!r} holds no springbalance springs")
+    return springs
+
+
+# ====================================================================== MuJoCo
+def export_mjcf(result, path: str | Path) -> ExportReport:
+    """Write the balanced arm as a MuJoCo model (MJCF); see the module docstring."""
+    xml, warnings = mjcf_string(result)
+    return ExportReport(Path(path), [write_text_atomic(path, xml)], warnings)
+
+
+def mjcf_string(result) -> tuple[str, list[str]]:
+    """(MJCF text, warnings) of the balanced arm; the text compiles with ``mujoco.MjSpec``."""
+    import mujoco
+    from lxml import etree
+
+    text, folder = _source_urdf(result)
+    builder = _MjcfBuilder(result, text, folder)
+    xml = etree.tostring(builder.build(), pretty_print=True, encoding="unicode")
+    try:
+        mujoco.MjSpec.from_string(xml).compile()
+    except ValueError as error:
+        message = " ".join(str(error).split())
+        if "inertia must satisfy" not in message:
+            raise InputError(f"MuJoCo rejects the exported model: {message}") from None
+        builder.compiler.set("balanceinertia", "true")
+        builder.warnings.append(f"MuJoCo rejects an URDF inertia ({message}); balanceinertia is on, which changes "
+                                "rotational inertias (static torques are unaffected)")
+        xml = etree.tostring(builder.root, pretty_print=True, encoding="unicode")
+        try:
+            mujoco.MjSpec.from_string(xml).compile()
+        except ValueError as error:
+            raise InputError(f"MuJoCo rejects the exported model: {' '.join(str(error).split())}") from None
+    return xml, law_warnings(result) + builder.warnings
+
+
+class _MjcfBuilder:
+    """Builds the MJCF tree of the balanced arm from the design's URDF and values."""
+
+    def __init__(self, result, urdf_text: str, folder: Path | None):
+        import io
+
+        import yourdfpy
+
+        self.result = result
+        self.mechanism = result.problem.mechanism
+        self.folder = folder
+        self.urdf = yourdfpy.URDF.load(io.BytesIO(urdf_text.encode()), build_scene_graph=False, load_meshes=False)
+        self.warnings: list[str] = []
+        self.meshes: dict[str, str] = {}
+        self.joint_springs: dict[str, list] = {}
+
+    def build(self):
+        from lxml import etree
+
+        E = etree.SubElement
+        robot = self.urdf.robot
+        self.root = root = etree.Element("mujoco", model=robot.name or "springbalance")
+        self.compiler = E(root, "compiler", angle="radian", inertiafromgeom="false", balanceinertia="false",
+                          fusestatic="false", discardvisual="false", boundmass="0", boundinertia="0",
+                          autolimits="true")
+        E(root, "option", gravity=_vector(self.mechanism.gravity))
+        self.asset = E(root, "asset")
+        world = E(root, "worldbody")
+        self.bodies = {GROUND: world}
+        children: dict[str, list] = {}
+        for joint in robot.joints:
+            children.setdefault(joint.parent, []).append(joint)
+        links = {link.name: link for link in robot.links}
+        roots = [name for name in links if name not in {joint.child for joint in robot.joints}]
+        if len(roots) != 1:
+            raise InputError(f"the URDF has {len(roots)} root links ({', '.join(roots)}); expected one")
+        root_link = roots[0]
+        self._add_body(world, links[root_link], None, links, children)
+        self._add_springs(root)
+        self._add_mimic(root)
+        if not len(self.asset):
+            root.remove(self.asset)
+        return root
+
+    # ---------------------------------------------------------------- bodies
+    def _add_body(self, parent, link, joint, links, children):
+        from lxml import etree
+
+        E = etree.SubElement
+        attributes = {"name": link.name}
+        if joint is not None and joint.origin is not None:
+            attributes["pos"] = _vector(joint.origin[:3, 3])
+            attributes["quat"] = _vector(_quaternion(joint.origin[:3, :3]))
+        # a root link called "world" is MuJoCo's world body (the name is taken); its mass holds nothing up
+        merged = joint is None and link.name == "world"
+        body = parent if merged else E(parent, "body", **attributes)
+        self.bodies[link.name] = body
+        inertial = link.inertial
+        if not merged and inertial is not None and inertial.mass is not None and inertial.mass > 0:
+            origin = inertial.origin if inertial.origin is not None else np.eye(4)
+            rotation = origin[:3, :3]
+            inertia = rotation @ (inertial.inertia if inertial.inertia is not None else np.zeros((3, 3))) @ rotation.T
+            E(body, "inertial", pos=_vector(origin[:3, 3]), mass=_number(inertial.mass),
+              fullinertia=_vector([inertia[0, 0], inertia[1, 1], inertia[2, 2],
+                                   inertia[0, 1], inertia[0, 2], inertia[1, 2]]))
+        if joint is not None and joint.type != "fixed":
+            self._add_joint(body, joint)
+        for index, visual in enumerate(link.visuals):
+            self._add_geom(body, visual, f"{link.name}_visual{index}", visual=True)
+        for index, collision in enumerate(link.collisions):
+            self._add_geom(body, collision, f"{link.name}_collision{index}", visual=False)
+        for child in children.get(link.name, []):
+            self._add_body(body, links[child.child], child, links, children)
+
+    def _add_joint(self, body, joint):
+        from lxml import etree
+
+        kinds = {"revolute": "hinge", "continuous": "hinge", "prismatic": "slide"}
+        if joint.type not in kinds:
+            raise InputError(f"joint {joint.name!r} is {joint.type}; the MuJoCo export supports revolute, "
+                             "continuous, prismatic and fixed joints")
+        axis = joint.axis if joint.axis is not None else np.array([1.0, 0.0, 0.0])
+        attributes = {"name": joint.name, "type": kinds[joint.type], "axis": _vector(axis)}
+        limit = joint.limit
+        if joint.type != "continuous" and limit is not None and limit.lower is not None and limit.upper is not None \
+                and limit.lower < limit.upper:
+            attributes["range"] = _vector([limit.lower, limit.upper])
+            attributes["limited"] = "true"
+        else:
+            attributes["limited"] = "false"
+        if joint.dynamics is not None:
+            if joint.dynamics.damping:
+                attributes["damping"] = _number(joint.dynamics.damping)
+            if joint.dynamics.friction:
+                attributes["frictionloss"] = _number(joint.dynamics.friction)
+        etree.SubElement(body, "joint", **attributes)
+
+    def _add_geom(self, body, element, name, visual: bool):
+        from lxml import etree
+
+        geometry = element.geometry
+        attributes = {"name": name}
+        if visual:
+            attributes.update(contype="0", conaffinity="0", group="1")
+        else:
+            attributes.update(group="3")
+        origin = element.origin if element.origin is not None else np.eye(4)
+        attributes["pos"] = _vector(origin[:3, 3])
+        attributes["quat"] = _vector(_quaternion(origin[:3, :3]))
+        if geometry.box is not None:
+            attributes.update(type="box", size=_vector(np.asarray(geometry.box.size) / 2))
+        elif geometry.cylinder is not None:
+            attributes.update(type="cylinder", size=_vector([geometry.cylinder.radius, geometry.cylinder.length / 2]))
+        elif geometry.sphere is not None:
+            attributes.update(type="sphere", size=_number(geometry.sphere.radius))
+        elif geometry.mesh is not None:
+            mesh = self._mesh_asset(geometry.mesh, name)
+            if mesh is None:
+                return
+            attributes.update(type="mesh", mesh=mesh)
+        else:
+            return
+        etree.SubElement(body, "geom", **attributes)
+
+    def _mesh_asset(self, mesh, name):
+        from lxml import etree
+
+        from springbalance.model import robots
+
+        filename = mesh.filename
+        if filename.startswith("package://"):
+            resolved = _resolve_package(filename, robots.package_directories())
+        elif filename.startswith("file://"):
+            resolved = Path(filename[len("file://"):])
+        else:
+            resolved = Path(filename) if os.path.isabs(filename) or self.folder is None else self.folder / filename
+        if resolved is None or not Path(resolved).is_file():
+            self.warnings.append(f"mesh {filename!r} not found; geom {name!r} left out of the MuJoCo model")
+            return None
+        if Path(resolved).suffix.lower() not in MUJOCO_MESH_FORMATS:
+            self.warnings.append(f"mesh {filename!r}: MuJoCo does not load {Path(resolved).suffix} files; "
+                                 f"geom {name!r} left out of the MuJoCo model")
+            return None
+        key = str(Path(resolved).resolve())
+        scale = mesh.scale
+        scale = np.ones(3) if scale is None else np.broadcast_to(np.asarray(scale, dtype=float), (3,))
+        key_scale = (key, tuple(scale))
+        if key_scale not in self.meshes:
+            asset = f"mesh{len(self.meshes)}_{Path(key).stem}"
+            attributes = {"name": asset, "file": key}
+            if not np.all(scale == 1):
+                attributes["scale"] = _vector(scale)
+            etree.SubElement(self.asset, "mesh", **attributes)
+            self.meshes[key_scale] = asset
+        return self.meshes[key_scale]
+
+    # ---------------------------------------------------------------- springs
+    def _add_springs(self, root):
+        from lxml import etree
+
+        E = etree.SubElement
+        tendon = E(root, "tendon")
+        actuator = E(root, "actuator")
+        for spring, record in zip(self.result.problem.springs, self.result.springs):
+            if not spring.anchors:
+                self._add_torsional(actuator, spring, record)
+                continue
+            sites = []
+            for end in spring.anchors:
+                body = self._body(record[end]["body"])
+                name = anchor_link_name(spring.name, end)
+                E(body, "site", name=name, pos=_vector(record[end]["point"]), size="0.01")
+                sites.append(name)
+            stiffness, spring_length, constant = _tendon_law(spring, record)            # [N/m], [m], [N]
+            attributes = {"name": spring.name, "stiffness": _number(stiffness), "width": "0.004",
+                          "rgba": "0.9 0.6 0.1 1"}
+            if stiffness > 0:
+                attributes["springlength"] = _vector([spring_length, spring_length])
+            spatial = E(tendon, "spatial", **attributes)
+            for site in sites:
+                E(spatial, "site", site=site)
+            if constant != 0:
+                # constant tension F0 pulls: the actuator force (positive lengthens) is -F0, whatever the control
+                E(actuator, "general", name=f"{spring.name}_constant_force", tendon=spring.name, gainprm="0",
+                  biastype="affine", biasprm=_vector([-constant, 0, 0]))
+            mass = record.get("mass")
+            if mass:
+                for end in spring.anchors:
+                    body_name = record[end]["body"]
+                    if self.mechanism.is_ground(body_name):
+                        continue
+                    point_mass = E(self._body(body_name), "body", name=f"{spring.name}_mass_{end}",
+                                   pos=_vector(record[end]["point"]))
+                    E(point_mass, "inertial", pos="0 0 0", mass=_number(0.5 * mass), diaginertia="0 0 0")
+        self._finish_torsional(actuator)
+        for element in (tendon, actuator):
+            if not len(element):
+                root.remove(element)
+
+    def _add_torsional(self, actuator, spring, record):
+        """Collect a torsional spring; :meth:`_finish_torsional` writes each joint's sum."""
+        stiffness, neutral, preload = record["stiffness"], record["neutral_angle"], record.get("preload", 0.0)
+        total = self.joint_springs.setdefault(record["joint"], [0.0, 0.0, []])
+        total[0] += stiffness                                  # Σ k [N·m/rad]
+        total[1] += stiffness * neutral - preload              # Σ (k q0 - τ0) [N·m]
+        total[2].append(spring.name)
+
+    def _finish_torsional(self, actuator):
+        from lxml import etree
+
+        for joint_name, (stiffness, offset, names) in self.joint_springs.items():
+            joint = self.root.find(f".//body/joint[@name='{joint_name}']")
+            # Σ k_i (q - q0_i) + τ0_i = k (q - q_ref) with k = Σ k_i, q_ref = Σ (k_i q0_i - τ0_i) / k;
+            # MuJoCo's joint spring applies -k (q - springref)
+            if stiffness > 0:
+                joint.set("stiffness", _number(stiffness))
+                joint.set("springref", _number(offset / stiffness))
+            elif offset != 0:
+                # constant torque τ0 = -offset held by the springs; the actuator applies -τ0 whatever its control
+                etree.SubElement(actuator, "general", name=f"{'_'.join(names)}_constant_torque", joint=joint_name,
+                                 gainprm="0", biastype="affine", biasprm=_vector([offset, 0, 0]))
+
+    def _add_mimic(self, root):
+        from lxml import etree
+
+        mimics = [joint for joint in self.urdf.robot.joints if joint.mimic is not None]
+        if not mimics:
+            return
+        equality = etree.SubElement(root, "equality")
+        for joint in mimics:
+            multiplier = joint.mimic.multiplier if joint.mimic.multiplier is not None else 1.0
+            offset = joint.mimic.offset if joint.mimic.offset is not None else 0.0
+            etree.SubElement(equality, "joint", joint1=joint.name, joint2=joint.mimic.joint,
+                             polycoef=_vector([offset, multiplier, 0, 0, 0]))
+            self.warnings.append(
+                f"mimic joint {joint.name!r} follows {joint.mimic.joint!r} through a joint equality constraint in "
+                f"MuJoCo, which has a DOF for each: the holding torque of {joint.mimic.joint!r} is MuJoCo's torque on "
+                f"it plus {multiplier:g} × the torque on {joint.name!r}")
+
+    def _body(self, name):
+        if name == GROUND:
+            return self.bodies[GROUND]
+        return self.bodies[name]
+
+
+def _tendon_law(spring, record) -> tuple[float, float, float]:
+    """MuJoCo tendon ``(stiffness k [N/m], springlength L_s [m], constant tension F_c [N])`` with
+    ``F(L) = k (L - L_s) + F_c`` equal to the spring's law for every length."""
+    kind = spring.kind
+    if kind == "zero_free_length":
+        return record["stiffness"], 0.0, 0.0
+    if kind == "constant_force":
+        return 0.0, 0.0, record["force"]
+    if kind == "extension":
+        k, l0, f0 = record["stiffness"], record["free_length"], record["initial_tension"]
+        constant = f0 - k * l0                     # F = k L + (F0 - k l0)
+    elif kind in ("compression", "gas"):
+        k, l0, f0 = record["stiffness"], record["free_length"], record["preload"]
+        constant = -f0 - k * l0                    # F = k (L - l0) - F0
+    else:
+        raise InputError(f"spring {spring.name!r}: the MuJoCo export does not know the law {kind!r}")
+    if k <= 0:
+        return 0.0, 0.0, constant
+    length = -constant / k                         # L_s with F = k (L - L_s)
+    if length == -1.0:                             # MuJoCo's "length at qpos0" sentinel
+        return k, 0.0, constant
+    return k, length, 0.0
+
+
+def _quaternion(rotation) -> np.ndarray:
+    """Unit quaternion (w, x, y, z) of a rotation matrix."""
+    import pinocchio as pin
+
+    quaternion = pin.Quaternion(np.asarray(rotation, dtype=float))
+    quaternion.normalize()
+    return np.array([quaternion.w, quaternion.x, quaternion.y, quaternion.z])

@@ -1,0 +1,85 @@
+"""Find URDFs shipped by the ``example-robot-data`` package.
+
+example-robot-data 6.x on PyPI installs its robots under
+``<site-packages>/cmeel.prefix/share/example-robot-data/robots/``; it has no Python
+module. A robot is named by the stem of its URDF file (``ur5_robot``, ``panda``) or by
+one of the short aliases the upstream loaders use (``ur5``, ``panda``, ``talos_arm``).
+"""
+
+from __future__ import annotations
+
+import functools
+import sysconfig
+from pathlib import Path
+
+from springbalance.errors import InputError
+
+#: Short names used by example-robot-data's own loaders -> path below ``robots/``.
+ALIASES: dict[str, str] = {
+    "ur3": "ur_description/urdf/ur3_robot.urdf",
+    "ur5": "ur_description/urdf/ur5_robot.urdf",
+    "ur10": "ur_description/urdf/ur10_robot.urdf",
+    "ur3_limited": "ur_description/urdf/ur3_joint_limited_robot.urdf",
+    "ur5_limited": "ur_description/urdf/ur5_joint_limited_robot.urdf",
+    "ur10_limited": "ur_description/urdf/ur10_joint_limited_robot.urdf",
+    "panda": "panda_description/urdf/panda.urdf",
+    "kinova": "kinova_description/robots/kinova.urdf",
+    "z1": "z1_description/urdf/z1.urdf",
+    "xarm7": "xarm_description/urdf/xarm7.urdf",
+    "so100": "so_arm_description/urdf/so100.urdf",
+    "so101": "so_arm_description/urdf/so101.urdf",
+    "double_pendulum": "double_pendulum_description/urdf/double_pendulum.urdf",
+    "double_pendulum_continuous": "double_pendulum_description/urdf/double_pendulum_continuous.urdf",
+    "double_pendulum_simple": "double_pendulum_description/urdf/double_pendulum_simple.urdf",
+    "talos_arm": "talos_data/robots/talos_left_arm.urdf",
+    "finger_edu": "finger_edu_description/robots/finger_edu.urdf",
+    "asr_twodof": "asr_twodof_description/urdf/TwoDofs.urdf",
+}
+
+
+@functools.lru_cache(maxsize=1)
+def share_directory() -> Path:
+    """The installed ``example-robot-data`` share folder (parent of ``robots/``)."""
+    candidates = []
+    for key in ("purelib", "platlib", "data"):
+        base = Path(sysconfig.get_paths()[key])
+        candidates += [base / "cmeel.prefix/share/example-robot-data", base / "share/example-robot-data"]
+    for candidate in candidates:
+        if (candidate / "robots").is_dir():
+            return candidate
+    raise InputError(
+        "example-robot-data is not installed (looked in "
+        + ", ".join(str(c) for c in candidates)
+        + "); install it with `pip install example-robot-data`"
+    )
+
+
+@functools.lru_cache(maxsize=1)
+def available_robots() -> dict[str, Path]:
+    """Every robot name that :func:`robot_urdf` accepts, mapped to its URDF path."""
+    robots_dir = share_directory() / "robots"
+    names: dict[str, Path] = {}
+    for urdf in sorted(robots_dir.rglob("*.urdf")):
+        names.setdefault(urdf.stem, urdf)
+    for alias, relative in ALIASES.items():
+        if (robots_dir / relative).is_file():
+            names[alias] = robots_dir / relative
+    return dict(sorted(names.items()))
+
+
+def robot_urdf(name: str) -> Path:
+    """Path of the URDF of the example-robot-data robot ``name``.
+
+    Raises:
+        InputError: ``name`` is unknown; the message lists the available names.
+    """
+    robots = available_robots()
+    if name not in robots:
+        raise InputError(f"unknown example-robot-data robot {name!r}; available: {', '.join(robots)}")
+    return robots[name]
+
+
+def package_directories() -> list[str]:
+    """Folders that resolve ``package://`` mesh paths of example-robot-data URDFs."""
+    share = share_directory()
+    return [str(share / "robots"), str(share.parent)]

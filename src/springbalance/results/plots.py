@@ -1,0 +1,124 @@
+"""Plots of what the actuators still carry (matplotlib, no display needed).
+
+- :func:`plot_torques`: for each joint, its torque against its own angle along a sweep of
+  that joint (the other joints at the middle of their workspace ranges,
+  :func:`springbalance.model.sweeps.joint_sweep`), gravity only ("before") and with the springs
+  ("after").
+- :func:`plot_histogram`: the distribution of every joint's torque over all the samples of
+  the design's workspace, before and after.
+
+Figures are plain ``matplotlib.figure.Figure`` objects drawn by the Agg canvas, so they
+work without a display and do not touch pyplot's global state; :func:`save_figure`
+writes PNG and SVG. Units: torques in N·m (N for prismatic joints), revolute and
+continuous joint angles in degrees on the axes.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+
+from springbalance.model import sweeps
+
+BEFORE_COLOR = "#7f7f7f"
+AFTER_COLOR = "#d7301f"
+
+
+def _axis_values(joint, values: np.ndarray) -> tuple[np.ndarray, str]:
+    if joint.kind == "prismatic":
+        return values, f"{joint.name} [m]"
+    return np.rad2deg(values), f"{joint.name} [deg]"
+
+
+def torque_sweeps(result, points: int = 121) -> list[dict]:
+    """Per moving joint: the sweep's joint values and that joint's torque before and after.
+
+    Returns a list of ``{"joint", "values" (n) [rad or m], "before" (n), "after" (n)}``
+    [N·m or N], in joint order; joints held fixed by the workspace are left out.
+    """
+    rows = []
+    for joint in sweeps.moving_joints(result):
+        workspace = sweeps.joint_sweep(result, joint.name, points)
+        before = workspace.kinematics().gravity_torque[:, joint.index_v]
+        after = result.evaluate_on(workspace).tau[:, joint.index_v]
+        rows.append({"joint": joint, "values": workspace.joint_values[:, joint.index_v], "before": before,
+                     "after": after})
+    return rows
+
+
+def plot_torques(result, points: int = 121, path: str | Path | None = None) -> Figure:
+    """Each joint's torque against its angle, before and after balancing (one panel per joint).
+
+    ``path`` (optional): also save the figure there as PNG and SVG (see :func:`save_figure`).
+    """
+    rows = torque_sweeps(result, points)
+    columns = min(len(rows), 3) or 1
+    lines = int(np.ceil(len(rows) / columns)) or 1
+    figure = Figure(figsize=(4.2 * columns, 3.2 * lines), layout="constrained")
+    FigureCanvasAgg(figure)
+    if not rows:
+        axes = figure.add_subplot()
+        axes.text(0.5, 0.5, "the workspace holds every joint still: nothing to sweep", ha="center", va="center")
+        axes.set_axis_off()
+    for index, row in enumerate(rows):
+        axes = figure.add_subplot(lines, columns, index + 1)
+        joint = row["joint"]
+        x, label = _axis_values(joint, row["values"])
+        axes.plot(x, row["before"], color=BEFORE_COLOR, linestyle="--", label="gravity only")
+        axes.plot(x, row["after"], color=AFTER_COLOR, linewidth=2, label="with springs")
+        axes.axhline(0.0, color="black", linewidth=0.6)
+        axes.set_xlabel(label)
+        axes.set_ylabel(f"{joint.name} torque [{joint.torque_unit}]")
+        axes.grid(True, alpha=0.3)
+        if index == 0:
+            axes.legend(loc="best", fontsize="small")
+    figure.suptitle(f"{result.problem.mechanism.name}: torque along a sweep of each joint "
+                    "(others at mid-range)", fontsize="medium")
+    if path is not None:
+        save_figure(figure, path)
+    return figure
+
+
+def plot_histogram(result, bins: int = 40, path: str | Path | None = None) -> Figure:
+    """Histogram of every joint's torque over the design's workspace samples, before and after."""
+    problem = result.problem
+    before = problem.workspace.kinematics().gravity_torque
+    after = result.evaluation.tau
+    joints = problem.mechanism.joints
+    columns = min(len(joints), 3)
+    lines = int(np.ceil(len(joints) / columns))
+    figure = Figure(figsize=(4.2 * columns, 3.0 * lines), layout="constrained")
+    FigureCanvasAgg(figure)
+    for index, joint in enumerate(joints):
+        axes = figure.add_subplot(lines, columns, index + 1)
+        j = joint.index_v
+        low = min(before[:, j].min(), after[:, j].min())
+        high = max(before[:, j].max(), after[:, j].max())
+        edges = np.linspace(low, high, bins + 1) if high > low else bins
+        axes.hist(before[:, j], bins=edges, color=BEFORE_COLOR, alpha=0.55, label="gravity only")
+        axes.hist(after[:, j], bins=edges, color=AFTER_COLOR, alpha=0.7, label="with springs")
+        axes.set_xlabel(f"{joint.name} torque [{joint.torque_unit}]")
+        axes.set_ylabel("samples")
+        axes.grid(True, alpha=0.3)
+        if index == 0:
+            axes.legend(loc="best", fontsize="small")
+    figure.suptitle(f"{problem.mechanism.name}: torque over the {problem.workspace.size} workspace samples",
+                    fontsize="medium")
+    if path is not None:
+        save_figure(figure, path)
+    return figure
+
+
+def save_figure(figure: Figure, path: str | Path, dpi: int = 110) -> list[Path]:
+    """Save ``figure`` as ``<path>.png`` and ``<path>.svg`` (any suffix of ``path`` is replaced)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    written = []
+    for suffix in (".png", ".svg"):
+        target = path.with_suffix(suffix)
+        figure.savefig(target, dpi=dpi)
+        written.append(target)
+    return written

@@ -1,0 +1,257 @@
+"""Design parameters: fixed numbers or free variables with bounds, and spring anchors.
+
+A spring parameter is either a number (fixed) or :class:`Free` (a design variable with
+bounds and an optional initial guess). A spring end is an :class:`Anchor`: a body name
+and a point in that body's frame [m], which is either fixed (a 3-vector), free in a box
+(:class:`Free` with 3-vector bounds), free on a segment (:class:`Segment`) or free in a
+plane region (:class:`Plane`). Every anchor region is affine in its coordinates,
+
+    p = offset + basis · s,        lower ≤ s ≤ upper,
+
+which is what keeps each spring end affine in the design variables (MODEL.md §2).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Sequence
+
+import numpy as np
+
+from springbalance.errors import InputError
+
+
+class Free:
+    """A design variable: ``lower ≤ value ≤ upper``, scalar or vector.
+
+    ``Free(0, 1e4)`` is a scalar; ``Free(lower=[0.05, 0, 0], upper=[0.5, 0, 0])`` is a
+    box for an anchor point, where components with equal bounds stay fixed. ``init`` is
+    the first start of the multi-start (default: the middle of the bounds).
+    """
+
+    def __init__(self, lower, upper, init=None):
+        try:
+            self.lower = np.asarray(lower, dtype=float)
+            self.upper = np.asarray(upper, dtype=float)
+            self.init = None if init is None else np.asarray(init, dtype=float)
+        except (TypeError, ValueError):
+            raise InputError(f"Free bounds must be numbers (or equal-length lists of numbers), got lower {lower!r}, "
+                             f"upper {upper!r}" + ("" if init is None else f", init {init!r}")) from None
+        if self.lower.shape != self.upper.shape:
+            raise InputError(f"Free bounds have different shapes: lower {lower!r}, upper {upper!r}")
+        for label, value in (("lower", self.lower), ("upper", self.upper)) + ((("init", self.init),) if init is not None else ()):
+            if not np.all(np.isfinite(value)):
+                raise InputError(f"Free {label} bound must be finite, got {value.tolist()!r}")
+        if np.any(self.lower > self.upper):
+            raise InputError(f"Free bounds: lower {self.lower.tolist()!r} > upper {self.upper.tolist()!r}")
+        if self.init is not None:
+            if self.init.shape != self.lower.shape:
+                raise InputError(f"Free init {init!r} does not match the bounds' shape {self.lower.shape}")
+            if np.any(self.init < self.lower) or np.any(self.init > self.upper):
+                raise InputError(f"Free init {self.init.tolist()!r} lies outside [{self.lower.tolist()}, {self.upper.tolist()}]")
+
+    @property
+    def start(self) -> np.ndarray:
+        """Initial guess: ``init`` or the middle of the bounds."""
+        return self.init if self.init is not None else (self.lower + self.upper) / 2
+
+    def to_dict(self) -> dict:
+        record = {"lower": self.lower.tolist(), "upper": self.upper.tolist()}
+        if self.init is not None:
+            record["init"] = self.init.tolist()
+        return record
+
+    def __repr__(self) -> str:
+        return f"Free({self.lower.tolist()}, {self.upper.tolist()})"
+
+
+@dataclasses.dataclass(frozen=True)
+class Region:
+    """Affine anchor region ``p = offset + basis · s`` with ``lower ≤ s ≤ upper`` [m]."""
+
+    offset: np.ndarray      # (3,)
+    basis: np.ndarray       # (3, m)
+    lower: np.ndarray       # (m,)
+    upper: np.ndarray       # (m,)
+    start: np.ndarray       # (m,)
+    labels: tuple[str, ...]
+
+    def point(self, coordinates) -> np.ndarray:
+        return self.offset + self.basis @ np.asarray(coordinates, dtype=float)
+
+
+class Segment:
+    """Anchor free on the segment from ``start`` to ``end`` (body frame, m).
+
+    The design coordinate is the fraction ``s ∈ [lower, upper] ⊆ [0, 1]`` along it.
+    """
+
+    def __init__(self, start: Sequence[float], end: Sequence[float], init: float | None = None,
+                 lower: float = 0.0, upper: float = 1.0):
+        self.start = _vector3(start, "Segment start")
+        self.end = _vector3(end, "Segment end")
+        if np.allclose(self.start, self.end):
+            raise InputError(f"Segment from {self.start.tolist()} to {self.end.tolist()} has zero length")
+        self.bounds = Free(lower, upper, init)
+
+    def region(self) -> Region:
+        return Region(self.start, (self.end - self.start)[:, None], np.atleast_1d(self.bounds.lower),
+                      np.atleast_1d(self.bounds.upper), np.atleast_1d(self.bounds.start), ("s",))
+
+    def to_dict(self) -> dict:
+        return {"segment": {"start": self.start.tolist(), "end": self.end.tolist(), **_free_fields(self.bounds)}}
+
+
+class Plane:
+    """Anchor free in a rectangle of a plane: ``p = origin + s·u + t·v`` with bounded ``(s, t)``.
+
+    ``u`` and ``v`` are body-frame directions (normalised here); bounds are in metres
+    along them.
+    """
+
+    def __init__(self, origin: Sequence[float], u: Sequence[float], v: Sequence[float],
+                 lower: Sequence[float], upper: Sequence[float], init: Sequence[float] | None = None):
+        self.origin = _vector3(origin, "Plane origin")
+        u, v = _vector3(u, "Plane u"), _vector3(v, "Plane v")
+        if np.linalg.norm(np.cross(u, v)) < 1e-12 * max(np.linalg.norm(u) * np.linalg.norm(v), 1e-300):
+            raise InputError(f"Plane directions u={u.tolist()} and v={v.tolist()} are parallel or zero")
+        self.u, self.v = u / np.linalg.norm(u), v / np.linalg.norm(v)
+        self.bounds = Free(lower, upper, init)
+        if self.bounds.lower.shape != (2,):
+            raise InputError(f"Plane bounds must have two entries (along u and v), got {lower!r}")
+
+    def region(self) -> Region:
+        return Region(self.origin, np.column_stack([self.u, self.v]), self.bounds.lower, self.bounds.upper,
+                      self.bounds.start, ("u", "v"))
+
+    def to_dict(self) -> dict:
+        return {"plane": {"origin": self.origin.tolist(), "u": self.u.tolist(), "v": self.v.tolist(),
+                          **_free_fields(self.bounds)}}
+
+
+class Anchor:
+    """One end of a spring: a point fixed in body ``body`` (URDF link name or ``universe``).
+
+    ``point`` is a fixed 3-vector [m] in the body frame, a :class:`Free` box, a
+    :class:`Segment` or a :class:`Plane`.
+    """
+
+    def __init__(self, body: str, point=(0.0, 0.0, 0.0)):
+        if not isinstance(body, str) or not body:
+            raise InputError(f"anchor body must be a link name, got {body!r}")
+        self.body = body
+        self.point = point
+        if isinstance(point, Free):
+            if point.lower.shape != (3,):
+                raise InputError(f"anchor on {body!r}: a Free point needs 3-vector bounds, got {point.lower.tolist()}")
+        elif not isinstance(point, (Segment, Plane)):
+            self.point = _vector3(point, f"anchor point on {body!r}")
+
+    @property
+    def is_free(self) -> bool:
+        return self.region().basis.shape[1] > 0
+
+    def region(self) -> Region:
+        """The affine region; components of a box with equal bounds are folded into the offset."""
+        point = self.point
+        if isinstance(point, (Segment, Plane)):
+            return point.region()
+        if isinstance(point, Free):
+            free_axes = [i for i in range(3) if point.upper[i] > point.lower[i]]
+            offset = np.where(point.upper > point.lower, 0.0, point.lower)
+            basis = np.eye(3)[:, free_axes]
+            return Region(offset, basis, point.lower[free_axes], point.upper[free_axes], point.start[free_axes],
+                          tuple("xyz"[i] for i in free_axes))
+        return Region(np.asarray(point, dtype=float), np.zeros((3, 0)), np.zeros(0), np.zeros(0), np.zeros(0), ())
+
+    def to_dict(self) -> dict:
+        point = self.point
+        if isinstance(point, Free):
+            return {"body": self.body, "box": point.to_dict()}
+        if isinstance(point, (Segment, Plane)):
+            return {"body": self.body, **point.to_dict()}
+        return {"body": self.body, "point": np.asarray(point, dtype=float).tolist()}
+
+    def __repr__(self) -> str:
+        return f"Anchor({self.body!r}, {self.point!r})"
+
+
+def _vector3(value, label: str) -> np.ndarray:
+    try:
+        vector = np.asarray(value, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise InputError(f"{label} must be three numbers, got {value!r}") from None
+    if vector.shape != (3,):
+        raise InputError(f"{label} must be three numbers, got {value!r}")
+    if not np.all(np.isfinite(vector)):
+        raise InputError(f"{label} must be finite, got {vector.tolist()!r}")
+    return vector
+
+
+def _free_fields(free: Free) -> dict:
+    record = {"lower": free.lower.tolist(), "upper": free.upper.tolist()}
+    if free.init is not None:
+        record["init"] = free.init.tolist()
+    return record
+
+
+# ---------------------------------------------------------------------- records → objects
+def check_keys(record, valid, where: str) -> dict:
+    """Reject a mapping with keys outside ``valid``; the message lists the valid ones."""
+    if not isinstance(record, dict):
+        raise InputError(f"{where}: expected a mapping, got {type(record).__name__} {record!r}")
+    unknown = [key for key in record if key not in valid]
+    if unknown:
+        raise InputError(f"{where}: unknown key {unknown[0]!r}; valid keys: {', '.join(valid)}")
+    return record
+
+
+def free_from_dict(record, where: str) -> Free:
+    """``{lower, upper, init?}`` → :class:`Free`."""
+    check_keys(record, ("lower", "upper", "init"), where)
+    for key in ("lower", "upper"):
+        if key not in record:
+            raise InputError(f"{where}: missing key {key!r}")
+    try:
+        return Free(record["lower"], record["upper"], record.get("init"))
+    except InputError as error:
+        raise InputError(f"{where}: {error}") from None
+    except (TypeError, ValueError):
+        raise InputError(f"{where}: bounds must be numbers, got {record!r}") from None
+
+
+def value_from_record(value, where: str):
+    """A number, or a ``{lower, upper, init?}`` mapping for a free variable."""
+    if isinstance(value, dict):
+        return free_from_dict(value, where)
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise InputError(f"{where}: expected a number or {{lower, upper}}, got {value!r}")
+    return float(value)
+
+
+def anchor_from_dict(record, where: str) -> Anchor:
+    """``{body, point | box | segment | plane}`` → :class:`Anchor`."""
+    check_keys(record, ("body", "point", "box", "segment", "plane"), where)
+    if "body" not in record:
+        raise InputError(f"{where}: missing key 'body'")
+    kinds = [key for key in ("point", "box", "segment", "plane") if key in record]
+    if len(kinds) > 1:
+        raise InputError(f"{where}: give one of point, box, segment, plane (got {', '.join(kinds)})")
+    kind = kinds[0] if kinds else "point"
+    spec = record.get(kind, [0.0, 0.0, 0.0])
+    try:
+        if kind == "point":
+            return Anchor(record["body"], spec)
+        if kind == "box":
+            return Anchor(record["body"], free_from_dict(spec, f"{where}.box"))
+        if kind == "segment":
+            check_keys(spec, ("start", "end", "lower", "upper", "init"), f"{where}.segment")
+            return Anchor(record["body"], Segment(spec.get("start"), spec.get("end"), spec.get("init"),
+                                                  spec.get("lower", 0.0), spec.get("upper", 1.0)))
+        check_keys(spec, ("origin", "u", "v", "lower", "upper", "init"), f"{where}.plane")
+        return Anchor(record["body"], Plane(spec.get("origin"), spec.get("u"), spec.get("v"), spec.get("lower"),
+                                            spec.get("upper"), spec.get("init")))
+    except InputError as error:
+        if str(error).startswith(where):
+            raise
+        raise InputError(f"{where}: {error}") from None
