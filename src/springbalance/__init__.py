@@ -19,8 +19,9 @@ from springbalance.model.workspace import Coupling, Workspace
 from springbalance.results.payload import PayloadRange, PayloadSweep, payload_range, residual_vs_payload
 from springbalance.results.result import DesignResult
 from springbalance.springs import constraints
-from springbalance.springs.laws import (CoilMass, CompressionSpring, ConstantForceSpring, ExtensionSpring, GasSpring,
-                                        Spring, TorsionalSpring, TwoPointSpring, ZeroFreeLengthSpring)
+from springbalance.springs.laws import (CompressionSpring, ConstantForceSpring, ExtensionSpring, GasSpring, Spring,
+                                        TorsionalSpring, TwoPointSpring, ZeroFreeLengthSpring)
+from springbalance.springs.mass import CoilMass
 from springbalance.springs.params import Anchor, Free, Plane, Segment
 from springbalance.springs.sizing import MATERIALS, Helical, HelicalDesign, Material, size_helical_spring
 

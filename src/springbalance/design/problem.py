@@ -28,7 +28,8 @@ from springbalance.model.mechanism import Mechanism
 from springbalance.design.objectives import NlpPieces, Objective, objective_named
 from springbalance.design.scenarios import Scenario, ScenarioWorkspace, check_scenarios
 from springbalance.design.solvers import solve_problem
-from springbalance.springs.laws import Spring, spring_from_dict
+from springbalance.springs.laws import Spring
+from springbalance.springs.records import spring_from_dict
 from springbalance.design.torque_model import SampleEvaluator, TorqueModel
 from springbalance.model.workspace import Workspace
 

@@ -37,7 +37,8 @@ from springbalance.design.objectives import OBJECTIVES
 from springbalance.springs.params import check_keys
 from springbalance.design.problem import DesignProblem
 from springbalance.design.solvers import METHODS
-from springbalance.springs.laws import Spring, spring_from_dict
+from springbalance.springs.laws import Spring
+from springbalance.springs.records import spring_from_dict
 from springbalance.model.workspace import Coupling, Workspace
 
 #: top-level sections of a config file.

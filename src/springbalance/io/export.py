@@ -22,7 +22,8 @@ the anchor joints' origins.
 body per URDF link (fixed joints become bodies without a joint, no fusing), the URDF inertials
 exactly (``inertiafromgeom="false"``, ``balanceinertia="false"``), the design's gravity, and
 
-- a site at every anchor and one spatial tendon per two-point spring. MuJoCo's tendon spring
+- a site at every anchor and one spatial tendon per two-point spring (a nonlinear law, such as a
+  force–length table, becomes its least-squares line over the workspace, with a warning). MuJoCo's tendon spring
   acts on the tendon length with the force :math:`-k (L - L_s)` (``stiffness`` k,
   ``springlength`` L_s; positive lengthens), i.e. the tension :math:`F = k (L - L_s)`. The
   laws of MODEL.md §2 map onto it with
@@ -118,58 +119,19 @@ def anchor_link_name(spring: str, end: str) -> str:
 
 
 def law_warnings(result) -> list[str]:
-    """Springs whose real law differs from the linear two-sided law somewhere in the workspace.
+    """Springs whose real law differs from the idealised two-sided law somewhere in the workspace.
 
-    springbalance and MuJoCo both evaluate each law as written in MODEL.md §2 at every length;
-    a physical spring does not: an extension spring below its free length goes slack (or
-    solid), a compression spring longer than its free length loses contact, a gas spring
-    stops at its extended length and bottoms out beyond its stroke, a constant-force element
-    ends at its stroke. Each case found at a workspace sample is one message.
+    springbalance and MuJoCo both evaluate each law as written in docs/model.md §3 at every
+    length; a physical spring does not (an extension spring below its free length goes slack, a
+    gas spring stops at its extended length, ...). Each law says where it departs
+    (:meth:`~springbalance.springs.laws.base.TwoPointSpring.law_warnings`); each case found at a
+    workspace sample is one message.
     """
     evaluation = result.evaluation
     warnings = []
     for column, (spring, record) in enumerate(zip(result.problem.springs, result.springs)):
-        if not spring.anchors:
-            continue
-        lengths = evaluation.lengths[:, column]
-        count = lengths.size
-        kind = spring.kind
-        tolerance = 1e-9                                                      # [m]
-        if kind == "extension":
-            free = record["free_length"]
-            slack = int(np.sum(lengths < free - tolerance))
-            if slack:
-                option = "keep_tension is false" if not spring.keep_tension else "keep_tension is violated"
-                warnings.append(
-                    f"spring {spring.name!r} (extension) is shorter than its free length l0 = {free:.6g} m at "
-                    f"{slack} of {count} workspace samples (shortest {lengths.min():.6g} m; {option}): a real "
-                    "extension spring goes slack there, while the exported MuJoCo tendon spring (like springbalance's "
-                    "law) keeps the linear law and pushes")
-        elif kind in ("compression", "gas"):
-            free = record["free_length"]
-            longer = int(np.sum(lengths > free + tolerance))
-            if longer:
-                what = "stops at its extended length" if kind == "gas" else "loses contact"
-                warnings.append(
-                    f"spring {spring.name!r} ({kind}) is longer than its free length l0 = {free:.6g} m at {longer} of "
-                    f"{count} workspace samples (longest {lengths.max():.6g} m): a real {kind} spring {what} there, "
-                    "while the exported MuJoCo tendon spring keeps the linear law and pulls")
-            stroke = getattr(spring, "stroke", None)
-            if stroke is not None:
-                beyond = int(np.sum(lengths < free - stroke - tolerance))
-                if beyond:
-                    warnings.append(
-                        f"spring {spring.name!r} ({kind}) is compressed beyond its stroke {stroke:.6g} m at {beyond} "
-                        f"of {count} workspace samples (shortest {lengths.min():.6g} m, limit {free - stroke:.6g} m): "
-                        "a real one bottoms out there, the exported MuJoCo tendon spring keeps the linear law")
-        if getattr(spring, "min_length", None) is not None or getattr(spring, "max_length", None) is not None:
-            low = spring.min_length if spring.min_length is not None else -np.inf
-            high = spring.max_length if spring.max_length is not None else np.inf
-            outside = int(np.sum((lengths < low - tolerance) | (lengths > high + tolerance)))
-            if outside:
-                warnings.append(
-                    f"spring {spring.name!r} ({kind}) leaves its length range [{low:.6g}, {high:.6g}] m at {outside} "
-                    f"of {count} workspace samples: the exported law does not stop at the ends of the range")
+        if spring.anchors:
+            warnings.extend(spring.law_warnings(record, evaluation.lengths[:, column]))
     return warnings
 
 
@@ -338,7 +300,7 @@ def springs_from_urdf(path: str | Path) -> list:
     """
     from lxml import etree
 
-    from springbalance.springs.laws import spring_from_dict
+    from springbalance.springs.records import spring_from_dict
 
     path = Path(path)
     try:
@@ -571,7 +533,13 @@ class _MjcfBuilder:
                 name = anchor_link_name(spring.name, end)
                 E(body, "site", name=name, pos=_vector(record[end]["point"]), size="0.01")
                 sites.append(name)
-            stiffness, spring_length, constant = _tendon_law(spring, record)            # [N/m], [m], [N]
+            lengths = self.result.evaluation.lengths[:, self.result.problem.springs.index(spring)]
+            stiffness, spring_length, constant, deviation = _tendon_law(spring, record, lengths)  # [N/m], [m], [N], [N]
+            if deviation > 0:
+                self.warnings.append(
+                    f"spring {spring.name!r} ({spring.kind}) is nonlinear: its MuJoCo tendon is the least-squares line "
+                    f"F = {stiffness:.6g} N/m · (L − {spring_length:.6g} m) + {constant:.6g} N over the workspace "
+                    f"lengths, off the law by up to {deviation:.3g} N")
             attributes = {"name": spring.name, "stiffness": _number(stiffness), "width": "0.004",
                           "rgba": "0.9 0.6 0.1 1"}
             if stiffness > 0:
@@ -643,28 +611,18 @@ class _MjcfBuilder:
         return self.bodies[name]
 
 
-def _tendon_law(spring, record) -> tuple[float, float, float]:
-    """MuJoCo tendon ``(stiffness k [N/m], springlength L_s [m], constant tension F_c [N])`` with
-    ``F(L) = k (L - L_s) + F_c`` equal to the spring's law for every length."""
-    kind = spring.kind
-    if kind == "zero_free_length":
-        return record["stiffness"], 0.0, 0.0
-    if kind == "constant_force":
-        return 0.0, 0.0, record["force"]
-    if kind == "extension":
-        k, l0, f0 = record["stiffness"], record["free_length"], record["initial_tension"]
-        constant = f0 - k * l0                     # F = k L + (F0 - k l0)
-    elif kind in ("compression", "gas"):
-        k, l0, f0 = record["stiffness"], record["free_length"], record["preload"]
-        constant = -f0 - k * l0                    # F = k (L - l0) - F0
-    else:
-        raise InputError(f"spring {spring.name!r}: the MuJoCo export does not know the law {kind!r}")
+def _tendon_law(spring, record, lengths) -> tuple[float, float, float, float]:
+    """MuJoCo tendon ``(stiffness k [N/m], springlength L_s [m], constant tension F_c [N], deviation [N])``
+    with ``F(L) = k (L - L_s) + F_c`` the spring's law (:meth:`~springbalance.springs.laws.base.TwoPointSpring.tendon_law`:
+    exact for a linear law; a nonlinear one gives its best line over the workspace ``lengths`` [m]
+    and the largest deviation there)."""
+    k, constant, deviation = spring.tendon_law(record, lengths)          # F = k L + constant
     if k <= 0:
-        return 0.0, 0.0, constant
+        return 0.0, 0.0, constant, deviation
     length = -constant / k                         # L_s with F = k (L - L_s)
     if length == -1.0:                             # MuJoCo's "length at qpos0" sentinel
-        return k, 0.0, constant
-    return k, length, 0.0
+        return k, 0.0, constant, deviation
+    return k, length, 0.0, deviation
 
 
 def _quaternion(rotation) -> np.ndarray:

@@ -28,7 +28,7 @@ from springbalance.errors import InputError
 from springbalance.design.problem import DesignProblem
 from springbalance.design.scenarios import Payload, Scenario
 from springbalance.design.solvers import refine
-from springbalance.springs.laws import spring_from_dict
+from springbalance.springs.records import spring_from_dict
 
 ANCHOR_COLOR = "#2b8cbe"
 RESIDUAL_COLOR = "#d7301f"

@@ -20,7 +20,8 @@ from springbalance.model.mechanism import Mechanism
 from springbalance.design.objectives import OBJECTIVES
 from springbalance.design.problem import DesignProblem, register_result_type
 from springbalance.springs.sizing import size_helical_spring
-from springbalance.springs.laws import CoilMass, spring_from_dict
+from springbalance.springs.mass import CoilMass
+from springbalance.springs.records import spring_from_dict
 from springbalance.model.workspace import Workspace
 
 FORMAT = "springbalance-design/1"

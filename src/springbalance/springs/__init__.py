@@ -1,10 +1,17 @@
-"""The spring elements: anchors and parameters, one module per law, spring mass, sizing, constraints."""
+"""The spring elements: anchors and parameters, the laws (one module each), spring mass, sizing, constraints.
 
-from springbalance.springs.laws import (SPRING_TYPES, CoilMass, CompressionSpring, ConstantForceSpring,
+A spring law is one module of :mod:`springbalance.springs.laws`; it registers itself in
+:data:`SPRING_TYPES`, through which records (:func:`spring_from_dict`), the config schema, the
+solver, the exports and the scenes find it.
+"""
+
+from springbalance.springs.laws import (SPRING_TYPES, CompressionSpring, ConstantForceSpring, Contribution,
                                         ExtensionSpring, GasSpring, Spring, TorsionalSpring, TwoPointSpring,
-                                        ZeroFreeLengthSpring, spring_from_dict)
+                                        ZeroFreeLengthSpring)
+from springbalance.springs.mass import CoilMass, FixedMass
 from springbalance.springs.params import Anchor, Free, Plane, Segment
+from springbalance.springs.records import spring_from_dict
 
-__all__ = ["SPRING_TYPES", "Anchor", "CoilMass", "CompressionSpring", "ConstantForceSpring", "ExtensionSpring",
-           "Free", "GasSpring", "Plane", "Segment", "Spring", "TorsionalSpring", "TwoPointSpring",
-           "ZeroFreeLengthSpring", "spring_from_dict"]
+__all__ = ["SPRING_TYPES", "Anchor", "CoilMass", "CompressionSpring", "ConstantForceSpring", "Contribution",
+           "ExtensionSpring", "FixedMass", "Free", "GasSpring", "Plane", "Segment", "Spring", "TorsionalSpring",
+           "TwoPointSpring", "ZeroFreeLengthSpring", "spring_from_dict"]

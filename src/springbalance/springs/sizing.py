@@ -44,10 +44,12 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from typing import Sequence
+from typing import Annotated, Sequence
 
+import annotated_types
 import casadi as ca
 import numpy as np
+import pydantic
 
 from springbalance.errors import InputError
 
@@ -255,6 +257,17 @@ class Helical:
 
     def __repr__(self) -> str:
         return f"Helical({self.material.name!r}, index={self.index}, min_active_coils={self.min_active_coils})"
+
+
+class HelicalOption(pydantic.BaseModel):
+    """The keys of the ``helical`` option of a spring record (see :class:`Helical`)."""
+
+    model_config = pydantic.ConfigDict(extra="forbid")
+
+    material: str = pydantic.Field("music_wire", description="a material of MATERIALS")
+    index: Annotated[float, annotated_types.Ge(4), annotated_types.Le(15)] = pydantic.Field(
+        8.0, description="spring index C = D/d [1], 4–15")
+    min_active_coils: Annotated[float, annotated_types.Ge(1)] = pydantic.Field(3.0, description="[1]")
 
 
 def helical_from_dict(record, where: str = "helical") -> Helical:

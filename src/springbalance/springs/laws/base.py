@@ -1,0 +1,383 @@
+r"""The base classes of every spring law and the registry of laws (docs/model.md §2–§5).
+
+Every spring is an *element* that adds its share to the holding torque and the potential at
+each workspace sample (:meth:`Spring.contribution`):
+
+- **two-point springs** (:class:`TwoPointSpring`) join a point of body A to a point of body
+  B (:class:`~springbalance.springs.params.Anchor`). With ``L`` the distance between the ends, the
+  spring stores ``V_s(L)`` [J] and pulls the ends together with tension ``F(L) = dV_s/dL``
+  [N] (negative for a spring that pushes). Its share of the actuator torque is
+
+  .. math:: \tau_s(q) = F(L)\,(J_{p_b} - J_{p_a})^T u,\qquad u = (x_b - x_a)/L .
+
+  A two-point spring may carry its own mass ``m_s`` (docs/model.md §5), fixed or coupled to its
+  rate through the coil geometry (:class:`~springbalance.springs.mass.CoilMass`), as a uniform
+  body between its ends: half at each end, which adds :math:`-(m_s/2)(J_{p_a} + J_{p_b})^T g`
+  to the torque and :math:`-(m_s/2)\,g \cdot (x_a + x_b)` to the potential (``g`` the gravity vector).
+- **joint springs** (such as :class:`~springbalance.springs.laws.torsional.TorsionalSpring`) act
+  on one joint coordinate.
+
+A law is one module of this folder with one class: it sets ``kind`` (its ``type`` in configs and
+saved designs), its parameters and options, and its force and potential, and it registers itself
+in :data:`SPRING_TYPES` by subclassing. Besides the physics, a two-point law says how MuJoCo
+expresses it (:meth:`TwoPointSpring.tendon_law`) and where a real part departs from its
+idealised law (:meth:`TwoPointSpring.law_warnings`); the scene draws every two-point law as a
+helix coloured by its tension, so a law needs nothing there.
+
+Laws are written with plain arithmetic, so one implementation serves CasADi symbols
+(inside the optimiser) and NumPy arrays (checks, reports). ``parameters`` maps each
+parameter name to its value. Every parameter is a number or :class:`~springbalance.springs.params.Free`.
+Each element reports one *state* and one *generalised force* per sample: length [m] and
+tension [N] for two-point springs, joint angle [rad] and torque [N·m] for torsional ones.
+"""
+
+from __future__ import annotations
+
+import abc
+import dataclasses
+from typing import Annotated, ClassVar
+
+import annotated_types
+import numpy as np
+
+from springbalance.errors import InputError
+from springbalance.springs import constraints as practical
+from springbalance.springs.mass import CoilMass, MassOption, mass_from_record
+from springbalance.springs.params import Anchor, Free
+from springbalance.springs.sizing import HelicalOption, helical_from_dict
+
+#: spring ``type`` name in configs and saved designs -> class. Every subclass of :class:`Spring`
+#: that sets ``kind`` adds itself; :mod:`springbalance.springs.laws` imports every law module.
+SPRING_TYPES: dict[str, type["Spring"]] = {}
+
+#: option types of the config schema: a finite number > 0, a ratio > 1.
+PositiveNumber = Annotated[float, annotated_types.Gt(0)]
+StretchRatio = Annotated[float, annotated_types.Gt(1)]
+
+
+@dataclasses.dataclass
+class Contribution:
+    """What one spring adds at one sample (CasADi expressions).
+
+    Attributes:
+        torque: its share of the holding torque ``∂V_s/∂q`` (nv) [N·m or N].
+        potential: its potential energy [J] (elastic, plus the gravity of its own mass).
+        state: length ``L`` [m] (two-point springs) or joint angle ``q_i`` [rad] (torsional).
+        force: ``dV_s/d(state)``: tension [N] or torque [N·m].
+    """
+
+    torque: object
+    potential: object
+    state: object
+    force: object
+
+
+class Spring(abc.ABC):
+    """Base class of every spring element. Subclasses set ``kind``, ``parameter_units`` and the law.
+
+    The per-sample ``sample`` object handed to :meth:`contribution` is built by
+    :class:`~springbalance.design.torque_model.TorqueModel`; it gives ``sample.point(body, p)`` (world
+    position of a body-fixed point and its ``J_p^T f`` product), ``sample.coordinate(joint)``
+    (the joint's coordinate), ``sample.direction(joint)`` (the unit torque vector ``e_i``),
+    ``sample.zero()`` (an nv zero vector) and ``sample.gravity`` (the gravity vector [m/s²]).
+    """
+
+    kind: ClassVar[str] = ""
+    #: parameter name -> unit; order is the order of design variables.
+    parameter_units: ClassVar[dict[str, str]] = {}
+    #: parameters that must be ≥ 0.
+    nonnegative: ClassVar[tuple[str, ...]] = ()
+    defaults: ClassVar[dict[str, float]] = {}
+    #: parameters that the torque and the potential depend on linearly (the solver fits them
+    #: exactly by linear least squares at every start). An instance may narrow this list.
+    linear_parameters: ClassVar[tuple[str, ...]] = ()
+    #: the record keys that say where the element acts: ``("a", "b")`` (anchors) or ``("joint",)``.
+    ends: ClassVar[tuple[str, ...]] = ()
+    #: option key -> its type (a type annotation that the config schema validates against);
+    #: the record keys of the options besides name, type, ends and parameters.
+    option_types: ClassVar[dict[str, object]] = {}
+    #: options a record must give (the others are optional).
+    required_options: ClassVar[tuple[str, ...]] = ()
+    #: the option keys (``tuple(option_types)``, set for every subclass).
+    option_keys: ClassVar[tuple[str, ...]] = ()
+    #: what the per-sample state and generalised force are, for reports: (name, unit).
+    state_quantity: ClassVar[tuple[str, str]] = ("length", "m")
+    force_quantity: ClassVar[tuple[str, str]] = ("tension", "N")
+
+    def __init_subclass__(cls, **kwargs):
+        """Register every law that names its ``kind`` in :data:`SPRING_TYPES` (the registry)."""
+        super().__init_subclass__(**kwargs)
+        cls.option_keys = tuple(cls.option_types)
+        kind = cls.__dict__.get("kind")
+        if kind:
+            known = SPRING_TYPES.get(kind)
+            if known is not None and known.__qualname__ != cls.__qualname__:
+                raise TypeError(f"spring law {kind!r} is defined twice: {known.__module__}.{known.__qualname__} "
+                                f"and {cls.__module__}.{cls.__qualname__}")
+            SPRING_TYPES[kind] = cls
+
+    def __init__(self, name: str | None = None, **parameters):
+        self.name = name
+        unknown = set(parameters) - set(self.parameter_units)
+        if unknown:
+            raise InputError(f"{type(self).__name__} {name or ''}: unknown parameter(s) {', '.join(sorted(unknown))}; "
+                             f"valid: {', '.join(self.parameter_units)}")
+        self.parameters: dict[str, float | Free] = {}
+        for key in self.parameter_units:
+            value = parameters.get(key, self.defaults.get(key))
+            if value is None:
+                raise InputError(f"{type(self).__name__} {name or ''}: parameter {key!r} is required")
+            self.parameters[key] = _checked_parameter(self, key, value)
+
+    # ---------------------------------------------------------------- what the element needs
+    @property
+    def anchors(self) -> dict[str, Anchor]:
+        """Ends with (possibly free) anchor points, by end name (``{}`` for torsional springs)."""
+        return {}
+
+    @property
+    def bodies(self) -> tuple[str, ...]:
+        """Bodies whose placement and Jacobian the element needs."""
+        return tuple(anchor.body for anchor in self.anchors.values())
+
+    @property
+    def joints(self) -> tuple[str, ...]:
+        """Joints whose coordinate the element needs."""
+        return ()
+
+    def check(self, mechanism) -> None:
+        """Raise :class:`~springbalance.errors.InputError` when the element does not fit ``mechanism``."""
+
+    @abc.abstractmethod
+    def contribution(self, sample, parameters: dict, points: dict) -> Contribution:
+        """Torque, potential, state and generalised force at one sample.
+
+        ``parameters`` maps parameter names to numbers or CasADi symbols; ``points`` maps each
+        end of :attr:`anchors` to its body-frame point (3-vector, affine in the design variables).
+        """
+
+    # ---------------------------------------------------------------- constraints and records
+    def constraints(self) -> list:
+        """Practical constraints (MODEL.md §6) that apply to this spring."""
+        return []
+
+    def options(self) -> dict:
+        return {}
+
+    def ends_to_dict(self) -> dict:
+        return {end: anchor.to_dict() for end, anchor in self.anchors.items()}
+
+    def to_dict(self) -> dict:
+        record = {"name": self.name, "type": self.kind, **self.ends_to_dict()}
+        for key, value in self.parameters.items():
+            record[key] = value.to_dict() if isinstance(value, Free) else float(value)
+        record.update(self.options())
+        return record
+
+    def _label(self) -> str:
+        return f"{type(self).__name__} {self.name or ''}".strip()
+
+    def _positive_stiffness(self, reason: str) -> None:
+        """Reject a stiffness range that reaches 0 (``reason`` says what needs k > 0)."""
+        stiffness = self.parameters["stiffness"]
+        lowest = float(stiffness.lower) if isinstance(stiffness, Free) else float(stiffness)
+        if lowest <= 0:
+            raise InputError(f"{self._label()}: {reason} needs a stiffness > 0 (its lower bound is {lowest:g}); "
+                             "give stiffness a positive lower bound")
+
+
+
+# ---------------------------------------------------------------------- two-point springs
+class TwoPointSpring(Spring):
+    """Base class of springs between two anchors (law ``F(L)``, ``V_s(L)``), with optional mass.
+
+    Options: ``max_force`` [N] (``|F| ≤``), ``max_length`` / ``min_length`` [m], ``mass``:
+    a number [kg] or a :class:`CoilMass` (or its record).
+    """
+
+    ends = ("a", "b")
+    option_types = {"max_force": PositiveNumber | None, "max_length": PositiveNumber | None,
+                    "min_length": PositiveNumber | None, "mass": MassOption | None}
+
+    def __init__(self, a: Anchor, b: Anchor, name: str | None = None, *, max_force: float | None = None,
+                 max_length: float | None = None, min_length: float | None = None, mass=None, **parameters):
+        if not isinstance(a, Anchor) or not isinstance(b, Anchor):
+            raise InputError(f"spring {name or ''!s}: ends must be Anchor objects, got {a!r} and {b!r}")
+        self.a, self.b = a, b
+        super().__init__(name, **parameters)
+        self.max_force = _positive_option(self, "max_force", max_force)
+        self.max_length = _positive_option(self, "max_length", max_length)
+        self.min_length = _positive_option(self, "min_length", min_length)
+        self.mass = mass
+
+    # ---------------------------------------------------------------- the law
+    @abc.abstractmethod
+    def tension(self, length, parameters):
+        """Tension ``F(L)`` [N], positive when the spring pulls its ends together."""
+
+    @abc.abstractmethod
+    def potential(self, length, parameters):
+        """Stored energy ``V_s(L)`` [J]."""
+
+    def tension_per_length(self, length, parameters):
+        """``F(L) / L`` [N/m]; the force on end b is ``-(F/L) d`` with ``d = x_b - x_a``."""
+        return self.tension(length, parameters) / length
+
+    # ---------------------------------------------------------------- mass
+    @property
+    def mass(self):
+        """``None``, :class:`FixedMass` or :class:`CoilMass`."""
+        return self._mass
+
+    @mass.setter
+    def mass(self, value) -> None:
+        self._mass = mass_from_record(value, f"{self._label()}: mass")
+        coupled = isinstance(self._mass, CoilMass)
+        if coupled:
+            self._positive_stiffness("a mass coupled to the stiffness (m_s ∝ √k)")
+        # m_s ∝ √k makes the torque nonlinear in k
+        self.linear_parameters = tuple(key for key in type(self).linear_parameters
+                                       if not (coupled and key == "stiffness"))
+
+    def spring_mass(self, parameters):
+        """``m_s`` [kg] for the given parameter values (0 without a mass)."""
+        return 0.0 if self._mass is None else self._mass.value(parameters)
+
+    def free_length_interval(self, lengths) -> tuple[float, float]:
+        """Free lengths ``(low, high)`` [m] for which this spring's own length constraints hold at
+        the given sample lengths [m] (for a solver's start; ``(-inf, inf)`` when none apply)."""
+        return -np.inf, np.inf
+
+    # ---------------------------------------------------------------- element
+    @property
+    def anchors(self) -> dict[str, Anchor]:
+        return {"a": self.a, "b": self.b}
+
+    def check(self, mechanism) -> None:
+        a, b = self.a, self.b
+        for anchor in (a, b):
+            mechanism.is_ground(anchor.body)  # raises InputError naming an unknown body
+        if a.body == b.body or (mechanism.is_ground(a.body) and mechanism.is_ground(b.body)):
+            where = f"body {a.body!r}" if a.body == b.body else f"the ground ({a.body!r}, {b.body!r})"
+            raise InputError(f"spring {self.name!r}: both ends are on {where}; it cannot act on the mechanism")
+
+    def contribution(self, sample, parameters, points) -> Contribution:
+        end_a, end_b = sample.point(self.a.body, points["a"]), sample.point(self.b.body, points["b"])
+        d = end_b.position - end_a.position                     # [m]
+        length = (d.T @ d) ** 0.5                                # L [m]
+        force = self.tension_per_length(length, parameters) * d  # F u [N], pulls b towards a
+        torque = end_b.generalized(force) - end_a.generalized(force)   # F (J_pb - J_pa)^T u
+        potential = self.potential(length, parameters)
+        if self._mass is not None:
+            half = 0.5 * self.spring_mass(parameters)            # [kg] at each end
+            hold = -half * sample.gravity                        # force that holds each half up [N]
+            torque = torque + end_a.generalized(hold) + end_b.generalized(hold)
+            potential = potential - half * (sample.gravity.T @ (end_a.position + end_b.position))  # [J]
+        return Contribution(torque, potential, length, self.tension(length, parameters))
+
+    # ---------------------------------------------------------------- constraints and records
+    def constraints(self) -> list:
+        rows = []
+        if self.max_force is not None:
+            rows.append(practical.MaxForce(self.max_force))
+        if self.max_length is not None:
+            rows.append(practical.MaxLength(self.max_length))
+        if self.min_length is not None:
+            rows.append(practical.MinLength(self.min_length))
+        return rows
+
+    def options(self) -> dict:
+        record = {key: value for key, value in (("max_force", self.max_force), ("max_length", self.max_length),
+                                                ("min_length", self.min_length)) if value is not None}
+        if self._mass is not None:
+            record["mass"] = self._mass.to_dict()
+        return record
+
+    # ---------------------------------------------------------------- how other tools express the law
+    def tendon_law(self, values: dict, lengths: np.ndarray) -> tuple[float, float, float]:
+        """The law as MuJoCo's linear tendon: ``(k [N/m], c [N], deviation [N])`` with ``F(L) ≈ k L + c``.
+
+        ``values``: the parameter values [SI]; ``lengths``: the spring's lengths over the workspace
+        [m]. A linear law is exact (``deviation`` 0); a nonlinear one returns its least-squares line
+        over ``lengths`` and the largest ``|F(L) - (k L + c)|`` there.
+        """
+        lengths = np.asarray(lengths, dtype=float)
+        forces = np.asarray(self.tension(lengths, values), dtype=float) * np.ones_like(lengths)   # [N]
+        design = np.column_stack([lengths, np.ones_like(lengths)])
+        (slope, constant), *_ = np.linalg.lstsq(design, forces, rcond=None)
+        deviation = float(np.max(np.abs(design @ [slope, constant] - forces))) if lengths.size else 0.0
+        return float(slope), float(constant), deviation
+
+    def law_warnings(self, values: dict, lengths: np.ndarray, tolerance: float = 1e-9) -> list[str]:
+        """Where a real part departs from this idealised two-sided law at the workspace ``lengths`` [m].
+
+        The base class checks the length range (``min_length`` / ``max_length``: the law does not
+        stop there); each law adds its own cases (a slack extension spring, a gas spring at its stop).
+        """
+        warnings = []
+        if self.min_length is not None or self.max_length is not None:
+            low = self.min_length if self.min_length is not None else -np.inf
+            high = self.max_length if self.max_length is not None else np.inf
+            outside = int(np.sum((lengths < low - tolerance) | (lengths > high + tolerance)))
+            if outside:
+                warnings.append(
+                    f"spring {self.name!r} ({self.kind}) leaves its length range [{low:.6g}, {high:.6g}] m at "
+                    f"{outside} of {lengths.size} workspace samples: the exported law does not stop at the ends "
+                    "of the range")
+        return warnings
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}({self.name!r}, {self.a!r} -> {self.b!r})"
+
+
+
+class HelicalSpringMixin:
+    """Mixin: the ``helical`` option (a helical spring of a given material and index must exist)."""
+
+    helical_kind: ClassVar[str] = "extension"
+
+    def _set_helical(self, helical) -> None:
+        self.helical = None if helical is None else helical_from_dict(helical, f"{self._label()}: helical")
+        if self.helical is not None:
+            self._positive_stiffness("the helical option")
+
+    def _helical_constraints(self) -> list:
+        if self.helical is None:
+            return []
+        return [practical.HelicalSpringExists(self.helical, self.helical_kind)]
+
+
+
+
+def _checked_parameter(spring: Spring, key: str, value):
+    label = f"{type(spring).__name__} {spring.name or ''}".strip()
+    if isinstance(value, Free):
+        if value.lower.shape != ():
+            raise InputError(f"{label}: {key} must be a scalar Free, got bounds {value.lower.tolist()}")
+        if key in spring.nonnegative and value.lower < 0:
+            raise InputError(f"{label}: {key} lower bound must be ≥ 0, got {float(value.lower)}")
+        return value
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{label}: {key} must be a number or Free, got {value!r}") from None
+    if not np.isfinite(number):
+        raise InputError(f"{label}: {key} must be finite, got {value!r}")
+    if key in spring.nonnegative and number < 0:
+        raise InputError(f"{label}: {key} must be ≥ 0, got {number}")
+    return number
+
+
+def _positive_option(spring: Spring, key: str, value):
+    if value is None:
+        return None
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"spring {spring.name or ''}: {key} must be a number, got {value!r}") from None
+    if not np.isfinite(number) or number <= 0:
+        raise InputError(f"spring {spring.name or ''}: {key} must be a positive number, got {value!r}")
+    return number
+
+
+

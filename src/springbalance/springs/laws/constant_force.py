@@ -1,0 +1,30 @@
+r"""Constant-force element (docs/model.md §3.5): a spool or a cylinder on a large reservoir."""
+
+from __future__ import annotations
+
+from springbalance.springs.laws.base import TwoPointSpring
+
+
+class ConstantForceSpring(TwoPointSpring):
+    r"""Constant-force element (pneumatic spring on a large reservoir, cable on a constant-force spool):
+
+    .. math:: F = F_0,\qquad V_s = F_0 L .
+
+    Parameter: ``force`` F0 [N], positive when it pulls the ends together (a spool), negative
+    when it pushes (a cylinder). Options as :class:`TwoPointSpring`; ``min_length`` /
+    ``max_length`` give its stroke.
+    """
+
+    kind = "constant_force"
+    parameter_units = {"force": "N"}
+    linear_parameters = ("force",)
+
+    def tension(self, length, parameters):
+        return parameters["force"] + 0 * length                       # [N]
+
+    def potential(self, length, parameters):
+        return parameters["force"] * length                           # [N]·[m] = [J]
+
+    def tendon_law(self, values, lengths):
+        """Exact: ``F = F0`` (``k = 0``)."""
+        return 0.0, float(values["force"]), 0.0

@@ -1,0 +1,30 @@
+r"""Zero-free-length spring (docs/model.md §3.2): the law of exact balance."""
+
+from __future__ import annotations
+
+from springbalance.springs.laws.base import TwoPointSpring
+
+
+class ZeroFreeLengthSpring(TwoPointSpring):
+    r"""Zero-free-length spring: :math:`F = k L`, :math:`V_s = k L^2 / 2`.
+
+    Parameters: ``stiffness`` k [N/m].
+    """
+
+    kind = "zero_free_length"
+    parameter_units = {"stiffness": "N/m"}
+    nonnegative = ("stiffness",)
+    linear_parameters = ("stiffness",)
+
+    def tension(self, length, parameters):
+        return parameters["stiffness"] * length                       # [N/m]·[m] = [N]
+
+    def potential(self, length, parameters):
+        return 0.5 * parameters["stiffness"] * length * length        # [N/m]·[m²] = [J]
+
+    def tension_per_length(self, length, parameters):
+        return parameters["stiffness"] + 0 * length                   # smooth at L = 0
+
+    def tendon_law(self, values, lengths):
+        """Exact: ``F = k L`` (``k``, ``c = 0``)."""
+        return float(values["stiffness"]), 0.0, 0.0
