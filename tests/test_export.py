@@ -23,7 +23,8 @@ import springbalance as sb
 from springbalance.model import robots
 from springbalance.cli import main
 from springbalance.io.config import load_config
-from springbalance.io.export import anchor_link_name, sidecar_path, springs_from_urdf
+from springbalance.io.export import anchor_link_name
+from springbalance.io.urdf import sidecar_path, springs_from_urdf
 from springbalance.design.problem import DesignProblem
 from springbalance.results.result import DesignResult
 

@@ -245,7 +245,9 @@ def _report(args) -> int:
 
 
 def _export(args) -> int:
-    from springbalance.io.export import law_warnings, mjcf_string, sidecar_path, urdf_strings
+    from springbalance.io.export import law_warnings
+    from springbalance.io.mjcf import mjcf_string
+    from springbalance.io.urdf import sidecar_path, urdf_strings
     from springbalance.files import write_text_atomic
     from springbalance.results.result import DesignResult
 

@@ -246,15 +246,15 @@ class DesignResult:
     def to_urdf(self, path, resolve_packages: bool = False):
         """Write the URDF with a massless link at every spring anchor and the spring records (and
         ``<stem>.springs.json``); returns an :class:`~springbalance.io.export.ExportReport` whose
-        ``warnings`` list the springs MuJoCo cannot express exactly. See :func:`springbalance.io.export.export_urdf`."""
-        from springbalance.io.export import export_urdf
+        ``warnings`` list the springs MuJoCo cannot express exactly. See :func:`springbalance.io.urdf.export_urdf`."""
+        from springbalance.io.urdf import export_urdf
 
         return export_urdf(self, path, resolve_packages=resolve_packages)
 
     def to_mjcf(self, path):
         """Write the balanced arm as a MuJoCo model (a tendon per spring); returns an
-        :class:`~springbalance.io.export.ExportReport`. See :func:`springbalance.io.export.export_mjcf`."""
-        from springbalance.io.export import export_mjcf
+        :class:`~springbalance.io.export.ExportReport`. See :func:`springbalance.io.mjcf.export_mjcf`."""
+        from springbalance.io.mjcf import export_mjcf
 
         return export_mjcf(self, path)
 
