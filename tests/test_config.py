@@ -113,9 +113,10 @@ def test_gravity_vector(tmp_path):
 
 
 def test_unknown_robot(tmp_path):
-    message = config_error(tmp_path, edited(mechanism={"robot": "no_such_robot"}))
-    assert "mechanism.robot: unknown example-robot-data robot 'no_such_robot'; available: " in message
-    assert "ur5" in message
+    message = config_error(tmp_path, edited(mechanism={"robot": "pnda"}))
+    assert "mechanism.robot: unknown example-robot-data robot 'pnda'; did you mean 'panda'?" in message
+    assert "`springbalance robots`" in message
+    assert "ur5" not in message  # a suggestion, not the whole list of names
 
 
 # ---------------------------------------------------------------------- workspaces

@@ -8,7 +8,8 @@
     springbalance report design.json --out FOLDER [--no-scene]
     springbalance export design.json [--urdf OUT.urdf] [--mjcf OUT.xml] [--resolve-packages]
     springbalance payload-range design.json --body BODY [--point X Y Z] [--masses M ...] [--max-residual R] [--plot PATH]
-    springbalance robots
+    springbalance robots [--paths]
+    springbalance inspect ROBOT_OR_URDF [--json] [--mimic]
 
 Exit status: 0 on success, 1 when the solver finds no feasible design, 2 on bad input
 (unknown key, body or joint, malformed file, missing file, ...). Errors are printed as one
@@ -163,6 +164,19 @@ def build_parser() -> argparse.ArgumentParser:
         description="List the robot names accepted by 'mechanism: {robot: NAME}' in a config.")
     robots.add_argument("--paths", action="store_true", help="also print the URDF file of each robot")
     robots.set_defaults(handler=_robots)
+
+    inspect = commands.add_parser(
+        "inspect", help="list the bodies and joints of a robot or URDF (the names anchors and workspaces use)",
+        description="Print the bodies (mass, centre of mass in the body frame, parent joint), the joints (type, "
+                    "axis, limits, mimic coupling), the total mass and the ground bodies of an example-robot-data "
+                    "robot or a URDF file: the names to write in a config's anchors and workspace.")
+    inspect.add_argument("source", metavar="ROBOT_OR_URDF",
+                         help="a URDF file (an existing file, or any path with a '/' or ending in .urdf or .xml) "
+                              f"or an example-robot-data robot name (see '{PROG} robots')")
+    inspect.add_argument("--json", action="store_true", help="print the description as JSON instead of tables")
+    inspect.add_argument("--mimic", action="store_true",
+                         help="couple mimic joints to their primary joints (as 'mechanism: {mimic: true}' in a config)")
+    inspect.set_defaults(handler=_inspect)
     return parser
 
 
@@ -303,6 +317,93 @@ def _robots(args) -> int:
     for name, path in robots.items():
         print(f"{name:<{width}s}  {path}" if args.paths else name)
     return 0
+
+
+def _inspect(args) -> int:
+    import json
+
+    summary = _load_mechanism(args.source, mimic=args.mimic).summary()
+    print(json.dumps(summary, indent=2) if args.json else _summary_text(summary))
+    return 0
+
+
+def _load_mechanism(argument: str, mimic: bool = False):
+    """The URDF file ``argument`` if it is a file or looks like a path, else the robot of that name."""
+    from springbalance.model.mechanism import Mechanism
+
+    path = Path(argument)
+    if path.is_file():
+        return Mechanism.from_urdf(path, mimic=mimic)
+    if "/" in argument or os.sep in argument or path.suffix.lower() in (".urdf", ".xml"):
+        if path.is_dir():
+            raise InputError(f"{argument!r} is a directory; give a URDF file or an example-robot-data robot name")
+        return Mechanism.from_urdf(path, mimic=mimic)
+    try:
+        return Mechanism.from_robot(argument, mimic=mimic)
+    except InputError as error:
+        if path.is_dir():
+            raise InputError(f"{argument!r} is a directory, not a URDF file, and {error}") from None
+        raise
+
+
+def _summary_text(summary: dict) -> str:
+    """The text tables of ``springbalance inspect`` for a :meth:`Mechanism.summary` dict."""
+    import math
+
+    source = summary["source"]
+    where = {"robot": f"example-robot-data robot {source.get('robot')!r}, {source.get('path')}",
+             "urdf": f"URDF {source.get('path')}"}.get(source.get("kind"), source.get("kind"))
+    if source.get("mimic"):
+        where += ", mimic joints coupled"
+    dof_names = [joint["name"] for joint in summary["joints"] if joint["dof"]]
+    lines = [
+        f"{summary['name']} ({where})",
+        f"  {summary['dofs']} degree{'' if summary['dofs'] == 1 else 's'} of freedom: {', '.join(dof_names) or '—'}",
+        f"  total mass {_g(summary['total_mass'])} kg, of which {_g(summary['moving_mass'])} kg moves",
+        f"  gravity ({', '.join(_g(value) for value in summary['gravity'])}) m/s²",
+        f"  ground (cannot move): {', '.join(summary['ground'])}",
+        "",
+        "bodies (centre of mass in the body frame)",
+    ]
+    rows = [[body["name"], _g(body["mass"]), "(" + ", ".join(_g(value) for value in body["com"]) + ")",
+             body["parent_joint"] or "—", "ground" if body["ground"] else body["moved_by"]]
+            for body in summary["bodies"]]
+    lines += _table(["body", "mass [kg]", "centre of mass [m]", "parent joint", "moved by"], rows, right=(1,))
+    lines += ["", "joints (axis in the joint frame)"]
+    rows = []
+    for joint in summary["joints"]:
+        axis = "—" if joint["axis"] is None else "(" + ", ".join(_g(value) for value in joint["axis"]) + ")"
+        if joint["mimic"] is not None:
+            mimic = joint["mimic"]
+            limits = f"mimic: {_g(mimic['multiplier'])} × {mimic['joint']} + {_g(mimic['offset'])}"
+        elif joint["lower"] is None:
+            limits = "—"
+        else:
+            limits = f"{_g(joint['lower'], 5)} … {_g(joint['upper'], 5)} {joint['unit']}"
+            if joint["unit"] == "rad":
+                lower, upper = (round(math.degrees(joint[end]), 1) for end in ("lower", "upper"))
+                limits += f" ({_g(lower)}° … {_g(upper)}°)"
+            if joint["type"] == "continuous":
+                limits += ", no stops"
+        rows.append([joint["name"], joint["type"], f"{joint['parent']} → {joint['child']}", axis, limits])
+    lines += _table(["joint", "type", "parent → child", "axis", "limits"], rows)
+    return "\n".join(lines)
+
+
+def _table(header: list[str], rows: list[list[str]], right: tuple[int, ...] = ()) -> list[str]:
+    """Lines of a table indented by two spaces, columns padded to their widest cell."""
+    widths = [max(len(str(row[column])) for row in [header, *rows]) for column in range(len(header))]
+    lines = []
+    for row in [header, *rows]:
+        cells = [f"{str(cell):>{width}s}" if column in right else f"{str(cell):<{width}s}"
+                 for column, (cell, width) in enumerate(zip(row, widths))]
+        lines.append(("  " + "  ".join(cells)).rstrip())
+    return lines
+
+
+def _g(value: float, digits: int = 6) -> str:
+    """``value`` with ``digits`` significant digits, without a negative zero."""
+    return f"{value + 0.0:.{digits}g}"
 
 
 # ---------------------------------------------------------------------- helpers

@@ -16,10 +16,12 @@ import dataclasses
 import os
 import sys
 import warnings
+from collections.abc import Iterator
 from pathlib import Path
-
+from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 import pinocchio as pin
 
 from springbalance.model import robots
@@ -75,7 +77,8 @@ class Mechanism:
         source: how to rebuild this mechanism (saved with designs).
     """
 
-    def __init__(self, model: pin.Model, source: dict | None = None, gravity=None):
+    def __init__(self, model: pin.Model, source: dict[str, Any] | None = None,
+                 gravity: npt.ArrayLike | None = None) -> None:
         self.model = model.copy() if hasattr(model, "copy") else pin.Model(model)
         if gravity is not None:
             self.model.gravity.linear = _gravity_vector(gravity)
@@ -94,7 +97,7 @@ class Mechanism:
 
     # ----------------------------------------------------------------- constructors
     @classmethod
-    def from_urdf(cls, path: str | Path, gravity=None, mimic: bool = False) -> "Mechanism":
+    def from_urdf(cls, path: str | Path, gravity: npt.ArrayLike | None = None, mimic: bool = False) -> Mechanism:
         """Load a URDF file. ``gravity``: magnitude g (then (0, 0, -g)) or a 3-vector [m/s²]."""
         path = Path(path)
         if not path.is_file():
@@ -110,7 +113,7 @@ class Mechanism:
         return cls(model, source=source, gravity=gravity)
 
     @classmethod
-    def from_urdf_string(cls, text: str, gravity=None, mimic: bool = False) -> "Mechanism":
+    def from_urdf_string(cls, text: str, gravity: npt.ArrayLike | None = None, mimic: bool = False) -> Mechanism:
         """Parse a URDF given as XML text."""
         try:
             with _quiet_native_stderr():
@@ -122,19 +125,19 @@ class Mechanism:
         return cls(model, source={"kind": "urdf_string", "text": text, "mimic": mimic}, gravity=gravity)
 
     @classmethod
-    def from_robot(cls, name: str, gravity=None, mimic: bool = False) -> "Mechanism":
+    def from_robot(cls, name: str, gravity: npt.ArrayLike | None = None, mimic: bool = False) -> Mechanism:
         """Load a robot of example-robot-data by name (``"ur5"``, ``"panda"``, ...)."""
         mechanism = cls.from_urdf(robots.robot_urdf(name), gravity=gravity, mimic=mimic)
         mechanism.source = {**mechanism.source, "kind": "robot", "robot": name}
         return mechanism
 
     @classmethod
-    def from_model(cls, model: pin.Model, gravity=None) -> "Mechanism":
+    def from_model(cls, model: pin.Model, gravity: npt.ArrayLike | None = None) -> Mechanism:
         """Wrap an existing Pinocchio model (it is copied)."""
         return cls(model, source={"kind": "model"}, gravity=gravity)
 
     @classmethod
-    def from_source(cls, source: dict) -> "Mechanism":
+    def from_source(cls, source: dict[str, Any]) -> Mechanism:
         """Rebuild a mechanism from its :attr:`source` record (as saved in a design file)."""
         kind = source.get("kind")
         gravity = source.get("gravity")
@@ -150,14 +153,17 @@ class Mechanism:
     # ----------------------------------------------------------------- names
     @property
     def name(self) -> str:
+        """The model name (the URDF ``<robot name>``)."""
         return self.model.name
 
     @property
     def nv(self) -> int:
+        """Number of degrees of freedom (columns of joint values and torques)."""
         return self.model.nv
 
     @property
     def joint_names(self) -> list[str]:
+        """Names of the degrees of freedom, in the order of the torque vector."""
         return [joint.name for joint in self.joints]
 
     @property
@@ -190,8 +196,135 @@ class Mechanism:
         """True when ``body`` cannot move (the universe or a link welded to it)."""
         return self.model.frames[self.frame_id(body)].parentJoint == 0
 
+    # ----------------------------------------------------------------- description
+    def summary(self) -> dict[str, Any]:
+        """What ``springbalance inspect`` prints: the bodies, joints and masses, as plain data.
+
+        Units: masses in kg, lengths in m, joint limits in rad (revolute, continuous and the
+        angle of a revolute mimic joint) or m (prismatic), gravity in m/s². The returned dict
+        holds only str, float, int, bool, None, lists and dicts, so it is JSON-serialisable:
+
+        - ``name``: the model name; ``source``: :attr:`source` (without the XML text of a
+          mechanism built from a URDF string); ``gravity``: 3-vector [m/s²];
+          ``dofs``: number of degrees of freedom (:attr:`nv`).
+        - ``total_mass`` [kg]: every body of the URDF, ground bodies included;
+          ``moving_mass`` [kg]: the bodies that are not ground.
+        - ``ground``: the names of the bodies that cannot move, ``universe`` first (see :meth:`is_ground`).
+        - ``bodies``: one dict per body of :attr:`body_names` (``universe`` first, then the URDF
+          links in tree order): ``name``; ``mass`` [kg]; ``com``, the centre of mass in the body
+          frame [m]; ``parent_joint``, the URDF joint whose child the body is (``None`` for
+          ``universe`` and the root link; may be a fixed joint); ``moved_by``, the moving joint
+          whose motion carries the body (``None`` for ground bodies); ``ground`` (bool).
+        - ``joints``: one dict per URDF joint in tree order: ``name``; ``type``
+          (``"revolute"``, ``"continuous"``, ``"prismatic"`` or ``"fixed"``); ``parent`` and
+          ``child`` bodies; ``axis``, the unit axis in the joint frame (``None`` for a fixed
+          joint); ``dof`` (bool: a degree of freedom, sampled by workspaces); ``lower`` and
+          ``upper`` [rad or m], the range springbalance uses (``[-pi, pi]`` for continuous
+          joints or missing limits, ``None`` for fixed and mimic joints); ``unit`` (``"rad"``,
+          ``"m"`` or ``None``); ``mimic``: ``None`` or ``{"joint", "multiplier", "offset"}``
+          (offset in rad or m), meaning ``q = multiplier * q[joint] + offset``. Mimic joints
+          appear only when the mechanism was loaded with ``mimic=True``; otherwise they are
+          independent degrees of freedom.
+
+        Masses and centres of mass come from Pinocchio, which merges a link welded by a fixed
+        joint into the body of its moving joint; they are split back per link here, and
+        rounded to 1e-12 to hide the round-off of that split.
+        """
+        model = self.model
+        frames = model.frames
+        fixed_inertias = self._fixed_link_inertias()
+        dofs = {joint.name: joint for joint in self.joints}
+        mimics = dict(zip((int(i) for i in model.mimicking_joints), (int(i) for i in model.mimicked_joints)))
+        q = pin.neutral(model)
+
+        bodies = []
+        for name, frame_id in self._frame_ids.items():
+            frame = frames[frame_id]
+            if frame_id == 0:  # universe
+                inertia, parent_joint = pin.Inertia.Zero(), None
+            else:
+                parent = frames[frame.parentFrame]
+                is_fixed_child = parent.type == pin.FrameType.FIXED_JOINT and frame.parentFrame != 0
+                if is_fixed_child:
+                    inertia = frame.placement.actInv(parent.placement.act(parent.inertia))
+                else:
+                    joint_inertia = model.inertias[frame.parentJoint]
+                    welded = fixed_inertias.get(frame.parentJoint, [])
+                    mass = joint_inertia.mass - sum(item.mass for item in welded)
+                    first_moment = joint_inertia.mass * joint_inertia.lever - sum(
+                        (item.mass * item.lever for item in welded), np.zeros(3))
+                    lever = first_moment / mass if abs(mass) > 1e-12 else np.zeros(3)
+                    inertia = frame.placement.actInv(pin.Inertia(mass, lever, np.eye(3)))
+                parent_joint = parent.name if parent.type in (pin.FrameType.JOINT, pin.FrameType.FIXED_JOINT) \
+                    and frame.parentFrame != 0 else None
+            ground = self.is_ground(name)
+            bodies.append({
+                "name": name,
+                "mass": _clean(inertia.mass),
+                "com": [_clean(value) for value in inertia.lever],
+                "parent_joint": parent_joint,
+                "moved_by": None if ground else model.names[frame.parentJoint],
+                "ground": ground,
+            })
+
+        children = {frames[frame_id].parentFrame: name for name, frame_id in self._frame_ids.items() if frame_id}
+        joints = []
+        for frame_id, frame in enumerate(frames):
+            if frame_id == 0 or frame.type not in (pin.FrameType.JOINT, pin.FrameType.FIXED_JOINT):
+                continue
+            record: dict[str, Any] = {
+                "name": frame.name, "type": "fixed", "parent": frames[frame.parentFrame].name,
+                "child": children.get(frame_id), "axis": None, "dof": False, "lower": None, "upper": None,
+                "unit": None, "mimic": None,
+            }
+            if frame.type == pin.FrameType.JOINT:
+                joint_id = frame.parentJoint
+                joint_model = model.joints[joint_id]
+                data = joint_model.createData()
+                joint_model.calc(data, q)
+                subspace = np.asarray(data.S, dtype=float).ravel()
+                if joint_id in mimics:
+                    mimic = joint_model.extract()
+                    scaling = float(mimic.scaling)
+                    record["mimic"] = {"joint": model.names[mimics[joint_id]], "multiplier": scaling,
+                                       "offset": float(mimic.offset)}
+                    if scaling:
+                        subspace = subspace / scaling  # a mimic joint's motion subspace is scaled
+                angular = np.linalg.norm(subspace[3:]) > np.linalg.norm(subspace[:3])
+                axis = subspace[3:] if angular else subspace[:3]
+                norm = np.linalg.norm(axis)
+                record["axis"] = [_clean(value / norm) for value in axis] if norm > 0 else None
+                if frame.name in dofs:
+                    dof = dofs[frame.name]
+                    record.update(type=dof.kind, dof=True, lower=float(dof.lower), upper=float(dof.upper),
+                                  unit=dof.unit)
+                else:
+                    record.update(type="revolute" if angular else "prismatic")
+            joints.append(record)
+
+        masses = [body["mass"] for body in bodies]
+        return {
+            "name": self.name,
+            "source": {key: value for key, value in self.source.items() if key != "text"},
+            "gravity": [float(value) for value in self.gravity],
+            "dofs": self.nv,
+            "total_mass": _clean(sum(masses)),
+            "moving_mass": _clean(sum(body["mass"] for body in bodies if not body["ground"])),
+            "ground": [body["name"] for body in bodies if body["ground"]],
+            "bodies": bodies,
+            "joints": joints,
+        }
+
+    def _fixed_link_inertias(self) -> dict[int, list[pin.Inertia]]:
+        """Per Pinocchio joint, the inertias (in the joint frame) of the links welded to it by fixed joints."""
+        welded: dict[int, list[pin.Inertia]] = {}
+        for frame_id, frame in enumerate(self.model.frames):
+            if frame_id and frame.type == pin.FrameType.FIXED_JOINT:
+                welded.setdefault(frame.parentJoint, []).append(frame.placement.act(frame.inertia))
+        return welded
+
     # ----------------------------------------------------------------- coordinates
-    def configurations(self, joint_values: np.ndarray) -> np.ndarray:
+    def configurations(self, joint_values: npt.ArrayLike) -> np.ndarray:
         """Pinocchio configurations ``q`` (N×nq) from joint coordinates (N×nv).
 
         Revolute and prismatic joints copy their coordinate; a continuous joint stores
@@ -256,11 +389,12 @@ def _warn_unused_mimic(text: str, where: str) -> None:
     names = [joint.get("name", "?") for joint in root.iter("joint") if joint.find("mimic") is not None]
     if names:
         warnings.warn(f"{where} declares mimic joints ({', '.join(names)}); they are loaded as independent joints. "
-                      "Pass mimic=True (config: mechanism.mimic: true) to couple them to their primary joints.",
+                      "Pass mimic=True (config: mechanism.mimic: true; `springbalance inspect --mimic`) to couple them "
+                      "to their primary joints.",
                       stacklevel=3)
 
 
-def _gravity_vector(gravity) -> np.ndarray:
+def _gravity_vector(gravity: npt.ArrayLike) -> np.ndarray:
     try:
         vector = np.asarray(gravity, dtype=float)
     except (TypeError, ValueError):
@@ -272,13 +406,18 @@ def _gravity_vector(gravity) -> np.ndarray:
     return vector
 
 
+def _clean(value: float) -> float:
+    """``value`` rounded to 1e-12, without a negative zero."""
+    return float(round(float(value), 12)) + 0.0
+
+
 def _one_line(exc: Exception) -> str:
     text = " ".join(str(exc).split())
     return text[:300] if text else type(exc).__name__
 
 
 @contextlib.contextmanager
-def _quiet_native_stderr():
+def _quiet_native_stderr() -> Iterator[None]:
     """Silence what the C++ URDF parser prints on file descriptor 2 (its error is re-raised)."""
     try:
         sys.stderr.flush()

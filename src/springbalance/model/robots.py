@@ -8,6 +8,7 @@ one of the short aliases the upstream loaders use (``ur5``, ``panda``, ``talos_a
 
 from __future__ import annotations
 
+import difflib
 import functools
 import sysconfig
 from pathlib import Path
@@ -71,12 +72,27 @@ def robot_urdf(name: str) -> Path:
     """Path of the URDF of the example-robot-data robot ``name``.
 
     Raises:
-        InputError: ``name`` is unknown; the message lists the available names.
+        InputError: ``name`` is unknown; the message suggests up to three close names
+            ("did you mean 'ur5'?") and points to ``springbalance robots`` for the full list.
     """
     robots = available_robots()
     if name not in robots:
-        raise InputError(f"unknown example-robot-data robot {name!r}; available: {', '.join(robots)}")
+        raise InputError(f"unknown example-robot-data robot {name!r}; {_suggestion(name, list(robots))}")
     return robots[name]
+
+
+def _suggestion(name: str, names: list[str]) -> str:
+    """``did you mean 'a', 'b' or 'c'?`` (close names, case-insensitive) plus where the full list is."""
+    by_lower: dict[str, str] = {}
+    for candidate in names:
+        by_lower.setdefault(candidate.lower(), candidate)
+    matches = [by_lower[match] for match in difflib.get_close_matches(str(name).lower(), list(by_lower), n=3)]
+    hint = f"run `springbalance robots` for the full list of {len(names)}"
+    if not matches:
+        return hint
+    quoted = [repr(match) for match in matches]
+    alternatives = quoted[0] if len(quoted) == 1 else f"{', '.join(quoted[:-1])} or {quoted[-1]}"
+    return f"did you mean {alternatives}? ({hint})"
 
 
 def package_directories() -> list[str]:

@@ -13,13 +13,17 @@ from __future__ import annotations
 
 import dataclasses
 import re
-from typing import Mapping, Sequence
+from typing import TYPE_CHECKING, Any, Mapping, Sequence
 
 import numpy as np
+import numpy.typing as npt
 from scipy.stats import qmc
 
 from springbalance.errors import InputError
 from springbalance.model.mechanism import Mechanism
+
+if TYPE_CHECKING:
+    from springbalance.model.kinematics import WorkspaceKinematics
 
 Range = tuple[float, float]
 
@@ -39,7 +43,7 @@ class Coupling:
     degrees: bool = False
 
     @classmethod
-    def parse(cls, expression: str, lower: float, upper: float, degrees: bool = False) -> "Coupling":
+    def parse(cls, expression: str, lower: float, upper: float, degrees: bool = False) -> Coupling:
         """Build a coupling from text such as ``"q3 - q2"`` or ``"2*knee + hip"``."""
         text = expression.replace(" ", "")
         terms = re.findall(r"([+-]?)(?:(\d+(?:\.\d*)?(?:[eE][+-]?\d+)?)\*)?([A-Za-z_][\w.\-]*?)(?=[+-]|$)", text)
@@ -53,6 +57,7 @@ class Coupling:
         return cls(coefficients, lower, upper, degrees)
 
     def bounds(self) -> Range:
+        """``(lower, upper)`` in the joints' units (degrees converted to rad)."""
         scale = np.pi / 180 if self.degrees else 1.0
         return self.lower * scale, self.upper * scale
 
@@ -64,6 +69,7 @@ class Coupling:
         return row
 
     def describe(self) -> str:
+        """The coupling as text, e.g. ``1*elbow - 1*shoulder in [-60, 0] deg``."""
         terms = " ".join(f"{'+' if v >= 0 else '-'} {abs(v):g}*{k}" for k, v in self.coefficients.items())
         unit = " deg" if self.degrees else ""
         return f"{terms.lstrip('+ ')} in [{self.lower:g}, {self.upper:g}]{unit}"
@@ -79,7 +85,8 @@ class Workspace:
         description: how the samples were made (saved with designs).
     """
 
-    def __init__(self, mechanism: Mechanism, joint_values, ordered: bool = False, description: dict | None = None):
+    def __init__(self, mechanism: Mechanism, joint_values: npt.ArrayLike, ordered: bool = False,
+                 description: dict[str, Any] | None = None) -> None:
         values = np.atleast_2d(np.asarray(joint_values, dtype=float))
         if values.ndim != 2 or values.shape[1] != mechanism.nv:
             raise InputError(
@@ -95,11 +102,12 @@ class Workspace:
         self.joint_values = values
         self.ordered = bool(ordered)
         self.description = dict(description or {"kind": "array"})
-        self._kinematics = None
+        self._kinematics: WorkspaceKinematics | None = None
 
     # ----------------------------------------------------------------- constructors
     @classmethod
-    def from_array(cls, mechanism: Mechanism, joint_values, ordered: bool = True, degrees: bool = False) -> "Workspace":
+    def from_array(cls, mechanism: Mechanism, joint_values: npt.ArrayLike, ordered: bool = True,
+                   degrees: bool = False) -> Workspace:
         """Explicit samples (rows). A trajectory is ordered; pass ``ordered=False`` for a cloud."""
         values = np.asarray(joint_values, dtype=float)
         if degrees:
@@ -108,7 +116,7 @@ class Workspace:
 
     @classmethod
     def grid(cls, mechanism: Mechanism, n: int | Mapping[str, int] = 16, ranges: Mapping[str, Sequence[float]] | None = None,
-             couplings: Sequence[Coupling] = (), degrees: bool = False) -> "Workspace":
+             couplings: Sequence[Coupling] = (), degrees: bool = False) -> Workspace:
         """Tensor grid with ``n`` points per joint (an int, or a dict joint → count).
 
         A joint with a zero-width range, or a count of 1, is held at the range's midpoint.
@@ -136,19 +144,19 @@ class Workspace:
 
     @classmethod
     def sobol(cls, mechanism: Mechanism, n: int = 1024, ranges: Mapping[str, Sequence[float]] | None = None,
-              couplings: Sequence[Coupling] = (), degrees: bool = False, seed: int = 0) -> "Workspace":
+              couplings: Sequence[Coupling] = (), degrees: bool = False, seed: int = 0) -> Workspace:
         """``n`` scrambled Sobol points over the joint ranges (deterministic given ``seed``)."""
         return cls._sampled(mechanism, n, ranges, couplings, degrees, seed, "sobol")
 
     @classmethod
     def random(cls, mechanism: Mechanism, n: int = 1024, ranges: Mapping[str, Sequence[float]] | None = None,
-               couplings: Sequence[Coupling] = (), degrees: bool = False, seed: int = 0) -> "Workspace":
+               couplings: Sequence[Coupling] = (), degrees: bool = False, seed: int = 0) -> Workspace:
         """``n`` uniform random points over the joint ranges (deterministic given ``seed``)."""
         return cls._sampled(mechanism, n, ranges, couplings, degrees, seed, "random")
 
     @classmethod
     def sweep(cls, mechanism: Mechanism, joint: str, n: int = 181, ranges: Mapping[str, Sequence[float]] | None = None,
-              degrees: bool = False) -> "Workspace":
+              degrees: bool = False) -> Workspace:
         """Ordered sweep of one joint over its range, the others at their range midpoints."""
         index = mechanism.joint(joint).index_v
         lower, upper = _ranges(mechanism, ranges, degrees)
@@ -157,7 +165,8 @@ class Workspace:
         return cls(mechanism, values, ordered=True, description={"kind": "sweep", "joint": joint, "n": int(n)})
 
     @classmethod
-    def _sampled(cls, mechanism, n, ranges, couplings, degrees, seed, kind):
+    def _sampled(cls, mechanism: Mechanism, n: int, ranges: Mapping[str, Sequence[float]] | None,
+                 couplings: Sequence[Coupling], degrees: bool, seed: int, kind: str) -> Workspace:
         n = int(n)
         if n < 1:
             raise InputError(f"workspace sample count must be ≥ 1, got {n}")
@@ -188,6 +197,7 @@ class Workspace:
     # ----------------------------------------------------------------- data
     @property
     def size(self) -> int:
+        """Number of samples N."""
         return self.joint_values.shape[0]
 
     def __len__(self) -> int:
@@ -198,7 +208,7 @@ class Workspace:
         """Pinocchio configurations (N×nq)."""
         return self.mechanism.configurations(self.joint_values)
 
-    def kinematics(self):
+    def kinematics(self) -> WorkspaceKinematics:
         """The numeric cache of gravity torques, placements and Jacobians (computed once)."""
         from springbalance.model.kinematics import WorkspaceKinematics
 

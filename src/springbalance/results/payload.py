@@ -21,14 +21,21 @@ from __future__ import annotations
 
 import dataclasses
 from pathlib import Path
+from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
+import numpy.typing as npt
 
 from springbalance.errors import InputError
 from springbalance.design.problem import DesignProblem
 from springbalance.design.scenarios import Payload, Scenario
 from springbalance.design.solvers import refine
 from springbalance.springs.records import spring_from_dict
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+    from springbalance.results.result import DesignResult
 
 ANCHOR_COLOR = "#2b8cbe"
 RESIDUAL_COLOR = "#d7301f"
@@ -40,13 +47,13 @@ class PayloadRow:
     (``"<spring>.<end>"`` → body-frame point), peak and RMS residual torque [N·m]."""
 
     mass: float
-    variables: dict
-    anchors: dict
+    variables: dict[str, float]
+    anchors: dict[str, list[float]]
     peak: float
     rms: float
     balanced: bool
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         return {"mass": self.mass, "variables": self.variables,
                 "anchors": {key: list(point) for key, point in self.anchors.items()},
                 "peak": self.peak, "rms": self.rms, "balanced": self.balanced}
@@ -59,9 +66,9 @@ class PayloadRange:
     exceeded it)."""
 
     body: str
-    point: tuple
+    point: tuple[float, ...]
     max_residual: float
-    rows: list
+    rows: list[PayloadRow]
     max_payload: float
 
     def table(self) -> str:
@@ -76,7 +83,7 @@ class PayloadRange:
         lines.append(f"  largest payload balanced: {self.max_payload:.6g} kg")
         return "\n".join(lines)
 
-    def plot(self, path: str | Path | None = None):
+    def plot(self, path: str | Path | None = None) -> Figure:
         """matplotlib figure: adjustable anchor coordinates and peak residual against the payload
         (also saved as PNG and SVG when ``path`` is given)."""
         from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -117,7 +124,7 @@ class PayloadRange:
             save_figure(figure, path)
         return figure
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         return {"body": self.body, "point": list(self.point), "max_residual": self.max_residual,
                 "max_payload": self.max_payload, "rows": [row.to_dict() for row in self.rows]}
 
@@ -127,7 +134,7 @@ class PayloadSweep:
     """Result of :func:`residual_vs_payload`: per payload mass [kg], the peak and RMS residual [N·m]."""
 
     body: str
-    point: tuple
+    point: tuple[float, ...]
     masses: np.ndarray
     peak: np.ndarray
     rms: np.ndarray
@@ -138,7 +145,7 @@ class PayloadSweep:
         lines += [f"  {m:12.4g}{p:13.4g}{r:12.4g}" for m, p, r in zip(self.masses, self.peak, self.rms)]
         return "\n".join(lines)
 
-    def plot(self, path: str | Path | None = None, label: str = "fixed design"):
+    def plot(self, path: str | Path | None = None, label: str = "fixed design") -> Figure:
         """matplotlib figure: peak and RMS residual against the payload (PNG + SVG at ``path``)."""
         from matplotlib.backends.backend_agg import FigureCanvasAgg
         from matplotlib.figure import Figure
@@ -159,13 +166,14 @@ class PayloadSweep:
             save_figure(figure, path)
         return figure
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         return {"body": self.body, "point": list(self.point), "masses": self.masses.tolist(),
                 "peak": self.peak.tolist(), "rms": self.rms.tolist()}
 
 
 # ---------------------------------------------------------------------- studies
-def payload_range(result, body: str, point=(0.0, 0.0, 0.0), max_residual: float | None = None, masses=None,
+def payload_range(result: DesignResult, body: str, point: Sequence[float] = (0.0, 0.0, 0.0),
+                  max_residual: float | None = None, masses: npt.ArrayLike | None = None,
                   rounds: int = 3, points: int = 9, starts: int = 1) -> PayloadRange:
     """Largest payload an adjustable design can balance, and its anchor against the payload.
 
@@ -174,11 +182,14 @@ def payload_range(result, body: str, point=(0.0, 0.0, 0.0), max_residual: float 
             variables; its shared variables (the spring) are kept, the per-scenario ones
             (within their bounds: the travel of the anchor) are re-fitted per payload by
             minimising that payload's RMS residual.
-        body, point: where the payload sits (body-frame point [m]).
+        body: the body that carries the payload.
+        point: where the payload sits on ``body`` (body-frame point [m]).
         max_residual: peak residual torque [N·m] up to which a payload counts as balanced
             (default 1e-6 × the bare mechanism's peak gravity torque: exact balance).
         masses: payloads [kg] for the table (default: 9 from 0 to just past the largest).
-        rounds, points: bracketing of the largest payload: ``rounds`` sweeps of ``points`` masses.
+        rounds: bracketing of the largest payload: ``rounds`` sweeps of ``points`` masses each.
+        points: masses per bracketing sweep (see ``rounds``).
+        starts: starts of the multi-start that re-fits the per-scenario variables.
     """
     problem = result.problem
     if not problem.model.per_scenario:
@@ -233,7 +244,8 @@ def payload_range(result, body: str, point=(0.0, 0.0, 0.0), max_residual: float 
     return PayloadRange(body, point, max_residual, rows, max_payload)
 
 
-def residual_vs_payload(result, body: str, masses, point=(0.0, 0.0, 0.0), scenario: int = 0) -> PayloadSweep:
+def residual_vs_payload(result: DesignResult, body: str, masses: npt.ArrayLike,
+                        point: Sequence[float] = (0.0, 0.0, 0.0), scenario: int = 0) -> PayloadSweep:
     """Peak and RMS residual torque [N·m] of a fixed design (its values in ``scenario``) with each payload."""
     problem = result.problem
     springs = problem.scenario_springs(result.x, scenario) if problem.scenarios else result.fixed_springs()

@@ -11,8 +11,10 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
+from typing import TYPE_CHECKING, Any, Iterable
 
 import numpy as np
+import numpy.typing as npt
 
 from springbalance.errors import InputError
 from springbalance.files import write_json_atomic
@@ -23,6 +25,16 @@ from springbalance.springs.sizing import size_helical_spring
 from springbalance.springs.mass import CoilMass
 from springbalance.springs.records import spring_from_dict
 from springbalance.model.workspace import Workspace
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+    from springbalance.design.problem import Evaluation
+    from springbalance.design.solvers import StartRecord
+    from springbalance.io.export import ExportReport
+    from springbalance.springs.laws import Spring
+    from springbalance.springs.sizing import HelicalDesign, Material
+    from springbalance.viz.scene import LiveScene, StaticScene
 
 FORMAT = "springbalance-design/1"
 
@@ -37,8 +49,8 @@ class DesignResult:
         status: the solver status of the chosen start.
     """
 
-    def __init__(self, problem, x, starts=(), method: str = "evaluate", seed: int | None = None,
-                 status: str = "evaluated"):
+    def __init__(self, problem: DesignProblem, x: npt.ArrayLike, starts: Iterable[StartRecord] = (),
+                 method: str = "evaluate", seed: int | None = None, status: str = "evaluated") -> None:
         self.problem = problem
         self.x = np.asarray(x, dtype=float)
         self.starts = list(starts)
@@ -52,7 +64,7 @@ class DesignResult:
         return dict(zip(self.problem.variables.names, self.x.tolist()))
 
     @property
-    def springs(self) -> list[dict]:
+    def springs(self) -> list[dict[str, Any]]:
         """Per spring: name, type, where it acts and its values.
 
         Two-point springs give their anchors ``a`` and ``b`` (body and body-frame point [m]);
@@ -78,14 +90,14 @@ class DesignResult:
             records.append(record)
         return records
 
-    def spring(self, name: str) -> dict:
+    def spring(self, name: str) -> dict[str, Any]:
         """Values of the spring called ``name``."""
         for record in self.springs:
             if record["name"] == name:
                 return record
         raise InputError(f"unknown spring {name!r}; springs: {', '.join(s.name for s in self.problem.springs)}")
 
-    def fixed_springs(self) -> list:
+    def fixed_springs(self) -> list[Spring]:
         """The springs with every free parameter and anchor fixed at this design's values."""
         records = []
         for spring, values in zip(self.problem.springs, self.springs):
@@ -95,7 +107,7 @@ class DesignResult:
             records.append(spring_from_dict(record))
         return records
 
-    def helical_sizing(self, material=None) -> dict:
+    def helical_sizing(self, material: Material | str | None = None) -> dict[str, HelicalDesign]:
         """Helical springs that realise this design (:func:`springbalance.springs.sizing.size_helical_spring`).
 
         Sizes every spring with a ``helical`` option (with its material), or, when ``material``
@@ -122,7 +134,7 @@ class DesignResult:
         return designs
 
     # ---------------------------------------------------------------- torques
-    def residual_torque(self, joint_values=None, degrees: bool = False) -> np.ndarray:
+    def residual_torque(self, joint_values: npt.ArrayLike | None = None, degrees: bool = False) -> np.ndarray:
         """Actuator torque ``tau(q)`` with the springs (N×nv) [N·m or N].
 
         ``joint_values``: N×nv joint coordinates (or one row); default: the workspace.
@@ -131,13 +143,13 @@ class DesignResult:
             return self.evaluation.tau.copy()
         return self.evaluate_on(Workspace.from_array(self.problem.mechanism, joint_values, degrees=degrees)).tau
 
-    def evaluate_on(self, workspace: Workspace):
+    def evaluate_on(self, workspace: Workspace) -> Evaluation:
         """Evaluation of this design on another workspace of the same mechanism."""
         problem = DesignProblem(self.problem.mechanism, workspace, self.fixed_springs(),
                                 objective="rms", weights=self._weights_by_name())
         return problem.evaluate(np.zeros(0))
 
-    def on_workspace(self, workspace: Workspace) -> "DesignResult":
+    def on_workspace(self, workspace: Workspace) -> DesignResult:
         """This design re-evaluated on ``workspace`` (same objective when the workspace allows it)."""
         objective = self.problem.objective.name
         if OBJECTIVES[objective].needs_path and not workspace.ordered:
@@ -150,7 +162,7 @@ class DesignResult:
         return {joint.name: float(w) for joint, w in zip(self.problem.mechanism.joints, self.problem.weights)}
 
     # ---------------------------------------------------------------- metrics
-    def metrics(self) -> dict:
+    def metrics(self) -> dict[str, Any]:
         """Per-joint peak/RMS before and after, reduction %, and every objective before and after."""
         problem = self.problem
         kinematics = problem.workspace.kinematics()
@@ -178,7 +190,7 @@ class DesignResult:
         return {"joints": joints, "objectives": objectives, "optimised": problem.objective.name,
                 "max_violation": self.evaluation.max_violation, "samples": problem.workspace.size}
 
-    def exact_balance(self, tolerance: float = 1e-9) -> dict:
+    def exact_balance(self, tolerance: float = 1e-9) -> dict[str, Any]:
         """Whether the design balances exactly: residual torque zero to solver precision.
 
         With scenarios, ``potential_spread`` is the largest spread within one scenario and
@@ -199,7 +211,7 @@ class DesignResult:
                 "potential": float(np.mean(potential)), "potential_spread": float(np.max(np.ptp(potential, axis=1))),
                 "scenario_potentials": np.mean(potential, axis=1).tolist()}
 
-    def spread(self) -> dict:
+    def spread(self) -> dict[str, Any]:
         """Objective values across multi-start starts: best, median, worst, feasible count."""
         values = np.array([record.objective for record in self.starts if record.feasible])
         if values.size == 0:
@@ -215,7 +227,8 @@ class DesignResult:
 
     # ---------------------------------------------------------------- seeing the design
     # (viz, plots and html_report sit downstream of the result: imported only when called)
-    def show(self, joint_values=None, static: bool = False, **options):
+    def show(self, joint_values: npt.ArrayLike | None = None, static: bool = False,
+             **options: Any) -> LiveScene | StaticScene:
         """Draw the design in Meshcat: the arm, its springs as helices coloured by tension, animated.
 
         By default the scene goes to a local Meshcat server (127.0.0.1 only, started on
@@ -228,14 +241,14 @@ class DesignResult:
 
         return show(self, joint_values, static=static, **options)
 
-    def plot_torques(self, path=None, points: int = 121):
+    def plot_torques(self, path: str | Path | None = None, points: int = 121) -> Figure:
         """matplotlib figure of each joint's torque along a sweep of that joint, before and after;
         ``path``: also save it as PNG and SVG. See :func:`springbalance.results.plots.plot_torques`."""
         from springbalance.results.plots import plot_torques
 
         return plot_torques(self, points=points, path=path)
 
-    def report(self, folder, scene: bool = True, **scene_options) -> Path:
+    def report(self, folder: str | Path, scene: bool = True, **scene_options: Any) -> Path:
         """Write ``report.html``, ``scene.html`` and the torque plots into ``folder``; returns
         the report's path. See :func:`springbalance.results.html_report.write_report`."""
         from springbalance.results.html_report import write_report
@@ -243,7 +256,7 @@ class DesignResult:
         return write_report(self, folder, scene=scene, **scene_options)
 
     # ---------------------------------------------------------------- export (downstream, imported when called)
-    def to_urdf(self, path, resolve_packages: bool = False):
+    def to_urdf(self, path: str | Path, resolve_packages: bool = False) -> ExportReport:
         """Write the URDF with a massless link at every spring anchor and the spring records (and
         ``<stem>.springs.json``); returns an :class:`~springbalance.io.export.ExportReport` whose
         ``warnings`` list the springs MuJoCo cannot express exactly. See :func:`springbalance.io.urdf.export_urdf`."""
@@ -251,7 +264,7 @@ class DesignResult:
 
         return export_urdf(self, path, resolve_packages=resolve_packages)
 
-    def to_mjcf(self, path):
+    def to_mjcf(self, path: str | Path) -> ExportReport:
         """Write the balanced arm as a MuJoCo model (a tendon per spring); returns an
         :class:`~springbalance.io.export.ExportReport`. See :func:`springbalance.io.mjcf.export_mjcf`."""
         from springbalance.io.mjcf import export_mjcf
@@ -259,7 +272,8 @@ class DesignResult:
         return export_mjcf(self, path)
 
     # ---------------------------------------------------------------- persistence
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON record that :meth:`save` writes and :meth:`load` reads."""
         problem = self.problem
         workspace = problem.base_workspace  # the poses; scenarios (saved below) are stacked on them
         return {
@@ -284,7 +298,8 @@ class DesignResult:
         return write_json_atomic(path, self.to_dict())
 
     @classmethod
-    def load(cls, path: str | Path, mechanism: Mechanism | None = None, workspace: Workspace | None = None) -> "DesignResult":
+    def load(cls, path: str | Path, mechanism: Mechanism | None = None,
+             workspace: Workspace | None = None) -> DesignResult:
         """Read a design saved by :meth:`save`; values round-trip exactly.
 
         ``mechanism`` overrides the saved mechanism source; ``workspace`` evaluates the

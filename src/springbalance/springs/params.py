@@ -14,11 +14,15 @@ which is what keeps each spring end affine in the design variables (MODEL.md §2
 from __future__ import annotations
 
 import dataclasses
-from typing import Sequence
+from typing import Any, Sequence, Union
 
 import numpy as np
+import numpy.typing as npt
 
 from springbalance.errors import InputError
+
+#: What :class:`Anchor` accepts as its point: a fixed 3-vector [m], or a free region.
+AnchorPoint = Union[Sequence[float], np.ndarray, "Free", "Segment", "Plane"]
 
 
 class Free:
@@ -29,7 +33,7 @@ class Free:
     the first start of the multi-start (default: the middle of the bounds).
     """
 
-    def __init__(self, lower, upper, init=None):
+    def __init__(self, lower: npt.ArrayLike, upper: npt.ArrayLike, init: npt.ArrayLike | None = None) -> None:
         try:
             self.lower = np.asarray(lower, dtype=float)
             self.upper = np.asarray(upper, dtype=float)
@@ -55,7 +59,8 @@ class Free:
         """Initial guess: ``init`` or the middle of the bounds."""
         return self.init if self.init is not None else (self.lower + self.upper) / 2
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
+        """``{lower, upper, init?}`` as plain lists/numbers (the config form)."""
         record = {"lower": self.lower.tolist(), "upper": self.upper.tolist()}
         if self.init is not None:
             record["init"] = self.init.tolist()
@@ -76,7 +81,8 @@ class Region:
     start: np.ndarray       # (m,)
     labels: tuple[str, ...]
 
-    def point(self, coordinates) -> np.ndarray:
+    def point(self, coordinates: npt.ArrayLike) -> np.ndarray:
+        """The point ``offset + basis · coordinates`` [m]."""
         return self.offset + self.basis @ np.asarray(coordinates, dtype=float)
 
 
@@ -87,7 +93,7 @@ class Segment:
     """
 
     def __init__(self, start: Sequence[float], end: Sequence[float], init: float | None = None,
-                 lower: float = 0.0, upper: float = 1.0):
+                 lower: float = 0.0, upper: float = 1.0) -> None:
         self.start = _vector3(start, "Segment start")
         self.end = _vector3(end, "Segment end")
         if np.allclose(self.start, self.end):
@@ -95,10 +101,12 @@ class Segment:
         self.bounds = Free(lower, upper, init)
 
     def region(self) -> Region:
+        """The affine region: one coordinate, the fraction ``s`` along the segment."""
         return Region(self.start, (self.end - self.start)[:, None], np.atleast_1d(self.bounds.lower),
                       np.atleast_1d(self.bounds.upper), np.atleast_1d(self.bounds.start), ("s",))
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
+        """``{"segment": {start, end, lower, upper, init?}}`` (the config form)."""
         return {"segment": {"start": self.start.tolist(), "end": self.end.tolist(), **_free_fields(self.bounds)}}
 
 
@@ -110,7 +118,7 @@ class Plane:
     """
 
     def __init__(self, origin: Sequence[float], u: Sequence[float], v: Sequence[float],
-                 lower: Sequence[float], upper: Sequence[float], init: Sequence[float] | None = None):
+                 lower: Sequence[float], upper: Sequence[float], init: Sequence[float] | None = None) -> None:
         self.origin = _vector3(origin, "Plane origin")
         u, v = _vector3(u, "Plane u"), _vector3(v, "Plane v")
         if np.linalg.norm(np.cross(u, v)) < 1e-12 * max(np.linalg.norm(u) * np.linalg.norm(v), 1e-300):
@@ -121,10 +129,12 @@ class Plane:
             raise InputError(f"Plane bounds must have two entries (along u and v), got {lower!r}")
 
     def region(self) -> Region:
+        """The affine region: two coordinates [m] along ``u`` and ``v``."""
         return Region(self.origin, np.column_stack([self.u, self.v]), self.bounds.lower, self.bounds.upper,
                       self.bounds.start, ("u", "v"))
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
+        """``{"plane": {origin, u, v, lower, upper, init?}}`` (the config form)."""
         return {"plane": {"origin": self.origin.tolist(), "u": self.u.tolist(), "v": self.v.tolist(),
                           **_free_fields(self.bounds)}}
 
@@ -136,7 +146,7 @@ class Anchor:
     :class:`Segment` or a :class:`Plane`.
     """
 
-    def __init__(self, body: str, point=(0.0, 0.0, 0.0)):
+    def __init__(self, body: str, point: AnchorPoint = (0.0, 0.0, 0.0)) -> None:
         if not isinstance(body, str) or not body:
             raise InputError(f"anchor body must be a link name, got {body!r}")
         self.body = body
@@ -149,6 +159,7 @@ class Anchor:
 
     @property
     def is_free(self) -> bool:
+        """True when the anchor has design coordinates (a box with some free axis, a segment, a plane)."""
         return self.region().basis.shape[1] > 0
 
     def region(self) -> Region:
@@ -164,7 +175,8 @@ class Anchor:
                           tuple("xyz"[i] for i in free_axes))
         return Region(np.asarray(point, dtype=float), np.zeros((3, 0)), np.zeros(0), np.zeros(0), np.zeros(0), ())
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
+        """``{body, point | box | segment | plane}`` (the config form)."""
         point = self.point
         if isinstance(point, Free):
             return {"body": self.body, "box": point.to_dict()}
@@ -176,7 +188,7 @@ class Anchor:
         return f"Anchor({self.body!r}, {self.point!r})"
 
 
-def _vector3(value, label: str) -> np.ndarray:
+def _vector3(value: npt.ArrayLike, label: str) -> np.ndarray:
     try:
         vector = np.asarray(value, dtype=float).reshape(-1)
     except (TypeError, ValueError):
@@ -188,7 +200,7 @@ def _vector3(value, label: str) -> np.ndarray:
     return vector
 
 
-def _free_fields(free: Free) -> dict:
+def _free_fields(free: Free) -> dict[str, Any]:
     record = {"lower": free.lower.tolist(), "upper": free.upper.tolist()}
     if free.init is not None:
         record["init"] = free.init.tolist()
@@ -196,7 +208,7 @@ def _free_fields(free: Free) -> dict:
 
 
 # ---------------------------------------------------------------------- records → objects
-def check_keys(record, valid, where: str) -> dict:
+def check_keys(record: Any, valid: Sequence[str], where: str) -> dict[str, Any]:
     """Reject a mapping with keys outside ``valid``; the message lists the valid ones."""
     if not isinstance(record, dict):
         raise InputError(f"{where}: expected a mapping, got {type(record).__name__} {record!r}")
@@ -206,7 +218,7 @@ def check_keys(record, valid, where: str) -> dict:
     return record
 
 
-def free_from_dict(record, where: str) -> Free:
+def free_from_dict(record: Any, where: str) -> Free:
     """``{lower, upper, init?}`` → :class:`Free`."""
     check_keys(record, ("lower", "upper", "init"), where)
     for key in ("lower", "upper"):
@@ -220,7 +232,7 @@ def free_from_dict(record, where: str) -> Free:
         raise InputError(f"{where}: bounds must be numbers, got {record!r}") from None
 
 
-def value_from_record(value, where: str):
+def value_from_record(value: Any, where: str) -> float | Free:
     """A number, or a ``{lower, upper, init?}`` mapping for a free variable."""
     if isinstance(value, dict):
         return free_from_dict(value, where)
@@ -229,7 +241,7 @@ def value_from_record(value, where: str):
     return float(value)
 
 
-def anchor_from_dict(record, where: str) -> Anchor:
+def anchor_from_dict(record: Any, where: str) -> Anchor:
     """``{body, point | box | segment | plane}`` → :class:`Anchor`."""
     check_keys(record, ("body", "point", "box", "segment", "plane"), where)
     if "body" not in record:
