@@ -4,8 +4,9 @@ PYTHON ?= python3
 VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
+DOCS_STAMP := $(VENV)/.docs-installed
 
-.PHONY: demo test bench clean chromium demo-check
+.PHONY: demo test bench clean chromium demo-check docs
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -56,8 +57,19 @@ demo-check: $(STAMP) chromium
 	$(BIN)/springbalance report design.json --out out/demo
 	@$(BIN)/python -m springbalance.viz.browser out/demo/scene.html --screenshot out/demo/scene.png || test $$? -eq 77
 
+# The documentation site (mkdocs.yml): docs/*.md plus the API reference that mkdocstrings
+# generates from the docstrings, built into site/. --strict makes every warning an error (a
+# docstring that griffe cannot parse, a broken link). NO_MKDOCS_2_WARNING silences the banner
+# that mkdocs-material prints about its end of life and MkDocs 2.0 (not a build warning).
+$(DOCS_STAMP): $(BIN)/python pyproject.toml
+	$(BIN)/python -m pip install --quiet -e ".[docs]"
+	touch $(DOCS_STAMP)
+
+docs: $(DOCS_STAMP)
+	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict --site-dir site
+
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_ur5.py
 
 clean:
-	rm -rf $(VENV) design.json
+	rm -rf $(VENV) design.json site

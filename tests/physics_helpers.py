@@ -1,17 +1,17 @@
 """Independent physics for the tests: total potential energy from Pinocchio alone.
 
-Nothing here imports springbalance's torque model. The holding torque of MODEL.md §3 is
+Nothing here imports springbalance's torque model. The holding torque of docs/model.md §4 is
 ``tau = ∂(V_g + Σ V_s)/∂q``; the tests compare the library's residual torque with a
 finite-difference derivative of the potential computed here:
 
 - ``V_g`` from ``pin.computePotentialEnergy`` (uses the model's gravity);
 - each spring end at ``x = oMf[frame].act(p)`` after ``pin.framesForwardKinematics``;
-- the spring laws of MODEL.md §2: extension ``V = F0 (L - l0) + k (L - l0)^2 / 2``,
+- the spring laws of docs/model.md §3: extension ``V = F0 (L - l0) + k (L - l0)^2 / 2``,
   zero-free-length ``V = k L^2 / 2``, compression/gas ``V = F0 (l0 - L) + k (l0 - L)^2 / 2``,
   constant force ``V = F0 L``;
-- a spring's own mass ``m`` as two point masses ``m/2`` at its ends (MODEL.md §4):
+- a spring's own mass ``m`` as two point masses ``m/2`` at its ends (docs/model.md §5):
   ``V = -(m/2) g·(x_a + x_b)``;
-- torsional springs on a joint ``i`` (MODEL.md §2): ``V = k (q_i - q0)^2 / 2 + τ0 (q_i - q0)``.
+- torsional springs on a joint ``i`` (docs/model.md §3.6): ``V = k (q_i - q0)^2 / 2 + τ0 (q_i - q0)``.
 """
 
 from __future__ import annotations

@@ -13,7 +13,7 @@ m4 = 0.3 kg, lever b = 0.1 m, g = 9.81.
 urdf/sit_to_stand_four_bar.urdf: a seat on a parallelogram four-bar, one actuated joint
 ``lift``: ``tau = g (m_rear L/2 + m_front L/2 + m_seat L) cos(lift)`` with arms 1.5 kg each,
 L = 0.45 m, seat 8 kg; one zero-free-length spring with ``k a b = g (that moment)``
-balances it exactly (MODEL.md §7).
+balances it exactly (docs/model.md §9).
 """
 
 from __future__ import annotations

@@ -4,7 +4,7 @@ MuJoCo is the independent engine here: its inverse dynamics at zero velocity and
 (``mj_inverse``; ``qfrc_inverse = M qacc + c - qfrc_passive - qfrc_constraint``) minus the
 constant forces of the spring actuators (``qfrc_actuator``, which ``mj_inverse`` does not
 subtract) is the torque the motors must add to hold the arm: gravity minus the tendon and
-joint springs. Contacts are switched off for this check: the holding torque of MODEL.md §3
+joint springs. Contacts are switched off for this check: the holding torque of docs/model.md §4
 is that of the arm alone, and the UR5's collision meshes touch at some random poses.
 """
 
@@ -157,7 +157,7 @@ def test_every_law_matches_mujoco(tmp_path):
 
 
 def test_exactly_balanced_link_is_balanced_in_mujoco(tmp_path):
-    """R2 link, zero-free-length spring with k a b = m g c (MODEL.md §7): MuJoCo holds it with no torque."""
+    """R2 link, zero-free-length spring with k a b = m g c (docs/model.md §9): MuJoCo holds it with no torque."""
     mechanism = sb.Mechanism.from_urdf(R2, gravity=9.8)
     a, b, m, c, g = 0.1, 0.2, 1.0, 0.25, 9.8
     spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", [0, 0, a]), sb.Anchor("link1", [b, 0, 0]), "s1",

@@ -9,8 +9,8 @@ progression k ∈ [0, 1000] N/m, and it must stay compressed (L ≤ l0).
 
 Closed form (independent of the library): the link point is p = b (cos θ, sin θ), the spring
 length ``L = |p - G|``, ``dL/dθ = (p - G)·dp/dθ / L``, the push ``F0 + k (l0 - L)`` (tension
-``-(F0 + k (l0 - L))``, MODEL.md §2), and the holding torque
-``tau = m g c cos θ - (F0 + k (l0 - L)) dL/dθ`` (MODEL.md §3).
+``-(F0 + k (l0 - L))``, docs/model.md §3.4), and the holding torque
+``tau = m g c cos θ - (F0 + k (l0 - L)) dL/dθ`` (docs/model.md §4).
 """
 
 from __future__ import annotations

@@ -181,7 +181,7 @@ def test_continuous_joint_uses_cos_sin_and_balances():
     workspace = sb.Workspace.grid(mechanism, 361)
     gravity = workspace.kinematics().gravity_torque[:, 0]
     np.testing.assert_allclose(gravity, 9.8 * 0.25 * np.cos(workspace.joint_values[:, 0]), rtol=0, atol=1e-12)
-    # The zero-free-length balance of MODEL.md §7 holds on a continuous joint too.
+    # The zero-free-length balance of docs/model.md §9 holds on a continuous joint too.
     spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", (0, 0, 0.1)), sb.Anchor("link1", (0.2, 0, 0)),
                                      stiffness=9.8 * 0.25 / (0.1 * 0.2))
     tau = sb.DesignProblem(mechanism, workspace, [spring]).evaluate(np.zeros(0)).tau
@@ -280,7 +280,7 @@ def test_tree_shaped_model_in_design_problem():
     assert rows["right_shoulder"]["rms_after"] < rows["right_shoulder"]["rms_before"]
 
 
-# A parallelogram-like arm (MODEL.md §1: closed chains as URDF mimic joints): the forearm
+# A parallelogram-like arm (docs/model.md §1: closed chains as URDF mimic joints): the forearm
 # joint mimics the shoulder with multiplier -1, so the forearm keeps its orientation.
 MIMIC = _robot(
     "mimic_arm",

@@ -1,4 +1,4 @@
-"""The residual torque is the gradient of the total potential (MODEL.md §2–3).
+"""The residual torque is the gradient of the total potential (docs/model.md §2–4).
 
 Each test builds springs through the public API, evaluates the library's residual
 torque, and compares it with an independent computation: Pinocchio's potential energy
@@ -79,7 +79,7 @@ def test_ur5_extension_springs_match_potential_gradient(ur5, seed):
     # Spring lengths are the anchor distances.
     for i, q in enumerate(workspace.configurations):
         np.testing.assert_allclose(evaluation.lengths[i], reference.lengths(q), rtol=1e-12, atol=1e-12)
-    # Tension F = F0 + k (L - l0) (MODEL.md §2 table).
+    # Tension F = F0 + k (L - l0) (docs/model.md §3.1).
     k = np.array([s.stiffness for s in reference_springs])
     l0 = np.array([s.free_length for s in reference_springs])
     f0 = np.array([s.initial_tension for s in reference_springs])
@@ -165,7 +165,7 @@ def test_ur5_free_design_at_random_x_matches_potential_gradient(ur5, seed):
     _assert_torque_is_potential_gradient(ur5, other_workspace, tau_others, reference)
 
 
-# ---------------------------------------------------------------------- exact balance (MODEL.md §7)
+# ---------------------------------------------------------------------- exact balance (docs/model.md §9)
 R2_MASS, R2_COM, R2_GRAVITY = 1.0, 0.25, 9.8
 
 

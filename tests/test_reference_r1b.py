@@ -1,5 +1,5 @@
 """R1b of REFERENCE_CASES.md: Arakelian & Ghazaryan (2007), rotating link balanced by a
-zero-free-length spring that carries its own mass, coupled to its stiffness (MODEL.md §4).
+zero-free-length spring that carries its own mass, coupled to its stiffness (docs/model.md §5).
 
 urdf/single_link_r1.urdf: the joint angle is the paper's phi, measured from the upward
 vertical; the ground point B = (0, Y_B) is the world point (0, 0, 0.16), the link point A at

@@ -14,7 +14,7 @@ along link 1.
   absolute torque error about 2.8 % of C1max (published figures; tolerance ±1.5° and
   ±0.2 percentage points, read off a plot).
 
-The single-link condition (MODEL.md §7): a link of mass m with centre of mass at c, a
+The single-link condition (docs/model.md §9): a link of mass m with centre of mass at c, a
 zero-free-length spring from a ground point at a above the pivot to a link point at b
 along the line to the centre of mass, balances at every angle when ``k a b = m g c``.
 """

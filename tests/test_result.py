@@ -41,7 +41,7 @@ def solved(arm):
 def test_solution_improves_on_gravity(solved):
     metrics = solved.metrics()
     # A hand design is available: the shoulder ZFL spring with k a b = 1.25 g cancels link 1's
-    # own moment 1.25 g cos(s) (MODEL.md §7) and the elbow spring idles (k = F0 = 0). What is
+    # own moment 1.25 g cos(s) (docs/model.md §9) and the elbow spring idles (k = F0 = 0). What is
     # left is the forearm moment 0.4 g cos(s + e) on both joints (elbow weight 2). The
     # optimum can only be better.
     s, e = solved.problem.workspace.joint_values.T

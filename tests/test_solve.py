@@ -67,7 +67,7 @@ def test_segment_and_plane_anchors_are_optimised(arm):
                                 sb.Anchor("link1", sb.Segment([0.05, 0, 0], [0.5, 0, 0])), stiffness=sb.Free(0, 3000)),
         sb.ZeroFreeLengthSpring(sb.Anchor("universe", sb.Free([-0.2, 0, 0.0], [0.2, 0, 0.6])),
                                 sb.Anchor("link2", sb.Segment([0.0, 0, 0], [0.4, 0, 0])), stiffness=sb.Free(0, 3000)),
-        # link1 → link2 cancels the cross term e1·e2 that the ground → link2 spring adds (MODEL.md §7)
+        # link1 → link2 cancels the cross term e1·e2 that the ground → link2 spring adds (docs/model.md §9)
         sb.ZeroFreeLengthSpring(sb.Anchor("link1", [0.25, 0, 0]),
                                 sb.Anchor("link2", sb.Free([-0.2, 0, 0], [0.4, 0, 0])), stiffness=sb.Free(0, 3000)),
     ]

@@ -1,4 +1,4 @@
-"""A spring's own mass (MODEL.md §4): half at each end, fixed or coupled to k via the coil.
+"""A spring's own mass (docs/model.md §5): half at each end, fixed or coupled to k via the coil.
 
 The total potential now holds ``-(m_s/2) g·(x_a + x_b)`` per spring and the holding torque
 ``-(m_s/2)(J_pa + J_pb)^T g``; both are checked against the finite-difference gradient of the
@@ -19,7 +19,7 @@ URDF = Path(__file__).resolve().parents[1] / "urdf"
 
 
 def coil_mass(k, D, n, wire_length, G, rho):
-    """m_s = rho π L_w sqrt(D³ n k / (2 G)) (MODEL.md §4), from k = G d⁴/(8 D³ n) and m = rho L_w π d²/4."""
+    """m_s = rho π L_w sqrt(D³ n k / (2 G)) (docs/model.md §5), from k = G d⁴/(8 D³ n) and m = rho L_w π d²/4."""
     d = (8 * D**3 * n * k / G) ** 0.25
     return rho * wire_length * np.pi * d**2 / 4
 

@@ -1,10 +1,10 @@
-"""Spring laws of MODEL.md §2 beyond extension springs: compression/gas, constant force,
+"""Spring laws of docs/model.md §3 beyond extension springs: compression/gas, constant force,
 torsional, their mixing, records and reports.
 
 The physics tests compare the library's residual torque with the finite-difference gradient
 of an independently computed total potential (``physics_helpers.ReferencePotential``:
 Pinocchio's gravity potential, anchor positions from ``framesForwardKinematics``, the laws of
-MODEL.md §2 written out, torsional springs on the joint coordinate).
+docs/model.md §3 written out, torsional springs on the joint coordinate).
 """
 
 from __future__ import annotations
@@ -38,7 +38,7 @@ def _assert_gradient(mechanism, workspace, evaluation, reference):
 
 @pytest.mark.parametrize("seed", [0, 1])
 def test_mixed_springs_on_ur5_match_potential_gradient(ur5, seed):
-    """Every law of MODEL.md §2 in one design, plus a torsional spring (tau = dV/dq, §3)."""
+    """Every law of docs/model.md §3 in one design, plus a torsional spring (tau = dV/dq, §4)."""
     rng = np.random.default_rng(seed)
     workspace = sb.Workspace.from_array(ur5, rng.uniform(-np.pi, np.pi, size=(12, ur5.nv)), ordered=False)
     pa, pb = rng.uniform(-0.2, 0.2, size=(4, 2, 3)).transpose(1, 0, 2)
@@ -127,7 +127,7 @@ def test_declared_linear_parameters_enter_torque_and_potential_linearly(spring, 
 
 
 def test_coupled_mass_makes_stiffness_nonlinear():
-    """m_s ∝ √k (MODEL.md §4): the torque is no longer linear in k, so k leaves the linear fit."""
+    """m_s ∝ √k (docs/model.md §5): the torque is no longer linear in k, so k leaves the linear fit."""
     a, b = sb.Anchor("universe", (0, 0, 0.16)), sb.Anchor("link1", (0, 0, 0.3))
     coil = sb.CoilMass(coil_diameter=0.04, active_coils=80, wire_length=10.38, shear_modulus=81e9, density=7800)
     spring = sb.ExtensionSpring(a, b, stiffness=sb.Free(1, 500), free_length=0.1, initial_tension=sb.Free(0, 5),

@@ -10,7 +10,7 @@ joint revolute about parallel axes) is described in the plane by complex numbers
 
 with :math:`l_i` the vector from joint ``i`` to joint ``i+1`` and ``z`` the point relative to
 joint ``j`` (both measured at the zero pose). Gravity (planar gravity vector :math:`\gamma`
-[m/s²]) and every zero-free-length spring (:math:`V_s = k L^2/2`, MODEL.md §2) then make the
+[m/s²]) and every zero-free-length spring (:math:`V_s = k L^2/2`, docs/model.md §3.2) then make the
 total potential a quadratic form in the direction vectors:
 
 .. math::

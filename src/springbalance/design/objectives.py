@@ -1,4 +1,4 @@
-r"""Objectives over the workspace (MODEL.md §5), one small class each.
+r"""Objectives over the workspace (docs/model.md §6), one small class each.
 
 With ``tau_ij`` the residual torque of joint ``j`` at sample ``i`` and joint weights
 ``w_j``, every objective maps the weighted torques ``w_j tau_ij`` (N×nv) and the total

@@ -10,7 +10,7 @@ A :class:`Scenario` changes only the mass distribution of a :class:`~springbalan
 
 Scaling is applied first, then payloads. Kinematics are unchanged: a scenario changes the
 gravity torque ``g(q)`` and potential ``V_g(q)`` of each workspace sample, nothing else
-(MODEL.md §1). :class:`ScenarioWorkspace` stacks the workspace once per scenario, so that a
+(docs/model.md §8). :class:`ScenarioWorkspace` stacks the workspace once per scenario, so that a
 design problem over several scenarios is an ordinary problem over ``N·S`` samples whose
 sample ``i`` of block ``s`` sees scenario ``s``'s gravity.
 

@@ -5,7 +5,7 @@ cache supplies ``g(q)``, ``V_g(q)`` and, for every moving body that carries a sp
 its placement ``(R, t)`` and Jacobian ``J`` (LOCAL_WORLD_ALIGNED); the workspace supplies
 the coordinates ``q_i`` of the joints that carry torsional springs. These numbers form the
 *sample data* column. For a fixed sample each spring end is affine in its anchor
-coordinates (MODEL.md §2):
+coordinates (docs/model.md §2):
 
 .. math::
     r = R\,p,\quad x = t + r,\quad J_p^T f = J_{lin}^T f + J_{ang}^T (r \times f),

@@ -8,7 +8,7 @@ exactly (``inertiafromgeom="false"``, ``balanceinertia="false"``), the design's 
   force–length table, becomes its least-squares line over the workspace, with a warning). MuJoCo's tendon spring
   acts on the tendon length with the force :math:`-k (L - L_s)` (``stiffness`` k,
   ``springlength`` L_s; positive lengthens), i.e. the tension :math:`F = k (L - L_s)`. The
-  laws of MODEL.md §2 map onto it with
+  laws of docs/model.md §3 map onto it with
 
   ========================  =========================================
   extension                 :math:`L_s = l_0 - F_0 / k`

@@ -7,7 +7,7 @@ For every sample ``q_i`` of a :class:`~springbalance.model.workspace.Workspace`:
 - ``potential[i] = V_g(q_i)`` [J] from ``computePotentialEnergy``;
 - for every body ``B`` that carries a spring end (on request): its placement
   ``(R_B, t_B)`` and its 6×nv frame Jacobian ``J_B`` in ``LOCAL_WORLD_ALIGNED``
-  (linear rows first), see MODEL.md §1–2.
+  (linear rows first), see docs/model.md §1–2.
 
 Nothing here depends on the design; the optimiser reads these arrays as parameters.
 """

@@ -6,7 +6,7 @@ r"""Payload studies of a design: how far an adjustable anchor carries, and how a
   ``m`` [kg] at a point of a body. Returns the anchor position against the payload (a table
   and a plot) and the largest payload still balanced to a given peak residual torque,
   found by bracketing and, past the end of the travel, by the straight line that the
-  residual follows there. For a single link with a zero-free-length spring (MODEL.md §7)
+  residual follows there. For a single link with a zero-free-length spring (docs/model.md §9)
   the anchor moves by :math:`\Delta b = \Delta m\,w\,g/(k a)` and the largest payload for
   travel up to ``b_max`` is :math:`k a (b_{max} - b)/(w g)` (R4).
 - :func:`residual_vs_payload`: one fixed design evaluated with each payload: peak and RMS

@@ -4,7 +4,7 @@ A :class:`DesignResult` is the one source of truth for a design's numbers: the d
 vector ``x`` of its problem. Reports, the CLI and exports read from it. Metrics compare
 the balanced mechanism with the unbalanced one (gravity only) on the same workspace:
 peak and RMS of each joint's torque and the percentage reduction, and every objective of
-MODEL.md §5 before and after, whichever one was optimised.
+docs/model.md §6 before and after, whichever one was optimised.
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Practical constraints on a spring (MODEL.md §6), one small class each.
+"""Practical constraints on a spring (docs/model.md §7), one small class each.
 
 Each constraint produces, for every workspace sample, rows that must be ``≥ 0`` at a
 feasible design: ``rows(state, force, parameters)`` with the spring's per-sample state

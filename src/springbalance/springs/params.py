@@ -8,7 +8,7 @@ plane region (:class:`Plane`). Every anchor region is affine in its coordinates,
 
     p = offset + basis · s,        lower ≤ s ≤ upper,
 
-which is what keeps each spring end affine in the design variables (MODEL.md §2).
+which is what keeps each spring end affine in the design variables (docs/model.md §2).
 """
 
 from __future__ import annotations

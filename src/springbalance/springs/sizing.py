@@ -91,7 +91,7 @@ def shear_stress(force, wire_diameter, mean_diameter, factor=wahl_factor):
 
 def coil_mass(stiffness, coil_diameter, active_coils, wire_length, shear_modulus, density):
     r"""Mass [kg] of a coil of fixed ``D`` and ``n`` whose wire diameter gives rate ``k``
-    (MODEL.md §4): :math:`m_s = \rho \pi L_w \sqrt{D^3 n k / (2 G)}`.
+    (docs/model.md §5): :math:`m_s = \rho \pi L_w \sqrt{D^3 n k / (2 G)}`.
 
     From :math:`k = G d^4/(8 D^3 n)`, :math:`d^2 = \sqrt{8 D^3 n k / G}` and
     :math:`m_s = \rho L_w \pi d^2 / 4`. Works on numbers and CasADi expressions.

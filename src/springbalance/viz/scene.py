@@ -135,7 +135,8 @@ def helix_tube(centerline: np.ndarray, wire_radius: float, reference_length: flo
     they are the centre line's ends, ``(0, 0, 0)`` and ``(0, 0, 1)``.
 
     Returns:
-        vertices (K×3), faces (F×3, indices into ``vertices``).
+        vertices (numpy.ndarray): the tube's vertices (K×3).
+        faces (numpy.ndarray): its triangles (F×3, indices into ``vertices``).
     """
     centerline = np.asarray(centerline, dtype=float)
     stretch = np.array([1.0, 1.0, reference_length])
@@ -338,8 +339,8 @@ class DesignScene:
     """Everything needed to draw a design along an ordered path of poses.
 
     Args:
-        result: the :class:`~springbalance.results.result.DesignResult`.
-        joint_values: the path (N×nv joint coordinates [rad or m]); default
+        result (DesignResult): the :class:`~springbalance.results.result.DesignResult`.
+        joint_values (numpy.ndarray | None): the path (N×nv joint coordinates [rad or m]); default
             :func:`~springbalance.model.sweeps.animation_path` (a sweep of each joint).
         frames_per_joint: frames of each joint's sweep in the default path.
         style: :class:`HelixStyle`.

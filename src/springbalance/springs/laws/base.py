@@ -158,7 +158,7 @@ class Spring(abc.ABC):
 
     # ---------------------------------------------------------------- constraints and records
     def constraints(self) -> list:
-        """Practical constraints (MODEL.md §6) that apply to this spring."""
+        """Practical constraints (docs/model.md §7) that apply to this spring."""
         return []
 
     def options(self) -> dict:

@@ -63,11 +63,16 @@ class TabulatedSpring(TwoPointSpring):
     r"""Spring with the force–length curve of a table (piecewise linear, linear beyond the ends).
 
     Args:
-        a, b: the anchors of the two ends.
-        table: rows ``[length [m], force [N]]`` with strictly increasing lengths (at least two).
-        scale: σ [1] ≥ 0, number or :class:`~springbalance.springs.params.Free` (default 1).
-        shift: δ [m], the table's lengths are ``L - δ`` (default 0).
+        a: the anchor of one end.
+        b: the anchor of the other end.
+        name: the spring's name.
+        table (numpy.typing.ArrayLike): rows ``[length [m], force [N]]`` with strictly
+            increasing lengths (at least two).
         stays_in_table: add the constraint ``x_0 ≤ L - δ ≤ x_{n-1}`` (default True).
+        **kwargs (Any): the parameters ``scale`` σ [1] ≥ 0, number or
+            :class:`~springbalance.springs.params.Free` (default 1), and ``shift`` δ [m], the
+            table's lengths are ``L - δ`` (default 0); and the options of
+            :class:`~springbalance.springs.laws.base.TwoPointSpring`.
     """
 
     kind = "tabulated"
