@@ -22,6 +22,8 @@ import umsgpack
 import springbalance as sb
 from springbalance.model import sweeps
 from springbalance.viz import browser
+from springbalance.viz import arm, colors, helix
+from springbalance.viz.recorder import SceneRecorder
 from springbalance.viz import scene as viz
 
 meshcat = viz.meshcat   # imported by viz, which silences its import-time deprecation warning
@@ -41,7 +43,7 @@ def design_file(design, tmp_path_factory):
 
 # ---------------------------------------------------------------------- helix geometry
 def test_helix_centerline_has_the_coils_and_ends_on_the_axis():
-    line = viz.helix_centerline(coils=7, coil_radius=0.02, lead=0.1, points_per_coil=30)
+    line = helix.helix_centerline(coils=7, coil_radius=0.02, lead=0.1, points_per_coil=30)
     np.testing.assert_array_equal(line[0], [0, 0, 0])
     np.testing.assert_array_equal(line[-1], [0, 0, 1])
     coil = line[1:-1]
@@ -53,8 +55,8 @@ def test_helix_centerline_has_the_coils_and_ends_on_the_axis():
 
 
 def test_helix_tube_is_a_wire_around_the_centerline():
-    line = viz.helix_centerline(5, 0.03, 0.08, 16)
-    vertices, faces = viz.helix_tube(line, wire_radius=0.004, reference_length=0.4, sides=6)
+    line = helix.helix_centerline(5, 0.03, 0.08, 16)
+    vertices, faces = helix.helix_tube(line, wire_radius=0.004, reference_length=0.4, sides=6)
     np.testing.assert_array_equal(vertices[0], [0, 0, 0])       # start cap centre = start of the helix
     np.testing.assert_array_equal(vertices[-1], [0, 0, 1])      # end cap centre = end of the helix
     assert faces.min() == 0 and faces.max() == len(vertices) - 1
@@ -69,12 +71,12 @@ def test_spring_rotation_maps_the_axis_onto_the_spring():
     rng = np.random.default_rng(0)
     for _ in range(20):
         direction, side = rng.normal(size=3), rng.normal(size=3)
-        rotation = viz.spring_rotation(direction, side)
+        rotation = helix.spring_rotation(direction, side)
         np.testing.assert_allclose(rotation.T @ rotation, np.eye(3), atol=1e-12)
         assert np.linalg.det(rotation) == pytest.approx(1.0)
         np.testing.assert_allclose(rotation[:, 2], direction / np.linalg.norm(direction), atol=1e-12)
     # a side vector along the spring falls back to another axis instead of failing
-    rotation = viz.spring_rotation([0, 0, 2.0], [0, 0, 1.0])
+    rotation = helix.spring_rotation([0, 0, 2.0], [0, 0, 1.0])
     np.testing.assert_allclose(rotation[:, 2], [0, 0, 1], atol=1e-12)
 
 
@@ -119,7 +121,7 @@ def test_helix_ends_are_the_model_spring_ends(make):
 
 
 def _recorded(result, path):
-    recorder = viz.SceneRecorder()
+    recorder = SceneRecorder()
     visualizer = meshcat.Visualizer(window=recorder)
     scene = viz.DesignScene(result, path)
     scene.draw(visualizer)
@@ -179,11 +181,11 @@ def test_animation_is_replayed_after_the_objects(design):
 
 # ---------------------------------------------------------------------- colours, regions, paths
 def test_colour_scale_is_warm_for_tension_and_green_for_compression():
-    scale = viz.ColorScale(200.0)
-    assert scale.rgb(0.0) == viz.TENSION_STOPS[0][1]
-    assert scale.rgb(200.0) == pytest.approx(viz.TENSION_STOPS[-1][1])
-    assert scale.rgb(1e6) == pytest.approx(viz.TENSION_STOPS[-1][1])          # saturates
-    assert scale.rgb(-200.0) == pytest.approx(viz.COMPRESSION_STOPS[-1][1])
+    scale = colors.ColorScale(200.0)
+    assert scale.rgb(0.0) == colors.TENSION_STOPS[0][1]
+    assert scale.rgb(200.0) == pytest.approx(colors.TENSION_STOPS[-1][1])
+    assert scale.rgb(1e6) == pytest.approx(colors.TENSION_STOPS[-1][1])          # saturates
+    assert scale.rgb(-200.0) == pytest.approx(colors.COMPRESSION_STOPS[-1][1])
     brightness = [sum(scale.rgb(t)) for t in np.linspace(0, 200, 11)]
     assert all(b1 > b2 for b1, b2 in zip(brightness, brightness[1:]))        # darker with more tension
     for t in (0.0, 50.0, 150.0):
@@ -231,13 +233,13 @@ def test_mechanism_without_visuals_is_drawn_as_a_stick_figure():
     text = (URDF / "single_link_r2.urdf").read_text()
     text = re.sub(r"<visual>.*?</visual>", "", text, flags=re.S)
     mechanism = sb.Mechanism.from_urdf_string(text, gravity=9.8)
-    assert viz.visual_geometry(mechanism).ngeoms == 0
+    assert arm.visual_geometry(mechanism).ngeoms == 0
     workspace = sb.Workspace.grid(mechanism, 9)
     spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", (0, 0, 0.1)), sb.Anchor("link1", (0.2, 0, 0)),
                                      stiffness=122.5)
     result = sb.DesignProblem(mechanism, workspace, [spring]).result(np.zeros(0))
     page = viz.scene_html(result, frames_per_joint=8)
-    figure = viz.stick_figure(mechanism.model)
+    figure = arm.stick_figure(mechanism.model)
     names = [g.name for g in figure.geometryObjects]
     assert "joint_theta" in names and "com_theta" in names         # a joint ball and the centre of mass
     assert page.count("fetch(\"data:") > 10
@@ -245,7 +247,7 @@ def test_mechanism_without_visuals_is_drawn_as_a_stick_figure():
 
 def test_urdf_string_with_visuals_uses_them():
     mechanism = sb.Mechanism.from_urdf_string((URDF / "two_link_planar.urdf").read_text())
-    geometry = viz.visual_geometry(mechanism)
+    geometry = arm.visual_geometry(mechanism)
     assert geometry.ngeoms == 3                                    # link1 box, link2 box, tool sphere
     np.testing.assert_allclose(geometry.geometryObjects[0].meshColor, [*LINK1_RGB, 1.0])
 
@@ -294,13 +296,13 @@ def test_chromium_census_finds_nothing_on_an_empty_scene(tmp_path):
     neither arm nor spring. (meshcat's coordinate axes would, in red, green and blue: the scene
     hides them, as here.)"""
     _require_chromium()
-    recorder = viz.SceneRecorder()
+    recorder = SceneRecorder()
     visualizer = meshcat.Visualizer(window=recorder)
     visualizer["/Axes"].set_property("visible", False)
     visualizer["/Background"].set_property("top_color", [1.0, 1.0, 1.0])
     visualizer["/Background"].set_property("bottom_color", [0.8, 0.83, 0.88])
     page = tmp_path / "empty.html"
-    page.write_text(viz._insert_before_body_end(visualizer.static_html(), viz.ColorScale(100).legend_html(True)))
+    page.write_text(viz._insert_before_body_end(visualizer.static_html(), colors.ColorScale(100).legend_html(True)))
     census = browser.colour_census(browser.screenshot(page, tmp_path / "empty.png"), [LINK1_RGB],
                                    browser.scale_colours())
     assert census.arm < 5 and census.spring < 5, census

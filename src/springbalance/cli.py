@@ -212,7 +212,8 @@ def _view(args) -> int:
     import time
 
     from springbalance.results.result import DesignResult
-    from springbalance.viz.scene import DesignScene, MeshcatServer
+    from springbalance.viz.live import MeshcatServer
+    from springbalance.viz.scene import DesignScene
 
     result = DesignResult.load(args.design)
     scene = DesignScene(result, frames_per_joint=args.frames)

@@ -34,7 +34,8 @@ if TYPE_CHECKING:
     from springbalance.io.export import ExportReport
     from springbalance.springs.laws import Spring
     from springbalance.springs.sizing import HelicalDesign, Material
-    from springbalance.viz.scene import LiveScene, StaticScene
+    from springbalance.viz.live import LiveScene
+    from springbalance.viz.scene import StaticScene
 
 FORMAT = "springbalance-design/1"
 

@@ -1,0 +1,72 @@
+"""The colour scale of spring forces: warm colours for tension [N], greens for compression."""
+
+from __future__ import annotations
+
+import html
+
+import numpy as np
+
+
+#: Tension colours, from no tension to the scale's limit (RGB in [0, 1]).
+TENSION_STOPS = ((0.0, (1.0, 0.85, 0.35)), (0.5, (0.96, 0.43, 0.16)), (1.0, (0.65, 0.0, 0.15)))
+#: Compression colours (a spring that pushes), from none to the scale's limit.
+COMPRESSION_STOPS = ((0.0, (0.75, 0.9, 0.7)), (1.0, (0.1, 0.47, 0.22)))
+
+
+class ColorScale:
+    """Maps a spring tension [N] to a colour: warm for tension, green for compression.
+
+    ``limit`` [N] is the largest |tension| the scale shows; larger values saturate.
+    """
+
+    #: a pull below this fraction of the limit counts as none (solver round-off, not compression)
+    slack = 1e-6
+
+    def __init__(self, limit: float):
+        self.limit = float(limit) if np.isfinite(limit) and limit > 0 else 1.0
+
+    def pushes(self, tension) -> np.ndarray:
+        """True where ``tension`` [N] is a real push (compression), not round-off."""
+        return np.asarray(tension) < -self.slack * self.limit
+
+    @classmethod
+    def for_tensions(cls, *tensions) -> "ColorScale":
+        values = np.concatenate([np.abs(np.ravel(t)) for t in tensions]) if tensions else np.zeros(0)
+        return cls(float(values.max()) if values.size else 1.0)
+
+    def rgb(self, tension: float) -> tuple[float, float, float]:
+        """Colour of ``tension`` [N], RGB in [0, 1]."""
+        stops = TENSION_STOPS if tension >= -self.slack * self.limit else COMPRESSION_STOPS
+        fraction = min(abs(float(tension)) / self.limit, 1.0)
+        positions = [p for p, _ in stops]
+        return tuple(float(np.interp(fraction, positions, [c[i] for _, c in stops])) for i in range(3))
+
+    def hex(self, tension: float) -> int:
+        """Colour as the 0xRRGGBB integer that meshcat materials take."""
+        r, g, b = (int(round(255 * c)) for c in self.rgb(tension))
+        return (r << 16) | (g << 8) | b
+
+    def css(self, tension: float) -> str:
+        return f"#{self.hex(tension):06x}"
+
+    def describe(self) -> str:
+        """One line of text for a terminal."""
+        return (f"spring colour: tension 0 N (yellow) … {self.limit:.4g} N (dark red); "
+                f"compression (pushing) in greens; scale limit {self.limit:.4g} N")
+
+    def legend_html(self, compression: bool = False, element_id: str = "springbalance-legend",
+                    position: str = "fixed") -> str:
+        """A small HTML legend (colour bar with ticks) at the top left of the page (``position:fixed``)
+        or of its container (``"absolute"``)."""
+        low = -self.limit if compression else 0.0
+        ticks = np.linspace(low, self.limit, 5 if compression else 3)
+        stops = ", ".join(f"{self.css(value)} {100 * (value - low) / (self.limit - low):.1f}%"
+                          for value in np.linspace(low, self.limit, 21))
+        labels = "".join(f'<span style="position:absolute;left:{100 * (v - low) / (self.limit - low):.1f}%;'
+                         f'transform:translateX(-50%)">{v:.3g}</span>' for v in ticks)
+        note = " (negative: pushing)" if compression else ""
+        return (f'<div id="{element_id}" style="position:{position};left:8px;top:8px;width:260px;padding:6px 14px 22px 14px;'
+                'background:rgba(255,255,255,0.85);border-radius:4px;font:12px sans-serif;color:#222;z-index:10">'
+                f'<div>spring tension [N]{html.escape(note)}</div>'
+                f'<div style="height:12px;margin-top:4px;background:linear-gradient(to right, {stops})"></div>'
+                f'<div style="position:relative;height:14px;margin-top:2px">{labels}</div></div>')

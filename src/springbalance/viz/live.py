@@ -1,0 +1,129 @@
+"""A live scene: a Meshcat server in a child process on 127.0.0.1 only (:mod:`springbalance.viz.server`)."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+import atexit
+import contextlib
+import html
+import io
+import selectors
+import subprocess
+import sys
+import tempfile
+import time
+import warnings
+from pathlib import Path
+
+with warnings.catch_warnings():
+    # meshcat's server module imports zmq.eventloop.ioloop, deprecated since pyzmq 17
+    warnings.simplefilter("ignore", DeprecationWarning)
+    import meshcat
+    import meshcat.animation
+    import meshcat.commands
+
+from springbalance.errors import SpringBalanceError
+
+if TYPE_CHECKING:
+    from springbalance.viz.scene import DesignScene
+
+
+
+class MeshcatServer:
+    """A meshcat server in a child process, listening on 127.0.0.1 only.
+
+    Attributes:
+        web_url: the viewer's address (``http://127.0.0.1:<port>/static/``).
+        zmq_url: where clients send drawing commands (``tcp://127.0.0.1:<port>``).
+        process: the child process.
+    """
+
+    def __init__(self, port: int | None = None, timeout: float = 30.0):
+        # run the module as a script: it needs meshcat and tornado only, not the whole package
+        command = [sys.executable, "-u", str(Path(__file__).with_name("server.py"))]
+        if port is not None:
+            command += ["--port", str(int(port))]
+        self._stderr = tempfile.TemporaryFile()
+        self.process = subprocess.Popen(command, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=self._stderr,
+                                        start_new_session=True)
+        atexit.register(self.stop)
+        urls = {}
+        deadline = time.monotonic() + timeout
+        with selectors.DefaultSelector() as selector:
+            selector.register(self.process.stdout, selectors.EVENT_READ)
+            while len(urls) < 2:
+                remaining = deadline - time.monotonic()
+                if remaining <= 0 or not selector.select(remaining):
+                    self.stop()
+                    raise SpringBalanceError(f"the meshcat server did not start within {timeout:g} s")
+                line = self.process.stdout.readline().decode("utf-8", "replace").strip()
+                if not line:
+                    with contextlib.suppress(subprocess.TimeoutExpired):
+                        self.process.wait(5)
+                    message = self._error_text()
+                    self.stop()
+                    raise SpringBalanceError(f"the meshcat server exited: {message}")
+                key, _, value = line.partition("=")
+                if key in ("zmq_url", "web_url"):
+                    urls[key] = value
+        self.zmq_url, self.web_url = urls["zmq_url"], urls["web_url"]
+
+    def _error_text(self) -> str:
+        self._stderr.seek(0)
+        text = self._stderr.read().decode("utf-8", "replace").strip().splitlines()
+        return text[-1] if text else "no message"
+
+    def visualizer(self):
+        """A ``meshcat.Visualizer`` connected to this server."""
+        with contextlib.redirect_stdout(io.StringIO()):  # meshcat prints the URL itself
+            return meshcat.Visualizer(zmq_url=self.zmq_url)
+
+    @property
+    def running(self) -> bool:
+        return self.process.poll() is None
+
+    def stop(self) -> None:
+        """Stop the server (idempotent)."""
+        if self.process.poll() is None:
+            self.process.terminate()
+            try:
+                self.process.wait(5)
+            except subprocess.TimeoutExpired:
+                self.process.kill()
+                self.process.wait()
+        if self.process.stdout is not None and not self.process.stdout.closed:
+            self.process.stdout.close()
+        self._stderr.close()
+
+    def __repr__(self) -> str:
+        return f"MeshcatServer({self.web_url!r}, running={self.running})"
+
+
+_SERVER: MeshcatServer | None = None
+
+
+def local_server(port: int | None = None) -> MeshcatServer:
+    """The session's meshcat server on 127.0.0.1 (started on first use, stopped at exit)."""
+    global _SERVER
+    if _SERVER is None or not _SERVER.running:
+        _SERVER = MeshcatServer(port=port)
+    return _SERVER
+
+
+class LiveScene:
+    """A design drawn on a running meshcat server. In Jupyter it shows inline (an iframe)."""
+
+    def __init__(self, scene: DesignScene, server: MeshcatServer, visualizer):
+        self.scene, self.server, self.visualizer = scene, server, visualizer
+
+    @property
+    def url(self) -> str:
+        return self.server.web_url
+
+    def _repr_html_(self) -> str:
+        return (f'<div style="position:relative;height:480px">'
+                f'{self.scene.color_scale.legend_html(self.scene.compression, position="absolute")}'
+                f'<iframe src="{html.escape(self.url)}" style="width:100%;height:100%;border:none"></iframe></div>')
+
+    def __repr__(self) -> str:
+        return f"LiveScene({self.url!r}, {self.scene.size} frames)"
