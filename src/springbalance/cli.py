@@ -10,6 +10,7 @@
     springbalance payload-range design.json --body BODY [--point X Y Z] [--masses M ...] [--max-residual R] [--plot PATH]
     springbalance robots [--paths]
     springbalance inspect ROBOT_OR_URDF [--json] [--mimic]
+    springbalance schema [--out config.schema.json]
 
 Exit status: 0 on success, 1 when the solver finds no feasible design, 2 on bad input
 (unknown key, body or joint, malformed file, missing file, ...). Errors are printed as one
@@ -177,6 +178,14 @@ def build_parser() -> argparse.ArgumentParser:
     inspect.add_argument("--mimic", action="store_true",
                          help="couple mimic joints to their primary joints (as 'mechanism: {mimic: true}' in a config)")
     inspect.set_defaults(handler=_inspect)
+
+    schema = commands.add_parser(
+        "schema", help="print the JSON Schema of config files",
+        description="Print the JSON Schema (draft 2020-12) that config files follow, for editors (completion "
+                    "and checking, e.g. with a '# yaml-language-server: $schema=PATH' first line) and other "
+                    "validators; --out writes it to a file instead.")
+    schema.add_argument("--out", "-o", metavar="PATH", help="write the schema to PATH (atomically) instead of stdout")
+    schema.set_defaults(handler=_schema)
     return parser
 
 
@@ -405,6 +414,20 @@ def _table(header: list[str], rows: list[list[str]], right: tuple[int, ...] = ()
 def _g(value: float, digits: int = 6) -> str:
     """``value`` with ``digits`` significant digits, without a negative zero."""
     return f"{value + 0.0:.{digits}g}"
+
+
+def _schema(args) -> int:
+    from springbalance.files import write_text_atomic
+    from springbalance.io.schema import schema_text
+
+    text = schema_text()
+    if args.out is None:
+        sys.stdout.write(text)
+        return 0
+    _check_output(Path(args.out), example="config.schema.json")
+    write_text_atomic(args.out, text)
+    print(f"schema written to {args.out}")
+    return 0
 
 
 # ---------------------------------------------------------------------- helpers
