@@ -25,7 +25,7 @@ test: $(STAMP) chromium
 	$(BIN)/lint-imports --no-cache
 	$(BIN)/python -m pytest -q
 
-# Headless Chromium renders scene.html in the browser test of tests/test_viz.py and in
+# Headless Chromium renders scene.html in the browser test of tests/viz/test_viz.py and in
 # `make demo-check`. It is installed here (Debian package `chromium`) when it is missing
 # and this machine allows it: apt-get, run as root or through passwordless sudo.
 # Otherwise the browser test is skipped with the reason. This step never fails the build.

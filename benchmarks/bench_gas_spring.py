@@ -5,7 +5,7 @@ theta ∈ [0°, 60°]; a gas spring pushes from the ground point (0.05, 0, -0.05
 0.05–0.3 m along the link, extended length l0 = 0.3 m, preload F0 ∈ [0, 100] N, progression
 k ∈ [0, 1000] N/m. The grid evaluates the closed-form holding torque
 ``m g c cos θ - (F0 + k (l0 - L)) dL/dθ`` on 41³ points, then twice on finer 41³ grids
-around the best one (tests/test_gas_spring.py asserts the two reductions agree to 1 %).
+around the best one (tests/springs/test_gas_spring.py asserts the two reductions agree to 1 %).
 
     python benchmarks/bench_gas_spring.py
 """

@@ -10,7 +10,7 @@ anchors on segments along the links (sliders), stiffness ∈ [0, 5000] N/m, obje
 - slider: springs (stiffness, ground anchors) shared, link anchors per payload.
 
 The script prints each design's peak residual torque at each payload and the worst case.
-tests/test_scenarios.py asserts the orderings slider < robust < tuned-for-0-kg at 2 kg.
+tests/design/test_scenarios.py asserts the orderings slider < robust < tuned-for-0-kg at 2 kg.
 
     python benchmarks/bench_payload.py
 """

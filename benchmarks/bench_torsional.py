@@ -5,7 +5,7 @@ g = 9.8, unbalanced peak 2.45 N·m) carries a torsional spring on its joint, rat
 k ∈ [0, 20] N·m/rad and neutral angle theta0 ∈ [-2π, 2π] free. For each workspace the
 script prints both optima and the peak and RMS torque each leaves. Minimising the
 potential-energy variance is not minimising the peak: on the full turn it even raises the
-peak above the unbalanced link's (tests/test_torsional.py asserts the ordering).
+peak above the unbalanced link's (tests/springs/test_torsional.py asserts the ordering).
 
     python benchmarks/bench_torsional.py
 """

@@ -16,7 +16,7 @@ import pytest
 import springbalance as sb
 from physics_helpers import ReferencePotential, RefSpring
 
-URDF = Path(__file__).resolve().parents[1] / "urdf"
+URDF = Path(__file__).resolve().parents[2] / "urdf"
 
 #: (body a, body b) of the four UR5 springs of the brief.
 UR5_PAIRS = [

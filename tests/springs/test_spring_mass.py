@@ -15,7 +15,7 @@ import pytest
 import springbalance as sb
 from physics_helpers import ReferencePotential, RefSpring
 
-URDF = Path(__file__).resolve().parents[1] / "urdf"
+URDF = Path(__file__).resolve().parents[2] / "urdf"
 
 
 def coil_mass(k, D, n, wire_length, G, rho):

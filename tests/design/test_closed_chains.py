@@ -26,7 +26,7 @@ import pytest
 
 import springbalance as sb
 
-URDF = Path(__file__).resolve().parents[1] / "urdf"
+URDF = Path(__file__).resolve().parents[2] / "urdf"
 G = 9.81
 M1, R1, L1, M2, R2, M3, M4, B = 3.0, 0.3, 0.6, 2.0, 0.25, 0.5, 0.3, 0.1
 SEAT_MOMENT = 1.5 * 0.225 * 2 + 8.0 * 0.45   # [kg·m]

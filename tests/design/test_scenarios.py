@@ -19,7 +19,7 @@ import springbalance as sb
 from springbalance import ConfigError, InputError
 from springbalance.io.config import load_config
 
-URDF = Path(__file__).resolve().parents[1] / "urdf"
+URDF = Path(__file__).resolve().parents[2] / "urdf"
 G = 9.81
 
 
@@ -251,7 +251,7 @@ def test_cli_designs_scenarios_and_reports_the_payload_range(tmp_path, capsys):
 
 
 def test_example_config_reproduces_r4():
-    config = load_config(Path(__file__).resolve().parents[1] / "examples" / "self_regulating_link.yaml")
+    config = load_config(Path(__file__).resolve().parents[2] / "examples" / "self_regulating_link.yaml")
     result = config.solve(progress=False)
     b = [scenario.spring("s1")["b"]["point"][0] for scenario in result.problem.scenario_results(result.x)]
     assert b == pytest.approx([3.0 * 0.2 * G / (981 * 0.1), 0.095], abs=1e-9)

@@ -11,7 +11,7 @@ import pytest
 import springbalance as sb
 from physics_helpers import ReferencePotential, RefSpring
 
-URDF = Path(__file__).resolve().parents[1] / "urdf"
+URDF = Path(__file__).resolve().parents[2] / "urdf"
 R2 = URDF / "single_link_r2.urdf"
 
 INERTIA = '<inertia ixx="0.001" ixy="0" ixz="0" iyy="0.001" iyz="0" izz="0.001"/>'
@@ -312,7 +312,7 @@ def test_mimic_joint_mechanism_evaluates():
 
 
 def test_mimic_joints_loaded_without_mimic_warn():
-    urdf = Path(__file__).resolve().parents[1] / "urdf" / "parallelogram_arm.urdf"
+    urdf = Path(__file__).resolve().parents[2] / "urdf" / "parallelogram_arm.urdf"
     with pytest.warns(UserWarning, match="declares mimic joints"):
         independent = sb.Mechanism.from_urdf(urdf)
     import warnings

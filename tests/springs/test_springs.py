@@ -18,7 +18,7 @@ import pytest
 import springbalance as sb
 from physics_helpers import ReferencePotential, RefSpring, RefTorsional
 
-URDF = Path(__file__).resolve().parents[1] / "urdf"
+URDF = Path(__file__).resolve().parents[2] / "urdf"
 RELATIVE = 1e-6
 
 

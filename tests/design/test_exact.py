@@ -28,7 +28,7 @@ import pytest
 import springbalance as sb
 from springbalance import exact
 
-URDF = Path(__file__).resolve().parents[1] / "urdf"
+URDF = Path(__file__).resolve().parents[2] / "urdf"
 G = 9.81
 DISTAL_MOMENT = 1.0 * 0.2 + 0.5 * 0.4          # [kg·m]
 PROXIMAL_MOMENT = 2.0 * 0.25 + 1.5 * 0.5       # [kg·m]

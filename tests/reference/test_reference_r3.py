@@ -28,7 +28,7 @@ import pytest
 
 import springbalance as sb
 
-URDF = Path(__file__).resolve().parents[1] / "urdf"
+URDF = Path(__file__).resolve().parents[2] / "urdf"
 M1, R1, M2, L1, G = 100.0, 0.6, 40.0, 1.2, 9.8
 C1MAX = (M1 * R1 + M2 * L1) * G      # 1058.4 N·m
 B1 = 0.2

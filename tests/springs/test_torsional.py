@@ -26,7 +26,7 @@ from scipy.optimize import brentq
 
 import springbalance as sb
 
-URDF = Path(__file__).resolve().parents[1] / "urdf"
+URDF = Path(__file__).resolve().parents[2] / "urdf"
 A = 1.0 * 9.8 * 0.25  # m g c [N·m]
 
 

@@ -16,7 +16,7 @@ from springbalance.io.config import (WORKSPACE_KEYS, config_from_dict, load_conf
 from springbalance.model.mechanism import Mechanism
 from config_helpers import SHOULDER_SPRING, edited_record
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 URDF = ROOT / "urdf" / "two_link_planar.urdf"
 EXAMPLE = ROOT / "examples" / "two_link.yaml"
 

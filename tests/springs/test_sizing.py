@@ -29,7 +29,7 @@ import pytest
 import springbalance as sb
 from springbalance.springs import sizing
 
-URDF = Path(__file__).resolve().parents[1] / "urdf"
+URDF = Path(__file__).resolve().parents[2] / "urdf"
 INCH, KPSI, LBF = 0.0254, 6.894757e6, 4.4482216  # [m], [Pa], [N]
 
 SHIGLEY_CASES = {

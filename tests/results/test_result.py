@@ -11,7 +11,7 @@ import pytest
 
 import springbalance as sb
 
-URDF = Path(__file__).resolve().parents[1] / "urdf"
+URDF = Path(__file__).resolve().parents[2] / "urdf"
 OBJECTIVE_NAMES = {"rms", "peak", "pe_variance", "energy"}
 
 

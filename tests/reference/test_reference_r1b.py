@@ -22,7 +22,7 @@ from scipy.optimize import brentq
 
 import springbalance as sb
 
-URDF = Path(__file__).resolve().parents[1] / "urdf"
+URDF = Path(__file__).resolve().parents[2] / "urdf"
 M1, S1, G = 8.0, 0.183, 9.81
 Y_B, R_A = 0.16, 0.3
 SHEAR, RHO, COIL, COILS, WIRE = 81e9, 7800.0, 0.04, 80, 10.38

@@ -17,7 +17,7 @@ import pytest
 import springbalance as sb
 from springbalance.springs import SPRING_TYPES, spring_from_dict
 
-URDF = Path(__file__).resolve().parents[1] / "urdf"
+URDF = Path(__file__).resolve().parents[2] / "urdf"
 LAWS = Path(sb.__file__).parent / "springs" / "laws"
 M1, S1, G1 = 8.0, 0.183, 9.81          # R1: link mass [kg], centre of mass [m], gravity [m/s²]
 Y_B, R_A = 0.16, 0.3                   # R1: ground anchor height, link anchor distance [m]

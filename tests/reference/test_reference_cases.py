@@ -21,7 +21,7 @@ import pytest
 
 import springbalance as sb
 
-URDF = Path(__file__).resolve().parents[1] / "urdf"
+URDF = Path(__file__).resolve().parents[2] / "urdf"
 
 
 def report(case: str, quantity: str, ours: float, published: float, unit: str) -> None:

@@ -15,7 +15,7 @@ from springbalance.io.config import load_config, read_config_file
 from springbalance.io.schema import json_schema, schema_text
 from springbalance.springs import SPRING_TYPES, TwoPointSpring
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 URDF = ROOT / "urdf" / "two_link_planar.urdf"
 EXAMPLES = sorted((ROOT / "examples").iterdir())
 COMMITTED_SCHEMA = ROOT / "docs" / "config.schema.json"

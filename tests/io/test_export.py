@@ -28,7 +28,7 @@ from springbalance.io.urdf import sidecar_path, springs_from_urdf
 from springbalance.design.problem import DesignProblem
 from springbalance.results.result import DesignResult
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 TWO_LINK = ROOT / "urdf" / "two_link_planar.urdf"
 R2 = ROOT / "urdf" / "single_link_r2.urdf"
 RELATIVE = 1e-9

@@ -17,7 +17,7 @@ import pytest
 
 import springbalance as sb
 
-URDF = Path(__file__).resolve().parents[1] / "urdf" / "self_regulating_link.urdf"
+URDF = Path(__file__).resolve().parents[2] / "urdf" / "self_regulating_link.urdf"
 M, C, K, A, G = 3.0, 0.2, 981.0, 0.1, 9.81
 
 

@@ -22,7 +22,7 @@ import pytest
 
 import springbalance as sb
 
-URDF = Path(__file__).resolve().parents[1] / "urdf"
+URDF = Path(__file__).resolve().parents[2] / "urdf"
 A = 1.0 * 9.8 * 0.25                     # m g c [N·m]
 GROUND = np.array([0.05, -0.05])        # (x, z) [m]
 L0 = 0.3                                 # extended length [m]
