@@ -172,8 +172,8 @@ class DesignScene:
         kinematics = self.workspace.kinematics()
         self.springs: list[SpringTrack] = []
         columns = []
-        for column, record in enumerate(result.springs):
-            if "a" not in record or "b" not in record:   # a torsional spring acts in a joint: no helix
+        for column, (spring, record) in enumerate(zip(result.problem.springs, result.springs)):
+            if tuple(spring.anchors) != ("a", "b"):   # a joint spring (torsional) has no ends to draw a helix between
                 continue
             columns.append(column)
             a, b = record["a"], record["b"]
