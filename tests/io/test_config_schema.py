@@ -209,7 +209,7 @@ def test_merge_keys_and_aliases_still_work(tmp_path):
 def test_unknown_spring_key_lists_the_valid_keys(tmp_path):
     message = config_error(write(tmp_path, CONFIG.replace("free_length:", "free_lenght:")))
     assert message.endswith("springs[0] '2e3': unknown key 'free_lenght'; valid keys: name, type, a, b, stiffness, "
-                            "free_length, initial_tension, max_force, max_length, min_length, mass, keep_tension, "
+                            "free_length, initial_tension, max_force, max_length, min_length, mass, part_number, keep_tension, "
                             "max_stretch, helical")
 
 

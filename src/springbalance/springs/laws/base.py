@@ -192,15 +192,17 @@ class TwoPointSpring(Spring):
     """Base class of springs between two anchors (law ``F(L)``, ``V_s(L)``), with optional mass.
 
     Options: ``max_force`` [N] (``|F| ≤``), ``max_length`` / ``min_length`` [m], ``mass``:
-    a number [kg] or a :class:`CoilMass` (or its record).
+    a number [kg] or a :class:`CoilMass` (or its record), ``part_number``: the catalogue part
+    this spring is (a stock spring; reports show it).
     """
 
     ends = ("a", "b")
     option_types = {"max_force": PositiveNumber | None, "max_length": PositiveNumber | None,
-                    "min_length": PositiveNumber | None, "mass": MassOption | None}
+                    "min_length": PositiveNumber | None, "mass": MassOption | None, "part_number": str | None}
 
     def __init__(self, a: Anchor, b: Anchor, name: str | None = None, *, max_force: float | None = None,
-                 max_length: float | None = None, min_length: float | None = None, mass=None, **parameters):
+                 max_length: float | None = None, min_length: float | None = None, mass=None,
+                 part_number: str | None = None, **parameters):
         if not isinstance(a, Anchor) or not isinstance(b, Anchor):
             raise InputError(f"spring {name or ''!s}: ends must be Anchor objects, got {a!r} and {b!r}")
         self.a, self.b = a, b
@@ -209,6 +211,10 @@ class TwoPointSpring(Spring):
         self.max_length = _positive_option(self, "max_length", max_length)
         self.min_length = _positive_option(self, "min_length", min_length)
         self.mass = mass
+        if part_number is not None and (not isinstance(part_number, str) or not part_number.strip()):
+            raise InputError(f"spring {name or ''}: part_number must be a non-empty string, got {part_number!r}")
+        #: the catalogue part this spring is (a stock spring), or None
+        self.part_number = part_number
 
     # ---------------------------------------------------------------- the law
     @abc.abstractmethod
@@ -291,6 +297,8 @@ class TwoPointSpring(Spring):
                                                 ("min_length", self.min_length)) if value is not None}
         if self._mass is not None:
             record["mass"] = self._mass.to_dict()
+        if self.part_number is not None:
+            record["part_number"] = self.part_number
         return record
 
     # ---------------------------------------------------------------- how other tools express the law
