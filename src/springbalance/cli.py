@@ -2,7 +2,7 @@
 
 ::
 
-    springbalance design CONFIG.yaml --out design.json [--starts N] [--seed S] [--method M] [--quiet]
+    springbalance design CONFIG.yaml --out design.json [--starts N] [--seed S] [--method M] [--stock CATALOGUE.csv] [--quiet]
     springbalance evaluate design.json [--workspace WORKSPACE.yaml]
     springbalance view design.json [--port P] [--open] [--frames N]
     springbalance report design.json --out FOLDER [--no-scene]
@@ -91,6 +91,9 @@ def build_parser() -> argparse.ArgumentParser:
     design.add_argument("--seed", type=_nonnegative_int, metavar="S",
                         help="seed of the start points (overrides solve.seed)")
     design.add_argument("--method", choices=METHODS, help="solver backend (overrides solve.method)")
+    design.add_argument("--stock", metavar="CATALOGUE.csv",
+                        help="then pick each extension and compression spring from this stock catalogue (CSV, "
+                             "columns in README 'Stock springs') and re-optimise the anchors")
     design.add_argument("--quiet", "-q", action="store_true", help="print nothing on success, no progress bar")
     design.set_defaults(handler=_design)
 
@@ -195,14 +198,46 @@ def _design(args) -> int:
 
     out = Path(args.out)
     _check_output(out)
+    parts = None
+    if args.stock is not None:  # a bad catalogue fails before the solve
+        from springbalance.io.catalogue import read_catalogue
+
+        parts = read_catalogue(args.stock)
     config = load_config(args.config)
     progress = False if args.quiet else None
-    result = config.solve(starts=args.starts, seed=args.seed, method=args.method, progress=progress)
-    result.save(out)
+    overrides = {"starts": args.starts, "seed": args.seed, "method": args.method}
+    result = config.solve(**overrides, progress=progress)
+    selection = None
+    if parts is not None:
+        from springbalance.design.stock import select_stock
+
+        given = {"starts": 8, **config.solve_options, **{key: value for key, value in overrides.items() if value is not None}}
+        options = {key: given[key] for key in ("seed", "method", "max_iterations", "tolerance") if key in given}
+        # each candidate part: the warm start at the continuous anchors plus one Sobol start
+        options["starts"] = min(int(given["starts"]), 2)
+        selection = select_stock(config.problem, result, parts, **options)
+        result = selection.result
+    _save_design(result, out, selection, args.stock)
     if not args.quiet:
         print(result.table())
+        if selection is not None:
+            print(f"\n{selection.summary()}")
         print(f"\ndesign saved to {out}")
     return 0
+
+
+def _save_design(result, out: Path, selection=None, catalogue: str | None = None) -> None:
+    """Save ``result`` at ``out`` (atomically); a stock spring's ``part_number`` also goes into its
+    ``design`` entry, and a stock selection into ``stock`` (catalogue, objective before/after, choices)."""
+    from springbalance.files import write_json_atomic
+
+    record = result.to_dict()
+    for entry, spring in zip(record.get("design", []), result.problem.springs):
+        if getattr(spring, "part_number", None) is not None:
+            entry.setdefault("part_number", spring.part_number)
+    if selection is not None:
+        record["stock"] = {"catalogue": str(catalogue), **selection.to_dict()}
+    write_json_atomic(out, record)
 
 
 def _evaluate(args) -> int:

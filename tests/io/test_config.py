@@ -72,10 +72,10 @@ def test_base_config_builds_problem_and_solve_options(tmp_path):
 
 def test_example_config_is_valid():
     config = load_config(EXAMPLE)
-    assert config.workspace.size == 512
+    assert config.workspace.size == 128
     assert config.problem.objective.name == "rms"
     assert len(config.springs) == 3 and all(spring.kind == "extension" for spring in config.springs)
-    assert all(spring.max_force == 300 for spring in config.springs)
+    assert all(spring.max_outer_diameter == 0.04 and spring.ideal is False for spring in config.springs)
     assert config.solve_options["starts"] == 4
 
 

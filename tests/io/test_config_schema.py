@@ -17,7 +17,7 @@ from springbalance.springs import SPRING_TYPES, TwoPointSpring
 
 ROOT = Path(__file__).resolve().parents[2]
 URDF = ROOT / "urdf" / "two_link_planar.urdf"
-EXAMPLES = sorted((ROOT / "examples").iterdir())
+EXAMPLES = sorted(path for path in (ROOT / "examples").iterdir() if path.suffix in (".yaml", ".yml", ".json"))  # configs
 COMMITTED_SCHEMA = ROOT / "docs" / "config.schema.json"
 
 # the shoulder spring of config_helpers.SHOULDER_SPRING, as YAML text (exponents, a quoted name)
@@ -31,6 +31,7 @@ workspace:
 springs:
   - name: "2e3"
     type: extension
+    ideal: true
     a: {{body: universe, point: [0, 0, 0.1]}}
     b: {{body: link1, box: {{lower: [0.05, 0, 0], upper: [0.5, 0, 0]}}}}
     stiffness: {{lower: 0, upper: 1e4}}
@@ -209,8 +210,8 @@ def test_merge_keys_and_aliases_still_work(tmp_path):
 def test_unknown_spring_key_lists_the_valid_keys(tmp_path):
     message = config_error(write(tmp_path, CONFIG.replace("free_length:", "free_lenght:")))
     assert message.endswith("springs[0] '2e3': unknown key 'free_lenght'; valid keys: name, type, a, b, stiffness, "
-                            "free_length, initial_tension, max_force, max_length, min_length, mass, part_number, keep_tension, "
-                            "max_stretch, helical")
+                            "free_length, initial_tension, max_force, max_length, min_length, mass, part_number, ideal, "
+                            "keep_tension, max_stretch, helical")
 
 
 def test_errors_inside_option_records(tmp_path):

@@ -287,10 +287,16 @@ def test_urdf_round_trip_gives_identical_metrics(two_link, tmp_path):
                                          weights=dict(zip(mechanism.joint_names, two_link.problem.weights))),
                            np.zeros(0))
     before, after = two_link.metrics(), rebuilt.metrics()
-    # identical, number for number (NaN where an objective does not apply: energy on an unordered cloud)
-    assert json.dumps(after) == json.dumps(before)
-    np.testing.assert_array_equal(rebuilt.evaluation.tau, two_link.evaluation.tau)
-    np.testing.assert_array_equal(rebuilt.evaluation.lengths, two_link.evaluation.lengths)
+    # the same numbers to round-off (a coil's rate G d⁴/(8 D³ n) is folded differently when its
+    # values are constants rather than variables); NaN where an objective does not apply
+    assert set(after) == set(before)
+    for row_after, row_before in zip(after["joints"], before["joints"]):
+        for key, value in row_before.items():
+            assert row_after[key] == (value if isinstance(value, str) else pytest.approx(value, rel=1e-10, nan_ok=True))
+    for name, row in before["objectives"].items():
+        assert after["objectives"][name]["after"] == pytest.approx(row["after"], rel=1e-10, abs=1e-12, nan_ok=True)
+    np.testing.assert_allclose(rebuilt.evaluation.tau, two_link.evaluation.tau, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(rebuilt.evaluation.lengths, two_link.evaluation.lengths, rtol=1e-14, atol=0)
 
 
 def test_ur5_urdf_round_trip_gives_the_same_metrics(ur5, tmp_path):

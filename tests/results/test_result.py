@@ -12,7 +12,7 @@ import pytest
 import springbalance as sb
 
 URDF = Path(__file__).resolve().parents[2] / "urdf"
-OBJECTIVE_NAMES = {"rms", "peak", "pe_variance", "energy"}
+OBJECTIVE_NAMES = {"rms", "peak", "pe_variance", "energy", "joint_peaks", "peak_then_joints"}
 
 
 @pytest.fixture(scope="module")

@@ -5,8 +5,9 @@ problem (:meth:`DesignProblem.build`); :mod:`~springbalance.design.solvers` runs
 multi-start on it and returns a plain :class:`~springbalance.design.solvers.Solution`.
 """
 
-from springbalance.design.objectives import OBJECTIVES
+from springbalance.design.objectives import OBJECTIVES, JointPeaks, Objective, PeakThenJoints
 from springbalance.design.problem import DesignProblem, Evaluation
 from springbalance.design.scenarios import Payload, Scenario, payload_scenarios
 
-__all__ = ["OBJECTIVES", "DesignProblem", "Evaluation", "Payload", "Scenario", "payload_scenarios"]
+__all__ = ["OBJECTIVES", "DesignProblem", "Evaluation", "JointPeaks", "Objective", "Payload", "PeakThenJoints",
+           "Scenario", "payload_scenarios"]

@@ -6,6 +6,11 @@ potential ``V_i`` (N) to a number. :meth:`Objective.value` works on NumPy arrays
 :meth:`Objective.nlp` returns the CasADi pieces for the optimiser: extra variables, the
 cost and constraint rows. Objectives with ``least_squares = True`` (rms, pe_variance) are
 sums of squares, which the trust-region least-squares backend of :mod:`springbalance.design.solvers` exploits.
+
+A *lexicographic* objective (``peak_then_joints``) names a :attr:`Objective.first_phase`: the
+solver minimises that first, to ``T*``, then its own NLP with the epigraph variables bounded by
+``T*·(1 + slack)`` (:meth:`Objective.phase_two_bound`), and ranks the starts by
+:meth:`Objective.value`, ties within ``slack`` broken by :meth:`Objective.tiebreak`.
 """
 
 from __future__ import annotations
@@ -39,6 +44,23 @@ class Objective(abc.ABC):
     unit: ClassVar[str] = ""
     least_squares: ClassVar[bool] = False
     needs_path: ClassVar[bool] = False
+    #: relative tolerance of a lexicographic objective: how much of the first phase's optimum the
+    #: second phase may give up (and within which starts count as tied); 0 for the others.
+    slack: float = 0.0
+
+    @property
+    def first_phase(self) -> "Objective | None":
+        """The objective minimised first when this one is lexicographic, else None."""
+        return None
+
+    def tiebreak(self, weighted_tau: np.ndarray, potential: np.ndarray, path: np.ndarray) -> float:
+        """Second criterion of a lexicographic objective (ranks starts whose values tie); NaN otherwise."""
+        return float("nan")
+
+    def phase_two_bound(self, first_value: float, torque_scale: float) -> float | None:
+        """Upper bound of the scaled epigraph variables in the second phase, given the first phase's
+        value ``first_value`` [N·m]; None when not lexicographic."""
+        return None
 
     @abc.abstractmethod
     def value(self, weighted_tau: np.ndarray, potential: np.ndarray, path: np.ndarray) -> float:
@@ -128,12 +150,71 @@ class PathEnergy(Objective):
                          ca.dot(ca.DM(weights), s) / scale, rows)
 
 
+class JointPeaks(Objective):
+    r"""Sum over the joints of each joint's weighted peak, :math:`\sum_j \max_i |w_j \tau_{ij}|` [N·m].
+
+    Unlike ``peak``, every joint counts: lowering a joint that is not the worst one pays off.
+    In the NLP: one epigraph variable per joint, :math:`-t_j \le w_j\tau_{ij} \le t_j` at every
+    sample, minimise :math:`\sum_j t_j`.
+    """
+
+    name, unit = "joint_peaks", "N·m"
+
+    def value(self, weighted_tau, potential, path):
+        return float(np.sum(np.max(np.abs(weighted_tau), axis=0)))
+
+    def nlp(self, weighted_tau, potential, path, torque_scale, potential_scale):
+        nv, n = weighted_tau.shape
+        t = ca.MX.sym("joint_peak", nv)
+        scaled = weighted_tau / torque_scale                     # nv×N
+        bound = ca.repmat(t, 1, n)
+        rows = ca.vertcat(ca.vec(bound - scaled), ca.vec(bound + scaled))
+        start = lambda tau: np.max(np.abs(tau), axis=0) / torque_scale
+        return NlpPieces(t, np.zeros(nv), np.full(nv, np.inf), start, ca.sum1(t), rows)
+
+
+class PeakThenJoints(JointPeaks):
+    r"""Lexicographic minimax: the worst weighted joint peak first, then the sum of the joint peaks.
+
+    Phase 1 minimises :math:`T = \max_{ij} |w_j \tau_{ij}|` (the ``peak`` NLP) to ``T*``; phase 2
+    minimises :math:`\sum_j t_j` (the ``joint_peaks`` NLP) subject to
+    :math:`t_j \le T^*(1 + \varepsilon)` for every joint, so the worst joint keeps its optimum
+    (to ``ε = slack``, default 1e-3) and the other joints are lowered as far as that allows.
+
+    :meth:`value` is the worst joint's peak ``T`` [N·m] (as ``peak``); starts whose ``T`` is
+    within ``slack`` of the best are ranked by the sum of the joint peaks (:meth:`tiebreak`).
+    """
+
+    name, unit = "peak_then_joints", "N·m"
+
+    def __init__(self, slack: float = 1e-3):
+        slack = float(slack)
+        if not np.isfinite(slack) or slack < 0:
+            raise InputError(f"slack of objective 'peak_then_joints' must be a finite number ≥ 0, got {slack}")
+        self.slack = slack
+
+    @property
+    def first_phase(self) -> Objective:
+        return Peak()
+
+    def value(self, weighted_tau, potential, path):
+        return float(np.max(np.abs(weighted_tau)))
+
+    def tiebreak(self, weighted_tau, potential, path):
+        return JointPeaks.value(self, weighted_tau, potential, path)
+
+    def phase_two_bound(self, first_value, torque_scale):
+        return float(first_value) * (1.0 + self.slack) / torque_scale
+
+
 #: objective name -> class.
-OBJECTIVES: dict[str, type[Objective]] = {cls.name: cls for cls in (Rms, Peak, PotentialVariance, PathEnergy)}
+OBJECTIVES: dict[str, type[Objective]] = {cls.name: cls for cls in (Rms, Peak, PotentialVariance, PathEnergy,
+                                                                     JointPeaks, PeakThenJoints)}
 
 
 def objective_named(name: str | Objective) -> Objective:
-    """The objective called ``name`` (``rms``, ``peak``, ``pe_variance``, ``energy``)."""
+    """The objective called ``name`` (``rms``, ``peak``, ``pe_variance``, ``energy``, ``joint_peaks``,
+    ``peak_then_joints``), or ``name`` itself when it is an :class:`Objective`."""
     if isinstance(name, Objective):
         return name
     if name not in OBJECTIVES:

@@ -12,6 +12,10 @@ potential [J]. Solutions and reports are always in physical units.
 Scenarios (payloads, scaled link masses; :mod:`springbalance.design.scenarios`): with ``scenarios=[...]``
 the workspace is stacked once per scenario and ``per_scenario=[...]`` names the variables that
 take one value per scenario (``s1.b`` → ``s1.b.s[<scenario>]``); the others are shared.
+
+``no_joint_worse=True`` adds constraint rows that keep every weighted joint's residual torque within
+its unbalanced peak (:attr:`DesignProblem.joint_limits`, docs/model.md §6): no joint ends up
+worse than without springs, whatever the objective trades.
 """
 
 from __future__ import annotations
@@ -27,13 +31,19 @@ from springbalance.errors import InputError
 from springbalance.model.mechanism import Mechanism
 from springbalance.design.objectives import NlpPieces, Objective, objective_named
 from springbalance.design.scenarios import Scenario, ScenarioWorkspace, check_scenarios
+from springbalance.design.coil_start import coil_springs, coil_start
 from springbalance.design.solvers import solve_problem
+from springbalance.design.standard_wire import coils_with_free_wire, round_wires
 from springbalance.springs.laws import Spring
 from springbalance.springs.records import spring_from_dict
 from springbalance.design.torque_model import SampleEvaluator, TorqueModel
 from springbalance.model.workspace import Workspace
 
 AGGREGATES = ("sum", "worst")
+#: ``no_joint_worse``: a joint's unbalanced peak counts as at least this fraction of the largest
+#: joint's (of the joints with a weight > 0), so that a joint gravity does not load gets a tiny
+#: positive limit rather than the impossible ``|tau| ≤ 0``.
+JOINT_LIMIT_FLOOR = 1e-6
 
 #: What :meth:`DesignProblem.solve` and :meth:`DesignProblem.result` wrap a design vector in:
 #: :class:`springbalance.results.result.DesignResult`, which registers itself here when the
@@ -110,7 +120,10 @@ class DesignProblem:
         mechanism: the arm.
         workspace: samples over which the design is judged (of ``mechanism``).
         springs: spring objects; unnamed ones are called ``s1``, ``s2``, … in order.
-        objective: ``"rms"``, ``"peak"``, ``"pe_variance"`` or ``"energy"`` (ordered workspace).
+        objective: ``"rms"``, ``"peak"``, ``"pe_variance"``, ``"energy"`` (ordered workspace),
+            ``"joint_peaks"`` (sum of the per-joint weighted peaks) or ``"peak_then_joints"`` (the
+            worst joint first, then the sum of the joint peaks), or an
+            :class:`~springbalance.design.objectives.Objective` such as ``PeakThenJoints(slack=0.01)``.
         weights: per-joint weights ``w_j`` (joint name → weight ≥ 0); default 1 for every joint.
         scenarios: optional load cases (:class:`~springbalance.design.scenarios.Scenario`: payloads,
             scaled link masses). The problem then covers every scenario over the same poses:
@@ -122,12 +135,17 @@ class DesignProblem:
         aggregate: how the objective combines scenarios: ``"sum"`` (the objective over all
             stacked samples: the sum of squares for ``rms``, the largest torque for ``peak``) or
             ``"worst"`` (the largest per-scenario value, an epigraph solved with IPOPT).
+        no_joint_worse: add constraint rows ``|tau_ij| ≤ P_j`` at every sample ``i`` and every joint
+            ``j`` with a weight > 0, ``P_j`` being that joint's unbalanced peak ``max_i |g_ij|`` over
+            the workspace (per scenario with scenarios), floored at ``1e-6`` of the largest
+            (:attr:`joint_limits`): no joint ends up worse than without springs. Both solver methods
+            respect them (least squares through its augmented Lagrangian, IPOPT as rows).
     """
 
     def __init__(self, mechanism: Mechanism, workspace: Workspace, springs: Sequence[Spring],
                  objective: str | Objective = "rms", weights: Mapping[str, float] | None = None,
                  scenarios: Sequence[Scenario] | None = None, per_scenario: Sequence[str] = (),
-                 aggregate: str = "sum"):
+                 aggregate: str = "sum", no_joint_worse: bool = False):
         if workspace.mechanism is not mechanism:
             raise InputError("the workspace was sampled for a different mechanism object; build it from the same Mechanism")
         if aggregate not in AGGREGATES:
@@ -144,14 +162,20 @@ class DesignProblem:
         if self.objective.needs_path and not workspace.ordered:
             raise InputError(f"objective {self.objective.name!r} needs an ordered workspace (grid, sweep or trajectory), "
                              f"got a {workspace.description.get('kind')} sample")
+        if len(self.scenarios) > 1 and aggregate == "worst" and self.objective.first_phase is not None:
+            raise InputError(f"objective {self.objective.name!r} takes each joint's peak over the samples of all "
+                             "scenarios together; use aggregate 'sum'")
         if len(self.scenarios) > 1 and ((aggregate == "worst" and self.objective.name != "peak")
                                         or self.objective.name == "pe_variance"):
             # rms and peak over the stacked samples already are the sum of squares and the worst
             # case; a potential's constant differs per scenario, so its variance is taken per scenario
             self.objective = ScenarioAggregate(self.objective, len(self.scenarios), worst=aggregate == "worst")
         self.weights = _weights(mechanism, weights)
-        self.model = TorqueModel(mechanism, self.springs, [s.name for s in self.scenarios], self.per_scenario)
         kinematics = workspace.kinematics()
+        self.no_joint_worse = bool(no_joint_worse)
+        self.joint_limits = _joint_limits(kinematics.gravity_torque, self.weights, max(len(self.scenarios), 1))
+        self.model = TorqueModel(mechanism, self.springs, [s.name for s in self.scenarios], self.per_scenario,
+                                 joint_limits=self.joint_limits if self.no_joint_worse else None)
         self.data = self.model.data_matrix(kinematics)
         self.path_steps = np.abs(np.diff(workspace.joint_values, axis=0)) if workspace.ordered and workspace.size > 1 else None
         if self.path_steps is not None and self.scenarios:
@@ -197,29 +221,45 @@ class DesignProblem:
         return self.objective.value(evaluation.tau * self.weights, evaluation.potential, self.path_steps)
 
     # ---------------------------------------------------------------- NLP
-    def build(self) -> Nlp:
-        """The scaled NLP (CasADi MX) for this problem: variables, bounds, cost, rows ≥ 0."""
+    def build(self, objective: Objective | None = None) -> Nlp:
+        """The scaled NLP (CasADi MX) for this problem: variables, bounds, cost, rows ≥ 0.
+
+        ``objective`` replaces the problem's own (the solver builds a lexicographic objective's
+        first phase this way). For ``peak_then_joints`` the NLP is its second phase, the
+        ``joint_peaks`` epigraph, whose variables the solver bounds by the first phase's optimum.
+        """
+        objective = self.objective if objective is None else objective
         n = self.workspace.size
         design = ca.MX.sym("z", self.variables.size)
         lower, upper = self.variables.bounds()
         x = ca.DM(lower) + ca.DM(upper - lower) * design
         tau, potential, _, _, rows = self.model.mapped(n)(x, ca.DM(self.data))
         weighted = ca.DM(self.weights) * tau if self.mechanism.nv > 1 else float(self.weights[0]) * tau
-        pieces = self.objective.nlp(weighted, potential, self.path_steps, self.torque_scale, self.potential_scale)
+        pieces = objective.nlp(weighted, potential, self.path_steps, self.torque_scale, self.potential_scale)
         variables = [design]
         z_lower, z_upper = [np.zeros(self.variables.size)], [np.ones(self.variables.size)]
         if pieces.variables is not None:
             variables.append(pieces.variables)
             z_lower.append(pieces.lower)
             z_upper.append(pieces.upper)
-        all_rows = [ca.vec(rows)] if self.model.n_constraints else []
+        all_rows = []
+        if self.model.n_constraints:
+            # a row that does not depend on the sample enters once, the others once per sample
+            blocks = self.model.constraint_blocks
+            varying = [block.offset for block in blocks if block.per_sample]
+            constant = [block.offset for block in blocks if not block.per_sample]
+            if varying:
+                all_rows.append(ca.vec(rows[varying, :]))
+            if constant:
+                all_rows.append(rows[constant, 0])
         if pieces.rows is not None:
             all_rows.append(pieces.rows)
         return Nlp(ca.vertcat(*variables), np.concatenate(z_lower), np.concatenate(z_upper), pieces.cost,
                    ca.vertcat(*all_rows) if all_rows else ca.MX(0, 1), self.variables.size, pieces.start)
 
     def solve(self, starts: int = 8, seed: int = 0, method: str = "auto", progress: bool | None = None,
-              max_iterations: int = 100, tolerance: float = 1e-8, polish_iterations: int | None = None):
+              max_iterations: int = 100, tolerance: float = 1e-8, polish_iterations: int | None = None,
+              standard_wire: bool = True):
         """Multi-start solve; returns the best feasible :class:`~springbalance.results.result.DesignResult`.
 
         Args:
@@ -233,12 +273,23 @@ class DesignProblem:
                 limit (default 4 × max_iterations; 0 disables).
             tolerance: least squares stop when a step lowers the cost by less than this fraction
                 (a flat valley); IPOPT's own tolerance is min(tolerance, 1e-8).
+            standard_wire: round every helical spring's free wire diameter to the preferred
+                series and re-optimise the rest (:mod:`~springbalance.design.standard_wire`);
+                the result's ``wire_rounding`` says what it cost.
         """
+        # helical coils start from the ideal twin's optimum, wound into a coil (design/coil_start.py)
+        initial = coil_start(self, starts=starts, seed=seed, method=method, max_iterations=max_iterations,
+                             tolerance=tolerance) if coil_springs(self) else None
         solution = solve_problem(self, starts=starts, seed=seed, method=method, progress=progress,
                                  max_iterations=max_iterations, tolerance=tolerance,
-                                 polish_iterations=polish_iterations)
+                                 polish_iterations=polish_iterations, initial=initial)
+        info = {}
+        if standard_wire and coils_with_free_wire(self):
+            solution, rounding = round_wires(self, solution, method=method, max_iterations=max_iterations,
+                                             tolerance=tolerance, polish_iterations=polish_iterations)
+            info["wire_rounding"] = rounding
         return self.result(solution.x, starts=solution.starts, method=solution.method, seed=solution.seed,
-                           status=solution.status)
+                           status=solution.status, **info)
 
     def result(self, x, **info):
         """A :class:`~springbalance.results.result.DesignResult` for a given design vector (no optimisation).
@@ -273,7 +324,7 @@ class DesignProblem:
         if objective is None:
             objective = self.objective.inner if isinstance(self.objective, ScenarioAggregate) else self.objective
         return DesignProblem(mechanism, workspace, list(springs if springs is not None else self.springs),
-                             objective=objective, weights=self.weights_by_name())
+                             objective=objective, weights=self.weights_by_name(), no_joint_worse=self.no_joint_worse)
 
     def scenario_results(self, x) -> list:
         """Per scenario, a :class:`~springbalance.results.result.DesignResult` of design ``x`` fixed in that scenario
@@ -285,20 +336,25 @@ class DesignProblem:
         return results
 
     def scenarios_record(self) -> dict:
-        """``{"scenarios": {cases, per_scenario, aggregate}}`` for a saved design (``{}`` without scenarios)."""
+        """The problem's options beyond objective and weights, for a saved design:
+        ``{"scenarios": {cases, per_scenario, aggregate}}`` with scenarios, and ``"no_joint_worse": true``
+        when set (``{}`` when neither)."""
+        record = {"no_joint_worse": True} if self.no_joint_worse else {}
         if not self.scenarios:
-            return {}
+            return record
         return {"scenarios": {"cases": [scenario.to_dict() for scenario in self.scenarios],
-                              "per_scenario": list(self.per_scenario), "aggregate": self.aggregate}}
+                              "per_scenario": list(self.per_scenario), "aggregate": self.aggregate}, **record}
 
     @staticmethod
     def scenario_options(record: dict) -> dict:
-        """Keyword arguments (scenarios, per_scenario, aggregate) from a saved design's record."""
+        """Keyword arguments (scenarios, per_scenario, aggregate, no_joint_worse) from a saved design's
+        record (what :meth:`scenarios_record` wrote)."""
+        options = {"no_joint_worse": True} if record.get("no_joint_worse") else {}
         saved = record.get("scenarios")
         if not saved:
-            return {}
+            return options
         return {"scenarios": [Scenario.from_dict(case) for case in saved["cases"]],
-                "per_scenario": saved.get("per_scenario", []), "aggregate": saved.get("aggregate", "sum")}
+                "per_scenario": saved.get("per_scenario", []), "aggregate": saved.get("aggregate", "sum"), **options}
 
     def scenario_table(self, x) -> list[dict]:
         """Per scenario: name, payload [kg], per-scenario variable values, peak and RMS residual [N·m]
@@ -362,19 +418,31 @@ class ScenarioAggregate(Objective):
 
     def nlp(self, weighted_tau, potential, path, torque_scale, potential_scale):
         n = weighted_tau.shape[1] // self.blocks
-        costs = [self.inner.nlp(weighted_tau[:, s * n:(s + 1) * n], potential[:, s * n:(s + 1) * n], None,
-                                torque_scale, potential_scale).cost for s in range(self.blocks)]
+        pieces = [self.inner.nlp(weighted_tau[:, s * n:(s + 1) * n], potential[:, s * n:(s + 1) * n], None,
+                                 torque_scale, potential_scale) for s in range(self.blocks)]
+        costs = [piece.cost for piece in pieces]
         if not self.worst:
             return NlpPieces(None, None, None, None, sum(costs) / self.blocks, None)
         t = ca.MX.sym("worst")
-        rows = ca.vertcat(*[t - cost for cost in costs])
+        # an inner epigraph (joint_peaks) keeps its own variables and rows, one set per block
+        inner = [piece for piece in pieces if piece.variables is not None]
+        rows = ca.vertcat(*[piece.rows for piece in inner], *[t - cost for cost in costs])
+        variables = ca.vertcat(*[piece.variables for piece in inner], t)
+        lower = np.concatenate([*[piece.lower for piece in inner], [0.0]])
+        upper = np.concatenate([*[piece.upper for piece in inner], [np.inf]])
 
         def start(tau):
-            if self.inner.name != "rms":
-                return np.array([1.0])
-            return np.array([max(float(np.mean(block**2)) for block in self._split(tau, 0)) / torque_scale**2])
+            blocks = self._split(tau, 0)
+            if self.inner.name == "rms":
+                worst = max(float(np.mean(block**2)) for block in blocks) / torque_scale**2
+            elif self.inner.name == "joint_peaks":
+                worst = max(self.inner.value(block, None, None) for block in blocks) / torque_scale
+            else:
+                worst = 1.0
+            inner_starts = [piece.start(block) for piece, block in zip(pieces, blocks) if piece.variables is not None]
+            return np.concatenate([*inner_starts, [worst]])
 
-        return NlpPieces(t, np.array([0.0]), np.array([np.inf]), start, t, rows)
+        return NlpPieces(variables, lower, upper, start, t, rows)
 
 
 def _named_springs(springs: Sequence[Spring]) -> list[Spring]:
@@ -394,6 +462,17 @@ def _named_springs(springs: Sequence[Spring]) -> list[Spring]:
             raise InputError(f"two springs are called {spring.name!r}; spring names must be unique")
         names.add(spring.name)
     return springs
+
+
+def _joint_limits(gravity_torque: np.ndarray, weights: np.ndarray, blocks: int) -> np.ndarray:
+    """``no_joint_worse`` limits ``P_sj`` (blocks×nv) [N·m or N]: joint ``j``'s unbalanced peak
+    ``max_i |g_ij|`` over the samples of scenario block ``s``, at least :data:`JOINT_LIMIT_FLOOR` times
+    the block's largest one (of the weighted joints); NaN for the joints with weight 0 (no limit)."""
+    peaks = np.max(np.abs(gravity_torque.reshape(blocks, -1, gravity_torque.shape[1])), axis=1)
+    weighted = weights > 0
+    largest = np.max(peaks[:, weighted], axis=1, keepdims=True)
+    floor = JOINT_LIMIT_FLOOR * np.where(largest > 0, largest, 1.0)
+    return np.where(weighted[None, :], np.maximum(peaks, floor), np.nan)
 
 
 def _weights(mechanism: Mechanism, weights) -> np.ndarray:

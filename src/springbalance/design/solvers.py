@@ -12,8 +12,10 @@ Backends:
   length) enter through an augmented Lagrangian: penalty rows ``max(0, λ - μ c)/√μ`` join
   the residual and the multipliers are updated between runs.
 - ``ipopt``: the general NLP of :meth:`DesignProblem.build` with exact derivatives from
-  CasADi; used for the ``peak`` and ``energy`` objectives (epigraph form), warm-started from
-  the rms least-squares solution.
+  CasADi; used for the ``peak``, ``joint_peaks`` and ``energy`` objectives (epigraph form),
+  warm-started from the rms least-squares solution. A lexicographic objective
+  (``peak_then_joints``) takes two IPOPT phases per start: its first phase (``peak``) to ``T*``,
+  then its own NLP with the epigraph variables bounded by ``T*·(1 + slack)``.
 
 ``auto`` chains them: least squares first (on the rms objective when the objective has no
 least-squares form), then IPOPT only when the objective needs it or a constraint is still
@@ -25,7 +27,8 @@ linear in (stiffness, initial tension) are set to their bounded linear least-squ
 optimum for the start's geometry (kept ≥ 10 % into their range so that no spring starts at
 ``k = 0``, where its anchors would have no gradient). Each start then runs with the
 iteration budget, and the starts within 25 % of the best that stopped on the budget are
-continued with a larger one ("screen, then polish").
+continued with a larger one ("screen, then polish"). The best feasible start wins; for a
+lexicographic objective, the one with the lowest tiebreak among those within ``slack`` of the best value.
 """
 
 from __future__ import annotations
@@ -45,6 +48,9 @@ from springbalance.design.torque_model import SampleEvaluator, compiled
 
 METHODS = ("auto", "least_squares", "ipopt")
 FEASIBILITY_TOLERANCE = 1e-6  # [m or N]
+#: a lexicographic second phase may exceed its bound by this much of the torque scale S (IPOPT relaxes
+#: bounds and rows to its tolerance); starts within it (and ``slack``) of the best value count as tied.
+EPIGRAPH_TOLERANCE = 1e-6
 
 
 @dataclasses.dataclass
@@ -59,6 +65,7 @@ class StartRecord:
     status: str
     iterations: int
     seconds: float
+    tiebreak: float = float("nan")  # second criterion of a lexicographic objective (NaN otherwise)
 
     @property
     def feasible(self) -> bool:
@@ -67,7 +74,8 @@ class StartRecord:
     def to_dict(self) -> dict:
         return {"index": self.index, "objective": self.objective, "max_violation": self.max_violation,
                 "status": self.status, "iterations": self.iterations, "seconds": self.seconds,
-                "feasible": bool(self.feasible), "x": self.x.tolist()}
+                "feasible": bool(self.feasible), "x": self.x.tolist(),
+                **({"tiebreak": self.tiebreak} if np.isfinite(self.tiebreak) else {})}
 
 
 @dataclasses.dataclass
@@ -89,10 +97,12 @@ class Solution:
     status: str
 
 
-def start_points(problem, starts: int, seed: int) -> np.ndarray:
-    """Scaled start points: the problem's initial guess, then scrambled Sobol points in [0, 1]^n."""
+def start_points(problem, starts: int, seed: int, initial=None) -> np.ndarray:
+    """Scaled start points: ``initial`` (physical units) or the problem's initial guess, then
+    scrambled Sobol points in [0, 1]^n."""
     n = problem.variables.size
-    first = np.clip(problem.unscale(problem.variables.start), 0.0, 1.0)
+    guess = problem.variables.start if initial is None else initial
+    first = np.clip(problem.unscale(np.asarray(guess, dtype=float)), 0.0, 1.0)
     if starts <= 1 or n == 0:
         return first[None, :]
     sobol = qmc.Sobol(d=n, scramble=True, seed=np.random.default_rng(seed))
@@ -101,7 +111,7 @@ def start_points(problem, starts: int, seed: int) -> np.ndarray:
 
 
 def solve_problem(problem, starts=8, seed=0, method="auto", progress=None, max_iterations=100, tolerance=1e-8,
-                  polish_iterations=None):
+                  polish_iterations=None, *, initial=None):
     """Run every start and return the best feasible design (see :meth:`DesignProblem.solve`).
 
     Screen, then polish: every start runs with ``max_iterations``; up to three feasible starts
@@ -120,12 +130,12 @@ def solve_problem(problem, starts=8, seed=0, method="auto", progress=None, max_i
     # The linear algebra here is small (n ≈ 30 columns): BLAS threads only contend with each
     # other and with the evaluation, badly so on a loaded machine, so use one.
     with threadpool_limits(limits=1, user_api="blas"):
-        return _solve(problem, starts, seed, method, progress, max_iterations, tolerance, polish_iterations)
+        return _solve(problem, starts, seed, method, progress, max_iterations, tolerance, polish_iterations, initial)
 
 
-def _solve(problem, starts, seed, method, progress, max_iterations, tolerance, polish_iterations):
+def _solve(problem, starts, seed, method, progress, max_iterations, tolerance, polish_iterations, initial=None):
     solver = _MultiStartSolver(problem, method, max_iterations, tolerance)
-    points = start_points(problem, starts, seed)
+    points = start_points(problem, starts, seed, initial)
     if progress is None:
         progress = len(points) > 1 and sys.stderr.isatty()
     bar = None
@@ -146,7 +156,7 @@ def _solve(problem, starts, seed, method, progress, max_iterations, tolerance, p
     if not feasible:
         summary = "; ".join(f"start {r.index}: {r.status}, violation {r.max_violation:.3g}" for r in records)
         raise SolverError(f"no start gave a feasible design ({summary})", problem=problem, starts=records)
-    best = min(feasible, key=lambda record: record.objective)
+    best = _best(feasible, problem)
     polish = 4 * max_iterations if polish_iterations is None else int(polish_iterations)
     if polish > 0 and problem.variables.size:
         # continue the starts that are close to the best and were stopped by the budget
@@ -161,8 +171,20 @@ def _solve(problem, starts, seed, method, progress, max_iterations, tolerance, p
             polished.seconds += record.seconds
             if polished.feasible and polished.objective <= record.objective:
                 records[records.index(record)] = polished
-        best = min((r for r in records if r.feasible), key=lambda record: record.objective)
+        best = _best([r for r in records if r.feasible], problem)
     return Solution(best.x, records, method, seed, best.status)
+
+
+def _best(records: list, problem) -> StartRecord:
+    """The record of lowest objective; for a lexicographic objective, of those within ``slack`` of
+    the lowest, the one of lowest tiebreak."""
+    objective = problem.objective
+    best = min(records, key=lambda record: record.objective)
+    if objective.first_phase is None:
+        return best
+    window = best.objective * (1.0 + objective.slack) + EPIGRAPH_TOLERANCE * problem.torque_scale
+    tied = [r for r in records if r.objective <= window]
+    return min(tied, key=lambda record: (record.tiebreak if np.isfinite(record.tiebreak) else np.inf, record.objective))
 
 
 class _MultiStartSolver:
@@ -174,6 +196,7 @@ class _MultiStartSolver:
         self._ls = None
         self._ipopt = None
         self._nlp = None
+        self._first = None  # (nlp, solver) of a lexicographic objective's first phase
 
     # ------------------------------------------------------------------ one start
     def run(self, index: int, z0: np.ndarray, prepare: bool = True) -> StartRecord:
@@ -191,8 +214,9 @@ class _MultiStartSolver:
                 z, status, more = self._ipopt_solve(z, evaluation)
                 iterations += more
         evaluation = problem.evaluate(problem.scale(z))
+        tiebreak = problem.objective.tiebreak(evaluation.tau * problem.weights, evaluation.potential, problem.path_steps)
         return StartRecord(index, np.asarray(z0), evaluation.x, problem.objective_value(evaluation),
-                           evaluation.max_violation, status, iterations, time.perf_counter() - clock)
+                           evaluation.max_violation, status, iterations, time.perf_counter() - clock, tiebreak)
 
     # ------------------------------------------------------------------ least squares
     def _least_squares(self, z0, prepare=True):
@@ -307,21 +331,52 @@ class _MultiStartSolver:
         return np.clip(z, 0.0, 1.0)
 
     # ------------------------------------------------------------------ IPOPT
+    def _nlpsol(self, nlp):
+        options = {"print_time": False, "ipopt.print_level": 0, "ipopt.sb": "yes",
+                   "ipopt.max_iter": self.max_iterations, "ipopt.tol": min(self.tolerance, 1e-8),
+                   "ipopt.acceptable_tol": 1e-8, "ipopt.mu_strategy": "adaptive"}
+        return ca.nlpsol("springbalance", "ipopt", {"x": nlp.z, "f": nlp.cost, "g": nlp.rows}, options)
+
     def _ipopt_solve(self, z, evaluation):
         problem = self.problem
-        if self._ipopt is None:
+        first_phase = problem.objective.first_phase
+        if first_phase is None:
+            if self._ipopt is None:
+                self._nlp = problem.build()
+                self._ipopt = self._nlpsol(self._nlp)
+            return self._ipopt_run(self._ipopt, self._nlp, z, evaluation)
+        # lexicographic: the first phase's optimum T*, then the objective's own NLP with its
+        # epigraph variables bounded by T*·(1 + slack)
+        if self._first is None:
+            nlp = problem.build(first_phase)
+            self._first = (nlp, self._nlpsol(nlp))
             self._nlp = problem.build()
-            options = {"print_time": False, "ipopt.print_level": 0, "ipopt.sb": "yes",
-                       "ipopt.max_iter": self.max_iterations, "ipopt.tol": min(self.tolerance, 1e-8),
-                       "ipopt.acceptable_tol": 1e-8, "ipopt.mu_strategy": "adaptive"}
-            self._ipopt = ca.nlpsol("springbalance", "ipopt", {"x": self._nlp.z, "f": self._nlp.cost,
-                                                               "g": self._nlp.rows}, options)
-        nlp = self._nlp
+            self._ipopt = self._nlpsol(self._nlp)
+        z1, status1, iterations1 = self._ipopt_run(self._first[1], self._first[0], z, evaluation)
+        first = problem.evaluate(problem.scale(z1))
+        weighted = first.tau * problem.weights
+        bound = problem.objective.phase_two_bound(first_phase.value(weighted, first.potential, problem.path_steps),
+                                                  problem.torque_scale)
+        upper = self._nlp.upper.copy()
+        upper[self._nlp.n_design:] = bound
+        z2, status2, iterations2 = self._ipopt_run(self._ipopt, self._nlp, z1, first, upper=upper)
+        second = problem.evaluate(problem.scale(z2))
+        value = problem.objective.value(second.tau * problem.weights, second.potential, problem.path_steps)
+        kept = (second.max_violation <= max(FEASIBILITY_TOLERANCE, first.max_violation)
+                and value <= (bound + EPIGRAPH_TOLERANCE) * problem.torque_scale)
+        status = f"{status1}, then {status2.removeprefix('ipopt: ')}{'' if kept else ' (not kept)'}"
+        return (z2 if kept else z1), status, iterations1 + iterations2
+
+    def _ipopt_run(self, solver, nlp, z, evaluation, upper=None):
+        problem = self.problem
         start = z
         if nlp.size > nlp.n_design:
-            start = np.concatenate([z, nlp.extra_start(evaluation.tau * problem.weights)])
-        solution = self._ipopt(x0=start, lbx=nlp.lower, ubx=nlp.upper, lbg=0.0, ubg=np.inf)
-        stats = self._ipopt.stats()
+            extra = nlp.extra_start(evaluation.tau * problem.weights)
+            if upper is not None:
+                extra = np.minimum(extra, upper[nlp.n_design:])
+            start = np.concatenate([z, extra])
+        solution = solver(x0=start, lbx=nlp.lower, ubx=nlp.upper if upper is None else upper, lbg=0.0, ubg=np.inf)
+        stats = solver.stats()
         z_new = np.clip(np.array(solution["x"]).reshape(-1)[: nlp.n_design], 0.0, 1.0)
         return z_new, f"ipopt: {stats.get('return_status', 'unknown')}", int(stats.get("iter_count", 0))
 

@@ -28,7 +28,8 @@ scenario's copy. Without scenarios nothing is added.
 
 Outputs per sample: ``tau`` (nv) [N·m or N], ``V`` (1) [J], spring states ``L`` (n_s: length
 [m] or joint angle [rad]), generalised forces ``F`` (n_s: tension [N] or torque [N·m]), and
-the constraint rows ``C`` (≥ 0 when feasible).
+the constraint rows ``C`` (≥ 0 when feasible): the springs' practical constraints, then, with
+``joint_limits`` (``no_joint_worse``), one row :math:`(P_j^2 - \tau_j^2)/P_j` per limited joint.
 """
 
 from __future__ import annotations
@@ -77,13 +78,17 @@ class DesignVariables:
 
 @dataclasses.dataclass(frozen=True)
 class ConstraintBlock:
-    """Rows of one practical constraint of one spring: N rows, one per sample, ``≥ 0``."""
+    """Rows of one practical constraint of one spring (or, with ``spring == ""``, of the problem,
+    such as ``no_joint_worse.<joint>``): N rows, one per sample, ``≥ 0``."""
 
     spring: str
     name: str
     unit: str
     offset: int  # first row of this block in the per-sample constraint vector
     scale: float  # typical size of a violation [unit], for the solver's scaling
+    #: False when the row does not depend on the sample (a coil's index, its initial tension): the
+    #: NLP then keeps it once instead of once per sample
+    per_sample: bool = True
 
 
 class SampleContext:
@@ -146,7 +151,7 @@ class TorqueModel:
     """
 
     def __init__(self, mechanism: Mechanism, springs: list[Spring], scenarios: Sequence[str] = (),
-                 per_scenario: Sequence[str] = ()):
+                 per_scenario: Sequence[str] = (), joint_limits: np.ndarray | None = None):
         self.mechanism = mechanism
         self.springs = springs
         self.variables = DesignVariables()
@@ -214,15 +219,40 @@ class TorqueModel:
                 if parts is None:
                     parts, rows = ((constraint.name, constraint.unit, constraint.scale),), [rows]
                 for (name, unit, scale), row in zip(parts, rows):
+                    row = ca.SX(row)
                     self.constraint_blocks.append(ConstraintBlock(spring.name, name, unit, len(constraint_rows),
-                                                                  float(scale)))
+                                                                  float(scale), bool(ca.depends_on(row, data))))
                     constraint_rows.append(row)
+
+        if joint_limits is not None:
+            selectors = data[self.data_size - len(self.scenarios):] if self.scenarios else None
+            self._add_joint_limits(np.asarray(joint_limits, dtype=float), tau, selectors, constraint_rows)
 
         self.n_springs = len(springs)
         self.n_constraints = len(constraint_rows)
         outputs = [tau, potential, ca.vertcat(*states), ca.vertcat(*forces), ca.vertcat(*constraint_rows)]
         self.sample = ca.Function("sample", [x, data], outputs, ["x", "data"], ["tau", "V", "L", "F", "C"])
         self._x = x
+
+    def _add_joint_limits(self, limits: np.ndarray, tau, selectors, constraint_rows: list) -> None:
+        r"""Rows :math:`(P_j^2 - \tau_j^2)/P_j \ge 0`, i.e. :math:`|\tau_j| \le P_j`, for every joint
+        whose limit ``P_j`` [N·m or N] is finite. ``limits`` is (S×nv) with scenarios (a sample sees
+        its own scenario's row through the selectors), else (1×nv); NaN: no row for that joint."""
+        limits = limits.reshape(-1, self.mechanism.nv)
+        for joint in self.mechanism.joints:
+            column = limits[:, joint.index_v]
+            if not np.all(np.isfinite(column)):
+                continue
+            if np.any(column <= 0):
+                raise InputError(f"joint limit of {joint.name!r} must be > 0, got {column.min()}")
+            if selectors is None or column.size == 1:
+                bound = float(column[0])
+            else:
+                bound = sum(selectors[s] * float(column[s]) for s in range(column.size))
+            torque = tau[joint.index_v]
+            self.constraint_blocks.append(ConstraintBlock("", f"no_joint_worse.{joint.name}", joint.torque_unit,
+                                                          len(constraint_rows), float(np.max(column))))
+            constraint_rows.append((bound * bound - torque * torque) / bound)
 
     # ---------------------------------------------------------------- scenarios
     def _scenario_variables(self, per_scenario) -> np.ndarray:

@@ -1,7 +1,7 @@
 """Configuration files (YAML or JSON) → a :class:`~springbalance.design.problem.DesignProblem` + solve options.
 
 A config file is one mapping with the sections ``mechanism``, ``workspace``, ``springs``
-(required) and ``objective``, ``weights``, ``solve``, ``scenarios`` (optional); README.md ("Config
+(required) and ``objective``, ``weights``, ``solve``, ``scenarios``, ``no_joint_worse`` (optional); README.md ("Config
 reference") documents every key, and :mod:`springbalance.io.schema` holds the schema (pydantic
 models, whose JSON Schema ``springbalance schema`` prints). A config is read in three steps:
 
@@ -115,7 +115,7 @@ def config_from_dict(record, base_dir: str | Path = ".", label: str = "config", 
         solve_options = _solve_options(model.solve)
         scenario_options = _scenarios(mechanism, model.scenarios, f"{label}: scenarios")
         problem = DesignProblem(mechanism, workspace, springs, objective=model.objective, weights=weights,
-                                **scenario_options)
+                                no_joint_worse=model.no_joint_worse, **scenario_options)
     return Config(path, mechanism, workspace, springs, problem, solve_options)
 
 

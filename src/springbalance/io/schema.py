@@ -42,7 +42,7 @@ JSON_SCHEMA_DIALECT = "https://json-schema.org/draft/2020-12/schema"
 TITLE = "springbalance config"
 
 #: top-level sections of a config file, and those it must have.
-SECTIONS = ("mechanism", "workspace", "springs", "objective", "weights", "solve", "scenarios")
+SECTIONS = ("mechanism", "workspace", "springs", "objective", "weights", "solve", "scenarios", "no_joint_worse")
 REQUIRED_SECTIONS = ("mechanism", "workspace", "springs")
 WORKSPACE_KINDS = ("grid", "sobol", "random", "sweep", "array")
 #: which workspace keys apply to which kind (``kind`` and ``degrees`` apply to all).
@@ -385,14 +385,18 @@ def spring_model(cls) -> type[Record]:
 
 
 def _spring_tag(value):
+    """The registry key of a record: its ``type``, with ``:ideal`` for ``ideal: true``."""
     if isinstance(value, dict):
-        return value.get("type", DEFAULT_SPRING_TYPE)
-    return getattr(value, "type", None)
+        kind, ideal = value.get("type", DEFAULT_SPRING_TYPE), value.get("ideal", False)
+    else:
+        kind, ideal = getattr(value, "type", None), getattr(value, "ideal", False)
+    return f"{kind}:ideal" if ideal is True else kind
 
 
 def _spring_union(laws: tuple):
     """One spring record: the model of the law its ``type`` names (default ``extension``)."""
-    kinds = tuple(kind for kind, _ in laws)
+    keys = tuple(key for key, _ in laws)
+    kinds = tuple(dict.fromkeys(cls.kind for _, cls in laws))
 
     def check(value):
         if not isinstance(value, dict):
@@ -401,6 +405,12 @@ def _spring_union(laws: tuple):
         if not isinstance(kind, str) or kind not in kinds:
             raise _fail("unknown_spring_type", f"unknown spring type {_shown(kind)}; valid: {', '.join(kinds)}",
                         key="type")
+        ideal = value.get("ideal", False)
+        if not isinstance(ideal, bool):
+            raise _fail("expected", f"expected true or false, got {_shown(ideal)}", key="ideal")
+        if ideal and f"{kind}:ideal" not in keys:
+            variants = ", ".join(key.split(":")[0] for key in keys if key.endswith(":ideal"))
+            raise _fail("no_ideal_variant", f"a {kind!r} spring has no ideal variant (only {variants} do)", key="ideal")
         return value
 
     members = tuple(Annotated[spring_model(cls), Tag(kind)] for kind, cls in laws)
@@ -589,12 +599,15 @@ def _config_model(laws: tuple) -> type[Record]:
                                                           "empty means 1024 Sobol points of the URDF limits)")),
         springs=(spring_list(laws), Field(description="the springs to design (required): one record each, "
                                                       "the format in which designs are saved")),
-        objective=(Objective, Field("rms", description="rms, peak, pe_variance or energy "
-                                                                              "(energy needs an ordered workspace)")),
+        objective=(Objective, Field("rms", description="rms, peak, pe_variance, energy (needs an ordered "
+                                                       "workspace), joint_peaks (sum of the per-joint peaks) or "
+                                                       "peak_then_joints (the worst joint first, then the others)")),
         weights=(Optional[Weights], Field(None, description="{joint: w ≥ 0}: joint weights of the objective; "
                                                             "default 1 for every joint")),
         solve=(Optional[Solve], Field(None, description="solver options")),
         scenarios=(Optional[Scenarios], Field(None, description="load cases (payloads, mass scales)")),
+        no_joint_worse=(bool, Field(False, description="constrain every joint with a weight > 0 to stay at or "
+                                                       "below its unbalanced peak torque at every sample")),
     )
 
 
@@ -608,6 +621,7 @@ class WorkspaceFile(Record):
     weights: Any = None
     solve: Any = None
     scenarios: Any = None
+    no_joint_worse: Any = None
 
 
 # ---------------------------------------------------------------------- JSON Schema

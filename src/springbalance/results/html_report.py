@@ -5,7 +5,7 @@
 - ``out/report.html``: the design table (per spring: anchors, stiffness, free length,
   preload, shortest and longest length, largest force over the workspace), the metrics
   table (per joint peak and RMS before/after with the reduction, every objective before
-  and after), the plots and a link to the scene;
+  and after), the warnings (:mod:`springbalance.results.flags`), the plots and a link to the scene;
 - ``out/scene.html``: the self-contained Meshcat scene (:func:`springbalance.viz.scene.scene_html`);
 - ``out/torques.png`` / ``.svg``: torque along a sweep of each joint (:func:`springbalance.results.plots.plot_torques`);
 - ``out/histogram.png`` / ``.svg``: torque over the workspace samples (:func:`springbalance.results.plots.plot_histogram`).
@@ -182,6 +182,7 @@ def report_html(result, scene: str | None = "scene.html", torques: str | None = 
         parts.append("</table>")
     if metrics["max_violation"] > 1e-6:
         parts.append(f"<p><b>Infeasible:</b> largest constraint violation {_number(metrics['max_violation'])}.</p>")
+    parts.extend(warnings_html(result.warnings()))
 
     if torques or histogram:
         parts.append("<h2>Plots</h2>")
@@ -193,6 +194,22 @@ def report_html(result, scene: str | None = "scene.html", torques: str | None = 
                      f'<p><img src="{e(histogram)}" alt="histogram of the torques over the workspace"></p>')
     parts.append("</body></html>")
     return "\n".join(parts)
+
+
+def warnings_html(flags) -> list[str]:
+    """The "Warnings" section: a table of kind, subject, message and hint, or "none"."""
+    e = html.escape
+    if not flags:
+        return ['<h2 id="warnings">Warnings</h2>', "<p>Warnings: none.</p>"]
+    parts = ['<h2 id="warnings">Warnings</h2>',
+             "<table><tr><th class=l>kind</th><th class=l>subject</th><th class=l>finding</th>"
+             "<th class=l>hint</th></tr>"]
+    for flag in flags:
+        parts.append(f'<tr class="warning {e(flag.kind)}"><td class=l><code>{e(flag.kind)}</code></td>'
+                     f"<td class=l>{e(flag.subject)}</td><td class=l>{e(flag.message)}</td>"
+                     f"<td class=l>{e(flag.hint or '')}</td></tr>")
+    parts.append("</table>")
+    return parts
 
 
 def exported_files(folder: Path) -> list[str]:

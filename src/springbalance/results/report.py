@@ -32,12 +32,20 @@ def result_table(result) -> str:
             lines.append(f"    joint: {record['joint']}")
         parameters = "  ".join(f"{key} {record[key]:.6g} {unit}" for key, unit in spring.parameter_units.items())
         lines.append(f"    {parameters}")
-        if "mass" in record:
+        if "helical" in record:
+            lines.extend(f"    {line}" for line in spec_sheet_lines(record["helical"]))
+        elif "mass" in record:
             wire = f" (wire diameter {1e3 * record['wire_diameter']:.3g} mm for this rate)" if "wire_diameter" in record else ""
             lines.append(f"    spring mass {record['mass']:.4g} kg, half at each end{wire}")
         (state, state_unit), (force, force_unit) = spring.state_quantity, spring.force_quantity
         lines.append(f"    {state} {states.min():.4f} … {states.max():.4f} {state_unit}   "
                      f"{force} {forces.min():.4g} … {forces.max():.4g} {force_unit}")
+    rounding = getattr(result, "wire_rounding", None)
+    if rounding is not None:
+        wires = ", ".join(f"{name} {1e3 * pair[0]:.3f} → {1e3 * pair[1]:.2f} mm" for name, pair in rounding.wires.items())
+        lines.append(f"  standard wire: {wires or 'none rounded'}; objective {rounding.continuous_objective:.6g} → "
+                     f"{rounding.objective:.6g} ({rounding.cost_percent:+.2f} %)")
+        lines.extend(f"  wire of {name} left continuous: {reason}" for name, reason in rounding.unrounded.items())
     sizing = result.helical_sizing()
     if sizing:
         lines.append("")
@@ -69,7 +77,60 @@ def result_table(result) -> str:
     if metrics["max_violation"] > FEASIBILITY_TOLERANCE:
         lines.append(f"\n  INFEASIBLE: largest constraint violation {metrics['max_violation']:.3g} "
                      f"(tolerance {FEASIBILITY_TOLERANCE:g})")
+    lines.append("")
+    lines.extend(warning_lines(result.warnings()))
     return "\n".join(lines)
+
+
+#: the rows of a coil's spec sheet: (label, key, scale to the unit shown, unit, format)
+SPEC_SHEET_ROWS = (
+    ("material", "material", None, "", "s"), ("ends", "end_type", None, "", "s"),
+    ("wire diameter d", "wire_diameter", 1e3, "mm", ".3f"), ("mean coil diameter D", "mean_diameter", 1e3, "mm", ".2f"),
+    ("outer diameter", "outer_diameter", 1e3, "mm", ".2f"), ("index D/d", "index", 1.0, "", ".2f"),
+    ("active coils n", "active_coils", 1.0, "", ".2f"), ("free length", "free_length", 1e3, "mm", ".1f"),
+    ("body length", "body_length", 1e3, "mm", ".1f"), ("solid length", "solid_length", 1e3, "mm", ".1f"),
+    ("initial tension", "initial_tension", 1.0, "N", ".4g"), ("rate k", "rate", 1.0, "N/m", ".5g"),
+    ("largest load", "max_load", 1.0, "N", ".4g"), ("longest length", "longest_length", 1e3, "mm", ".1f"),
+    ("shortest length", "shortest_length", 1e3, "mm", ".1f"), ("largest stress", "max_stress", 1e-6, "MPa", ".0f"),
+    ("allowable stress", "allowable_stress", 1e-6, "MPa", ".0f"), ("hook bending stress", "hook_bending_stress", 1e-6,
+                                                                   "MPa", ".0f"),
+    ("hook bending allowable", "hook_bending_allowable", 1e-6, "MPa", ".0f"),
+    ("hook torsion stress", "hook_torsion_stress", 1e-6, "MPa", ".0f"),
+    ("hook torsion allowable", "hook_torsion_allowable", 1e-6, "MPa", ".0f"), ("mass", "mass", 1.0, "kg", ".4g"),
+)
+
+
+def spec_sheet_rows(sheet: dict) -> list[tuple[str, str]]:
+    """``(label, value with unit)`` of every entry a coil's spec sheet has."""
+    rows = []
+    for label, key, scale, unit, style in SPEC_SHEET_ROWS:
+        if key not in sheet:
+            continue
+        value = sheet[key] if scale is None else sheet[key] * scale
+        rows.append((label, f"{value:{style}} {unit}".strip()))
+    return rows
+
+
+def spec_sheet_lines(sheet: dict) -> list[str]:
+    """The spec sheet of a coil as text, ending with its buildable verdict and every failed rule."""
+    verdict = "BUILDABLE" if sheet["buildable"] else "NOT BUILDABLE: " + "; ".join(sheet["reasons"])
+    lines = [f"{sheet['type']} spring: {verdict}"]
+    rows = spec_sheet_rows(sheet)
+    width = max(len(label) for label, _ in rows)
+    lines.extend(f"  {label:<{width}s}  {value}" for label, value in rows)
+    return lines
+
+
+def warning_lines(flags) -> list[str]:
+    """The "Warnings" section: one entry per flag (kind, message, hint), or "Warnings: none"."""
+    if not flags:
+        return ["Warnings: none"]
+    lines = [f"Warnings ({len(flags)})"]
+    for flag in flags:
+        lines.append(f"  [{flag.kind}] {flag.message}")
+        if flag.hint:
+            lines.append(f"    hint: {flag.hint}")
+    return lines
 
 
 def balance_statement(result) -> str:

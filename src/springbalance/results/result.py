@@ -21,6 +21,7 @@ from springbalance.files import write_json_atomic
 from springbalance.model.mechanism import Mechanism
 from springbalance.design.objectives import OBJECTIVES
 from springbalance.design.problem import DesignProblem, register_result_type
+from springbalance.design.standard_wire import WireRounding
 from springbalance.springs.sizing import size_helical_spring
 from springbalance.springs.mass import CoilMass
 from springbalance.springs.records import spring_from_dict
@@ -32,6 +33,7 @@ if TYPE_CHECKING:
     from springbalance.design.problem import Evaluation
     from springbalance.design.solvers import StartRecord
     from springbalance.io.export import ExportReport
+    from springbalance.results.flags import Flag
     from springbalance.springs.laws import Spring
     from springbalance.springs.sizing import HelicalDesign, Material
     from springbalance.viz.live import LiveScene
@@ -51,11 +53,14 @@ class DesignResult:
     """
 
     def __init__(self, problem: DesignProblem, x: npt.ArrayLike, starts: Iterable[StartRecord] = (),
-                 method: str = "evaluate", seed: int | None = None, status: str = "evaluated") -> None:
+                 method: str = "evaluate", seed: int | None = None, status: str = "evaluated",
+                 wire_rounding: WireRounding | None = None) -> None:
         self.problem = problem
         self.x = np.asarray(x, dtype=float)
         self.starts = list(starts)
         self.method, self.seed, self.status = method, seed, status
+        #: what rounding the coils' wires to standard sizes cost (None when nothing was rounded)
+        self.wire_rounding = wire_rounding
         self.evaluation = problem.evaluate(self.x)
 
     # ---------------------------------------------------------------- values
@@ -75,14 +80,21 @@ class DesignResult:
         """
         model = self.problem.model
         records = []
-        for spring in self.problem.springs:
+        for column, spring in enumerate(self.problem.springs):
             record = {"name": spring.name, "type": spring.kind}
+            if spring.ideal is not None:
+                record["ideal"] = bool(spring.ideal)
             for end, anchor in spring.anchors.items():
                 record[end] = {"body": anchor.body, "point": model.anchor_point(spring, end, self.x).tolist()}
             for joint in spring.joints:
                 record["joint"] = joint
             values = model.spring_values(spring, self.x)
             record.update(values)
+            sheet = getattr(spring, "spec_sheet", None)
+            if sheet is not None:
+                # a coil: the law's values it gives, and its data sheet with the buildable verdict
+                record.update({key: value for key, value in spring.derived_values(values).items() if key not in record})
+                record["helical"] = sheet(values, self.evaluation.lengths[:, column], self.evaluation.tensions[:, column])
             mass = getattr(spring, "mass", None)
             if mass is not None:
                 record["mass"] = float(spring.spring_mass(values))                     # [kg]
@@ -122,8 +134,8 @@ class DesignResult:
         for column, spring in enumerate(self.problem.springs):
             option = getattr(spring, "helical", None)
             kind = getattr(spring, "helical_kind", None)
-            if kind is None or (option is None and material is None):
-                continue
+            if kind is None or (option is None and material is None) or hasattr(spring, "spec_sheet"):
+                continue   # not a coil, nothing asked, or a coil already (its spec sheet says it all)
             values = self.problem.model.spring_values(spring, self.x)
             lengths, forces = self.evaluation.lengths[:, column], self.evaluation.tensions[:, column]
             chosen = material if material is not None else option.material
@@ -220,6 +232,14 @@ class DesignResult:
         return {"starts": len(self.starts), "feasible": int(values.size), "best": float(values.min()),
                 "median": float(np.median(values)), "worst": float(values.max())}
 
+    def warnings(self) -> list[Flag]:
+        """What a report should point out: variables at a bound, joints made worse, springs that
+        leave their law, ideal coil springs no helical spring can realise. See
+        :func:`springbalance.results.flags.flags` for the kinds."""
+        from springbalance.results.flags import flags
+
+        return flags(self)
+
     def table(self) -> str:
         """Plain-text report: springs, per-joint torques before/after, objectives."""
         from springbalance.results.report import result_table
@@ -289,8 +309,10 @@ class DesignResult:
             "design": self.springs,
             "sizing": {name: design.to_dict() for name, design in self.helical_sizing().items()},
             "solver": {"method": self.method, "seed": self.seed, "status": self.status, "spread": self.spread(),
-                       "starts": [record.to_dict() for record in self.starts]},
+                       "starts": [record.to_dict() for record in self.starts],
+                       **({"standard_wire": self.wire_rounding.to_dict()} if self.wire_rounding else {})},
             "metrics": self.metrics(),
+            "warnings": [flag.to_dict() for flag in self.warnings()],
             **problem.scenarios_record(),
         }
 

@@ -14,6 +14,30 @@ from springbalance.springs.params import anchor_from_dict, check_keys, value_fro
 from springbalance.springs.sizing import helical_from_dict
 
 
+#: the law of a record without ``type``
+DEFAULT_TYPE = "extension"
+
+
+def spring_types() -> list[str]:
+    """The ``type`` names of the registered laws (each once, whether or not it has an ideal variant)."""
+    return list(dict.fromkeys(cls.kind for cls in SPRING_TYPES.values()))
+
+
+def law_of(record: dict, where: str = "spring") -> type[Spring]:
+    """The law class of a record: its ``type`` (default ``extension``), and for the laws made as real
+    coils, ``ideal: true`` for the idealised law instead of the coil."""
+    kind = record.get("type", DEFAULT_TYPE)
+    if not isinstance(kind, str) or kind not in spring_types():
+        raise InputError(f"{where}.type: unknown spring type {kind!r}; valid: {', '.join(spring_types())}")
+    ideal = record.get("ideal", False)
+    if not isinstance(ideal, bool):
+        raise InputError(f"{where}.ideal: expected true or false, got {ideal!r}")
+    if ideal and f"{kind}:ideal" not in SPRING_TYPES:
+        raise InputError(f"{where}.ideal: a {kind!r} spring has no ideal variant (only "
+                         f"{', '.join(cls.kind for cls in SPRING_TYPES.values() if cls.ideal)} do)")
+    return SPRING_TYPES[f"{kind}:ideal" if ideal else kind]
+
+
 def spring_from_dict(record, where: str = "spring") -> Spring:
     """Build a spring from its record (as in configs and saved designs).
 
@@ -24,10 +48,7 @@ def spring_from_dict(record, where: str = "spring") -> Spring:
     """
     if not isinstance(record, dict):
         raise InputError(f"{where}: expected a mapping, got {record!r}")
-    kind = record.get("type", "extension")
-    if not isinstance(kind, str) or kind not in SPRING_TYPES:
-        raise InputError(f"{where}.type: unknown spring type {kind!r}; valid: {', '.join(SPRING_TYPES)}")
-    cls = SPRING_TYPES[kind]
+    cls = law_of(record, where)
     ends = cls.ends
     check_keys(record, ("name", "type", *ends, *cls.parameter_units, *cls.option_keys), where)
     name = record.get("name")

@@ -99,6 +99,47 @@ def coil_mass(stiffness, coil_diameter, active_coils, wire_length, shear_modulus
     return density * math.pi * wire_length * (coil_diameter**3 * active_coils * stiffness / (2 * shear_modulus)) ** 0.5
 
 
+def initial_stress_band(index):
+    r"""Preferred range ``(low, high)`` [Pa] of the uncorrected initial stress of a close-wound
+    extension spring of index ``C`` (Shigley Eq. 10-40, fitted to the wire makers' chart):
+
+    .. math:: \tau_i = \frac{231}{e^{0.105 C}} \pm 6.9\Bigl(4 - \frac{C - 3}{6.5}\Bigr)\ \mathrm{MPa},
+
+    with :math:`\tau_i = 8 F_i D / (\pi d^3)` for an initial tension ``F_i`` [N]. Works on numbers,
+    arrays and CasADi expressions.
+    """
+    middle = 231.0 * MPA * _exp(-0.105 * index)                      # [Pa]
+    half_width = 6.9 * MPA * (4.0 - (index - 3.0) / 6.5)              # [Pa]
+    return middle - half_width, middle + half_width
+
+
+def hook_bending_stress(force, wire_diameter, mean_diameter):
+    r"""Bending stress [Pa] at the top of a machine hook (section A, Shigley Eq. 10-34, 10-35), with the
+    hook's bend index ``C_1 = 2 r_1/d = D/d`` (the hook as wide as the coil):
+
+    .. math:: \sigma_A = F\Bigl[(K)_A \frac{16 D}{\pi d^3} + \frac{4}{\pi d^2}\Bigr],\qquad
+              (K)_A = \frac{4 C_1^2 - C_1 - 1}{4 C_1 (C_1 - 1)} .
+    """
+    c1 = mean_diameter / wire_diameter
+    factor = (4 * c1 * c1 - c1 - 1) / (4 * c1 * (c1 - 1))
+    return force * (factor * 16 * mean_diameter / (math.pi * wire_diameter**3) + 4 / (math.pi * wire_diameter**2))
+
+
+#: bend index ``C_2 = 2 r_2 / d`` of the side bend of a machine hook (section B); Shigley asks for C_2 > 4.
+HOOK_SIDE_BEND_INDEX = 4.0
+
+
+def hook_torsion_stress(force, wire_diameter, mean_diameter, side_bend_index=HOOK_SIDE_BEND_INDEX):
+    r"""Torsional stress [Pa] at the side bend of a machine hook (section B, Shigley Eq. 10-36):
+    :math:`\tau_B = (K)_B\, 8 F D/(\pi d^3)`, :math:`(K)_B = (4 C_2 - 1)/(4 C_2 - 4)`."""
+    factor = (4 * side_bend_index - 1) / (4 * side_bend_index - 4)
+    return factor * 8 * force * mean_diameter / (math.pi * wire_diameter**3)
+
+
+def _exp(value):
+    return ca.exp(value) if isinstance(value, (ca.SX, ca.MX, ca.DM)) else np.exp(value)
+
+
 # ---------------------------------------------------------------------- materials
 @dataclasses.dataclass(frozen=True)
 class StrengthRange:
@@ -121,6 +162,8 @@ class Material:
     density: float
     strength: tuple[StrengthRange, ...]
     allowable_fraction: dict  # kind ("extension", "compression") -> fraction of S_ut
+    #: extension spring ends (Shigley Table 10-7): bending at the hook and torsion at its side bend
+    hook_fraction: dict = dataclasses.field(default_factory=lambda: {"bending": 0.75, "torsion": 0.40})
 
     @property
     def diameter_range(self) -> tuple[float, float]:
@@ -140,6 +183,11 @@ class Material:
             strength = coefficient * wire_diameter ** (power - piece.exponent)
             value = strength if value is None else _select(wire_diameter <= piece.upper, strength, value)
         return value
+
+    def hook_allowable_stress(self, wire_diameter, mode: str):
+        """Allowable static stress [Pa] in an extension spring's hook: ``mode`` "bending" (section A)
+        or "torsion" (section B), Shigley Table 10-7."""
+        return self.hook_fraction[mode] * self.tensile_strength(wire_diameter)
 
     def allowable_stress(self, wire_diameter, kind: str):
         """Allowable static shear stress [Pa] of a spring of ``kind`` (Shigley Tables 10-6, 10-7)."""
@@ -166,7 +214,7 @@ MATERIALS: dict[str, Material] = {
                  (StrengthRange(0.3 * MM, 2.5 * MM, 1867.0, 0.146),
                   StrengthRange(2.5 * MM, 5.0 * MM, 2065.0, 0.263),
                   StrengthRange(5.0 * MM, 10.0 * MM, 2911.0, 0.478)),
-                 {"compression": 0.35, "extension": 0.35}),
+                 {"compression": 0.35, "extension": 0.35}, {"bending": 0.55, "torsion": 0.30}),
         # ASTM A401, d = 1.6–9.5 mm, A = 1974 MPa·mm^m, m = 0.108; G = 77.2 GPa; hardened and
         # tempered low-alloy steel: 50 % (compression), 45 % (extension body).
         Material("chrome_silicon", "chrome-silicon (ASTM A401)", 77.2e9, 7800.0,

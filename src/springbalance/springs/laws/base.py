@@ -44,7 +44,7 @@ from springbalance.errors import InputError
 from springbalance.springs import constraints as practical
 from springbalance.springs.mass import CoilMass, MassOption, mass_from_record
 from springbalance.springs.params import Anchor, Free
-from springbalance.springs.sizing import HelicalOption, helical_from_dict
+from springbalance.springs.sizing import helical_from_dict
 
 #: spring ``type`` name in configs and saved designs -> class. Every subclass of :class:`Spring`
 #: that sets ``kind`` adds itself; :mod:`springbalance.springs.laws` imports every law module.
@@ -104,17 +104,26 @@ class Spring(abc.ABC):
     state_quantity: ClassVar[tuple[str, str]] = ("length", "m")
     force_quantity: ClassVar[tuple[str, str]] = ("tension", "N")
 
+    #: ``True`` for the idealised law of a part that is also made as a real coil (its records say
+    #: ``ideal: true``), ``False`` for the coil itself, ``None`` for laws without that choice.
+    ideal: ClassVar[bool | None] = None
+
+    @classmethod
+    def registry_key(cls) -> str:
+        """The key of this law in :data:`SPRING_TYPES`: its ``kind``, or ``"<kind>:ideal"`` for an idealised law."""
+        return f"{cls.kind}:ideal" if cls.ideal else cls.kind
+
     def __init_subclass__(cls, **kwargs):
         """Register every law that names its ``kind`` in :data:`SPRING_TYPES` (the registry)."""
         super().__init_subclass__(**kwargs)
         cls.option_keys = tuple(cls.option_types)
-        kind = cls.__dict__.get("kind")
-        if kind:
-            known = SPRING_TYPES.get(kind)
+        if cls.kind and (cls.__dict__.get("kind") or "ideal" in cls.__dict__):
+            key = cls.registry_key()
+            known = SPRING_TYPES.get(key)
             if known is not None and known.__qualname__ != cls.__qualname__:
-                raise TypeError(f"spring law {kind!r} is defined twice: {known.__module__}.{known.__qualname__} "
+                raise TypeError(f"spring law {key!r} is defined twice: {known.__module__}.{known.__qualname__} "
                                 f"and {cls.__module__}.{cls.__qualname__}")
-            SPRING_TYPES[kind] = cls
+            SPRING_TYPES[key] = cls
 
     def __init__(self, name: str | None = None, **parameters):
         self.name = name
@@ -316,7 +325,7 @@ class TwoPointSpring(Spring):
         deviation = float(np.max(np.abs(design @ [slope, constant] - forces))) if lengths.size else 0.0
         return float(slope), float(constant), deviation
 
-    def law_warnings(self, values: dict, lengths: np.ndarray, tolerance: float = 1e-9) -> list[str]:
+    def law_warnings(self, values: dict, lengths: np.ndarray, tolerance: float = 1e-6) -> list[str]:
         """Where a real part departs from this idealised two-sided law at the workspace ``lengths`` [m].
 
         The base class checks the length range (``min_length`` / ``max_length``: the law does not

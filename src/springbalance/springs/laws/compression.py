@@ -2,8 +2,11 @@ r"""Compression spring with preload (docs/model.md §3.3): pushes its ends apart
 
 from __future__ import annotations
 
+from typing import Literal
+
 import numpy as np
 
+from springbalance.errors import InputError
 from springbalance.springs import constraints as practical
 from springbalance.springs.laws.base import HelicalSpringMixin, PositiveNumber, TwoPointSpring, _positive_option
 from springbalance.springs.params import Anchor
@@ -24,16 +27,21 @@ class CompressionSpring(HelicalSpringMixin, TwoPointSpring):
     """
 
     kind = "compression"
+    ideal = True
+    required_options = ("ideal",)
     parameter_units = {"stiffness": "N/m", "free_length": "m", "preload": "N"}
     nonnegative = ("stiffness", "free_length", "preload")
     defaults = {"preload": 0.0}
     linear_parameters = ("stiffness", "preload")
-    option_types = {**TwoPointSpring.option_types, "stays_compressed": bool, "stroke": PositiveNumber | None,
+    option_types = {**TwoPointSpring.option_types, "ideal": Literal[True], "stays_compressed": bool, "stroke": PositiveNumber | None,
                     "helical": HelicalOption | None}
     helical_kind = "compression"
 
-    def __init__(self, a: Anchor, b: Anchor, name: str | None = None, *, stays_compressed: bool = True,
+    def __init__(self, a: Anchor, b: Anchor, name: str | None = None, *, ideal: bool = True, stays_compressed: bool = True,
                  stroke: float | None = None, helical=None, **kwargs):
+        if ideal is not True:
+            raise InputError(f"{type(self).__name__} {name or ''}: this is the ideal law; a coil is "
+                             f"Helical{type(self).__name__} (or type: compression without ideal: true)")
         super().__init__(a, b, name, **kwargs)
         self.stays_compressed = bool(stays_compressed)
         self.stroke = _positive_option(self, "stroke", stroke)
@@ -63,6 +71,8 @@ class CompressionSpring(HelicalSpringMixin, TwoPointSpring):
 
     def options(self) -> dict:
         record = super().options()
+        if self.ideal:
+            record["ideal"] = True
         record["stays_compressed"] = self.stays_compressed
         if self.stroke is not None:
             record["stroke"] = self.stroke
@@ -75,7 +85,7 @@ class CompressionSpring(HelicalSpringMixin, TwoPointSpring):
         k, l0, f0 = values["stiffness"], values["free_length"], values["preload"]
         return float(k), float(-f0 - k * l0), 0.0
 
-    def law_warnings(self, values, lengths, tolerance: float = 1e-9) -> list[str]:
+    def law_warnings(self, values, lengths, tolerance: float = 1e-6) -> list[str]:
         """Longer than ``l0`` a real spring loses contact (a gas spring stops); beyond its stroke it bottoms out."""
         warnings = []
         free, kind = values["free_length"], self.kind

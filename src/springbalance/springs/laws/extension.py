@@ -2,6 +2,8 @@ r"""Linear extension spring with initial tension (docs/model.md §3.1)."""
 
 from __future__ import annotations
 
+from typing import Literal
+
 import numpy as np
 
 from springbalance.errors import InputError
@@ -25,16 +27,21 @@ class ExtensionSpring(HelicalSpringMixin, TwoPointSpring):
     """
 
     kind = "extension"
+    ideal = True
+    required_options = ("ideal",)
     parameter_units = {"stiffness": "N/m", "free_length": "m", "initial_tension": "N"}
     nonnegative = ("stiffness", "free_length", "initial_tension")
     defaults = {"initial_tension": 0.0}
     linear_parameters = ("stiffness", "initial_tension")
-    option_types = {**TwoPointSpring.option_types, "keep_tension": bool, "max_stretch": StretchRatio | None,
+    option_types = {**TwoPointSpring.option_types, "ideal": Literal[True], "keep_tension": bool, "max_stretch": StretchRatio | None,
                     "helical": HelicalOption | None}
     helical_kind = "extension"
 
-    def __init__(self, a: Anchor, b: Anchor, name: str | None = None, *, keep_tension: bool = True,
+    def __init__(self, a: Anchor, b: Anchor, name: str | None = None, *, ideal: bool = True, keep_tension: bool = True,
                  max_stretch: float | None = None, helical=None, **kwargs):
+        if ideal is not True:
+            raise InputError(f"{type(self).__name__} {name or ''}: this is the ideal law; a coil is "
+                             f"Helical{type(self).__name__} (or type: extension without ideal: true)")
         super().__init__(a, b, name, **kwargs)
         self.keep_tension = bool(keep_tension)
         self.max_stretch = _positive_option(self, "max_stretch", max_stretch)
@@ -66,6 +73,8 @@ class ExtensionSpring(HelicalSpringMixin, TwoPointSpring):
 
     def options(self) -> dict:
         record = super().options()
+        if self.ideal:
+            record["ideal"] = True
         record["keep_tension"] = self.keep_tension
         if self.max_stretch is not None:
             record["max_stretch"] = self.max_stretch
@@ -78,7 +87,7 @@ class ExtensionSpring(HelicalSpringMixin, TwoPointSpring):
         k, l0, f0 = values["stiffness"], values["free_length"], values["initial_tension"]
         return float(k), float(f0 - k * l0), 0.0
 
-    def law_warnings(self, values, lengths, tolerance: float = 1e-9) -> list[str]:
+    def law_warnings(self, values, lengths, tolerance: float = 1e-6) -> list[str]:
         """Below its free length a real extension spring goes slack (or solid); the linear law pushes."""
         warnings = []
         free = values["free_length"]

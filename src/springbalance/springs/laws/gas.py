@@ -19,6 +19,8 @@ class GasSpring(CompressionSpring):
     """
 
     kind = "gas"
+    ideal = None
+    required_options = ()
     option_types = {**TwoPointSpring.option_types, "stays_compressed": bool, "stroke": PositiveNumber | None}
     helical_kind = None  # not a coil: nothing to size
 

@@ -133,7 +133,7 @@ class TabulatedSpring(TwoPointSpring):
             return float(scale * s0), float(scale * (f0 - s0 * (x0 + shift))), 0.0
         return super().tendon_law(values, lengths)
 
-    def law_warnings(self, values, lengths, tolerance: float = 1e-9) -> list[str]:
+    def law_warnings(self, values, lengths, tolerance: float = 1e-6) -> list[str]:
         """Outside its table a real part is unknown (or at its stop); the law continues linearly."""
         warnings = []
         x = np.asarray(lengths) - values["shift"]

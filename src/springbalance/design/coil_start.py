@@ -1,0 +1,132 @@
+"""A first guess for helical coil springs: solve the ideal twin, then wind a coil for its law.
+
+A coil's rate ``k = G d⁴/(8 D³ n)`` is nonlinear in its variables, and most points of the bounds
+of ``(d, D, n)`` are far from useful; the ideal law's ``(k, l0, F0)`` is linear where a coil is
+not, and its least-squares solve is quick. So :func:`coil_start` first solves the *twin*
+problem, where every coil is the ideal law of its kind with the same anchors, then, per coil,
+picks the wire ``d`` (preferred sizes within its bounds) and index ``C`` whose coil has the
+twin's rate and comes closest to its free length (extension: ``d (n + 1) + 2 (D − d)``),
+within the index range and the envelope, with the initial tension clipped into the band that
+can be wound at that index. The result is a design vector of the real problem (anchors from
+the twin) for the solver's first start; the rules themselves are the solver's job.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from springbalance.design.solvers import solve_problem
+from springbalance.errors import SolverError
+from springbalance.springs.laws.compression import CompressionSpring
+from springbalance.springs.laws.extension import ExtensionSpring
+from springbalance.springs.params import Free
+from springbalance.springs.sizing import PREFERRED_WIRE_DIAMETERS, initial_stress_band
+
+if TYPE_CHECKING:
+    from springbalance.design.problem import DesignProblem
+
+
+def coil_springs(problem: DesignProblem) -> list:
+    """The helical coil springs of ``problem`` that have free variables."""
+    return [spring for spring in problem.springs if hasattr(spring, "spec_sheet")
+            and any(isinstance(value, Free) for value in spring.parameters.values())]
+
+
+def coil_start(problem: DesignProblem, **solve_options) -> np.ndarray | None:
+    """A design vector of ``problem`` to start from (see the module docstring); None when the twin fails."""
+    coils = coil_springs(problem)
+    if not coils:
+        return None
+    twins = [_twin(spring) if spring in coils else spring for spring in problem.springs]
+    objective = getattr(problem.objective, "inner", problem.objective)
+    twin = type(problem)(problem.mechanism, problem.base_workspace, twins, objective=objective,
+                         weights=problem.weights_by_name(), scenarios=problem.scenarios or None,
+                         per_scenario=problem.per_scenario, aggregate=problem.aggregate)
+    try:
+        found = solve_problem(twin, **solve_options)
+    except SolverError:
+        return None
+    twin_values = dict(zip(twin.variables.names, found.x))
+    start = dict(zip(problem.variables.names, problem.variables.start))
+    start.update({name: value for name, value in twin_values.items() if name in start})
+    evaluation = twin.evaluate(found.x)
+    for column, spring in enumerate(twin.springs):
+        if problem.springs[column] not in coils:
+            continue
+        coil = problem.springs[column]
+        law = twin.model.spring_values(spring, found.x)
+        lengths, forces = evaluation.lengths[:, column], evaluation.tensions[:, column]
+        start.update({f"{coil.name}.{key}": value for key, value in _wind(coil, law, lengths, forces).items()})
+    x = np.array([start[name] for name in problem.variables.names], dtype=float)
+    lower, upper = problem.variables.bounds()
+    return np.clip(x, lower, upper)
+
+
+def _bounds(spring, key) -> tuple[float, float]:
+    value = spring.parameters[key]
+    return (float(value.lower), float(value.upper)) if isinstance(value, Free) else (float(value), float(value))
+
+
+def _twin(coil):
+    """The ideal law of the coil's kind, with the coil's anchors and limits, over generous ranges."""
+    d_low, d_high = _bounds(coil, "wire_diameter")
+    D_low, D_high = _bounds(coil, "mean_diameter")
+    n_low, n_high = _bounds(coil, "active_coils")
+    G = coil.material.shear_modulus
+    stiffest = G * d_high**4 / (8 * max(D_low, coil.index_range[0] * d_high) ** 3 * n_low)       # [N/m]
+    options = {key: getattr(coil, key) for key in ("max_force", "max_length", "min_length")}
+    if coil.kind == "extension":
+        low, high = _bounds(coil, "initial_tension")
+        shortest = d_low * (n_low + 1) + 2 * (coil.index_range[0] - 1) * d_low                      # [m]
+        longest = d_high * (n_high + 1) + 2 * (D_high - d_high)                                     # [m]
+        return ExtensionSpring(coil.a, coil.b, coil.name, stiffness=Free(0.0, stiffest),
+                               free_length=Free(shortest, longest), initial_tension=Free(low, high),
+                               keep_tension=coil.keep_tension, **options)
+    free_low, free_high = _bounds(coil, "free_length")
+    return CompressionSpring(coil.a, coil.b, coil.name, stiffness=Free(0.0, stiffest),
+                             free_length=Free(free_low, free_high), preload=0.0,
+                             stays_compressed=coil.stays_compressed, **options)
+
+
+def _wind(coil, law: dict, lengths: np.ndarray, forces: np.ndarray) -> dict[str, float]:
+    """Wire, coil diameter and coils (and the initial tension) of a coil close to the ideal ``law``."""
+    d_low, d_high = _bounds(coil, "wire_diameter")
+    n_low, n_high = _bounds(coil, "active_coils")
+    D_low, D_high = _bounds(coil, "mean_diameter")
+    G = coil.material.shear_modulus
+    rate = max(float(law["stiffness"]), 1e-9)                                                   # [N/m]
+    largest = float(np.max(np.abs(forces))) if forces.size else 0.0                             # [N]
+    wires = [d for d in PREFERRED_WIRE_DIAMETERS if d_low <= d <= d_high] or [0.5 * (d_low + d_high)]
+    best, best_score = None, math.inf
+    for d in wires:
+        allowable = coil.material.allowable_fraction[coil.helical_kind] * float(coil.material.tensile_strength(d))
+        for index in np.linspace(coil.index_range[0], coil.index_range[1], 17):
+            D = index * d
+            if not D_low <= D <= D_high or (coil.max_outer_diameter is not None and D + d > coil.max_outer_diameter):
+                continue
+            n = G * d**4 / (8 * D**3 * rate)
+            if not n_low <= n <= n_high:
+                continue
+            if coil.kind == "extension":
+                free = d * (n + 1) + 2 * (D - d)
+                mismatch = abs(free - law["free_length"]) / max(law["free_length"], 1e-3)
+            else:
+                mismatch = max(0.0, d * (n + 2) - float(np.min(lengths))) / max(float(np.min(lengths)), 1e-3)
+            stress = 8 * largest * D * (4 * index + 2) / ((4 * index - 3) * math.pi * d**3)     # K_B 8 F D/(π d³)
+            score = mismatch + max(0.0, stress / allowable - 1.0)
+            if score < best_score:
+                best, best_score = (d, D, n), score
+    if best is None:
+        return {}
+    d, D, n = best
+    values = {"wire_diameter": d, "mean_diameter": D, "active_coils": n}
+    if coil.kind == "extension":
+        low, high = initial_stress_band(D / d)                                                  # [Pa]
+        to_force = math.pi * d**3 / (8 * D)                                                     # [N/Pa]
+        values["initial_tension"] = float(np.clip(law["initial_tension"], low * to_force, high * to_force))
+    else:
+        values["free_length"] = float(law["free_length"])
+    return {key: value for key, value in values.items() if isinstance(coil.parameters.get(key), Free)}

@@ -1,0 +1,146 @@
+"""Standard wire: a helical spring's wire diameter rounded to the preferred series, the rest re-optimised.
+
+The solver treats the wire diameter ``d`` [m] of a coil as continuous. A spring maker draws wire
+in preferred sizes (:data:`~springbalance.springs.sizing.PREFERRED_WIRE_DIAMETERS`, within the
+material's range). :func:`round_wires` takes the continuous optimum and, one coil after the other,
+fixes its ``d`` to the preferred size just below and just above, re-optimises every other
+variable from the current design (one start, warm), and keeps the better feasible one. It reports
+what the rounding cost: the objective before and after, and each spring's ``d``.
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from springbalance.design.solvers import Solution, solve_problem
+from springbalance.errors import SolverError
+from springbalance.springs.params import Free
+from springbalance.springs.sizing import PREFERRED_WIRE_DIAMETERS
+
+if TYPE_CHECKING:
+    from springbalance.design.problem import DesignProblem
+
+WIRE = "wire_diameter"
+
+
+@dataclasses.dataclass
+class WireRounding:
+    """What rounding the wires to standard sizes cost.
+
+    Attributes:
+        continuous_objective: the objective of the continuous optimum (in the objective's unit).
+        objective: the objective after rounding.
+        wires: spring name → ``(continuous d, standard d)`` [m].
+        unrounded: springs left with a continuous wire, with the reason.
+    """
+
+    continuous_objective: float
+    objective: float
+    wires: dict[str, tuple[float, float]]
+    unrounded: dict[str, str] = dataclasses.field(default_factory=dict)
+
+    @property
+    def cost_percent(self) -> float:
+        """How much worse the objective got [%] (negative: better)."""
+        if self.continuous_objective <= 0:
+            return 0.0
+        return 100.0 * (self.objective - self.continuous_objective) / self.continuous_objective
+
+    def to_dict(self) -> dict:
+        return {"continuous_objective": self.continuous_objective, "objective": self.objective,
+                "cost_percent": self.cost_percent,
+                "wires": {name: {"continuous": pair[0], "standard": pair[1]} for name, pair in self.wires.items()},
+                "unrounded": dict(self.unrounded)}
+
+
+def coils_with_free_wire(problem: DesignProblem) -> list:
+    """The coil springs whose wire diameter is a design variable."""
+    return [spring for spring in problem.springs
+            if hasattr(spring, "spec_sheet") and isinstance(spring.parameters.get(WIRE), Free)]
+
+
+def standard_neighbours(diameter: float, lower: float, upper: float) -> list[float]:
+    """The preferred wire sizes just below and just above ``diameter`` [m], within ``[lower, upper]``."""
+    sizes = np.array([d for d in PREFERRED_WIRE_DIAMETERS if lower * (1 - 1e-9) <= d <= upper * (1 + 1e-9)])
+    if sizes.size == 0:
+        return []
+    below, above = sizes[sizes <= diameter], sizes[sizes >= diameter]
+    return sorted({float(value) for value in ([below.max()] if below.size else []) + ([above.min()] if above.size else [])})
+
+
+def round_wires(problem: DesignProblem, solution: Solution, **solve_options) -> tuple[Solution, WireRounding]:
+    """Fix every coil's wire to a standard size and re-optimise the rest (see the module docstring).
+
+    Returns the solution of ``problem`` with the standard wires (the wire variables at their
+    standard values) and the :class:`WireRounding`. ``solve_options`` go to
+    :func:`~springbalance.design.solvers.solve_problem` (``method``, ``max_iterations``, ...).
+    """
+    names = problem.variables.names
+    x = np.array(solution.x, dtype=float)
+    continuous = problem.objective_value(problem.evaluate(x))
+    fixed: dict[str, float] = {}
+    rounding = WireRounding(continuous, continuous, {})
+    best_solution = solution
+    for spring in coils_with_free_wire(problem):
+        name = f"{spring.name}.{WIRE}"
+        if name not in names:                  # a per-scenario wire: one value per scenario, left continuous
+            rounding.unrounded[spring.name] = "its wire diameter is a per-scenario variable"
+            continue
+        free = spring.parameters[WIRE]
+        value = x[names.index(name)]
+        candidates = standard_neighbours(value, float(free.lower), float(free.upper))
+        best = None
+        for candidate in candidates:
+            trial = _fixed_wire_problem(problem, {**fixed, spring.name: candidate}, x)
+            try:
+                found = solve_problem(trial, starts=1, **solve_options)
+            except SolverError:
+                continue
+            full = _expand(problem, trial, found.x, {**fixed, spring.name: candidate})
+            objective = problem.objective_value(problem.evaluate(full))
+            if best is None or objective < best[0]:
+                best = (objective, candidate, full, found)
+        if best is None:
+            rounding.unrounded[spring.name] = (
+                "no standard wire within its bounds gives a feasible design" if candidates else
+                "no standard wire size lies within its bounds")
+            continue
+        objective, candidate, x, found = best
+        fixed[spring.name] = candidate
+        rounding.wires[spring.name] = (float(value), candidate)
+        rounding.objective = objective
+        best_solution = Solution(x, solution.starts, solution.method, solution.seed,
+                                 f"{solution.status}; wire of {', '.join(fixed)} at standard sizes ({found.status})")
+    return best_solution, rounding
+
+
+def _fixed_wire_problem(problem: DesignProblem, wires: dict[str, float], x: np.ndarray) -> DesignProblem:
+    """``problem`` with the given springs' wires fixed, its first guess at ``x`` (the other variables)."""
+    springs = []
+    for spring in problem.springs:
+        if spring.name in wires:
+            spring = copy.copy(spring)
+            spring.parameters = {**spring.parameters, WIRE: float(wires[spring.name])}
+        springs.append(spring)
+    objective = getattr(problem.objective, "inner", problem.objective)
+    trial = type(problem)(problem.mechanism, problem.base_workspace, springs, objective=objective,
+                          weights=problem.weights_by_name(), scenarios=problem.scenarios or None,
+                          per_scenario=problem.per_scenario, aggregate=problem.aggregate,
+                          no_joint_worse=getattr(problem, "no_joint_worse", False))
+    start = dict(zip(problem.variables.names, x))
+    variables = trial.variables
+    for index, name in enumerate(variables.names):
+        if name in start:
+            variables.start[index] = float(np.clip(start[name], variables.lower[index], variables.upper[index]))
+    return trial
+
+
+def _expand(problem: DesignProblem, trial: DesignProblem, x_trial: np.ndarray, wires: dict[str, float]) -> np.ndarray:
+    """The design vector of ``problem`` from that of ``trial`` (whose fixed wires are ``wires``)."""
+    values = dict(zip(trial.variables.names, x_trial))
+    values.update({f"{name}.{WIRE}": wire for name, wire in wires.items()})
+    return np.array([values[name] for name in problem.variables.names], dtype=float)

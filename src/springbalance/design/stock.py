@@ -1,0 +1,433 @@
+r"""Stock springs: replace designed coil springs by catalogue parts and re-optimise the anchors.
+
+A continuous design picks any rate ``k``, free length ``l0`` and preload ``F0``; a real arm is
+usually built from springs one can buy. :func:`select_stock` turns a continuous optimum into a
+stock design, greedily, spring by spring (in the problem's order):
+
+1. for a spring of type ``extension`` or ``compression`` (:class:`ExtensionSpring`,
+   :class:`CompressionSpring`, or a helical coil law of those types; gas springs, torsional and
+   other laws keep their continuous design, and so does a spring that already has a
+   ``part_number``), rank the catalogue's parts of
+   that type by :func:`part_distance`: how alike they pull over the spring's working lengths at
+   the current optimum, and whether they carry its load and stroke;
+2. for each of the ``candidates`` nearest parts, replace the spring by the fixed spring of that
+   part (:func:`part_spring`: rate, free length, preload and load/length limits of the part;
+   the anchors stay free) and re-optimise: a new :class:`DesignProblem` with the same mechanism,
+   workspace, objective, weights and scenarios, every free variable warm-started at the current
+   optimum (``Free(lower, upper, init=...)``);
+3. keep the candidate with the lowest objective among the feasible ones, and go on to the next
+   spring from its optimum. When no candidate is feasible, :class:`SolverError` names the spring.
+
+The result is a :class:`StockSelection`: the final design and what the choice cost (the
+objective of the continuous design against the stock design, and every candidate tried).
+
+The parts are :class:`StockPart` records; :func:`springbalance.io.catalogue.read_catalogue`
+reads them from a CSV file (README "Stock springs").
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from typing import Any, Sequence
+
+import numpy as np
+
+from springbalance.errors import InputError, SolverError
+from springbalance.design.problem import DesignProblem, ScenarioAggregate
+from springbalance.springs.laws import CompressionSpring, ExtensionSpring, Spring, TwoPointSpring
+from springbalance.springs.params import Free, Plane, Segment
+from springbalance.springs.records import spring_from_dict
+from springbalance.springs.sizing import MATERIALS
+
+#: the spring types a catalogue part can be (the ``type`` column of a catalogue).
+STOCK_KINDS = ("extension", "compression")
+#: parts tried per spring by default.
+CANDIDATES = 6
+
+
+@dataclasses.dataclass(frozen=True)
+class StockPart:
+    """One catalogue spring (SI units: m, N, N/m).
+
+    Attributes:
+        part_number: the catalogue's name of the part.
+        kind: ``"extension"`` or ``"compression"`` (the ``type`` column).
+        material: a key of :data:`springbalance.springs.sizing.MATERIALS`.
+        wire_diameter: ``d`` [m].
+        mean_diameter: mean coil diameter ``D`` [m].
+        active_coils: ``n`` [1].
+        free_length: ``l0`` [m] (extension: hooks included).
+        initial_tension: ``F_i`` [N] (extension; 0 for compression springs).
+        rate: ``k`` [N/m], ``G d⁴/(8 D³ n)``.
+        max_load: largest force [N].
+        max_length: extension: the longest allowed length; compression: the free length [m].
+        min_length: extension: the free length; compression: the solid length [m].
+    """
+
+    part_number: str
+    kind: str
+    material: str
+    wire_diameter: float
+    mean_diameter: float
+    active_coils: float
+    free_length: float
+    initial_tension: float
+    rate: float
+    max_load: float
+    max_length: float
+    min_length: float
+
+    @property
+    def index(self) -> float:
+        """Spring index ``C = D/d`` [1]."""
+        return self.mean_diameter / self.wire_diameter
+
+    @property
+    def mass(self) -> float:
+        """Mass of the wire [kg]: ``ρ (π d²/4) π D (n + 2)`` (two hooks, or two closed end coils)."""
+        density = MATERIALS[self.material].density if self.material in MATERIALS else float("nan")
+        wire_length = math.pi * self.mean_diameter * (self.active_coils + 2.0)
+        return density * wire_length * math.pi * self.wire_diameter**2 / 4
+
+    def to_dict(self) -> dict[str, Any]:
+        """The catalogue row as a mapping (``type`` for :attr:`kind`)."""
+        record = dataclasses.asdict(self)
+        record["type"] = record.pop("kind")
+        return record
+
+    def describe(self) -> str:
+        """One line: part number, rate, free length, preload, limits."""
+        text = (f"{self.part_number} ({self.kind}, {self.material}, d {self.wire_diameter * 1e3:g} mm, "
+                f"D {self.mean_diameter * 1e3:g} mm, n {self.active_coils:g}): k {self.rate:.4g} N/m, "
+                f"l0 {self.free_length * 1e3:.4g} mm")
+        if self.kind == "extension":
+            return text + (f", F0 {self.initial_tension:.4g} N, max load {self.max_load:.4g} N, "
+                           f"max length {self.max_length * 1e3:.4g} mm")
+        return text + f", max load {self.max_load:.4g} N, solid length {self.min_length * 1e3:.4g} mm"
+
+
+# ---------------------------------------------------------------------- one part as a spring
+def stock_kind(spring: Spring) -> str | None:
+    """``"extension"`` or ``"compression"`` when a catalogue part can replace ``spring`` (a two-point
+    spring of that type: the ideal law or a helical coil), else None (gas springs, every other law)."""
+    if isinstance(spring, TwoPointSpring) and spring.kind in STOCK_KINDS:
+        return spring.kind
+    return None
+
+
+def part_spring(part: StockPart, spring: Spring) -> Spring:
+    """The fixed spring of catalogue ``part`` in the place of ``spring`` (same name and anchors,
+    which stay free when they are).
+
+    Extension part: ``ExtensionSpring(stiffness=rate, free_length, initial_tension, max_force=max_load,
+    max_length, keep_tension=True, part_number)``. Compression part: ``CompressionSpring(stiffness=rate,
+    free_length, preload=0, stays_compressed=True, stroke=free_length - solid length, max_force=max_load,
+    part_number)``. The spring's own limits stay when they are stricter (``max_force``,
+    ``max_length``, ``min_length``: space or load limits of the arm); a spring that carried a mass
+    (``mass`` option) now carries the part's wire mass (:attr:`StockPart.mass`). ``helical`` and
+    ``max_stretch`` are dropped: the part's own length and load limits replace them.
+    """
+    kind = stock_kind(spring)
+    if kind is None:
+        raise InputError(f"spring {spring.name!r} ({spring.kind}) cannot be a catalogue part; only extension and "
+                         "compression springs can")
+    if part.kind != kind:
+        raise InputError(f"part {part.part_number!r} is a {part.kind} spring; spring {spring.name!r} is a {kind} spring")
+    max_force = part.max_load if spring.max_force is None else min(part.max_load, spring.max_force)
+    mass = None if spring.mass is None else part.mass
+    if kind == "extension":
+        max_length = part.max_length if spring.max_length is None else min(part.max_length, spring.max_length)
+        return ExtensionSpring(spring.a, spring.b, spring.name, stiffness=part.rate, free_length=part.free_length,
+                               initial_tension=part.initial_tension, max_force=max_force, max_length=max_length,
+                               min_length=spring.min_length, mass=mass, part_number=part.part_number,
+                               keep_tension=True)
+    return CompressionSpring(spring.a, spring.b, spring.name, stiffness=part.rate, free_length=part.free_length,
+                             preload=0.0, stays_compressed=True, stroke=part.free_length - part.min_length,
+                             max_force=max_force, max_length=spring.max_length, min_length=spring.min_length,
+                             mass=mass, part_number=part.part_number)
+
+
+def part_distance(part: StockPart, lengths, forces) -> float:
+    r"""How far ``part`` is from a designed spring that has ``lengths`` [m] and tensions ``forces``
+    [N] (negative: pushing) at the workspace samples; dimensionless, 0 for the same spring.
+
+    .. math::
+        \delta^2 = \operatorname{mean}_i \Bigl(\frac{F_p(L_i) - F_i}{F_{max}}\Bigr)^2
+                 + \max\Bigl(0, \ln\frac{F_{max}}{F_{p,max}}\Bigr)^2
+                 + \max\Bigl(0, \ln\frac{L_{max} - L_{min}}{s_p}\Bigr)^2
+
+    The first term compares the rate, free length and preload where they act: the part's force
+    ``F_p(L) = F_0 + k (L - l_0)`` (extension; ``-k (l_0 - L)`` compression) against the designed
+    spring's force at its working lengths, relative to the largest designed force ``F_max``. So a
+    part counts as near when it pulls (or pushes) alike over the working range: its rate, free
+    length and preload count together, by the force they make, not one by one. The other two
+    terms are zero for a part that can do the designed spring's job: they grow when the part's
+    ``max_load`` is below ``F_max``, and when its stroke ``s_p`` (extension: ``max_length - l0``;
+    compression: ``l0`` minus the solid length) is shorter than the designed spring's working
+    stroke ``L_max - L_min``. Re-optimising the anchors changes lengths and forces, so the
+    distance only ranks the candidates; the objective after re-optimising picks among them.
+    """
+    lengths = np.asarray(lengths, dtype=float)
+    forces = np.asarray(forces, dtype=float)
+    scale = max(float(np.max(np.abs(forces))), 1e-9)                  # F_max [N]
+    if part.kind == "extension":
+        part_forces = part.initial_tension + part.rate * (lengths - part.free_length)
+        stroke = part.max_length - part.free_length
+    else:
+        part_forces = -part.rate * (part.free_length - lengths)
+        stroke = part.free_length - part.min_length
+    line = float(np.mean(((part_forces - forces) / scale) ** 2))
+    load = max(0.0, math.log(scale / part.max_load))
+    needed = float(np.max(lengths) - np.min(lengths))
+    reach = max(0.0, math.log(needed / stroke)) if needed > 0 else 0.0
+    return math.sqrt(line + load * load + reach * reach)
+
+
+# ---------------------------------------------------------------------- the record of a selection
+@dataclasses.dataclass
+class StockTrial:
+    """One candidate part for one spring: its distance, and the objective after re-optimising
+    (``None`` when no start was feasible; ``status`` says why)."""
+
+    part: StockPart
+    distance: float
+    objective: float | None
+    status: str
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"part_number": self.part.part_number, "distance": self.distance, "objective": self.objective,
+                "status": self.status}
+
+
+@dataclasses.dataclass
+class StockChoice:
+    """The part chosen for one spring.
+
+    Attributes:
+        spring: the spring's name; ``kind``: its type.
+        designed: its parameter values before the choice (an ideal spring's ``stiffness``,
+            ``free_length``, and ``initial_tension`` or ``preload``; a coil's wire and coils), and
+            over the workspace its shortest and longest length ``min_length``, ``max_length`` [m],
+            its smallest and largest tension ``min_force``, ``max_force`` [N] (negative: pushing).
+        part: the chosen part.
+        objective: the objective after this choice (anchors and the springs not yet chosen re-optimised).
+        trials: every candidate tried, nearest first.
+    """
+
+    spring: str
+    kind: str
+    designed: dict
+    part: StockPart
+    objective: float
+    trials: list
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"spring": self.spring, "type": self.kind, "designed": dict(self.designed),
+                "part": self.part.to_dict(), "objective": self.objective,
+                "trials": [trial.to_dict() for trial in self.trials]}
+
+
+@dataclasses.dataclass
+class StockSelection:
+    """What :func:`select_stock` did.
+
+    Attributes:
+        result: the stock design (a :class:`~springbalance.results.result.DesignResult` of the final
+            problem, whose stock springs carry their ``part_number``).
+        objective: the objective's name; ``unit`` its unit.
+        continuous_objective: the objective of the continuous design.
+        stock_objective: the objective of the stock design (same objective, workspace and weights).
+        choices: one :class:`StockChoice` per replaced spring, in the order they were chosen.
+        notes: anything the selection changed besides the springs (per-scenario variables dropped).
+    """
+
+    result: Any
+    objective: str
+    unit: str
+    continuous_objective: float
+    stock_objective: float
+    choices: list
+    notes: list = dataclasses.field(default_factory=list)
+
+    @property
+    def cost(self) -> float:
+        """What the stock choice cost: stock objective − continuous objective (objective unit)."""
+        return self.stock_objective - self.continuous_objective
+
+    @property
+    def cost_percent(self) -> float:
+        """:attr:`cost` relative to the continuous objective [%]; NaN when that is 0 or negligible
+        (below 1e-6 of the stock objective: an exact continuous balance)."""
+        if not self.continuous_objective > 1e-6 * abs(self.stock_objective):
+            return float("nan")
+        return 100.0 * self.cost / self.continuous_objective
+
+    def parts(self) -> dict[str, str]:
+        """Spring name → part number."""
+        return {choice.spring: choice.part.part_number for choice in self.choices}
+
+    def summary(self) -> str:
+        """Plain text: the part of each spring (designed values → part) and the objective before and after."""
+        lines = ["Stock springs (nearest catalogue parts, anchors re-optimised)"]
+        for choice in self.choices:
+            designed = choice.designed
+            preload_key = "initial_tension" if choice.kind == "extension" else "preload"
+            feasible = sum(trial.objective is not None for trial in choice.trials)
+            values = (f"k {designed['stiffness']:.4g} N/m, l0 {designed['free_length'] * 1e3:.4g} mm, "
+                      f"F0 {designed.get(preload_key, 0.0):.4g} N, " if "stiffness" in designed else "")
+            lines.append(f"  {choice.spring} ({choice.kind}): designed {values}tension {designed['min_force']:.4g} … "
+                         f"{designed['max_force']:.4g} N over {designed['min_length'] * 1e3:.4g} … "
+                         f"{designed['max_length'] * 1e3:.4g} mm")
+            lines.append(f"    → {choice.part.describe()}")
+            lines.append(f"    {feasible} of {len(choice.trials)} candidates feasible; {self.objective} after this "
+                         f"choice {choice.objective:.6g} {self.unit}")
+        change = self.cost_percent
+        relative = "" if not np.isfinite(change) else f" ({change:+.1f} %)"
+        lines.append(f"  objective {self.objective}: continuous {self.continuous_objective:.6g} {self.unit} → "
+                     f"stock {self.stock_objective:.6g} {self.unit}{relative}")
+        lines += [f"  note: {note}" for note in self.notes]
+        return "\n".join(lines)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"objective": self.objective, "unit": self.unit, "continuous_objective": self.continuous_objective,
+                "stock_objective": self.stock_objective, "cost": self.cost, "parts": self.parts(),
+                "choices": [choice.to_dict() for choice in self.choices], "notes": list(self.notes)}
+
+
+# ---------------------------------------------------------------------- the selection
+def select_stock(problem: DesignProblem, continuous, parts: Sequence[StockPart], *, candidates: int = CANDIDATES,
+                 starts: int = 2, seed: int = 0, method: str = "auto", max_iterations: int = 100,
+                 tolerance: float = 1e-8) -> StockSelection:
+    """Replace each extension and compression spring of a continuous design by a catalogue part.
+
+    Args:
+        problem: the continuous design problem.
+        continuous: its optimum: a design vector or a result with an ``x`` (a ``DesignResult``).
+        parts: the catalogue (:class:`StockPart`, e.g. from :func:`springbalance.io.catalogue.read_catalogue`).
+        candidates: parts tried per spring (the nearest by :func:`part_distance`).
+        starts, seed, method, max_iterations, tolerance: the solve of each candidate
+            (:meth:`DesignProblem.solve`); its first start is the warm start at the current optimum.
+
+    Returns a :class:`StockSelection`. Raises :class:`SolverError` naming the spring when none of
+    its candidates (or no part of its type) gives a feasible design, :class:`InputError` when the
+    problem has no spring a part can replace or the catalogue is empty.
+    """
+    x = np.asarray(getattr(continuous, "x", continuous), dtype=float)
+    if x.shape != (problem.variables.size,):
+        raise InputError(f"the continuous design has {x.size} values, the problem {problem.variables.size}")
+    parts = list(parts)
+    if not parts:
+        raise InputError("the stock catalogue holds no parts")
+    if int(candidates) < 1:
+        raise InputError(f"candidates must be ≥ 1, got {candidates}")
+    names = [spring.name for spring in problem.springs
+             if stock_kind(spring) is not None and spring.part_number is None]
+    if not names:
+        raise InputError("no spring to take from the catalogue: stock parts replace extension and compression "
+                         "springs without a part_number; this design has "
+                         + ", ".join(f"{spring.name} ({spring.kind})" for spring in problem.springs))
+    objective = _inner_objective(problem)
+    continuous_value = problem.objective_value(problem.evaluate(x))
+    solve_options = {"starts": int(starts), "seed": int(seed), "method": method, "progress": False,
+                     "max_iterations": int(max_iterations), "tolerance": float(tolerance)}
+    current, current_x = problem, x
+    choices, notes = [], []
+    for name in names:
+        column = [spring.name for spring in current.springs].index(name)
+        spring = current.springs[column]
+        kind = stock_kind(spring)
+        evaluation = current.evaluate(current_x)
+        values = current.model.spring_values(spring, current_x)
+        lengths, forces = evaluation.lengths[:, column], evaluation.tensions[:, column]
+        same_kind = [part for part in parts if part.kind == kind]
+        if not same_kind:
+            raise SolverError(f"no stock part fits spring {name!r}: the catalogue holds no {kind} springs")
+        ranked = sorted(((part_distance(part, lengths, forces), part) for part in same_kind),
+                        key=lambda pair: pair[0])[:int(candidates)]
+        warm = warm_started(current, current_x)
+        trials, best = [], None
+        for distance, part in ranked:
+            springs = [part_spring(part, s) if s.name == name else s for s in warm]
+            trial_problem, dropped = _like(current, springs, objective)
+            try:
+                result = trial_problem.solve(**solve_options)
+            except SolverError as error:
+                trials.append(StockTrial(part, distance, None, " ".join(str(error).split())))
+                continue
+            value = trial_problem.objective_value(result.evaluation)
+            trials.append(StockTrial(part, distance, value, result.status))
+            if best is None or value < best[0]:
+                best = (value, part, trial_problem, result, dropped)
+        if best is None:
+            tried = "; ".join(f"{trial.part.part_number}: {trial.status}" for trial in trials)
+            raise SolverError(f"no stock part fits spring {name!r}: none of the {len(trials)} {kind} parts nearest its "
+                              f"design (tension {np.min(forces):.4g} … {np.max(forces):.4g} N over "
+                              f"{np.min(lengths):.4g} … {np.max(lengths):.4g} m) gives a feasible design ({tried})")
+        value, part, current, current_result, dropped = best
+        current_x = current_result.x
+        notes += [f"per-scenario variable {entry!r} is fixed by the stock part of {name!r}" for entry in dropped]
+        designed = {**values, "min_length": float(np.min(lengths)), "max_length": float(np.max(lengths)),
+                    "min_force": float(np.min(forces)), "max_force": float(np.max(forces))}
+        choices.append(StockChoice(name, kind, designed, part, value, trials))
+    return StockSelection(current_result, problem.objective.name, problem.objective.unit, continuous_value,
+                          choices[-1].objective, choices, notes)
+
+
+def warm_started(problem: DesignProblem, x) -> list[Spring]:
+    """The problem's springs with every free variable's ``init`` at its value in design ``x``
+    (the first scenario's value for a per-scenario variable): the same bounds, a warm start."""
+    base = problem.model.scenario_vector(x, 0)
+    names = problem.model.base_variables.names
+    springs = []
+    for spring in problem.springs:
+        record = spring.to_dict()
+        values = problem.model.spring_values(spring, x)
+        for key, value in spring.parameters.items():
+            if isinstance(value, Free) and value.upper > value.lower:
+                record[key]["init"] = float(np.clip(values[key], value.lower, value.upper))
+        for end, anchor in spring.anchors.items():
+            region = anchor.region()
+            if not region.labels:
+                continue
+            coordinates = np.array([base[names.index(f"{spring.name}.{end}.{label}")] for label in region.labels])
+            point = anchor.point
+            if isinstance(point, Free):        # a box: init is the whole point
+                init = np.clip(region.point(coordinates), point.lower, point.upper).tolist()
+                record[end]["box"]["init"] = init
+            elif isinstance(point, Segment):
+                record[end]["segment"]["init"] = float(np.clip(coordinates[0], region.lower[0], region.upper[0]))
+            elif isinstance(point, Plane):
+                record[end]["plane"]["init"] = np.clip(coordinates, region.lower, region.upper).tolist()
+        springs.append(spring_from_dict(record, f"spring {spring.name!r}"))
+    return springs
+
+
+def _inner_objective(problem: DesignProblem):
+    """The objective to hand a new problem (a scenario aggregate is rebuilt from its inner objective)."""
+    return problem.objective.inner if isinstance(problem.objective, ScenarioAggregate) else problem.objective
+
+
+def _like(problem: DesignProblem, springs: list[Spring], objective) -> tuple[DesignProblem, list[str]]:
+    """A problem like ``problem`` with other springs; per-scenario entries that no longer name a
+    variable (a parameter the stock part fixed) are dropped and returned."""
+    keep, dropped = [], []
+    variables = _variable_names(springs)
+    for entry in problem.per_scenario:
+        matches = any(name == entry or name.startswith(entry + ".") for name in variables)
+        (keep if matches else dropped).append(entry)
+    scenarios = problem.scenarios or None
+    return DesignProblem(problem.mechanism, problem.base_workspace, springs, objective=objective,
+                         weights=problem.weights_by_name(), scenarios=scenarios, per_scenario=keep,
+                         aggregate=problem.aggregate), dropped
+
+
+def _variable_names(springs: list[Spring]) -> list[str]:
+    """The design variable names of ``springs`` (as :class:`TorqueModel` names them)."""
+    names = []
+    for spring in springs:
+        for end, anchor in spring.anchors.items():
+            names += [f"{spring.name}.{end}.{label}" for label in anchor.region().labels]
+        names += [f"{spring.name}.{key}" for key, value in spring.parameters.items()
+                  if isinstance(value, Free) and value.upper > value.lower]
+    return names

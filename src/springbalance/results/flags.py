@@ -1,0 +1,217 @@
+"""Warnings about a design: things a report should point out before the design is built.
+
+:func:`flags` inspects a :class:`~springbalance.results.result.DesignResult` and returns one
+:class:`Flag` per finding. The kinds:
+
+- ``at_bound``: a design variable ended at (within ``1e-6`` of its range of) one of its bounds,
+  so the optimum probably lies beyond it; the hint says which bound to move and which way.
+  Variables whose lower and upper bounds are equal are not variables and are skipped.
+- ``worse_joint``: a joint whose peak or RMS torque with the springs exceeds its torque
+  without them (gravity only, docs/model.md §4). Differences below ``1e-9`` of the largest
+  unbalanced peak are round-off, so a joint that gravity does not load is flagged only when
+  the springs load it by more than that.
+- ``law``: a spring whose real part departs from its idealised law somewhere in the workspace
+  (slack, beyond its stroke, outside its length range or table), as reported by each law's
+  ``law_warnings`` through :func:`springbalance.io.export.law_warnings`.
+- ``unbuildable_ideal``: an extension or compression spring (not a gas spring) for which
+  :func:`springbalance.springs.sizing.size_helical_spring` finds no helical spring: of music
+  wire, or of the material of the spring's ``helical`` option when it has one.
+
+The text report, ``report.html`` and ``design.json`` (key ``warnings``) all list them.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Any
+
+import numpy as np
+
+from springbalance.errors import InputError
+from springbalance.io.export import law_warnings
+from springbalance.springs import CompressionSpring, ExtensionSpring, GasSpring
+from springbalance.springs.sizing import size_helical_spring
+
+#: a variable within this fraction of its range from a bound counts as at the bound
+BOUND_TOLERANCE = 1e-6
+#: torque differences below this fraction of the largest unbalanced peak are round-off
+TORQUE_TOLERANCE = 1e-9
+#: material of the helical springs that ``unbuildable_ideal`` tries (springs without a ``helical`` option)
+DEFAULT_MATERIAL = "music_wire"
+
+KINDS = ("at_bound", "worse_joint", "law", "unbuildable_ideal")
+
+
+@dataclasses.dataclass(frozen=True)
+class Flag:
+    """One warning about a design.
+
+    Attributes:
+        kind: ``at_bound``, ``worse_joint``, ``law`` or ``unbuildable_ideal``.
+        subject: what it is about: a design variable, a joint or a spring name.
+        message: what was found, with the numbers.
+        hint: what to change, or None.
+    """
+
+    kind: str
+    subject: str
+    message: str
+    hint: str | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        """``{kind, subject, message, hint?}`` (the record in ``design.json``'s ``warnings``)."""
+        record = {"kind": self.kind, "subject": self.subject, "message": self.message}
+        if self.hint:
+            record["hint"] = self.hint
+        return record
+
+    def __str__(self) -> str:
+        return f"[{self.kind}] {self.message}" + (f" (hint: {self.hint})" if self.hint else "")
+
+
+def flags(result) -> list[Flag]:
+    """Every warning about ``result``, in the order at_bound, worse_joint, law, unbuildable_ideal."""
+    return at_bound_flags(result) + worse_joint_flags(result) + law_flags(result) + unbuildable_flags(result)
+
+
+# ---------------------------------------------------------------------- at_bound
+def _quantity(value: float, unit: str) -> str:
+    return f"{value:.6g}" if unit in ("", "1") else f"{value:.6g} {unit}"
+
+
+def _nonnegative_parameter(problem, name: str) -> str | None:
+    """The law whose parameter ``name`` (``spring.key``, maybe ``[scenario]``) must be ≥ 0, else None."""
+    base = name.split("[", 1)[0]
+    for spring in problem.springs:
+        for key in getattr(spring, "nonnegative", ()):
+            if base == f"{spring.name}.{key}":
+                return spring.kind
+    return None
+
+
+def at_bound_flags(result, tolerance: float = BOUND_TOLERANCE) -> list[Flag]:
+    """Design variables at (within ``tolerance`` of their range of) a bound; fixed ones are skipped."""
+    variables = result.problem.variables
+    found = []
+    for name, unit, lower, upper, value in zip(variables.names, variables.units, variables.lower, variables.upper,
+                                               result.x.tolist()):
+        width = upper - lower
+        if not width > 0:
+            continue
+        near = tolerance * width
+        if value >= upper - near:
+            side, bound, direction = "upper", upper, "raise"
+        elif value <= lower + near:
+            side, bound, direction = "lower", lower, "lower"
+        else:
+            continue
+        message = f"{name} = {_quantity(value, unit)} is at its {side} bound {_quantity(bound, unit)}"
+        law = _nonnegative_parameter(result.problem, name)
+        if side == "lower" and bound <= 0 and law is not None:
+            hint = (f"{name} cannot go below 0 ({law} law): the optimum wants less of it; free other "
+                    "variables (anchors, free length) or try another spring law")
+        else:
+            hint = f"{direction} {name}'s {side} bound ({_quantity(bound, unit)})"
+            if name.split("[", 1)[0].endswith(".s") and unit == "1":
+                hint += ", or extend the segment " + ("past its end" if side == "upper" else "before its start")
+        found.append(Flag("at_bound", name, message, hint))
+    return found
+
+
+# ---------------------------------------------------------------------- worse_joint
+def worse_joint_flags(result, tolerance: float = TORQUE_TOLERANCE) -> list[Flag]:
+    """Joints whose peak or RMS torque is larger with the springs than without them."""
+    rows = result.metrics()["joints"]
+    largest = max((row["peak_before"] for row in rows), default=0.0)
+    if not largest > 0:  # gravity loads no joint: compare with what the springs leave
+        largest = max((row["peak_after"] for row in rows), default=0.0)
+    negligible = tolerance * largest
+    weights = dict(zip((joint.name for joint in result.problem.mechanism.joints), result.problem.weights.tolist()))
+    found = []
+    for row in rows:
+        worse = [label for label, key in (("peak", "peak"), ("RMS", "rms"))
+                 if row[f"{key}_after"] - row[f"{key}_before"] > negligible]
+        if not worse:
+            continue
+        unit = row["unit"]
+        parts = [f"{label} {row[key + '_after']:.4g} {unit} with the springs vs {row[key + '_before']:.4g} {unit} "
+                 f"without" for label, key in (("peak", "peak"), ("RMS", "rms")) if label in worse]
+        message = f"joint {row['joint']} carries more torque with the springs than without: " + "; ".join(parts)
+        if weights.get(row["joint"], 1.0) == 0:
+            hint = (f"{row['joint']} has weight 0, so the objective ignores it: give it a weight > 0, or move the "
+                    "springs that act across it")
+        else:
+            hint = (f"move or soften the springs that act across {row['joint']}, or raise its weight in the "
+                    "objective")
+        found.append(Flag("worse_joint", row["joint"], message, hint))
+    return found
+
+
+# ---------------------------------------------------------------------- law
+def _law_hint(message: str) -> str:
+    if "keep_tension is false" in message:
+        return "turn keep_tension on (the default) so that the solver keeps L ≥ l0, or lower the free length"
+    if "shorter than its free length" in message:
+        return "lower the free length or move the anchors so that the spring stays stretched"
+    if "longer than its free length" in message:
+        return "turn stays_compressed on (the default), raise the free length or move the anchors"
+    if "beyond its stroke" in message:
+        return "choose a longer stroke or move the anchors"
+    if "leaves its table" in message:
+        return "extend the table over the lengths the workspace visits, or keep stays_in_table on"
+    if "length range" in message:
+        return "widen min_length / max_length, or solve again so that the design meets them"
+    return "check the spring's working range"
+
+
+def law_flags(result) -> list[Flag]:
+    """Springs whose real law departs from the idealised one in the workspace (one flag per case)."""
+    names = sorted((spring.name for spring in result.problem.springs), key=len, reverse=True)
+    found = []
+    for message in law_warnings(result):
+        subject = next((name for name in names if message.startswith(f"spring {name!r}")), "springs")
+        found.append(Flag("law", subject, message, _law_hint(message)))
+    return found
+
+
+# ---------------------------------------------------------------------- unbuildable_ideal
+def unbuildable_flags(result, material: str = DEFAULT_MATERIAL) -> list[Flag]:
+    """Extension and compression springs (not gas springs, k > 0) that no helical spring realises.
+
+    Inputs to :func:`~springbalance.springs.sizing.size_helical_spring` per spring: its rate, free
+    length, longest and shortest length and largest force magnitude over the workspace, as in
+    :meth:`~springbalance.results.result.DesignResult.helical_sizing`. A spring with a ``helical``
+    option is sized with its own material, any other with ``material``.
+    """
+    problem, evaluation = result.problem, result.evaluation
+    found = []
+    for column, spring in enumerate(problem.springs):
+        if not isinstance(spring, (ExtensionSpring, CompressionSpring)) or isinstance(spring, GasSpring):
+            continue
+        kind = getattr(spring, "helical_kind", None)
+        if kind is None:
+            continue
+        values = problem.model.spring_values(spring, result.x)
+        stiffness, free_length = float(values["stiffness"]), float(values["free_length"])
+        if not stiffness > 0:
+            continue
+        option = getattr(spring, "helical", None)
+        chosen = option.material if option is not None else material
+        lengths, forces = evaluation.lengths[:, column], evaluation.tensions[:, column]
+        max_force = float(np.max(np.abs(forces)))
+        try:
+            design = size_helical_spring(stiffness, free_length, float(np.max(lengths)), max_force,
+                                         material=chosen, kind=kind, min_length=float(np.min(lengths)))
+            feasible, reasons = design.feasible, list(design.reasons)
+        except InputError as error:
+            feasible, reasons = False, [str(error)]
+        if feasible:
+            continue
+        material_name = getattr(chosen, "name", chosen)
+        message = (f"spring {spring.name!r} ({spring.kind}, k {stiffness:.4g} N/m, l0 {free_length:.4g} m, "
+                   f"lengths {float(np.min(lengths)):.4g}–{float(np.max(lengths)):.4g} m, largest force "
+                   f"{max_force:.4g} N): no helical {kind} spring of {material_name} realises it: " + "; ".join(reasons))
+        hint = ("lower the stiffness or the force, lengthen the free length, or give the spring a helical option "
+                "so that the optimisation keeps it buildable")
+        found.append(Flag("unbuildable_ideal", spring.name, message, hint))
+    return found

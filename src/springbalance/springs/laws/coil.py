@@ -1,0 +1,184 @@
+r"""What every helical coil spring shares (docs/model.md §3.8): the wire, the index range, the
+envelope, the design variables' default bounds and the coil's own mass.
+
+A coil of wire diameter ``d`` [m], mean diameter ``D`` [m] and ``n`` active coils of a wire with
+shear modulus ``G`` [Pa] and density ``ρ`` [kg/m³] has rate :math:`k = G d^4/(8 D^3 n)` [N/m] and
+weighs :math:`m_s = \rho\,(\pi d^2/4)\,\pi D\,(n + 2)` [kg] (two end coils or hooks). The mass is
+carried half at each end (docs/model.md §5) unless ``own_mass`` is false. :class:`HelicalCoilSpring`
+has no ``kind``: the laws are :mod:`~springbalance.springs.laws.helical_extension` and
+:mod:`~springbalance.springs.laws.helical_compression`.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated, ClassVar, Literal
+
+import annotated_types
+import numpy as np
+
+from springbalance.errors import InputError
+from springbalance.springs.laws.base import PositiveNumber, TwoPointSpring
+from springbalance.springs.params import Anchor, Free
+from springbalance.springs.sizing import bergstrasser_factor, material_named
+
+MPA = 1e6
+#: relative slack of the numeric checks of a spec sheet (the solver's feasibility tolerance is 1e-6)
+CHECK_TOLERANCE = 1e-5
+IndexRange = Annotated[list[Annotated[float, annotated_types.Ge(3)]], annotated_types.Len(2, 2)]
+
+
+class HelicalCoilSpring(TwoPointSpring):
+    """Base of the helical coil laws: material, index range, envelope, default bounds, own mass.
+
+    Subclasses set ``kind``, ``parameter_units`` (``wire_diameter``, ``mean_diameter``,
+    ``active_coils`` and their own), :meth:`coil` and the law.
+    """
+
+    ideal = False
+    option_types = {**{key: value for key, value in TwoPointSpring.option_types.items() if key != "mass"},
+                    "ideal": Literal[False], "material": str, "max_outer_diameter": PositiveNumber | None,
+                    "index_range": IndexRange | None, "own_mass": bool}
+    helical_kind: ClassVar[str] = ""
+    end_type: ClassVar[str] = ""
+    #: default bounds of the parameters besides the wire and the coil diameter
+    default_bounds: ClassVar[dict[str, tuple[float, float]]] = {"active_coils": (3.0, 200.0)}
+
+    def __init__(self, a: Anchor, b: Anchor, name: str | None = None, *, material: str = "music_wire",
+                 max_outer_diameter: float | None = None, index_range=None, own_mass: bool = True,
+                 ideal: bool = False, **kwargs):
+        label = f"{type(self).__name__} {name or ''}".strip()
+        if ideal:
+            raise InputError(f"{label}: a helical spring is not ideal; write ideal: true on a spring without coil "
+                             "parameters for the ideal law")
+        if "mass" in kwargs:
+            raise InputError(f"{label}: a helical spring's mass follows from its coil; own_mass: false leaves it out")
+        self.material = material_named(material)
+        self.index_range = _index_range(index_range, label)
+        self.max_outer_diameter = None
+        low_d, high_d = self.material.diameter_range
+        if max_outer_diameter is not None:
+            envelope = float(max_outer_diameter)
+            if not (np.isfinite(envelope) and envelope > 0):
+                raise InputError(f"{label}: max_outer_diameter must be a positive number [m], got {max_outer_diameter!r}")
+            smallest = low_d * (self.index_range[0] + 1)                       # D + d of the thinnest wire [m]
+            if smallest > envelope:
+                raise InputError(f"{label}: max_outer_diameter {envelope * 1e3:g} mm is smaller than any coil of "
+                                 f"{self.material.label} (thinnest wire {low_d * 1e3:g} mm at index "
+                                 f"{self.index_range[0]:g}: {smallest * 1e3:.3g} mm outside)")
+            self.max_outer_diameter = envelope
+            high_d = min(high_d, envelope / (self.index_range[0] + 1))
+        kwargs.setdefault("wire_diameter", Free(low_d, high_d))
+        kwargs.setdefault("mean_diameter", Free(self.index_range[0] * low_d,
+                                                min(self.index_range[1] * high_d, self.max_outer_diameter or np.inf)))
+        for key, (lower, upper) in self.default_bounds.items():
+            kwargs.setdefault(key, Free(lower, upper))
+        self.own_mass = bool(own_mass)
+        super().__init__(a, b, name, **kwargs)
+        wire = self.parameters["wire_diameter"]
+        lowest, highest = (float(wire.lower), float(wire.upper)) if isinstance(wire, Free) else (float(wire),) * 2
+        if lowest < self.material.diameter_range[0] * (1 - 1e-9) or highest > self.material.diameter_range[1] * (1 + 1e-9):
+            raise InputError(f"{label}: wire_diameter [{lowest * 1e3:g}, {highest * 1e3:g}] mm leaves the range of "
+                             f"{self.material.label}, {self.material.diameter_range[0] * 1e3:g}–"
+                             f"{self.material.diameter_range[1] * 1e3:g} mm")
+
+    # ---------------------------------------------------------------- the coil
+    def rate(self, values):
+        """``k = G d⁴ / (8 D³ n)`` [N/m] (numbers or CasADi)."""
+        d, D, n = values["wire_diameter"], values["mean_diameter"], values["active_coils"]
+        return self.material.shear_modulus * d**4 / (8 * D**3 * n)
+
+    def coil_mass(self, values):
+        """``ρ (π d²/4) π D (n + 2)`` [kg]."""
+        d, D, n = values["wire_diameter"], values["mean_diameter"], values["active_coils"]
+        return self.material.density * (math.pi * d**2 / 4) * math.pi * D * (n + 2)
+
+    def body_stress(self, force, values):
+        """Bergsträsser-corrected shear stress ``K_B 8 |F| D / (π d³)`` [Pa] under force ``F`` [N]."""
+        d, D = values["wire_diameter"], values["mean_diameter"]
+        return bergstrasser_factor(D / d) * 8 * force * D / (math.pi * d**3)
+
+    def common_rows(self, values) -> list:
+        """Index within its range and the outer diameter within the envelope (rows ≥ 0)."""
+        index = values["mean_diameter"] / values["wire_diameter"]
+        rows = [index - self.index_range[0], self.index_range[1] - index]
+        if self.max_outer_diameter is not None:
+            rows.append(self.max_outer_diameter - (values["mean_diameter"] + values["wire_diameter"]))
+        return rows
+
+    def common_parts(self) -> list:
+        parts = [("index_low", "1", 1.0), ("index_high", "1", 1.0)]
+        if self.max_outer_diameter is not None:
+            parts.append(("outer_diameter", "m", 0.001))
+        return parts
+
+    # ---------------------------------------------------------------- its own mass
+    def spring_mass(self, parameters):
+        return self.coil_mass(parameters) if self.own_mass else 0.0
+
+    @property
+    def mass(self):
+        """``"coil"`` when the coil carries its own mass (computed from the geometry), else None."""
+        return "coil" if self.own_mass else None
+
+    @mass.setter
+    def mass(self, value) -> None:    # TwoPointSpring sets None: the mass follows from the coil instead
+        self._mass = None
+
+    def contribution(self, sample, parameters, points):
+        share = super().contribution(sample, parameters, points)
+        if not self.own_mass:
+            return share
+        end_a, end_b = sample.point(self.a.body, points["a"]), sample.point(self.b.body, points["b"])
+        half = 0.5 * self.coil_mass(parameters)                                    # [kg] at each end
+        hold = -half * sample.gravity                                              # [N]
+        share.torque = share.torque + end_a.generalized(hold) + end_b.generalized(hold)
+        share.potential = share.potential - half * (sample.gravity.T @ (end_a.position + end_b.position))  # [J]
+        return share
+
+    def options(self) -> dict:
+        record = super().options()
+        record.update({"material": self.material.name, "own_mass": self.own_mass, "index_range": list(self.index_range)})
+        if self.max_outer_diameter is not None:
+            record["max_outer_diameter"] = self.max_outer_diameter
+        return record
+
+    # ---------------------------------------------------------------- the data sheet
+    def common_sheet(self, values, largest: float) -> tuple[dict, list[str]]:
+        """The entries and failed rules every coil shares, at the largest force ``largest`` [N]."""
+        d, D, n = float(values["wire_diameter"]), float(values["mean_diameter"]), float(values["active_coils"])
+        index = D / d
+        strength = float(self.material.tensile_strength(d))                                    # [Pa]
+        allowable = self.material.allowable_fraction[self.helical_kind] * strength
+        stress = float(self.body_stress(largest, values))
+        slack = 1 + CHECK_TOLERANCE
+        reasons = []
+        if stress > allowable * slack:
+            reasons.append(f"body stress {stress / MPA:.0f} MPa exceeds the allowable {allowable / MPA:.0f} MPa")
+        if not self.index_range[0] / slack <= index <= self.index_range[1] * slack:
+            reasons.append(f"index D/d = {index:.2f} outside {self.index_range[0]:g}–{self.index_range[1]:g}")
+        if self.max_outer_diameter is not None and D + d > self.max_outer_diameter * slack:
+            reasons.append(f"outer diameter {(D + d) * 1e3:.2f} mm exceeds the envelope "
+                           f"{self.max_outer_diameter * 1e3:.2f} mm")
+        low_d, high_d = self.material.diameter_range
+        if not low_d / slack <= d <= high_d * slack:
+            reasons.append(f"wire {d * 1e3:.3g} mm outside the material's range {low_d * 1e3:g}–{high_d * 1e3:g} mm")
+        if n < 1:
+            reasons.append(f"{n:.3g} active coils: fewer than one")
+        sheet = {"type": f"helical {self.helical_kind}", "material": self.material.name, "end_type": self.end_type,
+                 "wire_diameter": d, "mean_diameter": D, "outer_diameter": D + d, "index": index, "active_coils": n,
+                 "rate": float(self.rate(values)), "max_load": largest, "max_stress": stress,
+                 "allowable_stress": allowable, "mass": float(self.coil_mass(values))}
+        return sheet, reasons
+
+
+def _index_range(value, label: str) -> tuple[float, float]:
+    if value is None:
+        return 4.0, 12.0
+    try:
+        low, high = (float(v) for v in value)
+    except (TypeError, ValueError):
+        raise InputError(f"{label}: index_range must be [low, high], got {value!r}") from None
+    if not (3 <= low <= high):
+        raise InputError(f"{label}: index_range must satisfy 3 ≤ low ≤ high, got {value!r}")
+    return low, high
