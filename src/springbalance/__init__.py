@@ -21,13 +21,16 @@ from springbalance.results.result import DesignResult
 from springbalance.springs import constraints
 from springbalance.springs.laws import (CompressionSpring, ConstantForceSpring, ExtensionSpring, GasSpring, Spring,
                                         TorsionalSpring, TwoPointSpring, ZeroFreeLengthSpring)
+from springbalance.springs.laws.helical_compression import HelicalCompressionSpring
+from springbalance.springs.laws.helical_extension import HelicalExtensionSpring
 from springbalance.springs.mass import CoilMass
 from springbalance.springs.params import Anchor, Free, Plane, Segment
 from springbalance.springs.sizing import MATERIALS, Helical, HelicalDesign, Material, size_helical_spring
 
 __all__ = [
     "Anchor", "CoilMass", "CompressionSpring", "ConfigError", "ConstantForceSpring", "Coupling", "DesignProblem",
-    "DesignResult", "Evaluation", "ExtensionSpring", "Free", "GROUND", "GasSpring", "Helical", "HelicalDesign",
+    "DesignResult", "Evaluation", "ExtensionSpring", "Free", "GROUND", "GasSpring", "Helical", "HelicalCompressionSpring", "HelicalDesign",
+    "HelicalExtensionSpring",
     "InputError", "Joint", "MATERIALS", "Material", "Mechanism", "OBJECTIVES", "Payload", "PayloadRange",
     "PayloadSweep", "Plane", "Scenario", "Segment", "SolverError",
     "Spring", "SpringBalanceError", "TorsionalSpring", "TwoPointSpring", "Workspace", "ZeroFreeLengthSpring",

@@ -196,3 +196,24 @@ def test_helical_config_loads_with_defaults():
     assert isinstance(spring, HelicalExtensionSpring) and spring.material.name == "music_wire"
     names = config.problem.variables.names
     assert "shoulder_spring.wire_diameter" in names and "shoulder_spring.initial_tension" in names
+
+
+def test_an_overloaded_coil_is_flagged_in_every_report(tmp_path):
+    """A fixed coil stretched far beyond its allowable load: the `unbuildable` warning names the rules."""
+    mechanism = sb.Mechanism.from_urdf(URDF / "single_link_r1.urdf")
+    workspace = sb.Workspace.grid(mechanism, 31, ranges={"pivot": (2 * np.pi / 3, np.pi)})
+    # 1 mm wire, D = 8 mm, 10 coils: k = 81e9 · 1e-12 / (8 · 5.12e-7 · 10) ≈ 1978 N/m, free length 25 mm,
+    # stretched to about 0.43 m: ≈ 800 N on a wire whose body allows 45 % · 2211 MPa ≈ 1 GPa at ≈ 20 N
+    coil = HelicalExtensionSpring(sb.Anchor("universe", [0, 0, 0.16]), sb.Anchor("link1", [0, 0, 0.3]), "thin",
+                                  wire_diameter=1e-3, mean_diameter=8e-3, active_coils=10.0, initial_tension=5.0)
+    result = sb.DesignProblem(mechanism, workspace, [coil]).result(np.zeros(0))
+    assert not result.spring("thin")["helical"]["buildable"]
+    kinds = [flag.kind for flag in result.warnings()]
+    assert "unbuildable" in kinds
+    assert "[unbuildable]" in result.table() and "NOT BUILDABLE" in result.table()
+    html = result.report(tmp_path, scene=False).read_text()
+    assert "unbuildable" in html and "not buildable" in html
+    result.save(tmp_path / "design.json")
+    saved = json.loads((tmp_path / "design.json").read_text())
+    assert any(flag["kind"] == "unbuildable" and flag["subject"] == "thin" for flag in saved["warnings"])
+    assert saved["design"][0]["helical"]["buildable"] is False

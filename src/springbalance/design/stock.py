@@ -296,7 +296,7 @@ class StockSelection:
 
 
 # ---------------------------------------------------------------------- the selection
-def select_stock(problem: DesignProblem, continuous, parts: Sequence[StockPart], *, candidates: int = CANDIDATES,
+def select_stock(problem: DesignProblem, continuous: np.ndarray | object, parts: Sequence[StockPart], *, candidates: int = CANDIDATES,
                  starts: int = 2, seed: int = 0, method: str = "auto", max_iterations: int = 100,
                  tolerance: float = 1e-8) -> StockSelection:
     """Replace each extension and compression spring of a continuous design by a catalogue part.
@@ -306,8 +306,12 @@ def select_stock(problem: DesignProblem, continuous, parts: Sequence[StockPart],
         continuous: its optimum: a design vector or a result with an ``x`` (a ``DesignResult``).
         parts: the catalogue (:class:`StockPart`, e.g. from :func:`springbalance.io.catalogue.read_catalogue`).
         candidates: parts tried per spring (the nearest by :func:`part_distance`).
-        starts, seed, method, max_iterations, tolerance: the solve of each candidate
-            (:meth:`DesignProblem.solve`); its first start is the warm start at the current optimum.
+        starts: starts of the solve of each candidate (:meth:`DesignProblem.solve`); its first
+            start is the warm start at the current optimum.
+        seed: seed of those starts.
+        method: solver method of those solves.
+        max_iterations: iteration budget of each start.
+        tolerance: stopping tolerance of the least squares.
 
     Returns a :class:`StockSelection`. Raises :class:`SolverError` naming the spring when none of
     its candidates (or no part of its type) gives a feasible design, :class:`InputError` when the

@@ -37,6 +37,7 @@ from springbalance.design.problem import AGGREGATES
 from springbalance.design.solvers import METHODS
 from springbalance.errors import ConfigError
 from springbalance.springs import SPRING_TYPES
+from springbalance.springs.records import ideal_law_hint
 
 JSON_SCHEMA_DIALECT = "https://json-schema.org/draft/2020-12/schema"
 TITLE = "springbalance config"
@@ -411,6 +412,9 @@ def _spring_union(laws: tuple):
         if ideal and f"{kind}:ideal" not in keys:
             variants = ", ".join(key.split(":")[0] for key in keys if key.endswith(":ideal"))
             raise _fail("no_ideal_variant", f"a {kind!r} spring has no ideal variant (only {variants} do)", key="ideal")
+        hint = ideal_law_hint(dict(laws)[f"{kind}:ideal" if ideal else kind], value)
+        if hint:
+            raise _fail("ideal_law_key", hint)
         return value
 
     members = tuple(Annotated[spring_model(cls), Tag(kind)] for kind, cls in laws)

@@ -13,9 +13,11 @@
 - ``law``: a spring whose real part departs from its idealised law somewhere in the workspace
   (slack, beyond its stroke, outside its length range or table), as reported by each law's
   ``law_warnings`` through :func:`springbalance.io.export.law_warnings`.
-- ``unbuildable_ideal``: an extension or compression spring (not a gas spring) for which
+- ``unbuildable_ideal``: an ideal extension or compression spring (not a gas spring) for which
   :func:`springbalance.springs.sizing.size_helical_spring` finds no helical spring: of music
   wire, or of the material of the spring's ``helical`` option when it has one.
+- ``unbuildable``: a helical coil spring whose spec sheet fails a rule (stress, index, initial
+  tension, envelope, solid length, buckling); its ``reasons`` name every failed rule.
 
 The text report, ``report.html`` and ``design.json`` (key ``warnings``) all list them.
 """
@@ -39,7 +41,7 @@ TORQUE_TOLERANCE = 1e-9
 #: material of the helical springs that ``unbuildable_ideal`` tries (springs without a ``helical`` option)
 DEFAULT_MATERIAL = "music_wire"
 
-KINDS = ("at_bound", "worse_joint", "law", "unbuildable_ideal")
+KINDS = ("at_bound", "worse_joint", "law", "unbuildable_ideal", "unbuildable")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -47,7 +49,7 @@ class Flag:
     """One warning about a design.
 
     Attributes:
-        kind: ``at_bound``, ``worse_joint``, ``law`` or ``unbuildable_ideal``.
+        kind: ``at_bound``, ``worse_joint``, ``law``, ``unbuildable_ideal`` or ``unbuildable``.
         subject: what it is about: a design variable, a joint or a spring name.
         message: what was found, with the numbers.
         hint: what to change, or None.
@@ -70,8 +72,9 @@ class Flag:
 
 
 def flags(result) -> list[Flag]:
-    """Every warning about ``result``, in the order at_bound, worse_joint, law, unbuildable_ideal."""
-    return at_bound_flags(result) + worse_joint_flags(result) + law_flags(result) + unbuildable_flags(result)
+    """Every warning about ``result``, in the order at_bound, worse_joint, law, unbuildable_ideal, unbuildable."""
+    return (at_bound_flags(result) + worse_joint_flags(result) + law_flags(result) + unbuildable_flags(result)
+            + unbuildable_coil_flags(result))
 
 
 # ---------------------------------------------------------------------- at_bound
@@ -214,4 +217,17 @@ def unbuildable_flags(result, material: str = DEFAULT_MATERIAL) -> list[Flag]:
         hint = ("lower the stiffness or the force, lengthen the free length, or give the spring a helical option "
                 "so that the optimisation keeps it buildable")
         found.append(Flag("unbuildable_ideal", spring.name, message, hint))
+    return found
+
+
+def unbuildable_coil_flags(result) -> list[Flag]:
+    """Helical coil springs whose spec sheet fails a rule (the solver's constraints not met)."""
+    found = []
+    for record in result.springs:
+        sheet = record.get("helical")
+        if sheet is not None and not sheet["buildable"]:
+            found.append(Flag("unbuildable", record["name"],
+                              f"spring {record['name']!r} ({sheet['type']}) cannot be built: " + "; ".join(sheet["reasons"]),
+                              "widen the coil's bounds (wire, coil diameter, coils, envelope) or move its anchors so "
+                              "that it stretches less; more starts may find a feasible coil"))
     return found

@@ -25,7 +25,7 @@ import numpy as np
 
 from springbalance._version import __version__
 from springbalance.files import write_text_atomic
-from springbalance.results.report import balance_statement
+from springbalance.results.report import balance_statement, spec_sheet_rows
 
 
 def _number(value, digits: int = 4) -> str:
@@ -43,6 +43,24 @@ def _point(point) -> str:
 
 #: parameter shown in the "preload" column, by spring parameter name (the first one present)
 PRELOAD_KEYS = ("initial_tension", "preload", "force")
+
+
+def spec_sheet_html(result) -> list[str]:
+    """The "Spec sheets" section: per helical coil spring its data sheet and buildable verdict."""
+    e = html.escape
+    sheets = [(record["name"], record["helical"]) for record in result.springs if "helical" in record]
+    if not sheets:
+        return []
+    parts = ['<h2 id="spec-sheets">Spec sheets</h2>',
+             '<p class="note">Each helical spring as a part to order or wind (Shigley, ch. 10); the verdict names '
+             'every rule it fails.</p>']
+    for name, sheet in sheets:
+        verdict = ("<b>buildable</b>" if sheet["buildable"] else
+                   "<b>not buildable</b>: " + "; ".join(e(reason) for reason in sheet["reasons"]))
+        parts.append(f"<h3>{e(name)}: {e(sheet['type'])} spring, {verdict}</h3>")
+        parts.append("<table>" + "".join(f"<tr><td class=l>{e(label)}</td><td>{e(value)}</td></tr>"
+                                         for label, value in spec_sheet_rows(sheet)) + "</table>")
+    return parts
 
 
 def design_rows(result) -> list[dict]:
@@ -145,6 +163,7 @@ def report_html(result, scene: str | None = "scene.html", torques: str | None = 
             f"<td>{_with_unit(row['max_state'], state_unit, 'm', 4)}</td>"
             f"<td>{_with_unit(row['max_force'], force_unit, 'N', 4)}</td></tr>")
     parts.append("</table>")
+    parts.extend(spec_sheet_html(result))
 
     parts.append("<h2>Actuator torque</h2>")
     parts.append("<table><tr><th class=l>joint</th><th>peak before</th><th>peak after</th><th>reduction [%]</th>"

@@ -24,7 +24,9 @@ def result_table(result) -> str:
     for column, record in enumerate(result.springs):
         spring = problem.springs[column]
         states, forces = evaluation.lengths[:, column], evaluation.tensions[:, column]
-        lines.append(f"  {record['name']} ({record['type']})")
+        part = f", stock part {record['part_number']}" if "part_number" in record else ""
+        ideal = ", ideal" if record.get("ideal") else ""
+        lines.append(f"  {record['name']} ({record['type']}{ideal}{part})")
         for end in spring.anchors:
             point = ", ".join(f"{v:+.4f}" for v in record[end]["point"])
             lines.append(f"    {end}: {record[end]['body']:<18s} [{point}]")

@@ -90,6 +90,8 @@ class DesignResult:
                 record["joint"] = joint
             values = model.spring_values(spring, self.x)
             record.update(values)
+            if getattr(spring, "part_number", None) is not None:
+                record["part_number"] = spring.part_number
             sheet = getattr(spring, "spec_sheet", None)
             if sheet is not None:
                 # a coil: the law's values it gives, and its data sheet with the buildable verdict

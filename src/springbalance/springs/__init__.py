@@ -8,10 +8,12 @@ solver, the exports and the scenes find it.
 from springbalance.springs.laws import (SPRING_TYPES, CompressionSpring, ConstantForceSpring, Contribution,
                                         ExtensionSpring, GasSpring, Spring, TorsionalSpring, TwoPointSpring,
                                         ZeroFreeLengthSpring)
+from springbalance.springs.laws.helical_compression import HelicalCompressionSpring
+from springbalance.springs.laws.helical_extension import HelicalExtensionSpring
 from springbalance.springs.mass import CoilMass, FixedMass
 from springbalance.springs.params import Anchor, Free, Plane, Segment
 from springbalance.springs.records import spring_from_dict
 
 __all__ = ["SPRING_TYPES", "Anchor", "CoilMass", "CompressionSpring", "ConstantForceSpring", "Contribution",
-           "ExtensionSpring", "FixedMass", "Free", "GasSpring", "Plane", "Segment", "Spring", "TorsionalSpring",
+           "ExtensionSpring", "FixedMass", "Free", "GasSpring", "HelicalCompressionSpring", "HelicalExtensionSpring", "Plane", "Segment", "Spring", "TorsionalSpring",
            "TwoPointSpring", "ZeroFreeLengthSpring", "spring_from_dict"]

@@ -35,7 +35,26 @@ def law_of(record: dict, where: str = "spring") -> type[Spring]:
     if ideal and f"{kind}:ideal" not in SPRING_TYPES:
         raise InputError(f"{where}.ideal: a {kind!r} spring has no ideal variant (only "
                          f"{', '.join(cls.kind for cls in SPRING_TYPES.values() if cls.ideal)} do)")
-    return SPRING_TYPES[f"{kind}:ideal" if ideal else kind]
+    cls = SPRING_TYPES[f"{kind}:ideal" if ideal else kind]
+    hint = ideal_law_hint(cls, record)
+    if hint:
+        raise InputError(f"{where}: {hint}")
+    return cls
+
+
+def ideal_law_hint(cls: type[Spring], record: dict) -> str | None:
+    """For a coil record that uses a key of the ideal law (``stiffness``, ``free_length``, ...), the
+    message that says to write ``ideal: true`` or to give the coil; None otherwise."""
+    ideal = SPRING_TYPES.get(f"{cls.kind}:ideal")
+    if cls.ideal is not False or ideal is None:
+        return None
+    own = {"name", "type", *cls.ends, *cls.parameter_units, *cls.option_keys}
+    foreign = [key for key in record if key not in own and (key in ideal.parameter_units or key in ideal.option_keys)]
+    if not foreign:
+        return None
+    return (f"unknown key {foreign[0]!r} for a helical {cls.kind} coil, which is designed by "
+            f"{', '.join(cls.parameter_units)}: write ideal: true for the mathematical {cls.kind} law "
+            f"({', '.join(ideal.parameter_units)})")
 
 
 def spring_from_dict(record, where: str = "spring") -> Spring:
