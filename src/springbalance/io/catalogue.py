@@ -32,6 +32,7 @@ import math
 from pathlib import Path
 
 from springbalance.errors import InputError
+from springbalance.io.inputs import read_input_text
 from springbalance.design.stock import STOCK_KINDS, StockPart
 from springbalance.springs.sizing import MATERIALS, spring_rate
 
@@ -52,16 +53,7 @@ def read_catalogue(path: str | Path) -> list[StockPart]:
     """The parts of the stock catalogue at ``path`` (format: module docstring)."""
     path = Path(path)
     label = str(path)
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except FileNotFoundError:
-        raise InputError(f"stock catalogue {label!r} does not exist") from None
-    except IsADirectoryError:
-        raise InputError(f"stock catalogue {label!r} is a directory; give a CSV file") from None
-    except UnicodeDecodeError:
-        raise InputError(f"stock catalogue {label!r} is not UTF-8 text") from None
-    except OSError as error:
-        raise InputError(f"stock catalogue {label!r} cannot be read: {error.strerror or error}") from None
+    text = read_input_text(path, "stock catalogue", encoding="utf-8-sig")
     lines = [(number, line) for number, line in enumerate(text.splitlines(), start=1)
              if line.strip() and not line.lstrip().startswith("#")]
     if not lines:

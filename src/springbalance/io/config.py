@@ -33,6 +33,7 @@ import numpy as np
 import yaml
 
 from springbalance.errors import ConfigError, InputError
+from springbalance.io.inputs import read_input_text
 from springbalance.io import schema
 from springbalance.io.yaml_loader import DuplicateKeyError, load_json, load_yaml
 from springbalance.model.mechanism import Mechanism
@@ -146,14 +147,7 @@ def read_config_file(path: str | Path):
     """
     path = Path(path)
     label = str(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise ConfigError(f"config file {label!r} does not exist") from None
-    except IsADirectoryError:
-        raise ConfigError(f"config file {label!r} is a directory") from None
-    except (OSError, UnicodeDecodeError) as error:
-        raise ConfigError(f"config file {label!r} cannot be read: {_one_line(error)}") from None
+    text = read_input_text(path, "config file", ConfigError)
     if path.suffix.lower() == ".json":
         try:
             return load_json(text)
