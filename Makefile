@@ -6,7 +6,7 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 DOCS_STAMP := $(VENV)/.docs-installed
 
-.PHONY: demo test bench clean chromium demo-check docs
+.PHONY: demo test bench bench-buildable clean chromium demo-check docs
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -70,6 +70,10 @@ docs: $(DOCS_STAMP)
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_ur5.py
+
+# UR5 with 4 buildable helical extension springs against 4 ideal ones: the price of buildability
+bench-buildable: $(STAMP)
+	$(BIN)/python benchmarks/bench_buildable.py
 
 clean:
 	rm -rf $(VENV) design.json site
