@@ -4,6 +4,7 @@
 
     springbalance design CONFIG.yaml --out design.json [--starts N] [--seed S] [--method M] [--stock CATALOGUE.csv] [--quiet]
     springbalance evaluate design.json [--workspace WORKSPACE.yaml]
+    springbalance clearance design.json [--samples N] [--radius R] [--margin M]
     springbalance view design.json [--port P] [--open] [--frames N]
     springbalance report design.json --out FOLDER [--no-scene]
     springbalance export design.json [--urdf OUT.urdf] [--mjcf OUT.xml] [--resolve-packages]
@@ -106,6 +107,22 @@ def build_parser() -> argparse.ArgumentParser:
                           help="YAML/JSON file with a 'workspace:' mapping (a whole config works too) "
                                "to evaluate the design on instead of its own workspace")
     evaluate.set_defaults(handler=_evaluate)
+
+    clearance = commands.add_parser(
+        "clearance", help="check that the springs of a saved design stay clear of the arm",
+        description="Model each two-point spring of a saved design as a capsule between its end points and "
+                    "print its smallest distance to the URDF's collision geometry over the workspace, with the "
+                    "closest link and the pose. The collision objects of a spring's two anchor bodies are exempt. "
+                    "A check of the finished design: the optimisation does not constrain it.")
+    clearance.add_argument("design", metavar="DESIGN.json", help="design file written by 'springbalance design'")
+    clearance.add_argument("--samples", "-n", type=_positive_int, metavar="N",
+                           help="check N Sobol poses over the workspace's joint ranges instead of its own poses")
+    clearance.add_argument("--radius", "-r", type=float, metavar="R",
+                           help="capsule radius [m] of springs without a helical spec sheet (default 0.01; a "
+                                "helical spring uses half its outer diameter)")
+    clearance.add_argument("--margin", "-m", type=float, default=0.0, metavar="M",
+                           help="clearance asked for [m]; springs closer than this are flagged (default 0)")
+    clearance.set_defaults(handler=_clearance)
 
     view = commands.add_parser(
         "view", help="show a saved design in Meshcat, served on 127.0.0.1",
@@ -249,6 +266,15 @@ def _evaluate(args) -> int:
         workspace = load_workspace(args.workspace, result.problem.mechanism)
         result = DesignResult.load(args.design, mechanism=result.problem.mechanism, workspace=workspace)
     print(result.table())
+    return 0
+
+
+def _clearance(args) -> int:
+    from springbalance.results.result import DesignResult
+
+    result = DesignResult.load(args.design)
+    report = result.clearance(radius=args.radius, samples=args.samples, margin=args.margin)
+    print("\n".join(report.lines()))
     return 0
 
 

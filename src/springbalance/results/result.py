@@ -33,6 +33,7 @@ if TYPE_CHECKING:
     from springbalance.design.problem import Evaluation
     from springbalance.design.solvers import StartRecord
     from springbalance.io.export import ExportReport
+    from springbalance.results.clearance import ClearanceReport
     from springbalance.results.flags import Flag
     from springbalance.springs.laws import Spring
     from springbalance.springs.sizing import HelicalDesign, Material
@@ -277,6 +278,14 @@ class DesignResult:
         from springbalance.results.html_report import write_report
 
         return write_report(self, folder, scene=scene, **scene_options)
+
+    def clearance(self, radius: float | None = None, samples: int | None = None,
+                  margin: float = 0.0) -> ClearanceReport:
+        """Smallest distance from each spring (a capsule) to the arm's URDF collision geometry, a
+        check of the finished design; see :func:`springbalance.results.clearance.clearance`."""
+        from springbalance.results.clearance import clearance
+
+        return clearance(self, radius=radius, samples=samples, margin=margin)
 
     # ---------------------------------------------------------------- export (downstream, imported when called)
     def to_urdf(self, path: str | Path, resolve_packages: bool = False) -> ExportReport:

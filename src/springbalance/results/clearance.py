@@ -1,0 +1,325 @@
+"""Clearance check of a finished design: do its springs stay clear of the arm?
+
+Every two-point spring is modelled as a capsule (a cylinder with hemispherical ends) of
+radius ``r`` around the straight line between its two world end points: ``r`` is half the
+coil's ``outer_diameter`` for a helical spring (its spec sheet), otherwise the ``radius``
+given (default 0.01 m). At every pose of the design's workspace (or of a denser Sobol sample
+of the same joint ranges) the signed distance [m] from the capsule to every collision object
+of the arm's URDF (``<collision>`` elements, loaded by Pinocchio) is computed with coal
+(``coal.distance``); it is negative when they overlap (the penetration depth).
+
+**Exemption.** A spring's anchors sit on the two bodies it is attached to, so its capsule
+always touches (or enters) their collision shapes; the collision objects of exactly those two
+bodies are left out of its check. Links welded to them (by a fixed joint) are still checked,
+and so is every other link. An end on ``universe`` exempts nothing else: a base link with
+collision geometry is checked.
+
+For mesh collision geometry coal measures to the triangle surface: an overlap reads 0 or a
+small negative depth, and a capsule lying wholly inside a closed mesh, touching none of its
+triangles, is not seen. Box, cylinder, sphere and capsule shapes give exact signed distances.
+
+This is a check after the design, not a constraint of the optimisation.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+import pinocchio as pin
+
+from springbalance.errors import InputError, SpringBalanceError
+from springbalance.model.workspace import Workspace
+
+if TYPE_CHECKING:
+    from springbalance.model.mechanism import Mechanism
+    from springbalance.results.result import DesignResult
+
+#: Capsule radius [m] of a spring without a helical spec sheet when none is given.
+DEFAULT_RADIUS = 0.01
+
+
+@dataclasses.dataclass(frozen=True)
+class ClearanceRow:
+    """The clearance of one spring over the poses checked.
+
+    Attributes:
+        spring: the spring's name.
+        radius: capsule radius [m] (half the coil's outer diameter, or the radius given).
+        distance: smallest signed distance [m] from the capsule to a checked collision object
+            over the poses; negative when they overlap; ``inf`` when there is nothing to check.
+        link: the body (URDF link) of the closest collision object (None when nothing is checked).
+        geometry: the name of that collision object (Pinocchio's ``<link>_<i>``).
+        pose: joint values where the smallest distance occurs, joint name → rad (revolute,
+            continuous) or m (prismatic).
+        sample: index of that pose among the poses checked.
+        scenario: the scenario in which it occurs, when the anchors differ per scenario (else None).
+        exempt: the bodies whose collision objects are not checked (the spring's anchor bodies).
+        below_margin: True when ``distance`` is below the margin, or ≤ 0 (contact).
+    """
+
+    spring: str
+    radius: float
+    distance: float
+    link: str | None
+    geometry: str | None
+    pose: dict[str, float]
+    sample: int | None
+    scenario: str | None
+    exempt: tuple[str, str]
+    below_margin: bool
+
+    def to_dict(self) -> dict[str, Any]:
+        """The row as JSON-friendly data (``distance`` None when nothing is checked)."""
+        record = dataclasses.asdict(self)
+        record["exempt"] = list(self.exempt)
+        record["distance"] = self.distance if np.isfinite(self.distance) else None
+        return record
+
+
+@dataclasses.dataclass(frozen=True)
+class ClearanceReport:
+    """Per spring, how close its capsule comes to the arm's collision geometry.
+
+    Attributes:
+        rows: one :class:`ClearanceRow` per two-point spring, in the design's order.
+        margin: the clearance asked for [m].
+        poses: the number of poses checked.
+        mechanism: the mechanism's name.
+        collision_objects: names of the arm's collision objects.
+        skipped: springs that are not checked (torsional springs act inside a joint).
+        joint_units: joint name → ``"rad"`` or ``"m"`` (the unit of the pose values).
+    """
+
+    rows: list[ClearanceRow]
+    margin: float
+    poses: int
+    mechanism: str
+    collision_objects: list[str]
+    skipped: list[str] = dataclasses.field(default_factory=list)
+    joint_units: dict[str, str] = dataclasses.field(default_factory=dict)
+
+    @property
+    def clear(self) -> bool:
+        """True when every spring keeps at least ``margin`` from the arm."""
+        return not any(row.below_margin for row in self.rows)
+
+    def row(self, spring: str) -> ClearanceRow:
+        """The row of the spring called ``spring``."""
+        for row in self.rows:
+            if row.spring == spring:
+                return row
+        raise InputError(f"no clearance row for spring {spring!r}; springs: {', '.join(r.spring for r in self.rows)}")
+
+    def to_dict(self) -> dict[str, Any]:
+        """The report as JSON-friendly data (lengths in m, joint values in rad or m)."""
+        return {"mechanism": self.mechanism, "margin": self.margin, "poses": self.poses, "clear": self.clear,
+                "collision_objects": list(self.collision_objects), "skipped": list(self.skipped),
+                "rows": [row.to_dict() for row in self.rows]}
+
+    def lines(self) -> list[str]:
+        """The report as text: a header, a table with one line per spring and a verdict.
+
+        Distances are printed in mm, the pose's angles in degrees and prismatic joints in m.
+        """
+        units = self.joint_units
+        header = (f"Clearance of the springs to the collision geometry of {self.mechanism!r} "
+                  f"over {self.poses} poses (margin {self.margin * 1e3:.1f} mm; a spring's anchor bodies are exempt)")
+        table = [["spring", "radius [mm]", "clearance [mm]", "closest link", "status", "at pose"]]
+        for row in self.rows:
+            if np.isfinite(row.distance):
+                distance = f"{row.distance * 1e3:.1f}"
+                status = ("OVERLAP" if row.distance < 0 else "CONTACT" if row.distance == 0
+                          else "below margin" if row.below_margin else "ok")
+            else:
+                distance, status = "-", "nothing to check"
+            pose = ", ".join(f"{name}={value:.4g} m" if units.get(name) == "m" else f"{name}={np.degrees(value):.1f}°"
+                             for name, value in row.pose.items())
+            if row.scenario is not None:
+                pose = f"{pose} ({row.scenario})"
+            table.append([row.spring, f"{row.radius * 1e3:.1f}", distance, row.link or "-", status, pose or "-"])
+        widths = [max(len(line[column]) for line in table) for column in range(len(table[0]))]
+        text = [header, ""]
+        text += ["  ".join(cell.ljust(width) for cell, width in zip(line, widths)).rstrip() for line in table]
+        if self.skipped:
+            text.append(f"not checked (they act in a joint): {', '.join(self.skipped)}")
+        below = [row.spring for row in self.rows if row.below_margin]
+        text.append("")
+        text.append(f"Clearance: {len(below)} of {len(self.rows)} springs below the margin ({', '.join(below)})"
+                    if below else f"Clearance: every spring clear by at least {self.margin * 1e3:.1f} mm")
+        return text
+
+    def __str__(self) -> str:
+        return "\n".join(self.lines())
+
+
+def collision_geometry(mechanism: Mechanism) -> pin.GeometryModel:
+    """The collision ``GeometryModel`` of the mechanism's URDF.
+
+    ``package://`` paths resolve against the URDF's folder, its parents and the
+    example-robot-data share folder (as for the visual geometry).
+
+    Raises:
+        InputError: the mechanism has no URDF (a bare Pinocchio model), the geometry
+            cannot be loaded, or the URDF has no collision geometry.
+    """
+    from springbalance.model import robots
+    from springbalance.model.mechanism import _quiet_native_stderr
+
+    source = mechanism.source
+    kind = source.get("kind")
+    if kind not in ("urdf", "robot", "urdf_string"):
+        raise InputError(f"mechanism {mechanism.name!r} was not loaded from a URDF (source {kind!r}); "
+                         "the clearance check needs the URDF's collision geometry")
+    directories: list[str] = []
+    if kind in ("urdf", "robot"):
+        path = Path(source["path"])
+        directories += [str(folder) for folder in [path.parent, *list(path.parents)[1:4]]]
+    try:
+        directories += robots.package_directories()
+    except SpringBalanceError:
+        pass
+    where = repr(source["path"]) if kind in ("urdf", "robot") else "(URDF string)"
+    try:
+        with _quiet_native_stderr():
+            if kind == "urdf_string":
+                geometry = pin.buildGeomFromUrdfString(mechanism.model, source["text"], pin.GeometryType.COLLISION,
+                                                       package_dirs=directories)
+            else:
+                geometry = pin.buildGeomFromUrdf(mechanism.model, source["path"], pin.GeometryType.COLLISION,
+                                                 package_dirs=directories)
+    except (RuntimeError, ValueError, OSError) as error:
+        raise InputError(f"mechanism {mechanism.name!r}: the collision geometry of {where} could not be loaded: "
+                         f"{' '.join(str(error).split())[:300]}") from None
+    if geometry.ngeoms == 0:
+        raise InputError(f"mechanism {mechanism.name!r} has no collision geometry: the URDF {where} has no "
+                         "<collision> elements, so the clearance check has nothing to measure against")
+    return geometry
+
+
+def clearance(result: DesignResult, radius: float | None = None, samples: int | None = None,
+              margin: float = 0.0) -> ClearanceReport:
+    """Smallest distance from each spring of ``result`` to the arm's collision geometry.
+
+    See the module documentation for the model (capsules, signed distances, the exemption of
+    a spring's two anchor bodies).
+
+    Args:
+        result: the finished design.
+        radius: capsule radius [m] of the springs without a helical spec sheet (default
+            0.01 m); a helical spring's capsule has half its outer diameter.
+        samples: check this many scrambled Sobol poses (seed 0) over the smallest and largest
+            value of each joint in the design's workspace instead of the workspace's own poses.
+        margin: the clearance asked for [m]; a row is flagged ``below_margin`` when its
+            distance is below it.
+
+    Returns:
+        The :class:`ClearanceReport`.
+
+    Raises:
+        InputError: a bad ``radius``, ``samples`` or ``margin``, or a mechanism without a URDF
+            or without collision geometry.
+    """
+    if radius is not None and not (np.isfinite(radius) and radius > 0):
+        raise InputError(f"clearance radius must be a finite number > 0 [m], got {radius!r}")
+    if not np.isfinite(margin):
+        raise InputError(f"clearance margin must be a finite number [m], got {margin!r}")
+    if samples is not None and (isinstance(samples, bool) or int(samples) != samples or samples < 1):
+        raise InputError(f"clearance samples must be an integer ≥ 1, got {samples!r}")
+    import coal
+
+    problem = result.problem
+    mechanism = problem.mechanism
+    geometry = collision_geometry(mechanism)
+    base = problem.base_workspace
+    if samples is None:
+        joint_values = base.joint_values
+    else:
+        ranges = {joint.name: [float(np.min(base.joint_values[:, joint.index_v])),
+                               float(np.max(base.joint_values[:, joint.index_v]))] for joint in mechanism.joints}
+        joint_values = Workspace.sobol(mechanism, n=int(samples), ranges=ranges, seed=0).joint_values
+    configurations = mechanism.configurations(joint_values)
+
+    model = mechanism.model
+    objects = list(geometry.geometryObjects)
+    links = [model.frames[obj.parentFrame].name for obj in objects]
+
+    # the capsules: per spring, its radius, exempt bodies and the anchor points of each scenario
+    records = result.springs
+    scenario_names = [scenario.name for scenario in problem.scenarios] or [None]
+    capsules, skipped = [], []
+    for column, (spring, record) in enumerate(zip(problem.springs, records)):
+        if "a" not in record or "b" not in record:
+            skipped.append(spring.name)
+            continue
+        sheet = record.get("helical")
+        spring_radius = (0.5 * float(sheet["outer_diameter"]) if sheet and sheet.get("outer_diameter")
+                         else (DEFAULT_RADIUS if radius is None else float(radius)))
+        bodies = (record["a"]["body"], record["b"]["body"])
+        variants = []   # (scenario name, point a, point b), one per distinct pair of anchor points
+        for index, name in enumerate(scenario_names):
+            points = tuple(np.asarray(problem.model.anchor_point(spring, end, result.x, scenario=index), dtype=float)
+                           for end in ("a", "b"))
+            if not any(np.array_equal(points[0], a) and np.array_equal(points[1], b) for _, a, b in variants):
+                variants.append((name, *points))
+        if len(variants) == 1:
+            variants = [(None, variants[0][1], variants[0][2])]
+        checked = [i for i, link in enumerate(links) if link not in bodies]
+        capsules.append({"name": spring.name, "radius": spring_radius, "bodies": bodies, "variants": variants,
+                         "frames": tuple(mechanism.frame_id(body) for body in bodies), "checked": checked,
+                         "best": (np.inf, None, None, None)})
+
+    data, geometry_data = model.createData(), geometry.createData()
+    request = coal.DistanceRequest()
+    request.enable_signed_distance = True
+    for sample, q in enumerate(configurations):
+        pin.forwardKinematics(model, data, q)
+        pin.updateFramePlacements(model, data)
+        pin.updateGeometryPlacements(model, data, geometry, geometry_data)
+        placements = [coal.Transform3s(np.array(p.rotation), np.array(p.translation)) for p in geometry_data.oMg]
+        for capsule in capsules:
+            frame_a, frame_b = capsule["frames"]
+            for scenario, point_a, point_b in capsule["variants"]:
+                start = data.oMf[frame_a].act(point_a)
+                end = data.oMf[frame_b].act(point_b)
+                shape, placement = _capsule(start, end, capsule["radius"])
+                for index in capsule["checked"]:
+                    distance_result = coal.DistanceResult()
+                    distance = coal.distance(shape, placement, objects[index].geometry, placements[index],
+                                             request, distance_result)
+                    if distance < capsule["best"][0]:
+                        capsule["best"] = (float(distance), index, sample, scenario)
+
+    rows = []
+    for capsule in capsules:
+        distance, index, sample, scenario = capsule["best"]
+        pose = ({joint.name: float(joint_values[sample, joint.index_v]) for joint in mechanism.joints}
+                if sample is not None else {})
+        rows.append(ClearanceRow(
+            spring=capsule["name"], radius=capsule["radius"], distance=distance,
+            link=links[index] if index is not None else None,
+            geometry=objects[index].name if index is not None else None,
+            pose=pose, sample=sample, scenario=scenario, exempt=capsule["bodies"],
+            below_margin=bool(np.isfinite(distance) and (distance < margin or distance <= 0))))
+    return ClearanceReport(rows=rows, margin=float(margin), poses=int(joint_values.shape[0]), mechanism=mechanism.name,
+                           collision_objects=[obj.name for obj in objects], skipped=skipped,
+                           joint_units={joint.name: joint.unit for joint in mechanism.joints})
+
+
+def _capsule(start: np.ndarray, end: np.ndarray, radius: float):
+    """coal capsule of ``radius`` [m] around the segment ``start``–``end`` (world, [m]) and its placement."""
+    import coal
+
+    axis = np.asarray(end, dtype=float) - np.asarray(start, dtype=float)
+    length = float(np.linalg.norm(axis))
+    centre = (np.asarray(start, dtype=float) + np.asarray(end, dtype=float)) / 2
+    if length < 1e-12:
+        return coal.Sphere(radius), coal.Transform3s(np.eye(3), centre)
+    z = axis / length
+    helper = np.eye(3)[int(np.argmin(np.abs(z)))]   # the axis least aligned with the segment
+    x = np.cross(helper, z)
+    x /= np.linalg.norm(x)
+    rotation = np.column_stack([x, np.cross(z, x), z])  # capsule's local z along the segment
+    return coal.Capsule(radius, length), coal.Transform3s(rotation, centre)
