@@ -40,10 +40,10 @@ def extension(name="s1", **options):
 
 
 def compression(name="s2"):
-    """An ideal compression spring from the ground below the pivot to the link."""
-    return sb.CompressionSpring(sb.Anchor("ground", sb.Free([0, -0.1, -0.3], [0, 0.1, -0.02])),
-                                sb.Anchor("link1", sb.Free([0, 0, 0.05], [0, 0, 0.4])), name,
-                                stiffness=sb.Free(0, 1e5), free_length=sb.Free(0.02, 1.0))
+    """A compression spring from the ground below the pivot to the link, on a guide rod (``guided``: the
+    catalogue's long compression parts would buckle free-standing)."""
+    return sb.HelicalCompressionSpring(sb.Anchor("ground", sb.Free([0, -0.1, -0.3], [0, 0.1, -0.02])),
+                                       sb.Anchor("link1", sb.Free([0, 0, 0.05], [0, 0, 0.4])), name, guided=True)
 
 
 def row(parts, part_number):
@@ -53,15 +53,18 @@ def row(parts, part_number):
 def assert_is_part(record, spring, part):
     """The design's spring values and options are exactly the catalogue row's."""
     assert spring.part_number == part.part_number
-    assert record["stiffness"] == part.rate
-    assert record["free_length"] == part.free_length
+    for key in ("wire_diameter", "mean_diameter", "active_coils"):
+        assert record[key] == getattr(part, key)
+    assert record["stiffness"] == pytest.approx(part.rate, rel=1e-6)   # G d⁴/(8 D³ n); the CSV keeps 7 digits
+    assert record["free_length"] == pytest.approx(part.free_length, rel=1e-6)
     if part.kind == "extension":
         assert record["initial_tension"] == part.initial_tension
         assert spring.max_length == part.max_length and spring.keep_tension
     else:
-        assert record["preload"] == 0.0
-        assert spring.stroke == pytest.approx(part.free_length - part.min_length, rel=1e-12)
+        assert record["preload"] == 0.0 and record["free_length"] == part.free_length
+        assert record["helical"]["solid_length"] == pytest.approx(part.min_length, rel=1e-6)
     assert spring.max_force == part.max_load
+    assert record["helical"]["part_number"] == part.part_number    # a spec sheet, as for a wound coil
 
 
 # ---------------------------------------------------------------------- parts as springs
@@ -69,10 +72,12 @@ def test_part_spring_keeps_name_and_anchors_and_takes_the_parts_values(parts):
     spring = extension(max_force=1e4, max_length=0.3, min_length=0.1)
     part = row(parts, "EXT-MW-d3.0-C10-n40")
     stock = part_spring(part, spring)
-    assert isinstance(stock, sb.ExtensionSpring)
+    assert isinstance(stock, sb.HelicalExtensionSpring)
     assert stock.name == "s1" and stock.a is spring.a and stock.b is spring.b
-    assert stock.parameters == {"stiffness": part.rate, "free_length": part.free_length,
-                                "initial_tension": part.initial_tension}
+    assert stock.parameters == {"wire_diameter": part.wire_diameter, "mean_diameter": part.mean_diameter,
+                                "active_coils": part.active_coils, "initial_tension": part.initial_tension}
+    assert stock.rate(stock.parameters) == pytest.approx(part.rate, rel=1e-6)
+    assert stock.free_length(stock.parameters) == pytest.approx(part.free_length, rel=1e-6)
     assert stock.part_number == part.part_number and stock.keep_tension
     assert stock.max_force == part.max_load                 # the part's limit is stricter than 1e4 N
     assert stock.max_length == 0.3 and stock.min_length == 0.1    # the arm's limits are stricter
@@ -80,9 +85,10 @@ def test_part_spring_keeps_name_and_anchors_and_takes_the_parts_values(parts):
 
     part = row(parts, "CMP-MW-d4.0-C8-n16")
     stock = part_spring(part, compression())
-    assert isinstance(stock, sb.CompressionSpring) and not isinstance(stock, sb.GasSpring)
-    assert stock.parameters == {"stiffness": part.rate, "free_length": part.free_length, "preload": 0.0}
-    assert stock.stroke == pytest.approx(part.free_length - part.min_length) and stock.stays_compressed
+    assert isinstance(stock, sb.HelicalCompressionSpring)
+    assert stock.parameters == {"wire_diameter": part.wire_diameter, "mean_diameter": part.mean_diameter,
+                                "active_coils": part.active_coils, "free_length": part.free_length}
+    assert stock.rate(stock.parameters) == pytest.approx(part.rate, rel=1e-6) and stock.stays_compressed
 
     with pytest.raises(sb.InputError, match="is a compression spring; spring 's1' is a extension"):
         part_spring(part, extension())
@@ -184,7 +190,8 @@ def test_cli_design_with_stock(tmp_path, capsys, parts):
     number = record["springs"][0]["part_number"]
     part = row(parts, number)
     assert record["design"][0]["part_number"] == number
-    assert record["design"][0]["stiffness"] == part.rate and record["design"][0]["free_length"] == part.free_length
+    assert record["design"][0]["stiffness"] == pytest.approx(part.rate, rel=1e-6)
+    assert record["design"][0]["free_length"] == pytest.approx(part.free_length, rel=1e-6)
     assert record["design"][0]["initial_tension"] == part.initial_tension
     stock = record["stock"]
     assert stock["catalogue"] == str(CATALOGUE) and stock["parts"] == {"lifter": number}
@@ -196,4 +203,4 @@ def test_cli_design_with_stock(tmp_path, capsys, parts):
 
     loaded = sb.DesignResult.load(out)                       # a stock design loads back as a fixed spring
     assert loaded.problem.springs[0].part_number == number
-    assert loaded.spring("lifter")["stiffness"] == part.rate
+    assert loaded.spring("lifter")["stiffness"] == pytest.approx(part.rate, rel=1e-6)

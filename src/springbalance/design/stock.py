@@ -35,7 +35,9 @@ import numpy as np
 
 from springbalance.errors import InputError, SolverError
 from springbalance.design.problem import DesignProblem, ScenarioAggregate
-from springbalance.springs.laws import CompressionSpring, ExtensionSpring, Spring, TwoPointSpring
+from springbalance.springs.laws import Spring, TwoPointSpring
+from springbalance.springs.laws.helical_compression import HelicalCompressionSpring
+from springbalance.springs.laws.helical_extension import HelicalExtensionSpring
 from springbalance.springs.params import Free, Plane, Segment
 from springbalance.springs.records import spring_from_dict
 from springbalance.springs.sizing import MATERIALS
@@ -117,16 +119,18 @@ def stock_kind(spring: Spring) -> str | None:
 
 
 def part_spring(part: StockPart, spring: Spring) -> Spring:
-    """The fixed spring of catalogue ``part`` in the place of ``spring`` (same name and anchors,
+    """The fixed helical coil of catalogue ``part`` in the place of ``spring`` (same name and anchors,
     which stay free when they are).
 
-    Extension part: ``ExtensionSpring(stiffness=rate, free_length, initial_tension, max_force=max_load,
-    max_length, keep_tension=True, part_number)``. Compression part: ``CompressionSpring(stiffness=rate,
-    free_length, preload=0, stays_compressed=True, stroke=free_length - solid length, max_force=max_load,
-    part_number)``. The spring's own limits stay when they are stricter (``max_force``,
-    ``max_length``, ``min_length``: space or load limits of the arm); a spring that carried a mass
-    (``mass`` option) now carries the part's wire mass (:attr:`StockPart.mass`). ``helical`` and
-    ``max_stretch`` are dropped: the part's own length and load limits replace them.
+    Extension part: ``HelicalExtensionSpring`` with the part's wire, coil diameter, coils and initial
+    tension (so its rate and free length are the part's), ``max_force=max_load``, ``max_length``,
+    ``keep_tension=True``; compression part: ``HelicalCompressionSpring`` with its wire, coil
+    diameter, coils and free length, ``stays_compressed=True``, ``max_force=max_load``. Either carries
+    its ``part_number``, its own mass, and a spec sheet in every report; as a stock part the winding
+    rules (index range, initial-tension band) do not apply, the rules of its use (stresses, hooks,
+    solid length, buckling unless the spring was ``guided``) do. The spring's own limits stay when they
+    are stricter (``max_force``, ``max_length``, ``min_length``: space or load limits of the arm), and
+    so does its envelope (``max_outer_diameter``).
     """
     kind = stock_kind(spring)
     if kind is None:
@@ -135,17 +139,16 @@ def part_spring(part: StockPart, spring: Spring) -> Spring:
     if part.kind != kind:
         raise InputError(f"part {part.part_number!r} is a {part.kind} spring; spring {spring.name!r} is a {kind} spring")
     max_force = part.max_load if spring.max_force is None else min(part.max_load, spring.max_force)
-    mass = None if spring.mass is None else part.mass
+    coil = {"material": part.material, "wire_diameter": part.wire_diameter, "mean_diameter": part.mean_diameter,
+            "active_coils": part.active_coils, "max_force": max_force, "min_length": spring.min_length,
+            "max_outer_diameter": getattr(spring, "max_outer_diameter", None), "part_number": part.part_number}
     if kind == "extension":
         max_length = part.max_length if spring.max_length is None else min(part.max_length, spring.max_length)
-        return ExtensionSpring(spring.a, spring.b, spring.name, stiffness=part.rate, free_length=part.free_length,
-                               initial_tension=part.initial_tension, max_force=max_force, max_length=max_length,
-                               min_length=spring.min_length, mass=mass, part_number=part.part_number,
-                               keep_tension=True)
-    return CompressionSpring(spring.a, spring.b, spring.name, stiffness=part.rate, free_length=part.free_length,
-                             preload=0.0, stays_compressed=True, stroke=part.free_length - part.min_length,
-                             max_force=max_force, max_length=spring.max_length, min_length=spring.min_length,
-                             mass=mass, part_number=part.part_number)
+        return HelicalExtensionSpring(spring.a, spring.b, spring.name, initial_tension=part.initial_tension,
+                                      max_length=max_length, keep_tension=True, **coil)
+    return HelicalCompressionSpring(spring.a, spring.b, spring.name, free_length=part.free_length,
+                                    max_length=spring.max_length, stays_compressed=True,
+                                    guided=bool(getattr(spring, "guided", False)), **coil)
 
 
 def part_distance(part: StockPart, lengths, forces) -> float:

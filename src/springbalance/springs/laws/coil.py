@@ -98,16 +98,22 @@ class HelicalCoilSpring(TwoPointSpring):
         d, D = values["wire_diameter"], values["mean_diameter"]
         return bergstrasser_factor(D / d) * 8 * force * D / (math.pi * d**3)
 
+    @property
+    def winds(self) -> bool:
+        """True for a coil to be wound (the winding rules apply: index range, initial tension band);
+        False for a stock part (``part_number``), which exists already: only the rules of its use apply."""
+        return self.part_number is None
+
     def common_rows(self, values) -> list:
-        """Index within its range and the outer diameter within the envelope (rows ≥ 0)."""
+        """Index within its range (a coil to be wound) and the outer diameter within the envelope (rows ≥ 0)."""
         index = values["mean_diameter"] / values["wire_diameter"]
-        rows = [index - self.index_range[0], self.index_range[1] - index]
+        rows = [index - self.index_range[0], self.index_range[1] - index] if self.winds else []
         if self.max_outer_diameter is not None:
             rows.append(self.max_outer_diameter - (values["mean_diameter"] + values["wire_diameter"]))
         return rows
 
     def common_parts(self) -> list:
-        parts = [("index_low", "1", 1.0), ("index_high", "1", 1.0)]
+        parts = [("index_low", "1", 1.0), ("index_high", "1", 1.0)] if self.winds else []
         if self.max_outer_diameter is not None:
             parts.append(("outer_diameter", "m", 0.001))
         return parts
@@ -155,7 +161,7 @@ class HelicalCoilSpring(TwoPointSpring):
         reasons = []
         if stress > allowable * slack:
             reasons.append(f"body stress {stress / MPA:.0f} MPa exceeds the allowable {allowable / MPA:.0f} MPa")
-        if not self.index_range[0] / slack <= index <= self.index_range[1] * slack:
+        if self.winds and not self.index_range[0] / slack <= index <= self.index_range[1] * slack:
             reasons.append(f"index D/d = {index:.2f} outside {self.index_range[0]:g}–{self.index_range[1]:g}")
         if self.max_outer_diameter is not None and D + d > self.max_outer_diameter * slack:
             reasons.append(f"outer diameter {(D + d) * 1e3:.2f} mm exceeds the envelope "
@@ -166,6 +172,7 @@ class HelicalCoilSpring(TwoPointSpring):
         if n < 1:
             reasons.append(f"{n:.3g} active coils: fewer than one")
         sheet = {"type": f"helical {self.helical_kind}", "material": self.material.name, "end_type": self.end_type,
+                 **({"part_number": self.part_number} if self.part_number is not None else {}),
                  "wire_diameter": d, "mean_diameter": D, "outer_diameter": D + d, "index": index, "active_coils": n,
                  "rate": float(self.rate(values)), "max_load": largest, "max_stress": stress,
                  "allowable_stress": allowable, "mass": float(self.coil_mass(values))}

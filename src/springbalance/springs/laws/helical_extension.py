@@ -43,8 +43,9 @@ class ExtensionCoilRules:
     def __init__(self, spring: "HelicalExtensionSpring"):
         self.spring = spring
         parts = [("tension", "m", 0.01)] if spring.keep_tension else []
-        parts += [("body_stress", "1", 0.1), ("hook_bending", "1", 0.1), ("hook_torsion", "1", 0.1),
-                  ("initial_tension_low", "MPa", 10.0), ("initial_tension_high", "MPa", 10.0)]
+        parts += [("body_stress", "1", 0.1), ("hook_bending", "1", 0.1), ("hook_torsion", "1", 0.1)]
+        if spring.winds:
+            parts += [("initial_tension_low", "MPa", 10.0), ("initial_tension_high", "MPa", 10.0)]
         self.parts = tuple(parts + spring.common_parts())
 
     def rows(self, length, force, parameters):
@@ -56,8 +57,9 @@ class ExtensionCoilRules:
         rows = [length - spring.free_length(parameters)] if spring.keep_tension else []
         rows += [1 - spring.body_stress(force, parameters) / (material.allowable_fraction["extension"] * strength),
                  1 - hook_bending_stress(force, d, D) / (material.hook_fraction["bending"] * strength),
-                 1 - hook_torsion_stress(force, d, D) / (material.hook_fraction["torsion"] * strength),
-                 (initial - low) / MPA, (high - initial) / MPA]
+                 1 - hook_torsion_stress(force, d, D) / (material.hook_fraction["torsion"] * strength)]
+        if spring.winds:
+            rows += [(initial - low) / MPA, (high - initial) / MPA]
         return rows + spring.common_rows(parameters)
 
 
@@ -151,7 +153,7 @@ class HelicalExtensionSpring(HelicalCoilSpring):
                 reasons.append(f"hook {mode} stress {stress / MPA:.0f} MPa exceeds the allowable {allowable / MPA:.0f} MPa")
         low, high = (float(v) for v in initial_stress_band(D / d))
         initial_stress = 8 * initial_tension * D / (math.pi * d**3)                                  # [Pa]
-        if not low - 10 * CHECK_TOLERANCE * MPA <= initial_stress <= high + 10 * CHECK_TOLERANCE * MPA:
+        if self.winds and not low - 10 * CHECK_TOLERANCE * MPA <= initial_stress <= high + 10 * CHECK_TOLERANCE * MPA:
             reasons.append(f"initial tension {initial_tension:.4g} N (stress {initial_stress / MPA:.0f} MPa) outside the "
                            f"band that can be wound at index {D / d:.2f}: {low / MPA:.0f}–{high / MPA:.0f} MPa")
         free = float(self.free_length(values))
