@@ -47,7 +47,7 @@ class CompressionCoilRules:
         free = parameters["free_length"]
         allowable = material.allowable_fraction["compression"] * material.tensile_strength(d)    # [Pa]
         rows = [free - length] if spring.stays_compressed else []
-        rows += [length - d * (n + 2), 1 - spring.body_stress(-force, parameters) / allowable]
+        rows += [length - d * (n + 2), 1 - spring.stress_reserve - spring.body_stress(-force, parameters) / allowable]
         if not spring.guided:
             rows.append(2.63 * D / END_CONSTANT - free)
         return rows + spring.common_rows(parameters)

@@ -55,9 +55,10 @@ class ExtensionCoilRules:
         low, high = initial_stress_band(D / d)                                           # [Pa]
         initial = 8 * parameters["initial_tension"] * D / (math.pi * d**3)               # τ_i [Pa]
         rows = [length - spring.free_length(parameters)] if spring.keep_tension else []
-        rows += [1 - spring.body_stress(force, parameters) / (material.allowable_fraction["extension"] * strength),
-                 1 - hook_bending_stress(force, d, D) / (material.hook_fraction["bending"] * strength),
-                 1 - hook_torsion_stress(force, d, D) / (material.hook_fraction["torsion"] * strength)]
+        usable = 1 - spring.stress_reserve                                               # [1]
+        rows += [usable - spring.body_stress(force, parameters) / (material.allowable_fraction["extension"] * strength),
+                 usable - hook_bending_stress(force, d, D) / (material.hook_fraction["bending"] * strength),
+                 usable - hook_torsion_stress(force, d, D) / (material.hook_fraction["torsion"] * strength)]
         if spring.winds:
             rows += [(initial - low) / MPA, (high - initial) / MPA]
         return rows + spring.common_rows(parameters)
