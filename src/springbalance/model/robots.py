@@ -13,7 +13,7 @@ import functools
 import sysconfig
 from pathlib import Path
 
-from springbalance.errors import InputError
+from springbalance.errors import InputError, SpringBalanceError
 
 #: Short names used by example-robot-data's own loaders -> path below ``robots/``.
 ALIASES: dict[str, str] = {
@@ -99,3 +99,17 @@ def package_directories() -> list[str]:
     """Folders that resolve ``package://`` mesh paths of example-robot-data URDFs."""
     share = share_directory()
     return [str(share / "robots"), str(share.parent)]
+
+
+def mesh_directories(source: dict) -> list[str]:
+    """Folders where the meshes of a mechanism's URDF may be found (``Mechanism.source``): the URDF's
+    folder and three above it, then example-robot-data's (when it is installed)."""
+    directories = []
+    if source.get("kind") in ("urdf", "robot"):
+        path = Path(source["path"])
+        directories += [str(folder) for folder in [path.parent, *list(path.parents)[1:4]]]
+    try:
+        directories += package_directories()
+    except SpringBalanceError:
+        pass
+    return directories

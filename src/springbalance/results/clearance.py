@@ -24,13 +24,12 @@ This is a check after the design, not a constraint of the optimisation.
 from __future__ import annotations
 
 import dataclasses
-from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pinocchio as pin
 
-from springbalance.errors import InputError, SpringBalanceError
+from springbalance.errors import InputError
 from springbalance.model.workspace import Workspace
 
 if TYPE_CHECKING:
@@ -173,14 +172,7 @@ def collision_geometry(mechanism: Mechanism) -> pin.GeometryModel:
     if kind not in ("urdf", "robot", "urdf_string"):
         raise InputError(f"mechanism {mechanism.name!r} was not loaded from a URDF (source {kind!r}); "
                          "the clearance check needs the URDF's collision geometry")
-    directories: list[str] = []
-    if kind in ("urdf", "robot"):
-        path = Path(source["path"])
-        directories += [str(folder) for folder in [path.parent, *list(path.parents)[1:4]]]
-    try:
-        directories += robots.package_directories()
-    except SpringBalanceError:
-        pass
+    directories = robots.mesh_directories(source)
     where = repr(source["path"]) if kind in ("urdf", "robot") else "(URDF string)"
     try:
         with _quiet_native_stderr():

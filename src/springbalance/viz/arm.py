@@ -3,12 +3,10 @@
 from __future__ import annotations
 
 import warnings
-from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
 
-from springbalance.errors import SpringBalanceError
 from springbalance.viz.helix import spring_rotation
 
 #: Colour of the stick figure drawn for a mechanism without visual geometry (RGBA).
@@ -25,14 +23,7 @@ def visual_geometry(mechanism):
     from springbalance.model.mechanism import _quiet_native_stderr
 
     source = mechanism.source
-    directories = []
-    if source.get("kind") in ("urdf", "robot"):
-        path = Path(source["path"])
-        directories += [str(folder) for folder in [path.parent, *list(path.parents)[1:4]]]
-    try:
-        directories += robots.package_directories()
-    except SpringBalanceError:
-        pass
+    directories = robots.mesh_directories(source)
     try:
         with _quiet_native_stderr():
             if source.get("kind") in ("urdf", "robot"):
