@@ -188,9 +188,23 @@ def test_a_mechanism_without_collision_geometry_is_refused():
 
 def test_bad_arguments_are_input_errors(arm):
     result = design(arm, [through_spring()], [[0.0, 0.0]])
-    for options in ({"radius": 0.0}, {"radius": float("nan")}, {"margin": float("inf")}, {"samples": 0}):
+    for options in ({"radius": 0.0}, {"radius": float("nan")}, {"margin": float("inf")}, {"margin": -0.001},
+                    {"samples": 0}):
         with pytest.raises(sb.InputError):
             result.clearance(**options)
+
+
+def test_reports_carry_the_clearance_table_when_the_urdf_has_collision_geometry(arm, tmp_path):
+    result = design(arm, [through_spring()], [[0.0, 0.0], [0.6, -1.0]])
+    text = result.table()
+    assert "Clearance of the springs to the collision geometry" in text and "OVERLAP" in text
+    page = result.report(tmp_path, scene=False).read_text()
+    assert 'id="clearance"' in page and "link2" in page and "overlap" in page
+    # without collision geometry there is nothing to check, and the reports say nothing of it
+    bare = sb.Mechanism.from_urdf(URDF / "two_link_planar.urdf")
+    plain = design(bare, [through_spring()], [[0.0, 0.0]])
+    assert "Clearance of the springs" not in plain.table()
+    assert 'id="clearance"' not in plain.report(tmp_path / "bare", scene=False).read_text()
 
 
 # ---------------------------------------------------------------------- command line

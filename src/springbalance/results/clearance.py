@@ -192,7 +192,7 @@ def collision_geometry(mechanism: Mechanism) -> pin.GeometryModel:
 
 
 def clearance(result: DesignResult, radius: float | None = None, samples: int | None = None,
-              margin: float = 0.0) -> ClearanceReport:
+              margin: float = 0.0, geometry: pin.GeometryModel | None = None) -> ClearanceReport:
     """Smallest distance from each spring of ``result`` to the arm's collision geometry.
 
     See the module documentation for the model (capsules, signed distances, the exemption of
@@ -204,8 +204,9 @@ def clearance(result: DesignResult, radius: float | None = None, samples: int | 
             0.01 m); a helical spring's capsule has half its outer diameter.
         samples: check this many scrambled Sobol poses (seed 0) over the smallest and largest
             value of each joint in the design's workspace instead of the workspace's own poses.
-        margin: the clearance asked for [m]; a row is flagged ``below_margin`` when its
+        margin: the clearance asked for [m], ≥ 0; a row is flagged ``below_margin`` when its
             distance is below it.
+        geometry: the arm's collision geometry, when already loaded (:func:`collision_geometry`).
 
     Returns:
         The :class:`ClearanceReport`.
@@ -216,15 +217,15 @@ def clearance(result: DesignResult, radius: float | None = None, samples: int | 
     """
     if radius is not None and not (np.isfinite(radius) and radius > 0):
         raise InputError(f"clearance radius must be a finite number > 0 [m], got {radius!r}")
-    if not np.isfinite(margin):
-        raise InputError(f"clearance margin must be a finite number [m], got {margin!r}")
+    if not (np.isfinite(margin) and margin >= 0):
+        raise InputError(f"clearance margin must be a finite number ≥ 0 [m], got {margin!r}")
     if samples is not None and (isinstance(samples, bool) or int(samples) != samples or samples < 1):
         raise InputError(f"clearance samples must be an integer ≥ 1, got {samples!r}")
     import coal
 
     problem = result.problem
     mechanism = problem.mechanism
-    geometry = collision_geometry(mechanism)
+    geometry = collision_geometry(mechanism) if geometry is None else geometry
     base = problem.base_workspace
     if samples is None:
         joint_values = base.joint_values

@@ -25,7 +25,7 @@ import numpy as np
 
 from springbalance._version import __version__
 from springbalance.files import write_text_atomic
-from springbalance.results.report import balance_statement, spec_sheet_rows
+from springbalance.results.report import balance_statement, checked_clearance, spec_sheet_rows
 
 
 def _number(value, digits: int = 4) -> str:
@@ -201,6 +201,7 @@ def report_html(result, scene: str | None = "scene.html", torques: str | None = 
         parts.append("</table>")
     if metrics["max_violation"] > 1e-6:
         parts.append(f"<p><b>Infeasible:</b> largest constraint violation {_number(metrics['max_violation'])}.</p>")
+    parts.extend(clearance_html(result))
     parts.extend(warnings_html(result.warnings()))
 
     if torques or histogram:
@@ -213,6 +214,28 @@ def report_html(result, scene: str | None = "scene.html", torques: str | None = 
                      f'<p><img src="{e(histogram)}" alt="histogram of the torques over the workspace"></p>')
     parts.append("</body></html>")
     return "\n".join(parts)
+
+
+def clearance_html(result) -> list[str]:
+    """The "Clearance" section: per spring its smallest distance to a link of the arm's collision
+    geometry, the link and the pose (nothing when the URDF has no collision geometry)."""
+    report = checked_clearance(result)
+    if report is None:
+        return []
+    e = html.escape
+    parts = ['<h2 id="clearance">Clearance</h2>',
+             f'<p class="note">{e(report.lines()[0])}.</p>',
+             "<table><tr><th class=l>spring</th><th>radius [mm]</th><th>clearance [mm]</th>"
+             "<th class=l>closest link</th><th class=l>status</th><th class=l>at pose</th></tr>"]
+    for row in report.rows:
+        distance = f"{row.distance * 1e3:.1f}" if np.isfinite(row.distance) else "-"
+        status = "overlap" if row.distance < 0 else "below margin" if row.below_margin else "ok"
+        pose = ", ".join(f"{name}={np.degrees(value):.1f}°" if report.joint_units.get(name) != "m"
+                         else f"{name}={value:.4g} m" for name, value in row.pose.items())
+        parts.append(f"<tr><td class=l>{e(row.spring)}</td><td>{row.radius * 1e3:.1f}</td><td>{distance}</td>"
+                     f"<td class=l>{e(row.link or '-')}</td><td class=l>{status}</td><td class=l>{e(pose)}</td></tr>")
+    parts.append("</table>")
+    return parts
 
 
 def warnings_html(flags) -> list[str]:

@@ -5,6 +5,8 @@ from __future__ import annotations
 import numpy as np
 
 from springbalance.design.solvers import FEASIBILITY_TOLERANCE
+from springbalance.errors import InputError
+from springbalance.results.clearance import clearance, collision_geometry
 
 
 def result_table(result) -> str:
@@ -80,6 +82,7 @@ def result_table(result) -> str:
         lines.append(f"\n  INFEASIBLE: largest constraint violation {metrics['max_violation']:.3g} "
                      f"(tolerance {FEASIBILITY_TOLERANCE:g})")
     lines.append("")
+    lines.extend(clearance_section(result))
     lines.extend(warning_lines(result.warnings()))
     return "\n".join(lines)
 
@@ -121,6 +124,22 @@ def spec_sheet_lines(sheet: dict) -> list[str]:
     width = max(len(label) for label, _ in rows)
     lines.extend(f"  {label:<{width}s}  {value}" for label, value in rows)
     return lines
+
+
+def checked_clearance(result):
+    """The clearance check of ``result`` (:mod:`springbalance.results.clearance`) when its arm's URDF
+    has collision geometry; None when it has none (or the mechanism has no URDF): nothing to check."""
+    try:
+        geometry = collision_geometry(result.problem.mechanism)
+    except InputError:
+        return None
+    return clearance(result, geometry=geometry)
+
+
+def clearance_section(result) -> list[str]:
+    """The clearance table of the text report (empty without collision geometry)."""
+    report = checked_clearance(result)
+    return [] if report is None else report.lines() + [""]
 
 
 def warning_lines(flags) -> list[str]:
