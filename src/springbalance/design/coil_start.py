@@ -41,10 +41,7 @@ def coil_start(problem: DesignProblem, **solve_options) -> np.ndarray | None:
     if not coils:
         return None
     twins = [_twin(spring) if spring in coils else spring for spring in problem.springs]
-    objective = getattr(problem.objective, "inner", problem.objective)
-    twin = type(problem)(problem.mechanism, problem.base_workspace, twins, objective=objective,
-                         weights=problem.weights_by_name(), scenarios=problem.scenarios or None,
-                         per_scenario=problem.per_scenario, aggregate=problem.aggregate)
+    twin = problem.with_springs(twins, no_joint_worse=False)
     try:
         found = solve_problem(twin, **solve_options)
     except SolverError:

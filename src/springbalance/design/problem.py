@@ -371,6 +371,19 @@ class DesignProblem:
                          "peak": float(np.max(np.abs(block))), "rms": float(np.sqrt(np.mean(block**2)))})
         return rows
 
+    def with_springs(self, springs: Sequence[Spring], **changes) -> "DesignProblem":
+        """The same problem (mechanism, poses, objective, weights, scenarios) with other springs.
+
+        ``changes`` override keyword arguments of :class:`DesignProblem` (``objective``,
+        ``per_scenario``, ``no_joint_worse``, ...). The objective is the problem's own, before it was
+        combined over scenarios.
+        """
+        objective = self.objective.inner if isinstance(self.objective, ScenarioAggregate) else self.objective
+        options = {"objective": objective, "weights": self.weights_by_name(), "scenarios": self.scenarios or None,
+                   "per_scenario": self.per_scenario, "aggregate": self.aggregate,
+                   "no_joint_worse": self.no_joint_worse, **changes}
+        return type(self)(self.mechanism, self.base_workspace, list(springs), **options)
+
     def weights_by_name(self) -> dict[str, float]:
         return {joint.name: float(w) for joint, w in zip(self.mechanism.joints, self.weights)}
 

@@ -126,11 +126,7 @@ def _fixed_wire_problem(problem: DesignProblem, wires: dict[str, float], x: np.n
             spring = copy.copy(spring)
             spring.parameters = {**spring.parameters, WIRE: float(wires[spring.name])}
         springs.append(spring)
-    objective = getattr(problem.objective, "inner", problem.objective)
-    trial = type(problem)(problem.mechanism, problem.base_workspace, springs, objective=objective,
-                          weights=problem.weights_by_name(), scenarios=problem.scenarios or None,
-                          per_scenario=problem.per_scenario, aggregate=problem.aggregate,
-                          no_joint_worse=getattr(problem, "no_joint_worse", False))
+    trial = problem.with_springs(springs)
     start = dict(zip(problem.variables.names, x))
     variables = trial.variables
     for index, name in enumerate(variables.names):

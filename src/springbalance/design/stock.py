@@ -423,10 +423,7 @@ def _like(problem: DesignProblem, springs: list[Spring], objective) -> tuple[Des
     for entry in problem.per_scenario:
         matches = any(name == entry or name.startswith(entry + ".") for name in variables)
         (keep if matches else dropped).append(entry)
-    scenarios = problem.scenarios or None
-    return DesignProblem(problem.mechanism, problem.base_workspace, springs, objective=objective,
-                         weights=problem.weights_by_name(), scenarios=scenarios, per_scenario=keep,
-                         aggregate=problem.aggregate), dropped
+    return problem.with_springs(springs, objective=objective, per_scenario=keep, no_joint_worse=False), dropped
 
 
 def _variable_names(springs: list[Spring]) -> list[str]:

@@ -118,27 +118,30 @@ class ClearanceReport:
                 "collision_objects": list(self.collision_objects), "skipped": list(self.skipped),
                 "rows": [row.to_dict() for row in self.rows]}
 
+    def cells(self, row: ClearanceRow) -> list[str]:
+        """One row of the table as text: spring, radius [mm], clearance [mm], closest link, status,
+        pose (angles in degrees, prismatic joints in m)."""
+        if np.isfinite(row.distance):
+            distance = f"{row.distance * 1e3:.1f}"
+            status = ("OVERLAP" if row.distance < 0 else "CONTACT" if row.distance == 0
+                      else "below margin" if row.below_margin else "ok")
+        else:
+            distance, status = "-", "nothing to check"
+        pose = ", ".join(f"{name}={value:.4g} m" if self.joint_units.get(name) == "m" else f"{name}={np.degrees(value):.1f}°"
+                         for name, value in row.pose.items())
+        if row.scenario is not None:
+            pose = f"{pose} ({row.scenario})"
+        return [row.spring, f"{row.radius * 1e3:.1f}", distance, row.link or "-", status, pose or "-"]
+
     def lines(self) -> list[str]:
         """The report as text: a header, a table with one line per spring and a verdict.
 
         Distances are printed in mm, the pose's angles in degrees and prismatic joints in m.
         """
-        units = self.joint_units
         header = (f"Clearance of the springs to the collision geometry of {self.mechanism!r} "
                   f"over {self.poses} poses (margin {self.margin * 1e3:.1f} mm; a spring's anchor bodies are exempt)")
         table = [["spring", "radius [mm]", "clearance [mm]", "closest link", "status", "at pose"]]
-        for row in self.rows:
-            if np.isfinite(row.distance):
-                distance = f"{row.distance * 1e3:.1f}"
-                status = ("OVERLAP" if row.distance < 0 else "CONTACT" if row.distance == 0
-                          else "below margin" if row.below_margin else "ok")
-            else:
-                distance, status = "-", "nothing to check"
-            pose = ", ".join(f"{name}={value:.4g} m" if units.get(name) == "m" else f"{name}={np.degrees(value):.1f}°"
-                             for name, value in row.pose.items())
-            if row.scenario is not None:
-                pose = f"{pose} ({row.scenario})"
-            table.append([row.spring, f"{row.radius * 1e3:.1f}", distance, row.link or "-", status, pose or "-"])
+        table += [self.cells(row) for row in self.rows]
         widths = [max(len(line[column]) for line in table) for column in range(len(table[0]))]
         text = [header, ""]
         text += ["  ".join(cell.ljust(width) for cell, width in zip(line, widths)).rstrip() for line in table]

@@ -228,12 +228,9 @@ def clearance_html(result) -> list[str]:
              "<table><tr><th class=l>spring</th><th>radius [mm]</th><th>clearance [mm]</th>"
              "<th class=l>closest link</th><th class=l>status</th><th class=l>at pose</th></tr>"]
     for row in report.rows:
-        distance = f"{row.distance * 1e3:.1f}" if np.isfinite(row.distance) else "-"
-        status = "overlap" if row.distance < 0 else "below margin" if row.below_margin else "ok"
-        pose = ", ".join(f"{name}={np.degrees(value):.1f}°" if report.joint_units.get(name) != "m"
-                         else f"{name}={value:.4g} m" for name, value in row.pose.items())
-        parts.append(f"<tr><td class=l>{e(row.spring)}</td><td>{row.radius * 1e3:.1f}</td><td>{distance}</td>"
-                     f"<td class=l>{e(row.link or '-')}</td><td class=l>{status}</td><td class=l>{e(pose)}</td></tr>")
+        spring, radius, distance, link, status, pose = (e(cell) for cell in report.cells(row))
+        parts.append(f"<tr><td class=l>{spring}</td><td>{radius}</td><td>{distance}</td><td class=l>{link}</td>"
+                     f"<td class=l>{status.lower()}</td><td class=l>{pose}</td></tr>")
     parts.append("</table>")
     return parts
 

@@ -254,6 +254,11 @@ class TwoPointSpring(Spring):
         self.linear_parameters = tuple(key for key in type(self).linear_parameters
                                        if not (coupled and key == "stiffness"))
 
+    @property
+    def carries_mass(self) -> bool:
+        """Whether the spring's own mass is part of the model (see :meth:`spring_mass`)."""
+        return self._mass is not None
+
     def spring_mass(self, parameters):
         """``m_s`` [kg] for the given parameter values (0 without a mass)."""
         return 0.0 if self._mass is None else self._mass.value(parameters)
@@ -283,7 +288,7 @@ class TwoPointSpring(Spring):
         force = self.tension_per_length(length, parameters) * d  # F u [N], pulls b towards a
         torque = end_b.generalized(force) - end_a.generalized(force)   # F (J_pb - J_pa)^T u
         potential = self.potential(length, parameters)
-        if self._mass is not None:
+        if self.carries_mass:
             half = 0.5 * self.spring_mass(parameters)            # [kg] at each end
             hold = -half * sample.gravity                        # force that holds each half up [N]
             torque = torque + end_a.generalized(hold) + end_b.generalized(hold)

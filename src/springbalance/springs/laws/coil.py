@@ -129,6 +129,10 @@ class HelicalCoilSpring(TwoPointSpring):
         return parts
 
     # ---------------------------------------------------------------- its own mass
+    @property
+    def carries_mass(self) -> bool:
+        return self.own_mass
+
     def spring_mass(self, parameters):
         return self.coil_mass(parameters) if self.own_mass else 0.0
 
@@ -140,17 +144,6 @@ class HelicalCoilSpring(TwoPointSpring):
     @mass.setter
     def mass(self, value) -> None:    # TwoPointSpring sets None: the mass follows from the coil instead
         self._mass = None
-
-    def contribution(self, sample, parameters, points):
-        share = super().contribution(sample, parameters, points)
-        if not self.own_mass:
-            return share
-        end_a, end_b = sample.point(self.a.body, points["a"]), sample.point(self.b.body, points["b"])
-        half = 0.5 * self.coil_mass(parameters)                                    # [kg] at each end
-        hold = -half * sample.gravity                                              # [N]
-        share.torque = share.torque + end_a.generalized(hold) + end_b.generalized(hold)
-        share.potential = share.potential - half * (sample.gravity.T @ (end_a.position + end_b.position))  # [J]
-        return share
 
     def options(self) -> dict:
         record = super().options()
