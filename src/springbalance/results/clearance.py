@@ -18,7 +18,8 @@ For mesh collision geometry coal measures to the triangle surface: an overlap re
 small negative depth, and a capsule lying wholly inside a closed mesh, touching none of its
 triangles, is not seen. Box, cylinder, sphere and capsule shapes give exact signed distances.
 
-This is a check after the design, not a constraint of the optimisation.
+This is the independent check of a finished design. The optimisation's own clearance
+constraint (:mod:`springbalance.design.clearance`) is linearised from the same distances.
 """
 
 from __future__ import annotations
@@ -30,14 +31,12 @@ import numpy as np
 import pinocchio as pin
 
 from springbalance.errors import InputError
+from springbalance.model.collision import DEFAULT_RADIUS, CollisionScene, capsule_radius, collision_geometry
 from springbalance.model.workspace import Workspace
 
 if TYPE_CHECKING:
     from springbalance.model.mechanism import Mechanism
     from springbalance.results.result import DesignResult
-
-#: Capsule radius [m] of a spring without a helical spec sheet when none is given.
-DEFAULT_RADIUS = 0.01
 
 
 @dataclasses.dataclass(frozen=True)
@@ -157,43 +156,6 @@ class ClearanceReport:
         return "\n".join(self.lines())
 
 
-def collision_geometry(mechanism: Mechanism) -> pin.GeometryModel:
-    """The collision ``GeometryModel`` of the mechanism's URDF.
-
-    ``package://`` paths resolve against the URDF's folder, its parents and the
-    example-robot-data share folder (as for the visual geometry).
-
-    Raises:
-        InputError: the mechanism has no URDF (a bare Pinocchio model), the geometry
-            cannot be loaded, or the URDF has no collision geometry.
-    """
-    from springbalance.model import robots
-    from springbalance.model.mechanism import _quiet_native_stderr
-
-    source = mechanism.source
-    kind = source.get("kind")
-    if kind not in ("urdf", "robot", "urdf_string"):
-        raise InputError(f"mechanism {mechanism.name!r} was not loaded from a URDF (source {kind!r}); "
-                         "the clearance check needs the URDF's collision geometry")
-    directories = robots.mesh_directories(source)
-    where = repr(source["path"]) if kind in ("urdf", "robot") else "(URDF string)"
-    try:
-        with _quiet_native_stderr():
-            if kind == "urdf_string":
-                geometry = pin.buildGeomFromUrdfString(mechanism.model, source["text"], pin.GeometryType.COLLISION,
-                                                       package_dirs=directories)
-            else:
-                geometry = pin.buildGeomFromUrdf(mechanism.model, source["path"], pin.GeometryType.COLLISION,
-                                                 package_dirs=directories)
-    except (RuntimeError, ValueError, OSError) as error:
-        raise InputError(f"mechanism {mechanism.name!r}: the collision geometry of {where} could not be loaded: "
-                         f"{' '.join(str(error).split())[:300]}") from None
-    if geometry.ngeoms == 0:
-        raise InputError(f"mechanism {mechanism.name!r} has no collision geometry: the URDF {where} has no "
-                         "<collision> elements, so the clearance check has nothing to measure against")
-    return geometry
-
-
 def clearance(result: DesignResult, radius: float | None = None, samples: int | None = None,
               margin: float = 0.0, geometry: pin.GeometryModel | None = None) -> ClearanceReport:
     """Smallest distance from each spring of ``result`` to the arm's collision geometry.
@@ -224,11 +186,9 @@ def clearance(result: DesignResult, radius: float | None = None, samples: int | 
         raise InputError(f"clearance margin must be a finite number ≥ 0 [m], got {margin!r}")
     if samples is not None and (isinstance(samples, bool) or int(samples) != samples or samples < 1):
         raise InputError(f"clearance samples must be an integer ≥ 1, got {samples!r}")
-    import coal
-
     problem = result.problem
     mechanism = problem.mechanism
-    geometry = collision_geometry(mechanism) if geometry is None else geometry
+    scene = CollisionScene(mechanism, collision_geometry(mechanism) if geometry is None else geometry)
     base = problem.base_workspace
     if samples is None:
         joint_values = base.joint_values
@@ -237,22 +197,17 @@ def clearance(result: DesignResult, radius: float | None = None, samples: int | 
                                float(np.max(base.joint_values[:, joint.index_v]))] for joint in mechanism.joints}
         joint_values = Workspace.sobol(mechanism, n=int(samples), ranges=ranges, seed=0).joint_values
     configurations = mechanism.configurations(joint_values)
-
-    model = mechanism.model
-    objects = list(geometry.geometryObjects)
-    links = [model.frames[obj.parentFrame].name for obj in objects]
+    objects, links = scene.objects, scene.links
 
     # the capsules: per spring, its radius, exempt bodies and the anchor points of each scenario
     records = result.springs
     scenario_names = [scenario.name for scenario in problem.scenarios] or [None]
     capsules, skipped = [], []
-    for column, (spring, record) in enumerate(zip(problem.springs, records)):
+    for spring, record in zip(problem.springs, records):
         if "a" not in record or "b" not in record:
             skipped.append(spring.name)
             continue
-        sheet = record.get("helical")
-        spring_radius = (0.5 * float(sheet["outer_diameter"]) if sheet and sheet.get("outer_diameter")
-                         else (DEFAULT_RADIUS if radius is None else float(radius)))
+        spring_radius = capsule_radius(record, radius)
         bodies = (record["a"]["body"], record["b"]["body"])
         variants = []   # (scenario name, point a, point b), one per distinct pair of anchor points
         for index, name in enumerate(scenario_names):
@@ -262,31 +217,21 @@ def clearance(result: DesignResult, radius: float | None = None, samples: int | 
                 variants.append((name, *points))
         if len(variants) == 1:
             variants = [(None, variants[0][1], variants[0][2])]
-        checked = [i for i, link in enumerate(links) if link not in bodies]
         capsules.append({"name": spring.name, "radius": spring_radius, "bodies": bodies, "variants": variants,
-                         "frames": tuple(mechanism.frame_id(body) for body in bodies), "checked": checked,
-                         "best": (np.inf, None, None, None)})
+                         "frames": tuple(mechanism.frame_id(body) for body in bodies),
+                         "checked": scene.indices_except(bodies), "best": (np.inf, None, None, None)})
 
-    data, geometry_data = model.createData(), geometry.createData()
-    request = coal.DistanceRequest()
-    request.enable_signed_distance = True
     for sample, q in enumerate(configurations):
-        pin.forwardKinematics(model, data, q)
-        pin.updateFramePlacements(model, data)
-        pin.updateGeometryPlacements(model, data, geometry, geometry_data)
-        placements = [coal.Transform3s(np.array(p.rotation), np.array(p.translation)) for p in geometry_data.oMg]
+        scene.place(q)
         for capsule in capsules:
             frame_a, frame_b = capsule["frames"]
             for scenario, point_a, point_b in capsule["variants"]:
-                start = data.oMf[frame_a].act(point_a)
-                end = data.oMf[frame_b].act(point_b)
-                shape, placement = _capsule(start, end, capsule["radius"])
+                start = scene.frame(frame_a).act(point_a)
+                end = scene.frame(frame_b).act(point_b)
                 for index in capsule["checked"]:
-                    distance_result = coal.DistanceResult()
-                    distance = coal.distance(shape, placement, objects[index].geometry, placements[index],
-                                             request, distance_result)
+                    distance = scene.capsule_distance(start, end, capsule["radius"], index).distance
                     if distance < capsule["best"][0]:
-                        capsule["best"] = (float(distance), index, sample, scenario)
+                        capsule["best"] = (distance, index, sample, scenario)
 
     rows = []
     for capsule in capsules:
@@ -303,19 +248,3 @@ def clearance(result: DesignResult, radius: float | None = None, samples: int | 
                            collision_objects=[obj.name for obj in objects], skipped=skipped,
                            joint_units={joint.name: joint.unit for joint in mechanism.joints})
 
-
-def _capsule(start: np.ndarray, end: np.ndarray, radius: float):
-    """coal capsule of ``radius`` [m] around the segment ``start``–``end`` (world, [m]) and its placement."""
-    import coal
-
-    axis = np.asarray(end, dtype=float) - np.asarray(start, dtype=float)
-    length = float(np.linalg.norm(axis))
-    centre = (np.asarray(start, dtype=float) + np.asarray(end, dtype=float)) / 2
-    if length < 1e-12:
-        return coal.Sphere(radius), coal.Transform3s(np.eye(3), centre)
-    z = axis / length
-    helper = np.eye(3)[int(np.argmin(np.abs(z)))]   # the axis least aligned with the segment
-    x = np.cross(helper, z)
-    x /= np.linalg.norm(x)
-    rotation = np.column_stack([x, np.cross(z, x), z])  # capsule's local z along the segment
-    return coal.Capsule(radius, length), coal.Transform3s(rotation, centre)

@@ -6,7 +6,8 @@ import numpy as np
 
 from springbalance.design.solvers import FEASIBILITY_TOLERANCE
 from springbalance.errors import InputError
-from springbalance.results.clearance import clearance, collision_geometry
+from springbalance.model.collision import collision_geometry
+from springbalance.results.clearance import clearance
 
 
 def result_table(result) -> str:

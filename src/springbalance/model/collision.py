@@ -1,0 +1,243 @@
+"""The arm's collision geometry and distances to it (coal, through Pinocchio).
+
+A spring between two points is modelled as a **capsule**: a cylinder with hemispherical ends
+of radius ``r`` [m] around the straight segment between its two world end points. This module
+loads the ``<collision>`` elements of the mechanism's URDF (:func:`collision_geometry`), places
+them at a configuration (:class:`CollisionScene`), and measures signed distances [m] with
+``coal.distance``:
+
+- capsule to collision object (:meth:`CollisionScene.capsule_distance`), with the witness
+  points and the unit normal, from which the clearance constraints of the optimisation are
+  linearised (:mod:`springbalance.design.clearance`);
+- point in a body's frame to that body's own collision surface (:func:`surface_distance`),
+  for anchors mounted on a link (``on: collision``).
+
+A distance is negative when the shapes overlap (the penetration depth). For mesh geometry coal
+measures to the triangles: an overlap reads 0 or a small negative depth, and a shape wholly
+inside a closed mesh touching none of its triangles is not seen. ``convex=True`` replaces every
+mesh by its convex hull, which has a true signed distance and a normal everywhere, and
+contains the mesh, so a clearance measured to it is conservative.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import TYPE_CHECKING, Sequence
+
+import numpy as np
+import pinocchio as pin
+
+from springbalance.errors import InputError
+
+if TYPE_CHECKING:
+    from springbalance.model.mechanism import Mechanism
+
+#: Capsule radius [m] of a spring without a helical spec sheet when none is given.
+DEFAULT_RADIUS = 0.01
+
+
+def capsule_radius(record: dict, radius: float | None = None) -> float:
+    """Capsule radius [m] of a saved spring record (``DesignResult.springs``): half its helical spec
+    sheet's outer diameter, else ``radius``, else :data:`DEFAULT_RADIUS`."""
+    sheet = record.get("helical")
+    if sheet and sheet.get("outer_diameter"):
+        return 0.5 * float(sheet["outer_diameter"])
+    return DEFAULT_RADIUS if radius is None else float(radius)
+
+
+def collision_geometry(mechanism: Mechanism) -> pin.GeometryModel:
+    """The collision ``GeometryModel`` of the mechanism's URDF.
+
+    ``package://`` paths resolve against the URDF's folder, its parents and the
+    example-robot-data share folder (as for the visual geometry).
+
+    Raises:
+        InputError: the mechanism has no URDF (a bare Pinocchio model), the geometry
+            cannot be loaded, or the URDF has no collision geometry.
+    """
+    from springbalance.model import robots
+    from springbalance.model.mechanism import _quiet_native_stderr
+
+    source = mechanism.source
+    kind = source.get("kind")
+    if kind not in ("urdf", "robot", "urdf_string"):
+        raise InputError(f"mechanism {mechanism.name!r} was not loaded from a URDF (source {kind!r}); "
+                         "clearance and mounting need the URDF's collision geometry")
+    directories = robots.mesh_directories(source)
+    where = repr(source["path"]) if kind in ("urdf", "robot") else "(URDF string)"
+    try:
+        with _quiet_native_stderr():
+            if kind == "urdf_string":
+                geometry = pin.buildGeomFromUrdfString(mechanism.model, source["text"], pin.GeometryType.COLLISION,
+                                                       package_dirs=directories)
+            else:
+                geometry = pin.buildGeomFromUrdf(mechanism.model, source["path"], pin.GeometryType.COLLISION,
+                                                 package_dirs=directories)
+    except (RuntimeError, ValueError, OSError) as error:
+        raise InputError(f"mechanism {mechanism.name!r}: the collision geometry of {where} could not be loaded: "
+                         f"{' '.join(str(error).split())[:300]}") from None
+    if geometry.ngeoms == 0:
+        raise InputError(f"mechanism {mechanism.name!r} has no collision geometry: the URDF {where} has no "
+                         "<collision> elements, so there is nothing to keep the springs clear of")
+    return geometry
+
+
+def capsule(start: np.ndarray, end: np.ndarray, radius: float):
+    """coal capsule of ``radius`` [m] around the segment ``start``–``end`` (world, [m]) and its placement."""
+    import coal
+
+    axis = np.asarray(end, dtype=float) - np.asarray(start, dtype=float)
+    length = float(np.linalg.norm(axis))
+    centre = (np.asarray(start, dtype=float) + np.asarray(end, dtype=float)) / 2
+    if length < 1e-12:
+        return coal.Sphere(radius), coal.Transform3s(np.eye(3), centre)
+    z = axis / length
+    helper = np.eye(3)[int(np.argmin(np.abs(z)))]   # the axis least aligned with the segment
+    x = np.cross(helper, z)
+    x /= np.linalg.norm(x)
+    rotation = np.column_stack([x, np.cross(z, x), z])  # capsule's local z along the segment
+    return coal.Capsule(radius, length), coal.Transform3s(rotation, centre)
+
+
+@dataclasses.dataclass(frozen=True)
+class Contact:
+    """The closest approach of a capsule and one collision object.
+
+    Attributes:
+        distance: signed distance [m] (negative: penetration depth).
+        index: the collision object's index in the geometry model.
+        on_capsule: the capsule's witness point (world, [m]).
+        on_object: the object's witness point (world, [m]).
+        normal: unit vector (world) from the object towards the capsule: moving the capsule
+            along it by δ raises the distance by δ.
+    """
+
+    distance: float
+    index: int
+    on_capsule: np.ndarray
+    on_object: np.ndarray
+    normal: np.ndarray
+
+
+def _convex(geometry: pin.GeometryModel) -> pin.GeometryModel:
+    """A copy of ``geometry`` in which every mesh (BVH) is replaced by its convex hull."""
+    import coal
+
+    hulls = pin.GeometryModel()
+    for obj in geometry.geometryObjects:
+        obj = obj.copy()
+        shape = obj.geometry
+        if isinstance(shape, coal.BVHModelBase):
+            shape.buildConvexRepresentation(False)
+            obj.geometry = shape.convex
+        hulls.addGeometryObject(obj)
+    return hulls
+
+
+class CollisionScene:
+    """The arm's collision objects placed at one configuration at a time.
+
+    Args:
+        mechanism: the arm.
+        geometry: its collision geometry (default: :func:`collision_geometry`).
+        convex: replace meshes by their convex hulls (see the module documentation).
+    """
+
+    def __init__(self, mechanism: Mechanism, geometry: pin.GeometryModel | None = None, convex: bool = False):
+        import coal
+
+        self.mechanism = mechanism
+        geometry = collision_geometry(mechanism) if geometry is None else geometry
+        self.geometry = _convex(geometry) if convex else geometry
+        self.objects = list(self.geometry.geometryObjects)
+        model = mechanism.model
+        #: the body (URDF link) that carries each collision object
+        self.links = [model.frames[obj.parentFrame].name for obj in self.objects]
+        self._data, self._geometry_data = model.createData(), self.geometry.createData()
+        self._request = coal.DistanceRequest()
+        self._request.enable_signed_distance = True
+        self._placements: list = []
+
+    def indices_except(self, bodies: Sequence[str]) -> list[int]:
+        """Indices of the collision objects not carried by any of ``bodies``."""
+        return [i for i, link in enumerate(self.links) if link not in bodies]
+
+    def place(self, configuration: np.ndarray) -> None:
+        """Move the arm and its collision objects to configuration ``q`` (Pinocchio's order)."""
+        import coal
+
+        model = self.mechanism.model
+        pin.forwardKinematics(model, self._data, configuration)
+        pin.updateFramePlacements(model, self._data)
+        pin.updateGeometryPlacements(model, self._data, self.geometry, self._geometry_data)
+        self._placements = [coal.Transform3s(np.array(p.rotation), np.array(p.translation))
+                            for p in self._geometry_data.oMg]
+
+    def frame(self, frame_id: int) -> pin.SE3:
+        """World placement of a frame at the current configuration."""
+        return self._data.oMf[frame_id]
+
+    def capsule_distance(self, start: np.ndarray, end: np.ndarray, radius: float, index: int) -> Contact:
+        """Signed distance from the capsule ``start``–``end`` of ``radius`` [m] (world) to object ``index``."""
+        import coal
+
+        shape, placement = capsule(start, end, radius)
+        result = coal.DistanceResult()
+        distance = coal.distance(shape, placement, self.objects[index].geometry, self._placements[index],
+                                 self._request, result)
+        return Contact(float(distance), index, np.array(result.getNearestPoint1()),
+                       np.array(result.getNearestPoint2()), -np.array(result.normal))
+
+
+def capsule_contact(start_1, end_1, radius_1, start_2, end_2, radius_2) -> Contact:
+    """Signed distance between two capsules (world, [m]); ``normal`` points from capsule 2 to capsule 1,
+    ``on_capsule`` lies on capsule 1 and ``on_object`` on capsule 2 (``index`` is -1)."""
+    import coal
+
+    request = coal.DistanceRequest()
+    request.enable_signed_distance = True
+    result = coal.DistanceResult()
+    shape_1, placement_1 = capsule(start_1, end_1, radius_1)
+    shape_2, placement_2 = capsule(start_2, end_2, radius_2)
+    distance = coal.distance(shape_1, placement_1, shape_2, placement_2, request, result)
+    return Contact(float(distance), -1, np.array(result.getNearestPoint1()), np.array(result.getNearestPoint2()),
+                   -np.array(result.normal))
+
+
+def body_objects(mechanism: Mechanism, geometry: pin.GeometryModel, body: str) -> list:
+    """The collision objects carried by ``body`` (or by links welded to it by fixed joints are *not*
+    included: only the objects whose parent frame is the body's own link frame)."""
+    return [obj for obj in geometry.geometryObjects if mechanism.model.frames[obj.parentFrame].name == body]
+
+
+def surface_distance(mechanism: Mechanism, geometry: pin.GeometryModel, body: str, point: np.ndarray):
+    """Signed distance [m] from ``point`` (body frame, [m]) to the union of ``body``'s collision objects,
+    the closest surface point (body frame) and the unit outward normal there (body frame).
+
+    Meshes count as their convex hulls. Raises :class:`InputError` when ``body`` has no collision geometry.
+    """
+    import coal
+
+    objects = body_objects(mechanism, geometry, body)
+    if not objects:
+        raise InputError(f"body {body!r} has no collision geometry in the URDF, so an anchor cannot be mounted "
+                         "on it with 'on: collision'; give a box, point, segment or plane instead")
+    frame = mechanism.model.frames[mechanism.frame_id(body)].placement   # the body frame in its joint's frame
+    request = coal.DistanceRequest()
+    request.enable_signed_distance = True
+    probe = coal.Sphere(1e-9)
+    best = None
+    for obj in objects:
+        shape = obj.geometry
+        if isinstance(shape, coal.BVHModelBase):
+            shape.buildConvexRepresentation(False)
+            shape = shape.convex
+        local = frame.actInv(obj.placement)        # the object in the body frame
+        result = coal.DistanceResult()
+        distance = coal.distance(probe, coal.Transform3s(np.eye(3), np.asarray(point, dtype=float)), shape,
+                                 coal.Transform3s(np.array(local.rotation), np.array(local.translation)),
+                                 request, result)
+        distance = float(distance) + 1e-9
+        if best is None or distance < best[0]:
+            best = (distance, np.array(result.getNearestPoint2()), -np.array(result.normal))
+    return best
