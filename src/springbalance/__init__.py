@@ -12,6 +12,7 @@ from springbalance._version import __version__
 from springbalance.design import exact
 from springbalance.design.objectives import OBJECTIVES
 from springbalance.design.problem import DesignProblem, Evaluation
+from springbalance.design.clearance import Clearance
 from springbalance.design.scenarios import Payload, Scenario, payload_scenarios
 from springbalance.errors import ConfigError, InputError, SolverError, SpringBalanceError
 from springbalance.model.mechanism import GROUND, Joint, Mechanism
@@ -28,7 +29,7 @@ from springbalance.springs.params import Anchor, Free, Plane, Segment
 from springbalance.springs.sizing import MATERIALS, Helical, HelicalDesign, Material, size_helical_spring
 
 __all__ = [
-    "Anchor", "CoilMass", "CompressionSpring", "ConfigError", "ConstantForceSpring", "Coupling", "DesignProblem",
+    "Anchor", "Clearance", "CoilMass", "CompressionSpring", "ConfigError", "ConstantForceSpring", "Coupling", "DesignProblem",
     "DesignResult", "Evaluation", "ExtensionSpring", "Free", "GROUND", "GasSpring", "Helical", "HelicalCompressionSpring", "HelicalDesign",
     "HelicalExtensionSpring",
     "InputError", "Joint", "MATERIALS", "Material", "Mechanism", "OBJECTIVES", "Payload", "PayloadRange",

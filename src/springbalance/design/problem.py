@@ -31,6 +31,7 @@ from springbalance.errors import InputError
 from springbalance.model.mechanism import Mechanism
 from springbalance.design.objectives import NlpPieces, Objective, objective_named
 from springbalance.design.scenarios import Scenario, ScenarioWorkspace, check_scenarios
+from springbalance.design.clearance import Clearance, LinearRows, check_mounts, fit_to_arm, mount_rows, resolve_mounts
 from springbalance.design.coil_start import coil_springs, coil_start
 from springbalance.design.solvers import solve_problem
 from springbalance.design.standard_wire import coils_with_free_wire, round_wires
@@ -140,12 +141,17 @@ class DesignProblem:
             the workspace (per scenario with scenarios), floored at ``1e-6`` of the largest
             (:attr:`joint_limits`): no joint ends up worse than without springs. Both solver methods
             respect them (least squares through its augmented Lagrangian, IPOPT as rows).
+        clearance: a :class:`~springbalance.design.clearance.Clearance` (margin [m], check poses):
+            every two-point spring keeps that distance from the arm's collision geometry (and,
+            optionally, from the other springs) over the workspace. :meth:`solve` enforces it with
+            linearised rows (:attr:`linear_rows`), refreshed until a check finds no violation.
+            Anchors mounted ``on: collision`` are enforced the same way, with or without it.
     """
 
     def __init__(self, mechanism: Mechanism, workspace: Workspace, springs: Sequence[Spring],
                  objective: str | Objective = "rms", weights: Mapping[str, float] | None = None,
                  scenarios: Sequence[Scenario] | None = None, per_scenario: Sequence[str] = (),
-                 aggregate: str = "sum", no_joint_worse: bool = False):
+                 aggregate: str = "sum", no_joint_worse: bool = False, clearance=None):
         if workspace.mechanism is not mechanism:
             raise InputError("the workspace was sampled for a different mechanism object; build it from the same Mechanism")
         if aggregate not in AGGREGATES:
@@ -157,7 +163,7 @@ class DesignProblem:
         if self.scenarios:
             workspace = ScenarioWorkspace(workspace, self.scenarios)
         self.mechanism, self.workspace = mechanism, workspace
-        self.springs = _named_springs(springs)
+        self.springs = resolve_mounts(mechanism, _named_springs(springs))
         self.objective = objective_named(objective)
         if self.objective.needs_path and not workspace.ordered:
             raise InputError(f"objective {self.objective.name!r} needs an ordered workspace (grid, sweep or trajectory), "
@@ -185,7 +191,14 @@ class DesignProblem:
         self.torque_scale = float(np.sqrt(np.mean(gravity**2))) or 1.0       # S [N·m]
         self.potential_scale = float(np.std(kinematics.potential)) or 1.0    # [J]
         self._evaluator = None
+        self.least_squares_cache = None   # the solvers' compiled residuals, kept across solves
+        #: rows ``G x + h ≥ 0`` affine in the design variables (clearance and mounting cuts), or None
+        self.linear_rows: LinearRows | None = None
+        if clearance is not None and not isinstance(clearance, Clearance):
+            raise InputError(f"clearance must be a springbalance.Clearance, got {type(clearance).__name__}")
+        self.clearance = clearance
         self._check_springs()
+        self.mounts = check_mounts(self)
 
     # ---------------------------------------------------------------- variables
     @property
@@ -216,6 +229,29 @@ class DesignProblem:
         n = self.workspace.size
         return Evaluation(x, tau.reshape(n, -1), potential.reshape(n), lengths.reshape(n, -1),
                           tensions.reshape(n, -1), rows.reshape(n, -1))
+
+    def linear_matrix(self) -> tuple[np.ndarray, np.ndarray]:
+        """The :attr:`linear_rows` over this problem's design vector: ``(G, h)`` with rows ``G x + h ≥ 0`` [m]
+        (an empty ``G`` when there are none)."""
+        rows = self.linear_rows
+        n = self.variables.size
+        if rows is None or not len(rows):
+            return np.zeros((0, n)), np.zeros(0)
+        index = {name: i for i, name in enumerate(self.variables.names)}
+        matrix = np.zeros((len(rows), n))
+        for column, name in enumerate(rows.names):
+            if name in index:
+                matrix[:, index[name]] += rows.matrix[:, column]
+            elif np.any(rows.matrix[:, column] != 0):
+                raise InputError(f"linear rows depend on {name!r}, which is not a design variable of this problem")
+        return matrix, np.asarray(rows.offset, dtype=float)
+
+    def linear_violation(self, x) -> float:
+        """Largest violation [m] of the :attr:`linear_rows` at design ``x`` (0 when there are none or all hold)."""
+        matrix, offset = self.linear_matrix()
+        if not offset.size:
+            return 0.0
+        return float(max(0.0, -np.min(matrix @ np.asarray(x, dtype=float) + offset)))
 
     def objective_value(self, evaluation: Evaluation) -> float:
         return self.objective.value(evaluation.tau * self.weights, evaluation.potential, self.path_steps)
@@ -254,6 +290,11 @@ class DesignProblem:
                 all_rows.append(rows[constant, 0])
         if pieces.rows is not None:
             all_rows.append(pieces.rows)
+        matrix, offset = self.linear_matrix()
+        if offset.size:   # G x + h = G (lower + w z) + h, in units of the rows' scale
+            scale = self.linear_rows.scale
+            all_rows.append(ca.DM(matrix * (upper - lower)[None, :] / scale) @ design
+                            + ca.DM((matrix @ lower + offset) / scale))
         return Nlp(ca.vertcat(*variables), np.concatenate(z_lower), np.concatenate(z_upper), pieces.cost,
                    ca.vertcat(*all_rows) if all_rows else ca.MX(0, 1), self.variables.size, pieces.start)
 
@@ -280,10 +321,15 @@ class DesignProblem:
         # helical coils start from the ideal twin's optimum, wound into a coil (design/coil_start.py)
         initial = coil_start(self, starts=starts, seed=seed, method=method, max_iterations=max_iterations,
                              tolerance=tolerance) if coil_springs(self) else None
-        solution = solve_problem(self, starts=starts, seed=seed, method=method, progress=progress,
-                                 max_iterations=max_iterations, tolerance=tolerance,
-                                 polish_iterations=polish_iterations, initial=initial)
+        options = {"method": method, "max_iterations": max_iterations, "tolerance": tolerance,
+                   "polish_iterations": polish_iterations}
+        fitting = self.clearance is not None or self.mounts
+        if self.mounts:   # mounted anchors start on their surface planes, linearised at the first guess
+            self.linear_rows = mount_rows(self, self.variables.start)
+        solution = solve_problem(self, starts=starts, seed=seed, progress=progress, initial=initial, **options)
         info = {}
+        if fitting:
+            solution, info["fit"] = fit_to_arm(self, solution, **options)
         if standard_wire and coils_with_free_wire(self):
             solution, rounding = round_wires(self, solution, method=method, max_iterations=max_iterations,
                                              tolerance=tolerance, polish_iterations=polish_iterations)
@@ -340,6 +386,8 @@ class DesignProblem:
         ``{"scenarios": {cases, per_scenario, aggregate}}`` with scenarios, and ``"no_joint_worse": true``
         when set (``{}`` when neither)."""
         record = {"no_joint_worse": True} if self.no_joint_worse else {}
+        if self.clearance is not None:
+            record["clearance"] = self.clearance.to_dict()
         if not self.scenarios:
             return record
         return {"scenarios": {"cases": [scenario.to_dict() for scenario in self.scenarios],
@@ -347,9 +395,11 @@ class DesignProblem:
 
     @staticmethod
     def scenario_options(record: dict) -> dict:
-        """Keyword arguments (scenarios, per_scenario, aggregate, no_joint_worse) from a saved design's
+        """Keyword arguments (scenarios, per_scenario, aggregate, no_joint_worse, clearance) from a saved design's
         record (what :meth:`scenarios_record` wrote)."""
         options = {"no_joint_worse": True} if record.get("no_joint_worse") else {}
+        if record.get("clearance"):
+            options["clearance"] = Clearance.from_dict(record["clearance"], "design clearance")
         saved = record.get("scenarios")
         if not saved:
             return options
@@ -381,8 +431,10 @@ class DesignProblem:
         objective = self.objective.inner if isinstance(self.objective, ScenarioAggregate) else self.objective
         options = {"objective": objective, "weights": self.weights_by_name(), "scenarios": self.scenarios or None,
                    "per_scenario": self.per_scenario, "aggregate": self.aggregate,
-                   "no_joint_worse": self.no_joint_worse, **changes}
-        return type(self)(self.mechanism, self.base_workspace, list(springs), **options)
+                   "no_joint_worse": self.no_joint_worse, "clearance": self.clearance, **changes}
+        problem = type(self)(self.mechanism, self.base_workspace, list(springs), **options)
+        problem.linear_rows = self.linear_rows
+        return problem
 
     def weights_by_name(self) -> dict[str, float]:
         return {joint.name: float(w) for joint, w in zip(self.mechanism.joints, self.weights)}

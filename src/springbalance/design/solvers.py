@@ -209,22 +209,26 @@ class _MultiStartSolver:
             evaluation = problem.evaluate(problem.scale(z))
             needs_nlp = self.method == "ipopt" or (
                 self.method == "auto"
-                and (not problem.objective.least_squares or evaluation.max_violation > FEASIBILITY_TOLERANCE))
+                and (not problem.objective.least_squares
+                     or max(evaluation.max_violation, problem.linear_violation(evaluation.x)) > FEASIBILITY_TOLERANCE))
             if needs_nlp:
                 z, status, more = self._ipopt_solve(z, evaluation)
                 iterations += more
         evaluation = problem.evaluate(problem.scale(z))
         tiebreak = problem.objective.tiebreak(evaluation.tau * problem.weights, evaluation.potential, problem.path_steps)
+        violation = max(evaluation.max_violation, problem.linear_violation(evaluation.x))
         return StartRecord(index, np.asarray(z0), evaluation.x, problem.objective_value(evaluation),
-                           evaluation.max_violation, status, iterations, time.perf_counter() - clock, tiebreak)
+                           violation, status, iterations, time.perf_counter() - clock, tiebreak)
 
     # ------------------------------------------------------------------ least squares
     def _least_squares(self, z0, prepare=True):
         """Bounded Gauss–Newton (SciPy TRF) on the residuals; practical constraints by an
         augmented Lagrangian whose penalty rows ``max(0, λ - μ c)/√μ`` join the residuals."""
         problem = self.problem
-        if self._ls is None:
-            self._ls = _LeastSquaresResiduals(problem)
+        if self._ls is None:   # compiled once per problem, kept across solves (the fit loop re-solves)
+            if problem.least_squares_cache is None:
+                problem.least_squares_cache = _LeastSquaresResiduals(problem)
+            self._ls = problem.least_squares_cache
         ls = self._ls
         ls.set_penalty(None, 0.0)
         z = np.clip(z0, 0.0, 1.0)
@@ -402,8 +406,8 @@ class _LeastSquaresResiduals:
         n, nv = problem.workspace.size, problem.mechanism.nv
         blocks = model.constraint_blocks
         self.row_scale = np.array([block.scale for block in blocks]) if blocks else np.ones(0)
-        self.smallest_row_scale = float(np.min(self.row_scale)) if blocks else 1.0
-        self.n_constraint_rows = n * len(blocks)
+        self.n_sample_rows = n * len(blocks)
+        self.bounds = (lower, upper)
 
         z = ca.SX.sym("z", problem.variables.size)
         data = ca.SX.sym("data", model.data_size)
@@ -423,6 +427,25 @@ class _LeastSquaresResiduals:
     def set_penalty(self, multipliers, penalty: float) -> None:
         self.multipliers, self.penalty = multipliers, penalty
 
+    def _linear(self):
+        """The problem's linear rows over ``z``, scaled: ``(A, b)`` with rows ``A z + b`` (empty when none)."""
+        matrix, offset = self.problem.linear_matrix()
+        if not offset.size:
+            return matrix, offset
+        lower, upper = self.bounds
+        scale = self.problem.linear_rows.scale
+        return matrix * (upper - lower)[None, :] / scale, (matrix @ lower + offset) / scale
+
+    @property
+    def n_constraint_rows(self) -> int:
+        return self.n_sample_rows + self._linear()[1].size
+
+    @property
+    def smallest_row_scale(self) -> float:
+        """The smallest row scale [m or N]: a scaled violation times it is a physical one (at most)."""
+        scales = list(self.row_scale) + ([self.problem.linear_rows.scale] if self._linear()[1].size else [])
+        return float(min(scales)) if scales else 1.0
+
     def _evaluate(self, z):
         if self._last_z is None or not np.array_equal(z, self._last_z):
             self.outputs = self.evaluator(z)
@@ -430,8 +453,9 @@ class _LeastSquaresResiduals:
         return self.outputs
 
     def constraint_rows(self, z) -> np.ndarray:
-        """Scaled constraint rows (N·n_c), ≥ 0 when feasible."""
-        return self._evaluate(z)[2].reshape(-1)
+        """Scaled constraint rows (N·n_c, then the linear rows), ≥ 0 when feasible."""
+        matrix, offset = self._linear()
+        return np.concatenate([self._evaluate(z)[2].reshape(-1), matrix @ z + offset])
 
     def residuals_and_jacobian(self, z):
         residual, jacobian, rows, row_jacobian = self._evaluate(z)
@@ -443,11 +467,14 @@ class _LeastSquaresResiduals:
             J = (J.reshape(blocks, -1, n_x) - J.reshape(blocks, -1, n_x).mean(axis=1, keepdims=True)).reshape(-1, n_x)
         if self.multipliers is None:
             return r, J
-        shifted = self.multipliers - self.penalty * rows.reshape(-1)
+        matrix, offset = self._linear()
+        rows = np.concatenate([rows.reshape(-1), matrix @ z + offset])
+        row_jacobian = np.vstack([row_jacobian.reshape(-1, n_x), matrix])
+        shifted = self.multipliers - self.penalty * rows
         active = shifted > 0
         penalty_r = np.where(active, shifted, 0.0) / np.sqrt(self.penalty)
         penalty_J = np.zeros((active.size, n_x))
-        penalty_J[active] = -np.sqrt(self.penalty) * row_jacobian.reshape(-1, n_x)[active]
+        penalty_J[active] = -np.sqrt(self.penalty) * row_jacobian[active]
         return np.concatenate([r, penalty_r]), np.vstack([J, penalty_J])
 
 

@@ -1,7 +1,7 @@
 """Configuration files (YAML or JSON) → a :class:`~springbalance.design.problem.DesignProblem` + solve options.
 
 A config file is one mapping with the sections ``mechanism``, ``workspace``, ``springs``
-(required) and ``objective``, ``weights``, ``solve``, ``scenarios``, ``no_joint_worse`` (optional); README.md ("Config
+(required) and ``objective``, ``weights``, ``solve``, ``scenarios``, ``no_joint_worse``, ``clearance`` (optional); README.md ("Config
 reference") documents every key, and :mod:`springbalance.io.schema` holds the schema (pydantic
 models, whose JSON Schema ``springbalance schema`` prints). A config is read in three steps:
 
@@ -37,6 +37,7 @@ from springbalance.io.inputs import read_input_text
 from springbalance.io import schema
 from springbalance.io.yaml_loader import DuplicateKeyError, load_json, load_yaml
 from springbalance.model.mechanism import Mechanism
+from springbalance.design.clearance import Clearance
 from springbalance.design.problem import DesignProblem
 from springbalance.springs.laws import Spring
 from springbalance.springs.records import spring_from_dict
@@ -115,8 +116,10 @@ def config_from_dict(record, base_dir: str | Path = ".", label: str = "config", 
         weights = _weights(mechanism, model.weights, f"{label}: weights")
         solve_options = _solve_options(model.solve)
         scenario_options = _scenarios(mechanism, model.scenarios, f"{label}: scenarios")
+        clearance = (Clearance.from_dict(model.clearance.model_dump(exclude_none=True), f"{label}: clearance")
+                     if model.clearance is not None else None)
         problem = DesignProblem(mechanism, workspace, springs, objective=model.objective, weights=weights,
-                                no_joint_worse=model.no_joint_worse, **scenario_options)
+                                no_joint_worse=model.no_joint_worse, clearance=clearance, **scenario_options)
     return Config(path, mechanism, workspace, springs, problem, solve_options)
 
 

@@ -43,7 +43,8 @@ JSON_SCHEMA_DIALECT = "https://json-schema.org/draft/2020-12/schema"
 TITLE = "springbalance config"
 
 #: top-level sections of a config file, and those it must have.
-SECTIONS = ("mechanism", "workspace", "springs", "objective", "weights", "solve", "scenarios", "no_joint_worse")
+SECTIONS = ("mechanism", "workspace", "springs", "objective", "weights", "solve", "scenarios", "no_joint_worse",
+            "clearance")
 REQUIRED_SECTIONS = ("mechanism", "workspace", "springs")
 WORKSPACE_KINDS = ("grid", "sobol", "random", "sweep", "array")
 #: which workspace keys apply to which kind (``kind`` and ``degrees`` apply to all).
@@ -237,8 +238,16 @@ class Plane(Record):
     init: Vector2 = _optional("first start of (s, t) [m]; default the middle")
 
 
+class MountPlane(Record):
+    """A mounting plane: a point on it and its normal, in the anchor body's frame (the world for universe)."""
+
+    point: Vector3 = Field(description="a point of the plane [m]")
+    normal: Direction = Field(description="the plane's normal")
+
+
 class Anchor(Record):
-    """One end of a spring: a body and a point of it, fixed or free (at most one of point, box, segment, plane)."""
+    """One end of a spring: a body and a point of it, fixed or free (at most one of point, box, segment, plane),
+    optionally mounted on a surface (``on``)."""
 
     model_config = ConfigDict(json_schema_extra=_at_most_one(("point", "box", "segment", "plane")))
 
@@ -247,6 +256,25 @@ class Anchor(Record):
     box: Box = _optional("free in an axis-aligned box [m]")
     segment: Segment = _optional("free on a segment")
     plane: Plane = _optional("free in a rectangle of a plane")
+    on: Union[Literal["collision", "floor"], MountPlane] = _optional(
+        "mount the anchor on a surface: collision (the body's own collision surface, within the box or around "
+        "the geometry), floor (the world plane z = 0, within the box) or a plane {point, normal} (within the box)")
+    offset: NonNegative = _optional("with on: collision, the distance [m] out from the surface (a bracket)",
+                                    shown=0.0)
+
+
+class Clearance(Record):
+    """How far the springs keep from the arm's links (docs/model.md §11)."""
+
+    margin: NonNegative = Field(0.005, description="smallest distance [m] between a spring and a link it is not "
+                                                   "attached to, over the workspace")
+    check_samples: Counting = Field(1024, description="poses checked while fitting (a 4× denser set is "
+                                                         "checked at the end)")
+    radius: Positive = _optional("capsule radius [m] of springs without a helical spec sheet (default 0.01)")
+    between_springs: bool = Field(False, description="keep the springs the margin from each other too")
+    buffer: NonNegative = _optional("extra distance [m] asked for between checked poses (default 10 % of the "
+                                    "margin, at least 0.5 mm)")
+    rounds: Counting = Field(12, description="most re-solves of the fitting loop")
 
 
 # ---------------------------------------------------------------------- springs, from the registry
@@ -612,6 +640,8 @@ def _config_model(laws: tuple) -> type[Record]:
         scenarios=(Optional[Scenarios], Field(None, description="load cases (payloads, mass scales)")),
         no_joint_worse=(bool, Field(False, description="constrain every joint with a weight > 0 to stay at or "
                                                        "below its unbalanced peak torque at every sample")),
+        clearance=(Optional[Clearance], Field(None, description="keep every spring this far from the arm's "
+                                                                "collision geometry")),
     )
 
 
@@ -626,6 +656,7 @@ class WorkspaceFile(Record):
     solve: Any = None
     scenarios: Any = None
     no_joint_worse: Any = None
+    clearance: Any = None
 
 
 # ---------------------------------------------------------------------- JSON Schema

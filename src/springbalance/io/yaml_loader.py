@@ -2,7 +2,8 @@
 
 PyYAML follows YAML 1.1, whose floats need a dot and a signed exponent (``1.0e+4``): plain
 ``1e4`` or ``2E-3`` would be read as strings. :class:`ConfigLoader` also reads these exponent
-forms as numbers. Implicit resolvers apply to *plain* scalars only, so a quoted ``"2e3"`` stays
+forms as numbers, and takes booleans from YAML 1.2 (``true``/``false``; ``on``, ``off``, ``yes``
+and ``no`` stay strings). Implicit resolvers apply to *plain* scalars only, so a quoted ``"2e3"`` stays
 the string ``2e3``.
 
 A mapping that gives the same key twice is an error (:class:`DuplicateKeyError`, naming the key,
@@ -18,6 +19,10 @@ import re
 import yaml
 
 FLOAT_TAG = "tag:yaml.org,2002:float"
+BOOL_TAG = "tag:yaml.org,2002:bool"
+#: Booleans as YAML 1.2 has them: ``true``/``false`` only. YAML 1.1 also reads yes/no/on/off as
+#: booleans, which would turn an anchor's ``on: floor`` key into ``True: floor``.
+BOOL = re.compile(r"^(?:true|True|TRUE|false|False|FALSE)$")
 MERGE_TAG = "tag:yaml.org,2002:merge"
 
 #: YAML 1.1 floats (PyYAML's resolver), plus exponents without a dot or without a sign.
@@ -46,7 +51,7 @@ class DuplicateKeyError(yaml.YAMLError):
 class ConfigLoader(yaml.SafeLoader):
     """:class:`yaml.SafeLoader` with exponent-form floats and duplicate keys rejected."""
 
-    yaml_implicit_resolvers = {first: [(tag, regexp) for tag, regexp in resolvers if tag != FLOAT_TAG]
+    yaml_implicit_resolvers = {first: [(tag, regexp) for tag, regexp in resolvers if tag not in (FLOAT_TAG, BOOL_TAG)]
                                for first, resolvers in yaml.SafeLoader.yaml_implicit_resolvers.items()}
 
     def get_single_data(self):
@@ -82,6 +87,7 @@ class ConfigLoader(yaml.SafeLoader):
 
 
 ConfigLoader.add_implicit_resolver(FLOAT_TAG, FLOAT, list("-+0123456789."))
+ConfigLoader.add_implicit_resolver(BOOL_TAG, BOOL, list("tTfF"))
 
 
 def load_yaml(text: str):

@@ -22,6 +22,7 @@ from springbalance.model.mechanism import Mechanism
 from springbalance.design.objectives import OBJECTIVES
 from springbalance.design.problem import DesignProblem, register_result_type
 from springbalance.design.standard_wire import WireRounding
+from springbalance.design.clearance import FitRecord
 from springbalance.springs.sizing import size_helical_spring
 from springbalance.springs.mass import CoilMass
 from springbalance.springs.records import spring_from_dict
@@ -55,13 +56,15 @@ class DesignResult:
 
     def __init__(self, problem: DesignProblem, x: npt.ArrayLike, starts: Iterable[StartRecord] = (),
                  method: str = "evaluate", seed: int | None = None, status: str = "evaluated",
-                 wire_rounding: WireRounding | None = None) -> None:
+                 wire_rounding: WireRounding | None = None, fit: FitRecord | None = None) -> None:
         self.problem = problem
         self.x = np.asarray(x, dtype=float)
         self.starts = list(starts)
         self.method, self.seed, self.status = method, seed, status
         #: what rounding the coils' wires to standard sizes cost (None when nothing was rounded)
         self.wire_rounding = wire_rounding
+        #: what fitting the springs to the arm (clearance, mounting) did and cost (None when not asked for)
+        self.fit = fit
         self.evaluation = problem.evaluate(self.x)
 
     # ---------------------------------------------------------------- values
@@ -321,7 +324,8 @@ class DesignResult:
             "sizing": {name: design.to_dict() for name, design in self.helical_sizing().items()},
             "solver": {"method": self.method, "seed": self.seed, "status": self.status, "spread": self.spread(),
                        "starts": [record.to_dict() for record in self.starts],
-                       **({"standard_wire": self.wire_rounding.to_dict()} if self.wire_rounding else {})},
+                       **({"standard_wire": self.wire_rounding.to_dict()} if self.wire_rounding else {}),
+                       **({"fit": self.fit.to_dict()} if self.fit else {})},
             "metrics": self.metrics(),
             "warnings": [flag.to_dict() for flag in self.warnings()],
             **problem.scenarios_record(),

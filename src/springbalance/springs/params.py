@@ -139,23 +139,69 @@ class Plane:
                           **_free_fields(self.bounds)}}
 
 
+#: The world's floor for ``on: floor``: the plane z = 0 of the ``universe`` frame, normal +z.
+FLOOR = {"point": [0.0, 0.0, 0.0], "normal": [0.0, 0.0, 1.0]}
+
+
 class Anchor:
     """One end of a spring: a point fixed in body ``body`` (URDF link name or ``universe``).
 
     ``point`` is a fixed 3-vector [m] in the body frame, a :class:`Free` box, a
     :class:`Segment` or a :class:`Plane`.
+
+    ``on`` mounts the anchor on a surface:
+
+    - ``"collision"``: on the surface of the body's own collision geometry, ``offset`` [m] out
+      from it (a bracket), within ``point``'s box, or anywhere around the geometry when no box
+      is given (its bounding box grown by ``offset`` + 5 mm). The surface comes from the URDF, so
+      the design problem resolves it (:mod:`springbalance.design.clearance`).
+    - ``"floor"`` or a plane ``{"point": [..], "normal": [..]}`` (body frame; for ``universe``
+      the world): the anchor is free on that plane inside ``point``'s box. The region becomes a
+      :class:`Plane` at once: for a plane normal to a box axis it is exactly the box's face
+      through the plane; otherwise the rectangle (in the plane) that bounds the box's section.
     """
 
-    def __init__(self, body: str, point: AnchorPoint = (0.0, 0.0, 0.0)) -> None:
+    def __init__(self, body: str, point: AnchorPoint | None = (0.0, 0.0, 0.0), on: str | dict | None = None,
+                 offset: float = 0.0) -> None:
         if not isinstance(body, str) or not body:
             raise InputError(f"anchor body must be a link name, got {body!r}")
         self.body = body
+        self.mount, self.offset = None, 0.0
+        if on is not None:
+            point = self._mount(on, point, offset)
+        elif point is None:
+            raise InputError(f"anchor on {body!r}: give a point, box, segment or plane")
         self.point = point
+        if point is None:  # on collision without a box: the design problem sets the region
+            return
         if isinstance(point, Free):
             if point.lower.shape != (3,):
                 raise InputError(f"anchor on {body!r}: a Free point needs 3-vector bounds, got {point.lower.tolist()}")
         elif not isinstance(point, (Segment, Plane)):
             self.point = _vector3(point, f"anchor point on {body!r}")
+
+    def _mount(self, on, point, offset) -> AnchorPoint | None:
+        """Check a mounting (``on``, ``offset``) and return the anchor's point or region."""
+        where = f"anchor on {self.body!r}"
+        if isinstance(offset, bool) or not isinstance(offset, (int, float)) or not np.isfinite(offset) or offset < 0:
+            raise InputError(f"{where}: offset must be a finite number ≥ 0 [m], got {offset!r}")
+        if on == "collision":
+            if point is not None and not isinstance(point, Free):
+                raise InputError(f"{where}: 'on: collision' takes a box (or nothing), not a {type(point).__name__}")
+            self.mount, self.offset = "collision", float(offset)
+            return point
+        if offset:
+            raise InputError(f"{where}: offset applies to 'on: collision' only")
+        plane = FLOOR if on == "floor" else on
+        if not isinstance(plane, dict) or set(plane) != {"point", "normal"}:
+            raise InputError(f"{where}: 'on' must be 'collision', 'floor' or a plane {{point, normal}}, got {on!r}")
+        if not isinstance(point, Free):
+            raise InputError(f"{where}: 'on: {on if isinstance(on, str) else 'plane'}' needs a box that bounds where "
+                             "on the plane the anchor may go")
+        self.mount = "floor" if on == "floor" else {"point": _vector3(plane["point"], f"{where}: plane point").tolist(),
+                                                    "normal": _vector3(plane["normal"], f"{where}: plane normal").tolist()}
+        return _plane_in_box(_vector3(plane["point"], f"{where}: plane point"),
+                             _vector3(plane["normal"], f"{where}: plane normal"), point, where)
 
     @property
     def is_free(self) -> bool:
@@ -165,6 +211,9 @@ class Anchor:
     def region(self) -> Region:
         """The affine region; components of a box with equal bounds are folded into the offset."""
         point = self.point
+        if point is None:
+            raise InputError(f"anchor on {self.body!r} mounted 'on: collision' has no region yet; "
+                             "a DesignProblem sets it from the body's collision geometry")
         if isinstance(point, (Segment, Plane)):
             return point.region()
         if isinstance(point, Free):
@@ -176,16 +225,67 @@ class Anchor:
         return Region(np.asarray(point, dtype=float), np.zeros((3, 0)), np.zeros(0), np.zeros(0), np.zeros(0), ())
 
     def to_dict(self) -> dict[str, Any]:
-        """``{body, point | box | segment | plane}`` (the config form)."""
+        """``{body, point | box | segment | plane, on?, offset?}`` (the config form)."""
         point = self.point
+        if self.mount is not None:
+            record = {"body": self.body, "on": self.mount}
+            if self.mount == "collision" and self.offset:
+                record["offset"] = self.offset
+            if isinstance(point, Free):
+                record["box"] = point.to_dict()
+            elif isinstance(point, Plane):
+                record["box"] = self.mount_box.to_dict()
+            return record
         if isinstance(point, Free):
             return {"body": self.body, "box": point.to_dict()}
         if isinstance(point, (Segment, Plane)):
             return {"body": self.body, **point.to_dict()}
         return {"body": self.body, "point": np.asarray(point, dtype=float).tolist()}
 
+    @property
+    def mount_box(self) -> Free:
+        """The box a plane mounting was cut from."""
+        return self.point.box
+
     def __repr__(self) -> str:
-        return f"Anchor({self.body!r}, {self.point!r})"
+        return f"Anchor({self.body!r}, {self.point!r}{'' if self.mount is None else f', on={self.mount!r}'})"
+
+
+def _plane_in_box(origin: np.ndarray, normal: np.ndarray, box: Free, where: str) -> "Plane":
+    """The part of the plane through ``origin`` with ``normal`` inside ``box``, as a :class:`Plane` region.
+
+    Exact for a normal along a box axis; otherwise the bounding rectangle (in the plane) of the
+    polygon where the plane cuts the box. Raises :class:`InputError` when the plane misses the box.
+    """
+    if box.lower.shape != (3,):
+        raise InputError(f"{where}: a mounting plane needs a 3-vector box, got {box.lower.tolist()}")
+    norm = float(np.linalg.norm(normal))
+    if norm < 1e-12:
+        raise InputError(f"{where}: the mounting plane's normal is zero")
+    normal = normal / norm
+    corners = np.array([[box.lower[i] if (k >> i) & 1 == 0 else box.upper[i] for i in range(3)] for k in range(8)])
+    side = (corners - origin) @ normal
+    if side.min() > 1e-12 or side.max() < -1e-12:
+        raise InputError(f"{where}: the mounting plane (point {origin.tolist()}, normal {normal.tolist()}) does not "
+                         f"cross the box {box.lower.tolist()}..{box.upper.tolist()}: no anchor can reach it")
+    axis = int(np.argmax(np.abs(normal)))
+    u = np.eye(3)[(axis + 1) % 3]
+    u = u - (u @ normal) * normal
+    u /= np.linalg.norm(u)
+    v = np.cross(normal, u)
+    points = []   # where the plane cuts the box's 12 edges (and the corners on it)
+    for a in range(8):
+        for b in range(a + 1, 8):
+            if bin(a ^ b).count("1") != 1:
+                continue
+            if side[a] == side[b] == 0 or side[a] * side[b] <= 0:
+                t = 0.0 if side[a] == side[b] else side[a] / (side[a] - side[b])
+                points.append(corners[a] + t * (corners[b] - corners[a]))
+    centre = origin + ((np.mean(points, axis=0) - origin) @ u) * u + ((np.mean(points, axis=0) - origin) @ v) * v
+    local = np.array([[(p - centre) @ u, (p - centre) @ v] for p in points])
+    plane = Plane(centre, u, v, local.min(axis=0), local.max(axis=0))
+    plane.box = box
+    return plane
 
 
 def _vector3(value: npt.ArrayLike, label: str) -> np.ndarray:
@@ -242,16 +342,23 @@ def value_from_record(value: Any, where: str) -> float | Free:
 
 
 def anchor_from_dict(record: Any, where: str) -> Anchor:
-    """``{body, point | box | segment | plane}`` → :class:`Anchor`."""
-    check_keys(record, ("body", "point", "box", "segment", "plane"), where)
+    """``{body, point | box | segment | plane, on?, offset?}`` → :class:`Anchor`."""
+    check_keys(record, ("body", "point", "box", "segment", "plane", "on", "offset"), where)
     if "body" not in record:
         raise InputError(f"{where}: missing key 'body'")
     kinds = [key for key in ("point", "box", "segment", "plane") if key in record]
     if len(kinds) > 1:
         raise InputError(f"{where}: give one of point, box, segment, plane (got {', '.join(kinds)})")
+    if "offset" in record and "on" not in record:
+        raise InputError(f"{where}: 'offset' needs 'on: collision'")
     kind = kinds[0] if kinds else "point"
     spec = record.get(kind, [0.0, 0.0, 0.0])
     try:
+        if "on" in record:
+            if kind not in ("box",) and kinds:
+                raise InputError(f"'on: ...' takes a box (or nothing), not a {kind}")
+            box = free_from_dict(spec, f"{where}.box") if kinds else None
+            return Anchor(record["body"], box, on=record["on"], offset=record.get("offset", 0.0))
         if kind == "point":
             return Anchor(record["body"], spec)
         if kind == "box":

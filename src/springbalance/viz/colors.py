@@ -1,4 +1,11 @@
-"""The colour scale of spring forces: warm colours for tension [N], greens for compression."""
+"""The colour scale of spring forces: warm colours for tension [N], greens for compression, and the
+fixed magenta of a spring that comes closer to the arm than the clearance margin.
+
+The tension scale runs from yellow through orange to a dark crimson (hues about 46° down to
+346°), so a plain red would read as "a lot of tension". A spring below the clearance margin is
+drawn in :data:`CLEARANCE_RGB`, a magenta (hue 300°) that is more than 40° of hue away from every
+colour of the scale (tension and compression) and from the arm's blue.
+"""
 
 from __future__ import annotations
 
@@ -11,6 +18,11 @@ import numpy as np
 TENSION_STOPS = ((0.0, (1.0, 0.85, 0.35)), (0.5, (0.96, 0.43, 0.16)), (1.0, (0.65, 0.0, 0.15)))
 #: Compression colours (a spring that pushes), from none to the scale's limit.
 COMPRESSION_STOPS = ((0.0, (0.75, 0.9, 0.7)), (1.0, (0.1, 0.47, 0.22)))
+#: Colour of a spring in a frame where it is below the clearance margin (0xRRGGBB): magenta, not a
+#: red, since the tension scale ends in crimson.
+CLEARANCE_COLOR = 0xE000E0
+#: :data:`CLEARANCE_COLOR` as RGB in [0, 1].
+CLEARANCE_RGB = tuple(((CLEARANCE_COLOR >> shift) & 0xFF) / 255.0 for shift in (16, 8, 0))
 
 
 class ColorScale:
@@ -55,9 +67,11 @@ class ColorScale:
                 f"compression (pushing) in greens; scale limit {self.limit:.4g} N")
 
     def legend_html(self, compression: bool = False, element_id: str = "springbalance-legend",
-                    position: str = "fixed") -> str:
-        """A small HTML legend (colour bar with ticks) at the top left of the page (``position:fixed``)
-        or of its container (``"absolute"``)."""
+                    position: str = "fixed", clearance_margin: float | None = None) -> str:
+        """A small HTML legend at the top left of the page (``position:fixed``) or of its container
+        (``"absolute"``): the colour bar of the tension [N] with ticks, from 0 or, with ``compression``
+        (some spring pushes), from ``-limit`` (negative: pushing); with ``clearance_margin`` [m] also a
+        magenta swatch "below clearance margin (X mm)"."""
         low = -self.limit if compression else 0.0
         ticks = np.linspace(low, self.limit, 5 if compression else 3)
         stops = ", ".join(f"{self.css(value)} {100 * (value - low) / (self.limit - low):.1f}%"
@@ -65,8 +79,16 @@ class ColorScale:
         labels = "".join(f'<span style="position:absolute;left:{100 * (v - low) / (self.limit - low):.1f}%;'
                          f'transform:translateX(-50%)">{v:.3g}</span>' for v in ticks)
         note = " (negative: pushing)" if compression else ""
-        return (f'<div id="{element_id}" style="position:{position};left:8px;top:8px;width:260px;padding:6px 14px 22px 14px;'
+        clearance = ""
+        if clearance_margin is not None:
+            clearance = (f'<div class="springbalance-clearance" style="margin-top:8px">'
+                         f'<span style="display:inline-block;width:22px;height:10px;margin-right:6px;'
+                         f'vertical-align:-1px;background:#{CLEARANCE_COLOR:06x}"></span>'
+                         f'magenta: below clearance margin ({1e3 * float(clearance_margin):.1f} mm)</div>')
+        bottom = 8 if clearance else 22
+        return (f'<div id="{element_id}" style="position:{position};left:8px;top:8px;width:260px;'
+                f'padding:6px 14px {bottom}px 14px;'
                 'background:rgba(255,255,255,0.85);border-radius:4px;font:12px sans-serif;color:#222;z-index:10">'
                 f'<div>spring tension [N]{html.escape(note)}</div>'
                 f'<div style="height:12px;margin-top:4px;background:linear-gradient(to right, {stops})"></div>'
-                f'<div style="position:relative;height:14px;margin-top:2px">{labels}</div></div>')
+                f'<div style="position:relative;height:14px;margin-top:2px">{labels}</div>{clearance}</div>')

@@ -8,12 +8,29 @@ What is drawn (all lengths in m, forces in N):
 - every spring as a **helix** (a tube along a helical centre line with a straight hook at
   each end) from its end ``x_a`` to its end ``x_b``, coloured by its tension ``F(L)`` on a
   :class:`ColorScale` (warm colours for tension, greens for compression) that the static
-  page shows as a legend;
+  page shows as a legend; the legend's scale reaches into compression ("negative: pushing")
+  only when some spring really pushes (tension below zero) in some frame of the animation;
+- with a **clearance margin** ``m`` [m] (the ``margin`` argument, else the design problem's
+  ``clearance.margin``) and a URDF with ``<collision>`` elements: in every frame where a
+  spring's capsule (radius: half its coil's outer diameter, else 0.01 m; see
+  :func:`springbalance.model.collision.capsule_radius`) comes closer than ``m`` to the
+  collision geometry of any body but its own two anchor bodies (the rule of
+  :mod:`springbalance.results.clearance`), the spring is drawn in magenta
+  (:data:`~springbalance.viz.colors.CLEARANCE_COLOR`) instead of its tension colour, and the
+  legend gets a "below clearance margin (m mm)" entry; the signed distances [m] per frame are
+  :attr:`SpringTrack.clearance`. Without collision geometry the springs keep their tension
+  colours;
+- the **name of each spring** as a text label (a sprite that always faces the camera) just
+  above the middle of the spring, following it in the animation;
 - a small sphere at each anchor, and the free region of each anchor of the original
   problem (box, segment or plane rectangle of :mod:`springbalance.springs.params`) as a
   translucent shape fixed to its body;
 - an animation along an ordered path of poses (by default a sweep of each joint in turn,
   :func:`springbalance.model.sweeps.animation_path`), with meshcat's play/pause/time controls.
+
+The camera looks at the centre of a sphere that holds, in every frame of the animation, the
+arm's links (the bounding sphere of each visual shape), every spring with its coils, and every
+anchor region; it stands 1.7 radii away, so the whole sphere fits in meshcat's 75° field of view.
 
 The helix is built once per spring in *axial* coordinates: ``x, y`` in metres, ``z`` the
 fraction ``s ∈ [0, 1]`` of the spring's length, from ``(0, 0, 0)`` to ``(0, 0, 1)``. At a
@@ -53,12 +70,13 @@ with warnings.catch_warnings():
     import meshcat.commands
     import meshcat.geometry as mg
 
+from springbalance.errors import InputError
 from springbalance.model import sweeps
 from springbalance.files import write_text_atomic
 from springbalance.springs.params import Free, Plane, Segment
 from springbalance.model.workspace import Workspace
 from springbalance.viz.arm import stick_figure, visual_geometry
-from springbalance.viz.colors import ColorScale
+from springbalance.viz.colors import CLEARANCE_COLOR, CLEARANCE_RGB, ColorScale
 from springbalance.viz.helix import HelixStyle, helix_centerline, helix_tube, placement, spring_rotation
 from springbalance.viz.live import LiveScene, local_server
 from springbalance.viz.recorder import SceneRecorder
@@ -68,6 +86,14 @@ ROOT = "springbalance"
 ANCHOR_COLOR = 0x333333
 REGION_COLOR = 0x8c6bb1
 REGION_OPACITY = 0.12
+#: Height of a spring's name label [px] on its 256 px canvas texture (smaller for long names).
+LABEL_FONT_SIZE = 40
+#: Side of a label's square sprite as a fraction of the camera's bounding radius.
+LABEL_SIZE = 0.5
+#: Field of view (vertical) of meshcat's default camera [deg].
+CAMERA_FOV = 75.0
+#: Distance of the camera from its target, in bounding radii (the sphere fits in the field of view).
+CAMERA_DISTANCE = 1.7
 
 
 # ====================================================================== scene data
@@ -82,6 +108,12 @@ class SpringTrack:
         lengths: length per pose (N) [m]; tensions: tension per pose (N) [N].
         side: reference vector that fixes the helix's roll.
         coils, coil_radius [m], wire_radius [m], reference_length [m]: the drawing.
+        radius: capsule radius [m] of the clearance check (None when there is none).
+        clearance: per pose, the smallest signed distance [m] from the spring's capsule to the
+            collision objects of every body but its two anchor bodies (negative: overlap;
+            ``inf`` when there is nothing to check), or None when no clearance is checked.
+        below_margin: per pose, True where ``clearance`` is below the margin or ≤ 0 (the
+            spring is drawn magenta there), or None when no clearance is checked.
     """
 
     name: str
@@ -100,6 +132,13 @@ class SpringTrack:
     lead: float
     points_per_coil: int
     sides: int
+    radius: float | None = None
+    clearance: np.ndarray | None = None
+    below_margin: np.ndarray | None = None
+
+    def midpoints(self) -> np.ndarray:
+        """The middle of the spring per pose (N×3) [m]."""
+        return (self.starts + self.ends) / 2
 
     def rigid_transform(self, frame: int) -> np.ndarray:
         """Placement (4×4) of the spring's node at pose ``frame``: origin ``x_a``, ``R e_z = u``."""
@@ -154,10 +193,25 @@ class DesignScene:
         frames_per_joint: frames of each joint's sweep in the default path.
         style: :class:`HelixStyle`.
         fps: frames per second of the animation.
+        margin: clearance margin [m] (≥ 0): a spring is drawn magenta in the frames where its
+            capsule is closer than this to the arm's collision geometry (see the module
+            documentation). Default: ``result.problem.clearance.margin`` when the problem has a
+            clearance, else no clearance is drawn. Ignored (no error) when the URDF has no
+            ``<collision>`` elements; :attr:`clearance_note` then says why.
+
+    Attributes:
+        springs: one :class:`SpringTrack` per drawn (two-point) spring.
+        skipped: the springs left out of the drawing (torsional springs), by name.
+        color_scale: the :class:`ColorScale` of the tensions [N].
+        compression: True when some drawn spring pushes (negative tension) in some frame.
+        margin: the clearance margin [m], or None.
+        clearance_note: why no clearance is drawn although a margin is set (else None).
+        camera_target, camera_radius, camera_position: the sphere [m] the camera frames (centre and
+            radius) and the camera's world position [m]; set by :meth:`draw`.
     """
 
     def __init__(self, result, joint_values=None, frames_per_joint: int = 48, style: HelixStyle = HelixStyle(),
-                 fps: int = 30):
+                 fps: int = 30, margin: float | None = None):
         self.result = result
         mechanism = result.problem.mechanism
         self.mechanism = mechanism
@@ -171,6 +225,7 @@ class DesignScene:
         self.evaluation = result.evaluate_on(self.workspace)   # lengths and tensions from the model
         kinematics = self.workspace.kinematics()
         self.springs: list[SpringTrack] = []
+        self._records: dict[str, dict] = {}
         columns = []
         for column, (spring, record) in enumerate(zip(result.problem.springs, result.springs)):
             if tuple(spring.anchors) != ("a", "b"):   # a joint spring (torsional) has no ends to draw a helix between
@@ -188,14 +243,83 @@ class DesignScene:
                 record["name"], record["type"], (a["body"], b["body"]), np.array([a["point"], b["point"]]),
                 starts, ends, lengths.copy(), self.evaluation.tensions[:, column].copy(), side, int(style.coils),
                 coil, wire, reference, style.lead, style.points_per_coil, style.sides))
+            self._records[record["name"]] = record
         #: the springs left out of the drawing (torsional springs), by name
         self.skipped = [record["name"] for column, record in enumerate(result.springs) if column not in columns]
         path_tensions = self.evaluation.tensions[:, columns]
         design_tensions = result.evaluation.tensions[:, columns]
         self.color_scale = ColorScale.for_tensions(path_tensions, design_tensions)
-        self.compression = bool(np.any(self.color_scale.pushes(path_tensions))
-                                or np.any(self.color_scale.pushes(design_tensions)))
+        # the legend's compression half is for springs that push in the animation, not for laws that could
+        self.compression = bool(np.any(self.color_scale.pushes(path_tensions)))
         self.regions = self._regions(kinematics)
+        self.margin, self.clearance_note = self._margin(margin), None
+        if self.margin is not None:
+            self._clearances()
+        self.camera_target: np.ndarray | None = None
+        self.camera_radius: float | None = None
+        self.camera_position: np.ndarray | None = None
+
+    def _margin(self, margin) -> float | None:
+        clearance = getattr(self.result.problem, "clearance", None)
+        if margin is None and clearance is not None:
+            margin = getattr(clearance, "margin", None)
+        if margin is None:
+            return None
+        if isinstance(margin, bool) or not (np.isfinite(margin) and margin >= 0):
+            raise InputError(f"clearance margin must be a finite number ≥ 0 [m], got {margin!r}")
+        return float(margin)
+
+    def _clearances(self) -> None:
+        """Per frame and spring, the smallest signed distance [m] from the spring's capsule to the
+        collision objects of the bodies it is not anchored to (:mod:`springbalance.results.clearance`)."""
+        from springbalance.model.collision import CollisionScene, capsule_radius
+
+        try:
+            collision = CollisionScene(self.mechanism)
+        except InputError as error:   # no URDF, or no <collision> elements: the scene is drawn without
+            self.clearance_note = str(error)
+            return
+        radius = getattr(getattr(self.result.problem, "clearance", None), "radius", None)
+        checked = {}
+        for track in self.springs:
+            track.radius = capsule_radius(self._records[track.name], radius)
+            track.clearance = np.full(self.size, np.inf)
+            checked[track.name] = collision.indices_except(track.bodies)
+        for frame, q in enumerate(self.configurations):
+            collision.place(q)
+            for track in self.springs:
+                for index in checked[track.name]:
+                    distance = collision.capsule_distance(track.starts[frame], track.ends[frame], track.radius,
+                                                          index).distance
+                    track.clearance[frame] = min(track.clearance[frame], distance)
+        for track in self.springs:
+            finite = np.isfinite(track.clearance)
+            track.below_margin = finite & ((track.clearance < self.margin) | (track.clearance <= 0))
+
+    @property
+    def clearance_violated(self) -> bool:
+        """True when some spring is below the clearance margin in some frame (it is drawn magenta)."""
+        return any(track.below_margin is not None and bool(np.any(track.below_margin)) for track in self.springs)
+
+    def rgb(self, spring: SpringTrack, frame: int) -> tuple[float, float, float]:
+        """Colour (RGB in [0, 1]) of ``spring`` at pose ``frame``: magenta below the clearance margin,
+        else the colour of its tension."""
+        if spring.below_margin is not None and spring.below_margin[frame]:
+            return CLEARANCE_RGB
+        return self.color_scale.rgb(spring.tensions[frame])
+
+    def hex(self, spring: SpringTrack, frame: int) -> int:
+        """:meth:`rgb` as the 0xRRGGBB integer that meshcat materials take."""
+        if spring.below_margin is not None and spring.below_margin[frame]:
+            return CLEARANCE_COLOR
+        return self.color_scale.hex(spring.tensions[frame])
+
+    def legend_html(self, position: str = "fixed") -> str:
+        """The colour legend of the scene (see :meth:`ColorScale.legend_html`): the tension scale, its
+        compression half only when some spring pushes, the clearance entry only when some spring is
+        below the margin."""
+        return self.color_scale.legend_html(self.compression, position=position,
+                                            clearance_margin=self.margin if self.clearance_violated else None)
 
     @property
     def size(self) -> int:
@@ -230,14 +354,18 @@ class DesignScene:
 
         root = visualizer[ROOT]
         helix_objects = {}
+        label_size = LABEL_SIZE * self.camera_radius   # [m], side of the label's square
         for spring in self.springs:
             vertices, faces = spring.mesh()
             node = root["springs"][spring.name]
             mesh = mg.Mesh(mg.TriangularMeshGeometry(vertices, faces),
-                           mg.MeshPhongMaterial(color=self.color_scale.hex(spring.tensions[0]), shininess=40))
+                           mg.MeshPhongMaterial(color=self.hex(spring, 0), shininess=40))
             helix_objects[spring.name] = mesh.uuid
             node.set_object(mesh)
             node.set_transform(spring.transform(0))
+            label = root["labels"][spring.name]
+            label.set_object(_TextSprite(spring.name, label_size))
+            label.set_transform(placement(np.eye(3), self.label_positions(spring)[0]))
             for end, positions in (("a", spring.starts), ("b", spring.ends)):
                 sphere = root["anchors"][f"{spring.name}.{end}"]
                 sphere.set_object(mg.Sphere(1.6 * spring.wire_radius + 0.004), mg.MeshPhongMaterial(color=ANCHOR_COLOR))
@@ -256,7 +384,7 @@ class DesignScene:
                                                  repetitions=float("inf")))
 
     def animation(self, visualizer, arm, helix_objects: dict[str, str]):
-        """The meshcat animation of the path: arm, springs (stretch and colour), anchors, regions.
+        """The meshcat animation of the path: arm, springs (stretch and colour), name labels, anchors, regions.
 
         ``helix_objects`` maps each spring to the uuid of its helix mesh, which the colour
         track addresses (three.js finds a node's child object by name or uuid).
@@ -265,6 +393,7 @@ class DesignScene:
         model, data = arm.model, arm.model.createData()
         visual_model, visual_data = arm.visual_model, arm.visual_model.createData()
         names = [arm.getViewerNodeName(geometry, pin.GeometryType.VISUAL) for geometry in visual_model.geometryObjects]
+        labels = {spring.name: self.label_positions(spring) for spring in self.springs}
         for frame, q in enumerate(self.configurations):
             with animation.at_frame(visualizer, frame) as at:
                 pin.forwardKinematics(model, data, q)
@@ -279,49 +408,95 @@ class DesignScene:
                     node.set_transform(spring.rigid_transform(frame))
                     node.set_property("scale", "vector3", [1.0, 1.0, spring.length(frame)])
                     node.set_property(f"{helix_objects[spring.name]}.material.color", "color",
-                                      list(self.color_scale.rgb(spring.tensions[frame])))
+                                      list(self.rgb(spring, frame)))
+                    root["labels"][spring.name].set_transform(placement(np.eye(3), labels[spring.name][frame]))
                     root["anchors"][f"{spring.name}.a"].set_transform(placement(np.eye(3), spring.starts[frame]))
                     root["anchors"][f"{spring.name}.b"].set_transform(placement(np.eye(3), spring.ends[frame]))
                 for region in self.regions:
                     root["regions"][f"{region.spring}.{region.end}"].set_transform(region.placements[frame])
         return animation
 
+    def _visual_model(self):
+        """The arm's visual geometry: the URDF's, or a stick figure when it has none."""
+        visual_model = visual_geometry(self.mechanism)
+        if visual_model is None or visual_model.ngeoms == 0:
+            visual_model = stick_figure(self.mechanism.model)
+        return visual_model
+
     def _arm_visualizer(self, visualizer):
         from pinocchio.visualize import MeshcatVisualizer
 
-        model = self.mechanism.model
-        visual_model = visual_geometry(self.mechanism)
-        if visual_model is None or visual_model.ngeoms == 0:
-            visual_model = stick_figure(model)
-        arm = MeshcatVisualizer(model, None, visual_model)
+        arm = MeshcatVisualizer(self.mechanism.model, None, self._visual_model())
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # pinocchio warns about geometry it cannot show; the rest is drawn
             arm.initViewer(viewer=visualizer)
             arm.loadViewerModel(rootNodeName="pinocchio")
         return arm
 
-    def _set_camera(self, visualizer, arm) -> None:
-        """Look at the middle of everything that moves, from the side that shows the motion best."""
-        model, data = arm.model, arm.model.createData()
-        points = [spring.starts for spring in self.springs] + [spring.ends for spring in self.springs]
-        for q in self.configurations[:: max(self.size // 40, 1)]:
+    def label_positions(self, spring: SpringTrack) -> np.ndarray:
+        """Where the name label of ``spring`` sits per pose (N×3) [m]: just above its middle (world +z,
+        by its coil radius plus its wire), so the text stands over the helix."""
+        return spring.midpoints() + np.array([0.0, 0.0, spring.coil_radius + spring.wire_radius + 0.004])
+
+    def bounding_spheres(self, visual_model=None) -> tuple[np.ndarray, np.ndarray]:
+        """Centres (K×3) [m] and radii (K) [m] of spheres that hold, over every frame, what is drawn:
+
+        - each spring's two ends, with its coil radius plus its wire radius (so the coils are held);
+        - the corners of each anchor region on its body;
+        - each joint's and frame's origin, and the bounding sphere of each shape of ``visual_model``
+          (the arm's links; default: the URDF's visual geometry, or the stick figure).
+        """
+        centres, radii = [], []
+        for spring in self.springs:
+            reach = spring.coil_radius + spring.wire_radius
+            for points in (spring.starts, spring.ends):
+                centres.append(points)
+                radii.append(np.full(len(points), reach))
+        for region in self.regions:
+            corners = _region_points(region)
+            world = np.einsum("nij,kj->nki", region.placements[:, :3, :3], corners) + region.placements[:, None, :3, 3]
+            centres.append(world.reshape(-1, 3))
+            radii.append(np.zeros(world.shape[0] * world.shape[1]))
+        model = self.mechanism.model
+        if visual_model is None:
+            visual_model = self._visual_model()
+        data, visual_data = model.createData(), visual_model.createData()
+        shapes = []   # (local centre, radius) of each visual shape's bounding sphere
+        for geometry in visual_model.geometryObjects:
+            try:
+                geometry.geometry.computeLocalAABB()
+                shapes.append((np.array(geometry.geometry.aabb_center), float(geometry.geometry.aabb_radius)))
+            except (AttributeError, RuntimeError):
+                shapes.append((np.zeros(3), 0.0))
+        for q in self.configurations:
             pin.forwardKinematics(model, data, q)
-            points.append(np.array([data.oMi[j].translation for j in range(model.njoints)]))
             pin.updateFramePlacements(model, data)
-            points.append(np.array([data.oMf[f].translation for f in range(model.nframes)]))
-        cloud = np.vstack(points)
-        lower, upper = cloud.min(axis=0), cloud.max(axis=0)
+            pin.updateGeometryPlacements(model, data, visual_model, visual_data)
+            centres.append(np.array([data.oMi[j].translation for j in range(model.njoints)]))
+            centres.append(np.array([data.oMf[f].translation for f in range(model.nframes)]))
+            radii += [np.zeros(model.njoints), np.zeros(model.nframes)]
+            if shapes:
+                centres.append(np.array([visual_data.oMg[i].act(centre) for i, (centre, _) in enumerate(shapes)]))
+                radii.append(np.array([radius for _, radius in shapes]))
+        return np.vstack(centres), np.concatenate(radii)
+
+    def _set_camera(self, visualizer, arm) -> None:
+        """Look at the centre of everything drawn over the whole animation (:meth:`bounding_spheres`),
+        from the side that shows the motion best, far enough for all of it to be in view."""
+        centres, radii = self.bounding_spheres(arm.visual_model)
+        lower, upper = (centres - radii[:, None]).min(axis=0), (centres + radii[:, None]).max(axis=0)
         center = (lower + upper) / 2
-        radius = max(float(np.max(np.linalg.norm(cloud - center, axis=1))), 0.15)   # [m]
+        radius = max(float(np.max(np.linalg.norm(centres - center, axis=1) + radii)), 0.15)   # [m]
         # a planar arm is seen square-on (along the normal of its plane), any other from an oblique corner
-        _, spread, axes = np.linalg.svd(cloud - cloud.mean(axis=0), full_matrices=False)
+        _, spread, axes = np.linalg.svd(centres - centres.mean(axis=0), full_matrices=False)
         if spread[-1] < 0.2 * spread[-2]:
             normal = axes[-1] if axes[-1] @ np.array([0.3, -1.0, 0.0]) >= 0 else -axes[-1]
             direction = normal + np.array([0.35, -0.25, 0.45])
         else:
             direction = np.array([1.0, -1.3, 0.8])
         direction /= np.linalg.norm(direction)
-        offset = 1.7 * radius * direction                                   # [m] camera from the target
+        offset = CAMERA_DISTANCE * radius * direction                      # [m] camera from the target
+        self.camera_target, self.camera_radius, self.camera_position = center, radius, center + offset
         visualizer["/Cameras/default"].set_transform(placement(np.eye(3), center))
         # the camera node is rotated by +90° about x (meshcat's y-up convention): world (x, y, z) = rotated (x, z, -y)
         visualizer["/Cameras/default/rotated/<object>"].set_property("position", [offset[0], offset[2], -offset[1]])
@@ -334,7 +509,7 @@ class DesignScene:
         self.draw(visualizer, animate=animate, autoplay=autoplay)
         page = visualizer.static_html()
         if legend:
-            page = _insert_before_body_end(page, self.color_scale.legend_html(self.compression))
+            page = _insert_before_body_end(page, self.legend_html())
         return page
 
 
@@ -390,6 +565,16 @@ def _region_geometry(region: RegionShape):
     return mg.TriangularMeshGeometry(vertices, faces), np.asarray(edges, dtype=np.float32)
 
 
+def _region_points(region: RegionShape) -> np.ndarray:
+    """Points (body frame) [m] whose convex hull is the region: a box's 8 corners, a segment's ends,
+    a rectangle's 4 corners."""
+    if region.kind == "box":
+        lower, upper = region.corners
+        return np.array([[(lower, upper)[i][0], (lower, upper)[j][1], (lower, upper)[k][2]]
+                         for i in (0, 1) for j in (0, 1) for k in (0, 1)])
+    return np.asarray(region.corners, dtype=float)
+
+
 #: vertex pairs of the 12 edges of :func:`_box_mesh` (vertex index bits: x, y, z)
 _BOX_EDGES = np.array([[0, 1], [2, 3], [4, 5], [6, 7], [0, 2], [1, 3], [4, 6], [5, 7], [0, 4], [1, 5], [2, 6], [3, 7]])
 
@@ -405,6 +590,49 @@ def _box_mesh(center, size, rotation):
 def _insert_before_body_end(page: str, fragment: str) -> str:
     index = page.rfind("</body>")
     return page[:index] + fragment + page[index:] if index >= 0 else page + fragment
+
+
+class _TextTexture(mg.Texture):
+    """meshcat's ``_text`` texture: the viewer draws ``text`` centred on a 256×256 px canvas
+    (``font_size`` px, smaller when the text is wider than the canvas)."""
+
+    def __init__(self, text: str, font_size: int = LABEL_FONT_SIZE, font_face: str = "sans-serif"):
+        super().__init__()
+        self.text, self.font_size, self.font_face = str(text), int(font_size), font_face
+
+    def lower(self, object_data):
+        return {"uuid": self.uuid, "type": "_text", "text": self.text, "font_size": self.font_size,
+                "font_face": self.font_face}
+
+
+class _SpriteMaterial(mg.Material):
+    """three.js ``SpriteMaterial`` showing a texture, drawn over everything (no depth test)."""
+
+    def __init__(self, texture: mg.Texture):
+        super().__init__()
+        self.texture = texture
+
+    def lower(self, object_data):
+        return {"uuid": self.uuid, "type": "SpriteMaterial", "color": 0xFFFFFF, "transparent": True,
+                "depthTest": False, "depthWrite": False, "sizeAttenuation": True,
+                "map": self.texture.lower_in_object(object_data)}
+
+
+class _TextSprite(mg.Object):
+    """A text label: a three.js ``Sprite`` (a square that always faces the camera) of side ``size``
+    [m], centred on its node, with ``text`` on it (meshcat's ``_text`` texture)."""
+
+    def __init__(self, text: str, size: float):
+        super().__init__(None, _SpriteMaterial(_TextTexture(text)))
+        self.text, self.size = text, float(size)
+
+    def lower(self):
+        data = {"metadata": {"version": 4.5, "type": "Object"}, "geometries": [], "materials": [], "textures": [],
+                "images": [],
+                "object": {"uuid": self.uuid, "type": "Sprite", "name": self.text, "material": self.material.uuid,
+                           "matrix": list(np.diag([self.size, self.size, 1.0, 1.0]).flatten())}}
+        self.material.lower_in_object(data)
+        return data
 
 
 class _Animation(meshcat.animation.Animation):

@@ -1,0 +1,548 @@
+r"""Springs that fit the arm: clearance from its links, and anchors mounted on its surfaces.
+
+**Clearance.** A two-point spring is a capsule of radius ``r`` [m] (half the outer diameter of
+its coil, or :attr:`Clearance.radius`) around the segment between its world end points
+``E_a(x), E_b(x)``; it must keep ``margin`` from every collision object of the arm except those
+of its own two anchor bodies, at every pose (:mod:`springbalance.model.collision`). Meshes count
+as their convex hulls, which contain them.
+
+For a fixed pose the ends are affine in the anchor coordinates (docs/model.md §2), and the
+distance to a convex object is linearised by a **separating plane**: coal gives the witness
+point ``w`` on the object and the unit normal ``n`` towards the capsule, and both ends must stay
+on the far side of the plane through ``w``,
+
+.. math:: n^\top (E_e(x) - w) - r - m^+ \ge 0, \qquad e \in \{a, b\},
+
+two rows affine in ``x`` (:class:`~springbalance.design.problem.LinearRows`). Keeping both ends
+beyond the plane keeps the whole segment beyond it, so the rows are *sufficient* for the margin at
+that pose, and at the design where they are built they hold exactly when the distance is at
+least ``m^+`` (the closest point of the segment has the smallest ``n``-coordinate). ``m^+`` is
+the margin plus a buffer (:attr:`Clearance.buffer`) for the poses between the ones checked.
+
+Two springs (``between_springs``) are kept apart by the plane halfway between their witness
+points: each end of one spring on its side by ``r_i + m^+/2``.
+
+**The loop** (:func:`fit_to_arm`): from the multi-start's optimum, check every spring against
+every object at ``check_samples`` poses (scrambled Sobol, seed 0, over the workspace's joint
+ranges). Each pose where a spring comes closer than the margin joins the watched set; the rows
+of every watched pose are rebuilt at the current design and the problem is solved again from
+it (one warm start). When the check set is clear, a 4× denser set (seed 1) is checked too, and
+its violations join the watched set. The loop ends when both are clear, or after
+:attr:`Clearance.rounds` rounds; its record (:class:`FitRecord`) says which, and what the
+clearance cost (the objective before and after).
+
+**Mounting.** An anchor ``on: collision`` lies ``offset`` [m] outside its body's collision
+surface (the union of the body's objects; meshes as hulls). In the body frame this does not
+depend on the pose: with ``w`` the closest surface point and ``n`` the outward normal at the
+current anchor point ``p``, the row ``n^\top (p(x) - w) - \text{offset} + t \ge 0`` (``t`` = 0.2 mm)
+holds it on the far side of the offset tangent plane, and ``\text{offset} - n^\top (p(x) - w) + t \ge 0``,
+kept for every tangent plane met so far, inside the (convex) offset body: each such plane bounds
+that body, so none cuts off a point of its surface. Together they hold the anchor on the surface;
+they are rebuilt every round until ``p`` is within 0.5 mm of it. Floor and wall mountings need no loop: they are plane regions
+(:class:`~springbalance.springs.params.Anchor`).
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+import time
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from springbalance.design.solvers import Solution, solve_problem
+from springbalance.errors import InputError
+from springbalance.model.collision import (DEFAULT_RADIUS, CollisionScene, capsule_contact, collision_geometry,
+                                           surface_distance, body_objects)
+from springbalance.model.workspace import Workspace
+from springbalance.springs.params import Free
+
+if TYPE_CHECKING:
+    from springbalance.design.problem import DesignProblem
+
+#: Half-width [m] of the band the mounting rows keep an anchor in around its offset surface.
+MOUNT_TOLERANCE = 2e-4
+#: An anchor counts as on its surface when within this distance [m] of it.
+MOUNT_ACCEPT = 5e-4
+#: Most poses per spring and object (and round) that join the watched set.
+WORST_PER_PAIR = 4
+
+
+@dataclasses.dataclass(frozen=True)
+class Clearance:
+    """What clearance the springs must keep from the arm (see the module documentation).
+
+    Attributes:
+        margin: smallest distance [m] between a spring's capsule and any link it is not attached to.
+        check_samples: poses checked by the loop (a 4× denser set is checked at the end).
+        radius: capsule radius [m] of springs without a helical spec sheet (default 0.01 m).
+        between_springs: keep the springs ``margin`` from each other too.
+        buffer: extra distance [m] the rows ask for, for the poses between the checked ones
+            (default: 10 % of the margin, at least 0.5 mm).
+        rounds: most re-solves of the loop.
+    """
+
+    margin: float = 0.005
+    check_samples: int = 1024
+    radius: float | None = None
+    between_springs: bool = False
+    buffer: float | None = None
+    rounds: int = 12
+
+    def __post_init__(self) -> None:
+        for key in ("margin", "buffer"):
+            value = getattr(self, key)
+            if value is None and key == "buffer":
+                continue
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not np.isfinite(value) or value < 0:
+                raise InputError(f"clearance.{key} must be a finite number ≥ 0 [m], got {value!r}")
+        if self.radius is not None and (isinstance(self.radius, bool) or not isinstance(self.radius, (int, float))
+                                        or not np.isfinite(self.radius) or self.radius <= 0):
+            raise InputError(f"clearance.radius must be a finite number > 0 [m], got {self.radius!r}")
+        for key in ("check_samples", "rounds"):
+            value = getattr(self, key)
+            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+                raise InputError(f"clearance.{key} must be an integer ≥ 1, got {value!r}")
+
+    @property
+    def target(self) -> float:
+        """The distance [m] the rows ask for: margin + buffer."""
+        buffer = max(0.1 * self.margin, 5e-4) if self.buffer is None else self.buffer
+        return self.margin + buffer
+
+    def to_dict(self) -> dict[str, Any]:
+        return {key: value for key, value in dataclasses.asdict(self).items() if value is not None}
+
+    @classmethod
+    def from_dict(cls, record: Any, where: str = "clearance") -> "Clearance":
+        if not isinstance(record, dict):
+            raise InputError(f"{where}: expected a mapping {{margin, check_samples, ...}}, got {record!r}")
+        valid = [field.name for field in dataclasses.fields(cls)]
+        unknown = [key for key in record if key not in valid]
+        if unknown:
+            raise InputError(f"{where}: unknown key {unknown[0]!r}; valid keys: {', '.join(valid)}")
+        return cls(**record)
+
+
+@dataclasses.dataclass
+class FitRecord:
+    """What fitting the springs to the arm did and cost.
+
+    Attributes:
+        rounds: re-solves made.
+        rows: linearised rows in the last solve.
+        converged: the last check found no spring below the margin and every mounted anchor on its
+            surface.
+        objective_before: the objective of the multi-start's optimum (no clearance, no mounting).
+        objective: the objective of the fitted design.
+        closest: spring name → smallest distance [m] to the arm (or another spring) over the
+            poses checked in the last round (check set and dense set).
+        mounts: ``"<spring>.<end>"`` → distance [m] of a mounted anchor from its offset surface.
+        poses: the number of poses checked (check set + dense set).
+        seconds: wall time of the loop.
+    """
+
+    rounds: int
+    rows: int
+    converged: bool
+    objective_before: float
+    objective: float
+    closest: dict = dataclasses.field(default_factory=dict)
+    mounts: dict = dataclasses.field(default_factory=dict)
+    poses: int = 0
+    seconds: float = 0.0
+
+    @property
+    def cost_percent(self) -> float:
+        """How much worse the objective got [%]."""
+        if self.objective_before <= 0:
+            return 0.0
+        return 100.0 * (self.objective - self.objective_before) / self.objective_before
+
+    def to_dict(self) -> dict[str, Any]:
+        return {**dataclasses.asdict(self), "cost_percent": self.cost_percent}
+
+
+@dataclasses.dataclass
+class LinearRows:
+    """Constraint rows affine in the design variables, ``G x + h ≥ 0`` [m], over named variables.
+
+    The clearance and mounting constraints (:mod:`springbalance.design.clearance`) are such rows,
+    linearised at the current design. They are kept by variable *name*, so that a problem with
+    some other variables fixed (:meth:`DesignProblem.with_springs`) takes them over.
+
+    Attributes:
+        names: the design variables the rows depend on.
+        matrix: ``G`` (rows × names) [m per unit of each variable].
+        offset: ``h`` (rows) [m].
+        labels: what each row keeps (e.g. ``"s1 clear of link2 at pose 17"``).
+        scale: a typical size of a violation [m], for the solvers' scaling.
+    """
+
+    names: list
+    matrix: np.ndarray
+    offset: np.ndarray
+    labels: list
+    scale: float = 0.001
+
+    def __len__(self) -> int:
+        return int(self.offset.size)
+
+
+# ====================================================================== mounting
+def mounted_anchors(springs) -> list[tuple[Any, str, Any]]:
+    """``(spring, end, anchor)`` of every anchor mounted ``on: collision``."""
+    return [(spring, end, anchor) for spring in springs for end, anchor in spring.anchors.items()
+            if getattr(anchor, "mount", None) == "collision"]
+
+
+def resolve_mounts(mechanism, springs: list) -> list:
+    """The springs with every ``on: collision`` anchor given a region: its box, or, without one, the
+    bounding box of its body's collision objects grown by ``offset`` + 5 mm. Springs with such
+    anchors are copied (the caller's objects are not changed)."""
+    if not mounted_anchors(springs):
+        return springs
+    geometry = collision_geometry(mechanism)
+    resolved = []
+    for spring in springs:
+        if not mounted_anchors([spring]):
+            resolved.append(spring)
+            continue
+        spring = copy.copy(spring)
+        for end, anchor in spring.anchors.items():
+            if getattr(anchor, "mount", None) != "collision" or anchor.point is not None:
+                continue
+            lower, upper = _body_bounds(mechanism, geometry, anchor.body)
+            grown = anchor.offset + 0.005
+            anchor = copy.copy(anchor)
+            anchor.point = Free(lower - grown, upper + grown)
+            setattr(spring, end, anchor)     # two-point springs keep their ends as attributes a and b
+        resolved.append(spring)
+    return resolved
+
+
+def _body_bounds(mechanism, geometry, body: str) -> tuple[np.ndarray, np.ndarray]:
+    """Axis-aligned bounds (body frame, [m]) of ``body``'s collision objects."""
+    import coal
+
+    objects = body_objects(mechanism, geometry, body)
+    if not objects:
+        raise InputError(f"body {body!r} has no collision geometry in the URDF, so an anchor cannot be mounted "
+                         "on it with 'on: collision'; give a box, point, segment or plane instead")
+    frame = mechanism.model.frames[mechanism.frame_id(body)].placement
+    lows, highs = [], []
+    for obj in objects:
+        shape = obj.geometry
+        if isinstance(shape, coal.BVHModelBase):
+            shape.buildConvexRepresentation(False)
+            shape = shape.convex
+        shape.computeLocalAABB()
+        box = shape.aabb_local
+        local = frame.actInv(obj.placement)
+        corners = np.array([[box.min_[i] if (k >> i) & 1 == 0 else box.max_[i] for i in range(3)] for k in range(8)])
+        world = corners @ np.array(local.rotation).T + np.array(local.translation)
+        lows.append(world.min(axis=0))
+        highs.append(world.max(axis=0))
+    return np.min(lows, axis=0), np.max(highs, axis=0)
+
+
+def check_mounts(problem: DesignProblem) -> list[tuple[Any, str, Any]]:
+    """Check that every ``on: collision`` anchor's box reaches its offset surface; return the mounted anchors.
+
+    Raises:
+        InputError: the body has no collision geometry, or no point of the box lies ``offset``
+            from the body's collision surface (names the spring, end, body and the distances found).
+    """
+    mounts = mounted_anchors(problem.springs)
+    if not mounts:
+        return []
+    geometry = collision_geometry(problem.mechanism)
+    for spring, end, anchor in mounts:
+        region = anchor.region()
+        grid = np.linspace(0.0, 1.0, 7)
+        axes = np.meshgrid(*[region.lower[i] + (region.upper[i] - region.lower[i]) * grid
+                             for i in range(region.basis.shape[1])], indexing="ij")
+        coordinates = np.stack([axis.reshape(-1) for axis in axes], axis=1) if axes else np.zeros((1, 0))
+        distances = np.array([surface_distance(problem.mechanism, geometry, anchor.body, region.point(c))[0]
+                              for c in coordinates]) - anchor.offset
+        if distances.min() > MOUNT_ACCEPT or distances.max() < -MOUNT_ACCEPT:
+            raise InputError(
+                f"spring {spring.name!r} end {end}: no point of its box on {anchor.body!r} lies {anchor.offset * 1e3:g} mm "
+                f"from the body's collision surface (the box is {distances.min() * 1e3 + anchor.offset * 1e3:.1f} to "
+                f"{distances.max() * 1e3 + anchor.offset * 1e3:.1f} mm from it): no anchor can reach the mounting surface")
+    return mounts
+
+
+def mount_planes(problem: DesignProblem, x: np.ndarray, planes: dict | None = None) -> dict:
+    """Per mounted anchor (``(spring name, end, scenario)``), its tangent planes ``(w, n)``: those in ``planes``
+    and the one at design ``x`` (body frame: closest surface point ``w`` [m], outward unit normal ``n``)."""
+    planes = {key: list(value) for key, value in (planes or {}).items()}
+    if not problem.mounts:
+        return planes
+    geometry = collision_geometry(problem.mechanism)
+    for spring, end, anchor in problem.mounts:
+        for scenario in range(problem.model.n_scenarios):
+            P = problem.model.anchor_point(spring, end, x, scenario)
+            distance, w, normal = surface_distance(problem.mechanism, geometry, anchor.body, P)
+            if distance > 1e-9:
+                normal = (P - w) / np.linalg.norm(P - w)
+            history = planes.setdefault((spring.name, end, scenario), [])
+            if not any(np.allclose(w, old_w) and np.allclose(normal, old_n) for old_w, old_n in history):
+                history.append((w, normal))
+            else:   # the current plane moves to the end (it is the one the anchor must lie on)
+                history.append(history.pop(next(i for i, (old_w, old_n) in enumerate(history)
+                                                 if np.allclose(w, old_w) and np.allclose(normal, old_n))))
+    return planes
+
+
+def mount_rows(problem: DesignProblem, x: np.ndarray) -> LinearRows | None:
+    """The rows that hold every ``on: collision`` anchor on its offset surface, linearised at ``x``."""
+    return _rows(problem, x, [], [], mount_planes(problem, x))
+
+
+def _mount_errors(problem: DesignProblem, x: np.ndarray, geometry) -> dict[str, float]:
+    """``"<spring>.<end>"`` → distance [m] of each mounted anchor from its offset surface at ``x``."""
+    errors = {}
+    for spring, end, anchor in problem.mounts:
+        for scenario in range(problem.model.n_scenarios):
+            point = problem.model.anchor_point(spring, end, x, scenario)
+            distance = surface_distance(problem.mechanism, geometry, anchor.body, point)[0]
+            key = f"{spring.name}.{end}"
+            errors[key] = max(errors.get(key, 0.0), abs(distance - anchor.offset))
+    return errors
+
+
+# ====================================================================== rows
+class _AnchorMaps:
+    """Per (spring, end, scenario): the anchor point ``P(x) = P0 + J (x - x0)`` (body frame), exact since affine."""
+
+    def __init__(self, problem: DesignProblem):
+        self.problem = problem
+        self._jacobians: dict = {}
+
+    def jacobian(self, spring, end: str, scenario: int) -> np.ndarray:
+        key = (spring.name, end, scenario)
+        if key not in self._jacobians:
+            model = self.problem.model
+            n = self.problem.variables.size
+            zero = np.zeros(n)
+            base = model.anchor_point(spring, end, zero, scenario)
+            self._jacobians[key] = np.column_stack(
+                [model.anchor_point(spring, end, np.eye(n)[k], scenario) - base for k in range(n)]) if n else np.zeros((3, 0))
+        return self._jacobians[key]
+
+
+def _rows(problem: DesignProblem, x: np.ndarray, object_cuts: list, spring_cuts: list,
+          planes: dict) -> LinearRows | None:
+    """Linear rows at design ``x``: mounting rows, then the given cuts.
+
+    ``planes``: per mounted anchor, its tangent planes of the offset surface (:func:`mount_planes`).
+    The anchor stays inside every one of them, ``n·(p - w) ≤ offset``: each bounds the convex
+    offset body, so none cuts off a point of its surface, and together they keep the anchor on
+    the part of the surface they have seen. It lies on the last one: ``n·(p - w) ≥ offset``.
+
+    ``object_cuts``: ``(label, spring, scenario, frames (R_a, p_a, R_b, p_b), contact, radius, target)``;
+    ``spring_cuts``: ``(label, (spring_i, frames_i, r_i), (spring_j, frames_j, r_j), scenario, contact, target)``.
+    """
+    maps = _AnchorMaps(problem)
+    model = problem.model
+    n = problem.variables.size
+    matrix, offset, labels = [], [], []
+
+    def end_row(spring, end, scenario, rotation, translation, normal, point):
+        """Gradient and value of ``n·(R P(x) + p - w)`` at ``x``."""
+        P = model.anchor_point(spring, end, x, scenario)
+        gradient = normal @ rotation @ maps.jacobian(spring, end, scenario)
+        value = float(normal @ (rotation @ P + translation - point))
+        return gradient, value
+
+    identity, zero = np.eye(3), np.zeros(3)
+    for spring, end, anchor in problem.mounts:
+        for scenario in range(model.n_scenarios):
+            history = planes[(spring.name, end, scenario)]
+            for index, (w, normal) in enumerate(history):
+                gradient, value = end_row(spring, end, scenario, identity, zero, normal, w)
+                for sign in ((-1.0, 1.0) if index == len(history) - 1 else (-1.0,)):
+                    matrix.append(sign * gradient)
+                    offset.append(sign * (value - anchor.offset) + MOUNT_TOLERANCE - sign * gradient @ x)
+                    labels.append(f"{spring.name}.{end} {'on' if sign > 0 else 'within'} the offset surface "
+                                  f"of {anchor.body}")
+    for label, spring, scenario, frames, contact, radius, target in object_cuts:
+        for end, (rotation, translation) in zip(("a", "b"), frames):
+            gradient, value = end_row(spring, end, scenario, rotation, translation, contact.normal, contact.on_object)
+            matrix.append(gradient)
+            offset.append(value - radius - target - gradient @ x)
+            labels.append(f"{label}, end {end}")
+    for label, first, second, scenario, contact, target in spring_cuts:
+        middle = (contact.on_capsule + contact.on_object) / 2
+        for (spring, frames, radius), sign in ((first, 1.0), (second, -1.0)):
+            for end, (rotation, translation) in zip(("a", "b"), frames):
+                gradient, value = end_row(spring, end, scenario, rotation, translation, sign * contact.normal, middle)
+                matrix.append(gradient)
+                offset.append(value - radius - target / 2 - gradient @ x)
+                labels.append(f"{label}, {spring.name} end {end}")
+    if not offset:
+        return None
+    return LinearRows(list(problem.variables.names), np.array(matrix).reshape(-1, n), np.array(offset), labels)
+
+
+# ====================================================================== the loop
+def _radius(problem: DesignProblem, spring, x: np.ndarray, default: float) -> float:
+    """Capsule radius [m] of ``spring`` at design ``x``: half its coil's outer diameter, or ``default``."""
+    values = problem.model.spring_values(spring, x)
+    if "mean_diameter" in values and "wire_diameter" in values:
+        return 0.5 * (values["mean_diameter"] + values["wire_diameter"])
+    return default
+
+
+class _Checker:
+    """Distances of every two-point spring to the arm (and to each other) at a set of poses."""
+
+    def __init__(self, problem: DesignProblem, clearance: Clearance):
+        self.problem, self.clearance = problem, clearance
+        mechanism = problem.mechanism
+        self.scene = CollisionScene(mechanism, convex=True)
+        base = problem.base_workspace
+        ranges = {joint.name: [float(np.min(base.joint_values[:, joint.index_v])),
+                               float(np.max(base.joint_values[:, joint.index_v]))] for joint in mechanism.joints}
+        n = clearance.check_samples
+        self.pose_sets = [mechanism.configurations(Workspace.sobol(mechanism, n=n, ranges=ranges, seed=0).joint_values),
+                          mechanism.configurations(Workspace.sobol(mechanism, n=4 * n, ranges=ranges, seed=1).joint_values)]
+        self.springs = [spring for spring in problem.springs if set(spring.anchors) == {"a", "b"}]
+        self.checked = {spring.name: self.scene.indices_except([spring.anchors[e].body for e in ("a", "b")])
+                        for spring in self.springs}
+        self.frame_ids = {spring.name: tuple(mechanism.frame_id(spring.anchors[e].body) for e in ("a", "b"))
+                          for spring in self.springs}
+
+    def _frames(self, spring):
+        return tuple((np.array(self.scene.frame(f).rotation), np.array(self.scene.frame(f).translation))
+                     for f in self.frame_ids[spring.name])
+
+    def _ends(self, spring, frames, x, scenario):
+        return [rotation @ self.problem.model.anchor_point(spring, end, x, scenario) + translation
+                for end, (rotation, translation) in zip(("a", "b"), frames)]
+
+    def measure(self, x: np.ndarray, pose_set: int, only=None):
+        """Contacts at the poses of ``pose_set`` (or only at ``only``: {(set, sample)}) below the target.
+
+        Returns ``(below, closest)``: ``below`` maps a key to its distance [m], for every contact
+        closer than the margin; ``closest`` maps a spring's name to its smallest distance.
+        """
+        problem, clearance = self.problem, self.clearance
+        radius = {s.name: _radius(problem, s, x, clearance.radius or DEFAULT_RADIUS) for s in self.springs}
+        below, closest = {}, {s.name: np.inf for s in self.springs}
+        poses = self.pose_sets[pose_set]
+        for sample, q in enumerate(poses):
+            self.scene.place(q)
+            for scenario in range(problem.model.n_scenarios):
+                ends = {}
+                for spring in self.springs:
+                    ends[spring.name] = self._ends(spring, self._frames(spring), x, scenario)
+                    for index in self.checked[spring.name]:
+                        d = self.scene.capsule_distance(*ends[spring.name], radius[spring.name], index).distance
+                        closest[spring.name] = min(closest[spring.name], d)
+                        if d < clearance.margin:
+                            below[("object", spring.name, index, pose_set, sample, scenario)] = d
+                if clearance.between_springs:
+                    for i, first in enumerate(self.springs):
+                        for second in self.springs[i + 1:]:
+                            d = capsule_contact(*ends[first.name], radius[first.name],
+                                                *ends[second.name], radius[second.name]).distance
+                            for name in (first.name, second.name):
+                                closest[name] = min(closest[name], d)
+                            if d < clearance.margin:
+                                below[("spring", first.name, second.name, pose_set, sample, scenario)] = d
+        return below, closest
+
+    def cuts(self, x: np.ndarray, keys) -> tuple[list, list]:
+        """The cuts of the watched ``keys`` at design ``x``."""
+        problem, clearance = self.problem, self.clearance
+        springs = {spring.name: spring for spring in self.springs}
+        radius = {s.name: _radius(problem, s, x, clearance.radius or DEFAULT_RADIUS) for s in self.springs}
+        object_cuts, spring_cuts = [], []
+        for key in sorted(keys, key=lambda k: (k[3], k[4])):
+            kind, first, second, pose_set, sample, scenario = key
+            self.scene.place(self.pose_sets[pose_set][sample])
+            spring = springs[first]
+            frames = self._frames(spring)
+            ends = self._ends(spring, frames, x, scenario)
+            if kind == "object":
+                contact = self.scene.capsule_distance(*ends, radius[first], second)
+                label = f"{first} clear of {self.scene.objects[second].name} (pose {pose_set}:{sample})"
+                object_cuts.append((label, spring, scenario, frames, contact, radius[first], clearance.target))
+            else:
+                other = springs[second]
+                other_frames = self._frames(other)
+                contact = capsule_contact(*ends, radius[first], *self._ends(other, other_frames, x, scenario),
+                                          radius[second])
+                spring_cuts.append((f"{first} clear of {second} (pose {pose_set}:{sample})",
+                                    (spring, frames, radius[first]), (other, other_frames, radius[second]),
+                                    scenario, contact, clearance.target))
+        return object_cuts, spring_cuts
+
+
+def _worst(below: dict) -> list:
+    """Of the contacts below the margin, the :data:`WORST_PER_PAIR` closest per spring and object (or spring pair)."""
+    groups: dict = {}
+    for key, distance in below.items():
+        groups.setdefault((key[0], key[1], key[2], key[5]), []).append((distance, key))
+    chosen = []
+    for items in groups.values():
+        chosen += [key for _, key in sorted(items)[:WORST_PER_PAIR]]
+    return chosen
+
+
+def fit_to_arm(problem: DesignProblem, solution: Solution, **solve_options) -> tuple[Solution, FitRecord]:
+    """Enforce the problem's clearance and mountings from ``solution`` (see the module documentation).
+
+    ``solve_options`` go to :func:`~springbalance.design.solvers.solve_problem` (method, iterations).
+    Returns the fitted solution and its :class:`FitRecord`.
+    """
+    clock = time.perf_counter()
+    clearance = problem.clearance
+    x = np.array(solution.x, dtype=float)
+    before = problem.objective_value(problem.evaluate(x))
+    checker = _Checker(problem, clearance) if clearance is not None else None
+    geometry = collision_geometry(problem.mechanism) if problem.mounts else None
+    watched: set = set()
+    planes = mount_planes(problem, np.asarray(problem.variables.start, dtype=float)) if problem.mounts else {}
+    rounds, converged, closest, mounts = 0, False, {}, {}
+    limit = clearance.rounds if clearance is not None else 12
+    while True:
+        mounts = _mount_errors(problem, x, geometry) if problem.mounts else {}
+        mounted = all(error <= MOUNT_ACCEPT for error in mounts.values())
+        new = []
+        if checker is not None:
+            below, closest = checker.measure(x, 0)
+            if not below:
+                below, dense = checker.measure(x, 1)
+                closest = {name: min(closest[name], dense[name]) for name in closest}
+            new = [key for key in _worst(below) if key not in watched]
+            converged = not below and mounted
+        else:
+            converged = mounted
+        if converged or rounds >= limit:
+            break
+        watched.update(new)
+        object_cuts, spring_cuts = checker.cuts(x, watched) if checker is not None else ([], [])
+        planes = mount_planes(problem, x, planes)
+        problem.linear_rows = _rows(problem, x, object_cuts, spring_cuts, planes)
+        try:
+            solution = solve_problem(problem, starts=1, initial=x, progress=False, **solve_options)
+        except Exception as error:   # a solver failure ends the loop; the record says it did not converge
+            from springbalance.errors import SolverError
+
+            if not isinstance(error, SolverError):
+                raise
+            break
+        x = np.array(solution.x, dtype=float)
+        rounds += 1
+    objective = problem.objective_value(problem.evaluate(x))
+    poses = sum(len(poses) for poses in checker.pose_sets) if checker is not None else 0
+    record = FitRecord(rounds, len(problem.linear_rows) if problem.linear_rows is not None else 0, bool(converged),
+                       float(before), float(objective), {k: float(v) for k, v in closest.items()},
+                       {k: float(v) for k, v in mounts.items()}, poses, time.perf_counter() - clock)
+    status = (f"{solution.status}; fitted to the arm in {rounds} round(s)"
+              + ("" if converged else " (NOT converged: see the clearance check)"))
+    return Solution(x, solution.starts, solution.method, solution.seed, status), record
