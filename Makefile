@@ -6,7 +6,7 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 DOCS_STAMP := $(VENV)/.docs-installed
 
-.PHONY: demo test bench bench-buildable clean chromium demo-check docs
+.PHONY: demo test bench bench-buildable bench-clearance clean chromium demo-check docs
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -74,6 +74,10 @@ bench: $(STAMP)
 # UR5 with 4 buildable helical extension springs against 4 ideal ones: the price of buildability
 bench-buildable: $(STAMP)
 	$(BIN)/python benchmarks/bench_buildable.py
+
+# UR5 with 4 springs kept 5 mm clear of its collision meshes, beside the same design without clearance
+bench-clearance: $(STAMP)
+	$(BIN)/python benchmarks/bench_clearance.py
 
 clean:
 	rm -rf $(VENV) design.json site

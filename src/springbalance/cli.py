@@ -120,8 +120,9 @@ def build_parser() -> argparse.ArgumentParser:
     clearance.add_argument("--radius", "-r", type=float, metavar="R",
                            help="capsule radius [m] of springs without a helical spec sheet (default 0.01; a "
                                 "helical spring uses half its outer diameter)")
-    clearance.add_argument("--margin", "-m", type=float, default=0.0, metavar="M",
-                           help="clearance asked for [m]; springs closer than this are flagged (default 0)")
+    clearance.add_argument("--margin", "-m", type=float, default=None, metavar="M",
+                           help="clearance asked for [m]; springs closer than this are flagged (default: the "
+                                "design's clearance.margin, else 0)")
     clearance.set_defaults(handler=_clearance)
 
     view = commands.add_parser(

@@ -163,6 +163,16 @@ class FitRecord:
     def to_dict(self) -> dict[str, Any]:
         return {**dataclasses.asdict(self), "cost_percent": self.cost_percent}
 
+    @classmethod
+    def from_dict(cls, record: Any) -> "FitRecord | None":
+        """The record a saved design carries (None when it has none or it is damaged)."""
+        if not isinstance(record, dict):
+            return None
+        try:
+            return cls(**{field.name: record[field.name] for field in dataclasses.fields(cls) if field.name in record})
+        except TypeError:
+            return None
+
 
 @dataclasses.dataclass
 class LinearRows:

@@ -200,8 +200,20 @@ def capsule_contact(start_1, end_1, radius_1, start_2, end_2, radius_2) -> Conta
     shape_1, placement_1 = capsule(start_1, end_1, radius_1)
     shape_2, placement_2 = capsule(start_2, end_2, radius_2)
     distance = coal.distance(shape_1, placement_1, shape_2, placement_2, request, result)
+    normal = -np.array(result.normal)
+    if not np.linalg.norm(normal) > 0.5:
+        # coincident axes have no witness direction: take the world axis least aligned with capsule 1,
+        # made perpendicular to it, (or, for a point, the midpoints' difference, else +z)
+        axis = np.asarray(end_1, dtype=float) - np.asarray(start_1, dtype=float)
+        if np.linalg.norm(axis) > 1e-12:
+            axis /= np.linalg.norm(axis)
+            normal = np.eye(3)[int(np.argmin(np.abs(axis)))]
+            normal = normal - (normal @ axis) * axis
+        else:
+            normal = np.array([0.0, 0.0, 1.0])
+        normal /= np.linalg.norm(normal)
     return Contact(float(distance), -1, np.array(result.getNearestPoint1()), np.array(result.getNearestPoint2()),
-                   -np.array(result.normal))
+                   normal)
 
 
 def body_objects(mechanism: Mechanism, geometry: pin.GeometryModel, body: str) -> list:

@@ -157,7 +157,7 @@ class ClearanceReport:
 
 
 def clearance(result: DesignResult, radius: float | None = None, samples: int | None = None,
-              margin: float = 0.0, geometry: pin.GeometryModel | None = None) -> ClearanceReport:
+              margin: float | None = None, geometry: pin.GeometryModel | None = None) -> ClearanceReport:
     """Smallest distance from each spring of ``result`` to the arm's collision geometry.
 
     See the module documentation for the model (capsules, signed distances, the exemption of
@@ -170,7 +170,8 @@ def clearance(result: DesignResult, radius: float | None = None, samples: int | 
         samples: check this many scrambled Sobol poses (seed 0) over the smallest and largest
             value of each joint in the design's workspace instead of the workspace's own poses.
         margin: the clearance asked for [m], ≥ 0; a row is flagged ``below_margin`` when its
-            distance is below it.
+            distance is below it. Default: the problem's :class:`~springbalance.design.clearance.Clearance`
+            margin when it has one, else 0 (and its ``radius`` is then the default radius).
         geometry: the arm's collision geometry, when already loaded (:func:`collision_geometry`).
 
     Returns:
@@ -180,6 +181,11 @@ def clearance(result: DesignResult, radius: float | None = None, samples: int | 
         InputError: a bad ``radius``, ``samples`` or ``margin``, or a mechanism without a URDF
             or without collision geometry.
     """
+    asked = result.problem.clearance
+    if margin is None:
+        margin = asked.margin if asked is not None else 0.0
+    if radius is None and asked is not None:
+        radius = asked.radius
     if radius is not None and not (np.isfinite(radius) and radius > 0):
         raise InputError(f"clearance radius must be a finite number > 0 [m], got {radius!r}")
     if not (np.isfinite(margin) and margin >= 0):

@@ -51,6 +51,17 @@ def result_table(result) -> str:
         lines.append(f"  standard wire: {wires or 'none rounded'}; objective {rounding.continuous_objective:.6g} → "
                      f"{rounding.objective:.6g} ({rounding.cost_percent:+.2f} %)")
         lines.extend(f"  wire of {name} left continuous: {reason}" for name, reason in rounding.unrounded.items())
+    fit = getattr(result, "fit", None)
+    if fit is not None:
+        closest = ", ".join(f"{name} {1e3 * value:.1f} mm" for name, value in fit.closest.items())
+        mounts = ", ".join(f"{name} {1e3 * value:.2f} mm" for name, value in fit.mounts.items())
+        lines.append(f"  fitted to the arm in {fit.rounds} round(s) ({fit.rows} linearised rows, "
+                     f"{fit.seconds:.1f} s){'' if fit.converged else ' — NOT CONVERGED'}: objective "
+                     f"{fit.objective_before:.6g} → {fit.objective:.6g} ({fit.cost_percent:+.2f} %)")
+        if closest:
+            lines.append(f"  closest approach over {fit.poses} poses checked: {closest}")
+        if mounts:
+            lines.append(f"  mounted anchors off their surfaces by: {mounts}")
     sizing = result.helical_sizing()
     if sizing:
         lines.append("")

@@ -283,7 +283,7 @@ class DesignResult:
         return write_report(self, folder, scene=scene, **scene_options)
 
     def clearance(self, radius: float | None = None, samples: int | None = None,
-                  margin: float = 0.0) -> ClearanceReport:
+                  margin: float | None = None) -> ClearanceReport:
         """Smallest distance from each spring (a capsule) to the arm's URDF collision geometry, a
         check of the finished design; see :func:`springbalance.results.clearance.clearance`."""
         from springbalance.results.clearance import clearance
@@ -373,7 +373,7 @@ class DesignResult:
             raise InputError(f"design file {str(path)!r} lacks key {error}") from None
         solver = record.get("solver", {})
         return cls(problem, x, method=solver.get("method", "evaluate"), seed=solver.get("seed"),
-                   status=solver.get("status", "loaded"))
+                   status=solver.get("status", "loaded"), fit=FitRecord.from_dict(solver.get("fit")))
 
     def __repr__(self) -> str:
         return f"DesignResult({self.problem!r}, status={self.status!r})"

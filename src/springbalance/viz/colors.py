@@ -81,10 +81,10 @@ class ColorScale:
         note = " (negative: pushing)" if compression else ""
         clearance = ""
         if clearance_margin is not None:
-            clearance = (f'<div class="springbalance-clearance" style="margin-top:8px">'
-                         f'<span style="display:inline-block;width:22px;height:10px;margin-right:6px;'
+            clearance = (f'<div class="springbalance-clearance" style="margin-top:8px;font-size:11px">'
+                         f'<span style="display:inline-block;width:16px;height:10px;margin-right:5px;'
                          f'vertical-align:-1px;background:#{CLEARANCE_COLOR:06x}"></span>'
-                         f'magenta: below clearance margin ({1e3 * float(clearance_margin):.1f} mm)</div>')
+                         f'magenta: below clearance margin ({1e3 * float(clearance_margin):.3g} mm)</div>')
         bottom = 8 if clearance else 22
         return (f'<div id="{element_id}" style="position:{position};left:8px;top:8px;width:260px;'
                 f'padding:6px 14px {bottom}px 14px;'

@@ -122,7 +122,7 @@ class LiveScene:
 
     def _repr_html_(self) -> str:
         return (f'<div style="position:relative;height:480px">'
-                f'{self.scene.color_scale.legend_html(self.scene.compression, position="absolute")}'
+                f'{self.scene.legend_html(position="absolute")}'
                 f'<iframe src="{html.escape(self.url)}" style="width:100%;height:100%;border:none"></iframe></div>')
 
     def __repr__(self) -> str:

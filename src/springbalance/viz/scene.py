@@ -28,9 +28,11 @@ What is drawn (all lengths in m, forces in N):
 - an animation along an ordered path of poses (by default a sweep of each joint in turn,
   :func:`springbalance.model.sweeps.animation_path`), with meshcat's play/pause/time controls.
 
-The camera looks at the centre of a sphere that holds, in every frame of the animation, the
-arm's links (the bounding sphere of each visual shape), every spring with its coils, and every
-anchor region; it stands 1.7 radii away, so the whole sphere fits in meshcat's 75° field of view.
+The camera frames a sphere that holds, in every frame of the animation, the arm's links (the
+bounding sphere of each visual shape), every spring with its coils, and every anchor region.
+meshcat's orbit controls always look at the world origin (the arm's base, usually) and turn the
+view about it, so the camera looks at the origin from just far enough that all of it lies within
+90 % of the half-angle of meshcat's 75° field of view (:func:`camera_distance`).
 
 The helix is built once per spring in *axial* coordinates: ``x, y`` in metres, ``z`` the
 fraction ``s ∈ [0, 1]`` of the spring's length, from ``(0, 0, 0)`` to ``(0, 0, 1)``. At a
@@ -88,12 +90,12 @@ REGION_COLOR = 0x8c6bb1
 REGION_OPACITY = 0.12
 #: Height of a spring's name label [px] on its 256 px canvas texture (smaller for long names).
 LABEL_FONT_SIZE = 40
-#: Side of a label's square sprite as a fraction of the camera's bounding radius.
-LABEL_SIZE = 0.5
+#: Side of a label's square sprite as a fraction of the camera's distance from what it frames.
+LABEL_SIZE = 0.22
 #: Field of view (vertical) of meshcat's default camera [deg].
 CAMERA_FOV = 75.0
-#: Distance of the camera from its target, in bounding radii (the sphere fits in the field of view).
-CAMERA_DISTANCE = 1.7
+#: Fraction of the half field of view that the framed sphere may fill.
+CAMERA_FILL = 0.9
 
 
 # ====================================================================== scene data
@@ -206,8 +208,9 @@ class DesignScene:
         compression: True when some drawn spring pushes (negative tension) in some frame.
         margin: the clearance margin [m], or None.
         clearance_note: why no clearance is drawn although a margin is set (else None).
-        camera_target, camera_radius, camera_position: the sphere [m] the camera frames (centre and
-            radius) and the camera's world position [m]; set by :meth:`draw`.
+        camera_center, camera_radius: the sphere [m] the camera frames (:meth:`bounding_spheres`);
+        camera_target, camera_position: where the camera looks (the world origin, meshcat's orbit
+            target) and where it stands (world, [m]). The four are set by :meth:`draw`.
     """
 
     def __init__(self, result, joint_values=None, frames_per_joint: int = 48, style: HelixStyle = HelixStyle(),
@@ -255,8 +258,9 @@ class DesignScene:
         self.margin, self.clearance_note = self._margin(margin), None
         if self.margin is not None:
             self._clearances()
-        self.camera_target: np.ndarray | None = None
+        self.camera_center: np.ndarray | None = None
         self.camera_radius: float | None = None
+        self.camera_target: np.ndarray | None = None
         self.camera_position: np.ndarray | None = None
 
     def _margin(self, margin) -> float | None:
@@ -354,7 +358,7 @@ class DesignScene:
 
         root = visualizer[ROOT]
         helix_objects = {}
-        label_size = LABEL_SIZE * self.camera_radius   # [m], side of the label's square
+        label_size = LABEL_SIZE * float(np.linalg.norm(self.camera_position - self.camera_target))  # [m], a side
         for spring in self.springs:
             vertices, faces = spring.mesh()
             node = root["springs"][spring.name]
@@ -481,8 +485,9 @@ class DesignScene:
         return np.vstack(centres), np.concatenate(radii)
 
     def _set_camera(self, visualizer, arm) -> None:
-        """Look at the centre of everything drawn over the whole animation (:meth:`bounding_spheres`),
-        from the side that shows the motion best, far enough for all of it to be in view."""
+        """Frame everything drawn over the whole animation (:meth:`bounding_spheres`): look at the world
+        origin (meshcat's orbit target) from the side that shows the motion best, far enough that
+        every bounding sphere is in view (:func:`camera_distance`)."""
         centres, radii = self.bounding_spheres(arm.visual_model)
         lower, upper = (centres - radii[:, None]).min(axis=0), (centres + radii[:, None]).max(axis=0)
         center = (lower + upper) / 2
@@ -495,11 +500,14 @@ class DesignScene:
         else:
             direction = np.array([1.0, -1.3, 0.8])
         direction /= np.linalg.norm(direction)
-        offset = CAMERA_DISTANCE * radius * direction                      # [m] camera from the target
-        self.camera_target, self.camera_radius, self.camera_position = center, radius, center + offset
-        visualizer["/Cameras/default"].set_transform(placement(np.eye(3), center))
+        position = camera_distance(centres, radii, direction) * direction    # [m] world
+        self.camera_center, self.camera_radius = center, radius
+        self.camera_target, self.camera_position = np.zeros(3), position
+        # meshcat's orbit controls look at the world origin: the camera's parent frame must not move
+        visualizer["/Cameras/default"].set_transform(np.eye(4))
         # the camera node is rotated by +90° about x (meshcat's y-up convention): world (x, y, z) = rotated (x, z, -y)
-        visualizer["/Cameras/default/rotated/<object>"].set_property("position", [offset[0], offset[2], -offset[1]])
+        visualizer["/Cameras/default/rotated/<object>"].set_property("position",
+                                                                     [position[0], position[2], -position[1]])
 
     # ---------------------------------------------------------------- exports
     def html(self, animate: bool = True, autoplay: bool = True, legend: bool = True) -> str:
@@ -511,6 +519,31 @@ class DesignScene:
         if legend:
             page = _insert_before_body_end(page, self.legend_html())
         return page
+
+
+def camera_distance(centres, radii, direction, fov: float = CAMERA_FOV, fill: float = CAMERA_FILL) -> float:
+    """Distance [m] from the world origin along the unit vector ``direction`` of a camera that looks at
+    the origin and sees every sphere (``centres`` K×3 [m], ``radii`` K [m]) within ``fill`` of the half
+    field of view ``fov`` [deg]: for each sphere, the angle between the line of sight and its centre
+    plus its angular radius is at most ``fill · fov / 2``. The smallest such distance, by bisection
+    (beyond every sphere both angles only shrink with the distance)."""
+    centres = np.atleast_2d(np.asarray(centres, dtype=float))
+    radii = np.asarray(radii, dtype=float)
+    direction = np.asarray(direction, dtype=float)
+    half = np.radians(fill * fov / 2)
+
+    def angle(distance: float) -> float:
+        to_centres = centres - distance * direction
+        reach = np.linalg.norm(to_centres, axis=1)
+        sight = np.arccos(np.clip(-(to_centres @ direction) / reach, -1.0, 1.0))
+        return float(np.max(sight + np.arcsin(np.minimum(radii / reach, 1.0))))
+
+    low = float(np.max(np.linalg.norm(centres, axis=1) + radii))     # outside every sphere
+    high = 2 * low / np.sin(half) + 1e-3
+    for _ in range(60):
+        middle = (low + high) / 2
+        low, high = (middle, high) if angle(middle) > half else (low, middle)
+    return high
 
 
 def _anchors(spring) -> dict:

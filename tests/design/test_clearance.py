@@ -1,0 +1,173 @@
+"""Springs that fit the arm: clearance as a constraint of the optimisation, and mounted anchors.
+
+The arm is urdf/two_link_planar_collision.urdf (link1: box 0.5×0.04×0.04 m centred 0.25 m along
+x of its frame; link2: box 0.4×0.03×0.03 m; tool: sphere of radius 0.03 m at link2's tip; both
+joints about (0, -1, 0)). The checks here are independent of the optimisation's own machinery:
+the clearance report measures the URDF's shapes themselves (not the convex hulls and separating
+planes the optimisation uses) at 10× more poses than the design was fitted on, and the mounting
+checks compute the distance to link1's box in closed form.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import springbalance as sb
+from springbalance.cli import main
+from springbalance.design.clearance import fit_to_arm
+from springbalance.design.solvers import Solution
+
+URDF = Path(__file__).resolve().parents[2] / "urdf"
+LINK1_CENTRE, LINK1_HALF = np.array([0.25, 0.0, 0.0]), np.array([0.25, 0.02, 0.02])   # [m], link1 frame
+CHECK = 256                 # poses the design is fitted on
+DENSE = 10 * CHECK          # poses of the independent check
+
+
+@pytest.fixture(scope="module")
+def arm():
+    return sb.Mechanism.from_urdf(URDF / "two_link_planar_collision.urdf")
+
+
+@pytest.fixture(scope="module")
+def workspace(arm):
+    return sb.Workspace.sobol(arm, n=128, seed=0)
+
+
+def springs(width):
+    """A ground→link1 spring whose in-plane optimum crosses the folded-back link2, and a link1→link2
+    spring; the anchors may leave the arm's plane by ``width`` [m] (0: in the plane)."""
+    return [sb.ZeroFreeLengthSpring(sb.Anchor("universe", sb.Free([-0.1, -width, 0.2], [0.1, width, 0.4], init=[0, 0, 0.3])),
+                                    sb.Anchor("link1", sb.Free([0.3, -width, -0.05], [0.5, width, 0.05], init=[0.4, 0, 0])),
+                                    stiffness=sb.Free(0, 5000), name="s1"),
+            sb.ZeroFreeLengthSpring(sb.Anchor("link1", sb.Free([-0.1, -width, -0.1], [0.45, width, 0.1], init=[0.2, 0, 0])),
+                                    sb.Anchor("link2", sb.Free([0.02, -width, -0.05], [0.4, width, 0.05], init=[0.2, 0, 0])),
+                                    stiffness=sb.Free(0, 5000), name="s2")]
+
+
+@pytest.fixture(scope="module")
+def in_plane(arm, workspace):
+    """The optimum with every anchor in the arm's plane, no clearance asked for."""
+    return sb.DesignProblem(arm, workspace, springs(0.0)).solve(starts=4)
+
+
+def test_the_optimum_without_clearance_passes_through_link2(in_plane):
+    report = in_plane.clearance(samples=DENSE)
+    row = report.row("s1")
+    assert row.distance < 0                      # overlap: the spring passes through the arm
+    assert row.link in ("link2", "tool")         # link2, or the tool welded to its tip
+
+
+def test_clearance_fitted_from_a_design_through_link2_keeps_the_margin_at_10x_the_poses(arm, workspace, in_plane):
+    margin = 0.005
+    problem = sb.DesignProblem(arm, workspace, springs(0.1), clearance=sb.Clearance(margin=margin, check_samples=CHECK))
+    start = np.array([in_plane.variables.get(name, 0.0) for name in problem.variables.names])
+    assert problem.result(start).clearance(samples=DENSE).row("s1").distance < 0    # the same design, through link2
+    solution, fit = fit_to_arm(problem, Solution(start, [], "auto", 0, "given"), method="auto", max_iterations=100,
+                               tolerance=1e-8, polish_iterations=None)
+    result = problem.result(solution.x, fit=fit)
+    assert fit.converged and fit.rounds >= 1 and fit.rows > 0
+    report = result.clearance(samples=DENSE)     # the URDF's own shapes, 2,560 poses
+    assert report.margin == margin and report.poses == DENSE
+    for row in report.rows:
+        assert row.distance >= margin, str(report)
+    print(f"\nprice of {margin * 1e3:g} mm clearance: rms {fit.objective_before:.6g} → {fit.objective:.6g} N·m "
+          f"({fit.cost_percent:+.3f} %), {fit.rounds} round(s), {fit.rows} rows, {fit.seconds:.2f} s")
+    assert fit.objective <= 1.05 * fit.objective_before   # stepping out of the plane costs (almost) nothing
+
+
+def test_solve_with_clearance_keeps_springs_apart_and_saves_the_fit(arm, workspace, tmp_path):
+    """Both springs start on link1 on top of each other; with between_springs they keep the margin
+    from each other too (checked by brute force on the segments)."""
+    twins = [sb.ZeroFreeLengthSpring(sb.Anchor("universe", sb.Free([-0.1, -0.1, 0.2], [0.1, 0.1, 0.4], init=[0, 0, 0.3])),
+                                     sb.Anchor("link1", sb.Free([0.1, -0.1, -0.05], [0.5, 0.1, 0.05], init=[0.3, 0, 0])),
+                                     stiffness=sb.Free(0, 5000), name=name) for name in ("s1", "s2")]
+    clearance = sb.Clearance(margin=0.005, check_samples=64, between_springs=True)
+    problem = sb.DesignProblem(arm, workspace, twins, clearance=clearance)
+    result = problem.solve(starts=1)
+    assert result.fit is not None and result.fit.converged
+    ends = {}
+    poses = sb.Workspace.sobol(arm, n=640, seed=3)
+    kinematics = poses.kinematics()
+    for record in result.springs:
+        a, b = (np.asarray(record[end]["point"]) for end in ("a", "b"))
+        link1 = kinematics.body("link1")
+        world_b = link1.translation + np.einsum("nij,j->ni", link1.rotation, b)
+        ends[record["name"]] = (np.broadcast_to(a, world_b.shape), world_b)
+    t = np.linspace(0.0, 1.0, 201)
+    smallest = np.inf
+    for i in range(poses.size):
+        p = ends["s1"][0][i] + t[:, None] * (ends["s1"][1][i] - ends["s1"][0][i])
+        q = ends["s2"][0][i] + t[:, None] * (ends["s2"][1][i] - ends["s2"][0][i])
+        smallest = min(smallest, float(np.min(np.linalg.norm(p[:, None, :] - q[None, :, :], axis=2))))
+    # axis to axis ≥ 2 radii + margin, less the brute-force grid's error (half a step of 0.5 mm)
+    assert smallest >= 2 * 0.01 + 0.005 - 1e-3
+    path = result.save(tmp_path / "design.json")
+    loaded = sb.DesignResult.load(path)
+    assert loaded.problem.clearance == clearance
+    assert loaded.fit is not None and loaded.fit.rounds == result.fit.rounds
+
+
+def box_distance(point):
+    """Signed distance [m] from a link1-frame point to link1's collision box (closed form)."""
+    q = np.abs(np.asarray(point) - LINK1_CENTRE) - LINK1_HALF
+    return float(np.linalg.norm(np.maximum(q, 0.0)) + min(np.max(q), 0.0))
+
+
+def write_config(tmp_path, a, b, clearance=None):
+    config = {"mechanism": {"urdf": str(URDF / "two_link_planar_collision.urdf")},
+              "workspace": {"kind": "sobol", "n": 64},
+              "springs": [{"name": "s1", "type": "zero_free_length", "a": a, "b": b,
+                           "stiffness": {"lower": 0, "upper": 5000}}],
+              "solve": {"starts": 2}}
+    if clearance is not None:
+        config["clearance"] = clearance
+    path = tmp_path / "config.json"
+    path.write_text(json.dumps(config))
+    return path
+
+
+@pytest.mark.parametrize("offset", [0.0, 0.01])
+def test_an_anchor_on_collision_lies_on_its_bodys_surface_and_one_on_the_floor_on_the_floor(tmp_path, offset):
+    config = write_config(tmp_path, {"body": "universe", "on": "floor",
+                                     "box": {"lower": [-0.3, -0.1, -0.1], "upper": [0.3, 0.1, 0.1]}},
+                          {"body": "link1", "on": "collision", "offset": offset,
+                           "box": {"lower": [0.1, -0.1, -0.1], "upper": [0.5, 0.1, 0.1]}})
+    out = tmp_path / "design.json"
+    assert main(["design", str(config), "--out", str(out)]) == 0
+    record = json.loads(out.read_text())["design"][0]
+    assert record["a"]["point"][2] == pytest.approx(0.0, abs=1e-12)          # on the floor z = 0
+    assert abs(box_distance(record["b"]["point"]) - offset) <= 1e-3          # offset ± 1 mm from link1's box
+
+
+def test_an_anchor_on_collision_without_a_box_goes_around_the_geometry(arm, workspace):
+    spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", sb.Free([-0.1, -0.1, 0.1], [0.1, 0.1, 0.3])),
+                                     sb.Anchor("link1", None, on="collision", offset=0.005),
+                                     stiffness=sb.Free(0, 5000), name="s1")
+    result = sb.DesignProblem(arm, workspace, [spring]).solve(starts=2)
+    assert abs(box_distance(result.springs[0]["b"]["point"]) - 0.005) <= 1e-3
+    assert result.fit.converged
+
+
+@pytest.mark.parametrize("a, b, clearance, culprit", [
+    ({"body": "universe", "point": [0, 0, 0.3]}, {"body": "base", "on": "collision"}, None,
+     "body 'base' has no collision geometry"),
+    ({"body": "universe", "point": [0, 0, 0.3]}, {"body": "link1", "point": [0.3, 0, 0]}, {"margin": -0.001},
+     "clearance.margin"),
+    ({"body": "universe", "on": "floor", "box": {"lower": [-0.1, -0.1, 0.1], "upper": [0.1, 0.1, 0.2]}},
+     {"body": "link1", "point": [0.3, 0, 0]}, None, "no anchor can reach"),
+    ({"body": "universe", "point": [0, 0, 0.3]},
+     {"body": "link1", "on": "collision", "box": {"lower": [0.2, -0.3, 0.2], "upper": [0.3, 0.3, 0.3]}}, None,
+     "no anchor can reach the mounting surface"),
+])
+def test_bad_clearance_and_mounting_input_gets_one_line_naming_the_culprit(tmp_path, capsys, a, b, clearance, culprit):
+    config = write_config(tmp_path, a, b, clearance)
+    out = tmp_path / "design.json"
+    assert main(["design", str(config), "--out", str(out)]) == 2
+    error = capsys.readouterr().err.strip()
+    assert culprit in error and "Traceback" not in error
+    assert len(error.splitlines()) == 1, error
+    assert not out.exists()
