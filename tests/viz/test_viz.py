@@ -435,3 +435,269 @@ def test_show_draws_on_a_local_server_and_static_needs_none(design):
     finally:
         live.server.stop()
     assert not live.server.running
+
+
+# ---------------------------------------------------------------------- springs that fit the arm
+# urdf/two_link_planar_collision.urdf (see its header): both joints turn about (0, -1, 0), so a
+# positive angle lifts a link from +x towards +z; link1 runs 0.5 m along x from the shoulder (the
+# origin), link2's collision box is 0.4 × 0.03 × 0.03 m, centred 0.2 m along link2 from the elbow.
+# "crossing" runs from the ground point P = (0.6, 0, 0.25) to S = (0.4, 0, 0) on link1; with the
+# shoulder at 0 the elbow sits at E = (0.5, 0, 0) and link2 points along (cos e, 0, sin e).
+COLLISION_URDF = URDF / "two_link_planar_collision.urdf"
+CROSSING_P, CROSSING_S, ELBOW = np.array([0.6, 0.0, 0.25]), np.array([0.4, 0.0, 0.0]), np.array([0.5, 0.0, 0.0])
+LINK2_LENGTH, LINK2_HALF_WIDTH = 0.4, 0.015                 # [m] of link2's box
+CAPSULE_RADIUS = 0.01                                      # [m] of a spring without a spec sheet
+MARGIN = 0.02                                              # [m]
+
+
+def _fixed_design(urdf, springs, path, **options):
+    """A design of fixed springs (no free variable) whose workspace is ``path`` (N×2) [rad]."""
+    mechanism = sb.Mechanism.from_urdf(urdf)
+    problem = sb.DesignProblem(mechanism, sb.Workspace.from_array(mechanism, path), springs, **options)
+    return problem.result(np.zeros(0))
+
+
+def _crossing_spring():
+    return sb.ExtensionSpring(sb.Anchor("universe", tuple(CROSSING_P)), sb.Anchor("link1", tuple(CROSSING_S)),
+                              name="crossing", stiffness=300.0, free_length=0.05)
+
+
+def _elbow_path(degrees):
+    elbow = np.radians(degrees)
+    return np.column_stack([np.zeros_like(elbow), elbow])
+
+
+def _crosses_link2_axis(elbow: float) -> bool:
+    """Does the spring's segment S–P cross link2's centre line E + t (cos e, 0, sin e), 0 ≤ t ≤ 0.4?
+    Where it does, the capsule around the spring holds a point inside link2's box: an overlap."""
+    axis = np.array([np.cos(elbow), np.sin(elbow)])                       # in the x–z plane
+    spring = (CROSSING_P - CROSSING_S)[[0, 2]]
+    u, t = np.linalg.solve(np.column_stack([spring, -axis]), (ELBOW - CROSSING_S)[[0, 2]])
+    return 0 <= u <= 1 and 0 <= t <= LINK2_LENGTH
+
+
+def _hue_distance(rgb_1, rgb_2) -> float:
+    h1, h2 = (360 * colorsys.rgb_to_hsv(*rgb)[0] for rgb in (rgb_1, rgb_2))
+    return abs((h1 - h2 + 180) % 360 - 180)
+
+
+def _clips(recorder):
+    animation = next(umsgpack.unpackb(node.animation) for node in walk(recorder.tree) if node.animation is not None)
+    return {item["path"]: {track["name"]: [key["value"] for key in track["keys"]] for track in item["clip"]["tracks"]}
+            for item in animation["animations"]}
+
+
+def _draw(scene):
+    recorder = SceneRecorder()
+    scene.draw(meshcat.Visualizer(window=recorder))
+    return recorder
+
+
+def test_clearance_colour_is_not_on_the_tension_scale():
+    """The clearance colour must not read as a tension (or compression) or as the arm: its hue is more
+    than twice the census tolerance (14°) from every colour of the scale and from link1's blue."""
+    for colour in browser.scale_colours(401) + [LINK1_RGB]:
+        assert _hue_distance(colors.CLEARANCE_RGB, colour) > 2 * 14, colour
+    r, g, b = colors.CLEARANCE_RGB
+    assert colorsys.rgb_to_hsv(r, g, b)[1] > 0.9                           # a saturated colour, not grey
+    assert f"#{colors.CLEARANCE_COLOR:06x}" in colors.ColorScale(10).legend_html(clearance_margin=0.012)
+
+
+def test_spring_is_magenta_where_it_passes_through_link2():
+    degrees = [-90, -45, 0, 75, 90, 120, 150]
+    path = _elbow_path(degrees)
+    crossing = [_crosses_link2_axis(e) for e in path[:, 1]]
+    assert crossing == [False, False, False, True, True, True, True]       # the geometry above, worked out
+    result = _fixed_design(COLLISION_URDF, [_crossing_spring()], path)
+    scene = viz.DesignScene(result, path, margin=MARGIN)
+    track = scene.springs[0]
+    assert track.radius == CAPSULE_RADIUS
+    # where link2's centre line crosses the spring, the capsule overlaps link2's box
+    assert np.all(track.clearance[3:] < 0) and np.all(track.below_margin[3:])
+    # elbow at -90°: link2 hangs down from E, so its box spans x ∈ [0.485, 0.515], z ∈ [-0.4, 0]; the box's
+    # corner (0.485, ·, 0) is the point closest to the line S–P (whose foot lies within the segment), at
+    # |(0.485 - 0.4)·0.25 - 0·0.2| / |(0.2, 0.25)| from it. link1 (the spring's anchor body) is exempt,
+    # though S lies inside its box.
+    direction = (CROSSING_P - CROSSING_S)[[0, 2]]
+    corner = np.array([ELBOW[0] - LINK2_HALF_WIDTH, 0.0]) - CROSSING_S[[0, 2]]
+    foot = corner @ direction / (direction @ direction)
+    assert 0 < foot < 1
+    expected = abs(corner[0] * direction[1] - corner[1] * direction[0]) / np.linalg.norm(direction) - CAPSULE_RADIUS
+    assert track.clearance[0] == pytest.approx(expected, abs=1e-6)
+    assert expected > MARGIN and not track.below_margin[0]
+    # what meshcat receives: the colour track is magenta in the crossing frames, the tension colour elsewhere
+    recorder = _draw(scene)
+    helix = umsgpack.unpackb(recorder.tree["meshcat"][viz.ROOT]["springs"]["crossing"].object)["object"]
+    assert helix["materials"][0]["color"] == scene.color_scale.hex(track.tensions[0])      # frame 0 is clear
+    clip = _clips(recorder)[f"/meshcat/{viz.ROOT}/springs/crossing"]
+    colours = next(values for name, values in clip.items() if name.endswith(".material.color"))
+    for frame, crosses in enumerate(crossing):
+        if crosses:
+            np.testing.assert_allclose(colours[frame], colors.CLEARANCE_RGB)
+        else:
+            np.testing.assert_allclose(colours[frame], scene.color_scale.rgb(track.tensions[frame]))
+            assert _hue_distance(colours[frame], colors.CLEARANCE_RGB) > 28
+    legend = scene.legend_html()
+    assert "below clearance margin (20 mm)" in legend and "magenta" in legend
+    assert "below clearance margin (20 mm)" in scene.html(animate=False)
+
+
+def test_clearance_distances_are_those_of_the_clearance_check():
+    """Same rule as springbalance.results.clearance: over the same poses, the smallest distance agrees."""
+    path = _elbow_path(np.linspace(-90, 60, 11))
+    result = _fixed_design(COLLISION_URDF, [_crossing_spring()], path)
+    scene = viz.DesignScene(result, path, margin=MARGIN)
+    row = result.clearance(margin=MARGIN).row("crossing")
+    assert np.min(scene.springs[0].clearance) == pytest.approx(row.distance, abs=1e-9)
+    assert int(np.argmin(scene.springs[0].clearance)) == row.sample
+
+
+def test_margin_defaults_to_the_problems_clearance():
+    path = _elbow_path([-90, 120])
+    design = _fixed_design(COLLISION_URDF, [_crossing_spring()], path, clearance=sb.Clearance(margin=MARGIN))
+    scene = viz.DesignScene(design, path)
+    assert scene.margin == MARGIN
+    np.testing.assert_array_equal(scene.springs[0].below_margin, [False, True])
+    # without a clearance in the problem and without a margin, nothing is checked
+    plain = viz.DesignScene(_fixed_design(COLLISION_URDF, [_crossing_spring()], path), path)
+    assert plain.margin is None and plain.springs[0].clearance is None
+    assert "clearance" not in plain.legend_html()
+    with pytest.raises(sb.InputError, match="margin"):
+        viz.DesignScene(design, path, margin=-0.01)
+
+
+def test_without_collision_geometry_the_scene_is_drawn_by_tension():
+    path = _elbow_path([-90, 120])                                       # 120°: crosses link2 on the other URDF
+    result = _fixed_design(URDF / "two_link_planar.urdf", [_crossing_spring()], path)
+    scene = viz.DesignScene(result, path, margin=MARGIN)
+    track = scene.springs[0]
+    assert track.clearance is None and track.below_margin is None
+    assert "no collision geometry" in scene.clearance_note
+    clip = _clips(_draw(scene))[f"/meshcat/{viz.ROOT}/springs/crossing"]
+    colours = next(values for name, values in clip.items() if name.endswith(".material.color"))
+    np.testing.assert_allclose(colours, [scene.color_scale.rgb(t) for t in track.tensions])
+    assert "clearance" not in scene.legend_html()
+
+
+def test_no_clearance_entry_when_every_frame_is_clear():
+    path = _elbow_path([-90, -45, 0])
+    scene = viz.DesignScene(_fixed_design(COLLISION_URDF, [_crossing_spring()], path), path, margin=MARGIN)
+    assert np.all(scene.springs[0].clearance > MARGIN)
+    assert not scene.clearance_violated and "clearance" not in scene.legend_html()
+
+
+def _label_texts(page: str) -> dict[str, str]:
+    """Text of every ``_text`` texture in a static page (its commands are inline base64 msgpack), by the
+    path of the node that holds it."""
+    import base64
+
+    texts = {}
+    for data in re.findall(r'fetch\("data:application/octet-binary;base64,([A-Za-z0-9+/=]+)"\)', page):
+        command = umsgpack.unpackb(base64.b64decode(data))
+        if command.get("type") == "set_object":
+            for texture in command["object"].get("textures", []):
+                if texture.get("type") == "_text":
+                    texts[command["path"]] = texture["text"]
+    return texts
+
+
+def test_each_spring_carries_its_name_near_its_middle(design):
+    path = sweeps.animation_path(design, frames_per_joint=8)
+    scene = viz.DesignScene(design, path)
+    names = [spring.name for spring in scene.springs]
+    assert names == ["shoulder", "forearm"]
+    recorder = _draw(scene)
+    clips = _clips(recorder)
+    ends = _model_end_points(design, path)
+    for spring in scene.springs:
+        node = recorder.tree["meshcat"][viz.ROOT]["labels"][spring.name]
+        obj = umsgpack.unpackb(node.object)["object"]
+        assert obj["object"]["type"] == "Sprite"                             # always faces the camera
+        (texture,) = obj["textures"]
+        assert texture["type"] == "_text" and texture["text"] == spring.name
+        assert obj["materials"][0]["map"] == texture["uuid"]
+        # the label follows the spring: in every frame it sits a fixed small height above the middle of the
+        # spring's ends (from Pinocchio)
+        middle = (ends[spring.name][0] + ends[spring.name][1]) / 2
+        positions = np.array(clips[f"/meshcat/{viz.ROOT}/labels/{spring.name}"][".position"])
+        assert positions.shape == middle.shape == (len(path), 3)
+        np.testing.assert_allclose(positions[:, :2], middle[:, :2], atol=1e-12)
+        lift = positions[:, 2] - middle[:, 2]
+        np.testing.assert_allclose(lift, lift[0], atol=1e-12)
+        assert 0 < lift[0] < 0.05
+    # and the static page holds the labels' text
+    texts = _label_texts(scene.html())
+    assert {path.rsplit("/", 1)[-1]: text for path, text in texts.items()} == {name: name for name in names}
+
+
+def _camera(recorder):
+    """World position [m] of meshcat's camera from the recorded commands (it looks at the world origin,
+    the target of meshcat's orbit controls, from its ``/Cameras/default/rotated`` node)."""
+    transform = recorder.tree["Cameras"]["default"].transform
+    if transform is not None:
+        np.testing.assert_allclose(np.array(umsgpack.unpackb(transform)["matrix"]).reshape(4, 4), np.eye(4))
+    properties = [umsgpack.unpackb(p) for p in recorder.tree["Cameras"]["default"]["rotated"]["<object>"].properties]
+    x, y_up, minus_y = next(p["value"] for p in properties if p["property"] == "position")
+    return np.array([x, -minus_y, y_up])          # the rotated node turns meshcat's y-up frame back to z-up
+
+
+@pytest.mark.parametrize("make", [two_link_design, lambda: _fixed_design(
+    COLLISION_URDF, [_crossing_spring()], _elbow_path(np.linspace(-150, 150, 13)))], ids=["two_link", "crossing"])
+def test_camera_sees_every_spring_end_and_link_in_every_frame(make):
+    result = make()
+    path = sweeps.animation_path(result, frames_per_joint=12)
+    scene = viz.DesignScene(result, path)
+    camera = _camera(_draw(scene))
+    ends = _model_end_points(result, path)
+    mechanism = result.problem.mechanism
+    model, data = mechanism.model, mechanism.model.createData()
+    links = []
+    for q in mechanism.configurations(path):
+        pin.framesForwardKinematics(model, data, q)
+        links += [data.oMf[f].translation.copy() for f in range(model.nframes)]      # joints, link ends, tool
+    points = np.vstack([np.vstack(pair) for pair in ends.values()] + [np.array(links)])
+    # within the bounding sphere, and within meshcat's field of view (75° vertical) around the line of sight
+    assert np.all(np.linalg.norm(points - scene.camera_center, axis=1) <= scene.camera_radius + 1e-12)
+    sight = -camera / np.linalg.norm(camera)
+    rays = points - camera
+    angles = np.degrees(np.arccos(rays @ sight / np.linalg.norm(rays, axis=1)))
+    assert angles.max() <= 75 / 2, angles.max()
+    assert angles.max() > 0.5 * 75 / 2             # and the camera is not so far that the arm is a speck
+
+
+def test_legend_pushing_part_only_for_a_spring_that_pushes():
+    """A compression spring from (0, 0, -0.3) to (0.2, 0, 0) on link1 is L = sqrt(0.13 + 0.12 sin s) long
+    (shoulder s, elbow free); with l0 = 0.3 m its tension k (L - l0) is negative (it pushes) for
+    sin s < -1/3 only. The design's workspace covers both, the legend follows the animation's frames."""
+    spring = sb.CompressionSpring(sb.Anchor("universe", (0.0, 0.0, -0.3)), sb.Anchor("link1", (0.2, 0.0, 0.0)),
+                                  name="strut", stiffness=200.0, free_length=0.3)
+    shoulder = np.radians(np.linspace(-90, 90, 13))
+    result = _fixed_design(URDF / "two_link_planar.urdf", [spring], np.column_stack([shoulder, np.zeros(13)]))
+    pushing_in_design = 200.0 * (np.sqrt(0.13 + 0.12 * np.sin(shoulder)) - 0.3)
+    assert np.any(pushing_in_design < -1) and np.any(pushing_in_design > 1)
+
+    def scene_over(degrees):
+        angles = np.radians(degrees)
+        scene = viz.DesignScene(result, np.column_stack([angles, np.zeros_like(angles)]))
+        np.testing.assert_allclose(scene.springs[0].tensions, 200.0 * (np.sqrt(0.13 + 0.12 * np.sin(angles)) - 0.3),
+                                   rtol=1e-9)
+        return scene
+
+    lifting = scene_over(np.linspace(0, 90, 7))             # L ≥ sqrt(0.13) > 0.3: never pushes
+    assert not lifting.compression
+    assert "pushing" not in lifting.legend_html() and "pushing" not in lifting.html(animate=False)
+    assert not re.search(r">-\d", lifting.legend_html())     # no negative tick
+    lowering = scene_over(np.linspace(-90, 0, 7))           # pushes below s = -19.5°
+    assert lowering.compression
+    assert "(negative: pushing)" in lowering.legend_html() and re.search(r">-\d", lowering.legend_html())
+
+
+def test_magenta_spring_renders_in_headless_chromium(tmp_path):
+    _require_chromium()
+    path = _elbow_path([120])                                 # link2 passes through the spring
+    scene = viz.DesignScene(_fixed_design(COLLISION_URDF, [_crossing_spring()], path), path, margin=MARGIN)
+    page = tmp_path / "clearance.html"
+    page.write_text(scene.html(autoplay=False))
+    census = browser.colour_census(browser.screenshot(page, tmp_path / "clearance.png"), [LINK1_RGB],
+                                   [colors.CLEARANCE_RGB])
+    assert census.arm >= 150 and census.spring >= 40, census

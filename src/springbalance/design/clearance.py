@@ -52,7 +52,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from springbalance.design.solvers import Solution, solve_problem
-from springbalance.errors import InputError
+from springbalance.errors import InputError, SolverError
 from springbalance.model.collision import (DEFAULT_RADIUS, CollisionScene, capsule_contact, collision_geometry,
                                            surface_distance, body_objects)
 from springbalance.model.workspace import Workspace
@@ -519,6 +519,10 @@ def fit_to_arm(problem: DesignProblem, solution: Solution, **solve_options) -> t
     planes = mount_planes(problem, np.asarray(problem.variables.start, dtype=float)) if problem.mounts else {}
     rounds, converged, closest, mounts = 0, False, {}, {}
     limit = clearance.rounds if clearance is not None else 12
+    if solve_options.get("method", "auto") == "auto" and problem.objective.least_squares:
+        # the rows are affine: the augmented Lagrangian of least squares handles them; an infeasible
+        # round goes on from its least violating iterate rather than to IPOPT's slower exact Hessian
+        solve_options = {**solve_options, "method": "least_squares"}
     while True:
         mounts = _mount_errors(problem, x, geometry) if problem.mounts else {}
         mounted = all(error <= MOUNT_ACCEPT for error in mounts.values())
@@ -540,12 +544,14 @@ def fit_to_arm(problem: DesignProblem, solution: Solution, **solve_options) -> t
         problem.linear_rows = _rows(problem, x, object_cuts, spring_cuts, planes)
         try:
             solution = solve_problem(problem, starts=1, initial=x, progress=False, **solve_options)
-        except Exception as error:   # a solver failure ends the loop; the record says it did not converge
-            from springbalance.errors import SolverError
-
-            if not isinstance(error, SolverError):
-                raise
-            break
+        except SolverError as error:
+            # the linearised rows could not all be met from here: go on from the least violating
+            # iterate (the next round rebuilds the rows there); the record says if it never clears
+            if not error.starts:
+                break
+            least = min(error.starts, key=lambda record: record.max_violation)
+            solution = Solution(least.x, solution.starts, solution.method, solution.seed,
+                                f"{solution.status}; a fitting round stopped infeasible ({least.status})")
         x = np.array(solution.x, dtype=float)
         rounds += 1
     objective = problem.objective_value(problem.evaluate(x))

@@ -281,6 +281,6 @@ def write_report(result, folder: str | Path, scene: bool = True, **scene_options
     if scene:
         design_scene = viz.DesignScene(result, **scene_options)
         write_text_atomic(folder / "scene.html", design_scene.html())
-        legend = design_scene.color_scale.legend_html(design_scene.compression, position="absolute")
+        legend = design_scene.legend_html(position="absolute")
     page = report_html(result, scene="scene.html" if scene else None, legend=legend, exports=exported_files(folder))
     return write_text_atomic(folder / "report.html", page)

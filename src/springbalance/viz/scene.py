@@ -12,14 +12,14 @@ What is drawn (all lengths in m, forces in N):
   only when some spring really pushes (tension below zero) in some frame of the animation;
 - with a **clearance margin** ``m`` [m] (the ``margin`` argument, else the design problem's
   ``clearance.margin``) and a URDF with ``<collision>`` elements: in every frame where a
-  spring's capsule (radius: half its coil's outer diameter, else 0.01 m; see
-  :func:`springbalance.model.collision.capsule_radius`) comes closer than ``m`` to the
-  collision geometry of any body but its own two anchor bodies (the rule of
-  :mod:`springbalance.results.clearance`), the spring is drawn in magenta
-  (:data:`~springbalance.viz.colors.CLEARANCE_COLOR`) instead of its tension colour, and the
-  legend gets a "below clearance margin (m mm)" entry; the signed distances [m] per frame are
-  :attr:`SpringTrack.clearance`. Without collision geometry the springs keep their tension
-  colours;
+  spring's capsule (radius: half its coil's outer diameter, else the problem's
+  ``clearance.radius``, else 0.01 m; see :func:`springbalance.model.collision.capsule_radius`)
+  comes closer than ``m`` (or touches: distance ≤ 0) to the collision geometry of any body
+  but its own two anchor bodies (the rule of :mod:`springbalance.results.clearance`), the
+  spring is drawn in magenta (:data:`~springbalance.viz.colors.CLEARANCE_COLOR`) instead of
+  its tension colour, and the legend gets a "below clearance margin (m mm)" entry; the signed
+  distances [m] per frame are :attr:`SpringTrack.clearance`. Without collision geometry the
+  springs keep their tension colours;
 - the **name of each spring** as a text label (a sprite that always faces the camera) just
   above the middle of the spring, following it in the animation;
 - a small sphere at each anchor, and the free region of each anchor of the original
@@ -264,12 +264,14 @@ class DesignScene:
         self.camera_position: np.ndarray | None = None
 
     def _margin(self, margin) -> float | None:
+        """The margin [m] asked for, else the problem's clearance margin (``DesignProblem.clearance``), else None."""
         clearance = getattr(self.result.problem, "clearance", None)
         if margin is None and clearance is not None:
             margin = getattr(clearance, "margin", None)
         if margin is None:
             return None
-        if isinstance(margin, bool) or not (np.isfinite(margin) and margin >= 0):
+        if (isinstance(margin, bool) or not isinstance(margin, (int, float, np.integer, np.floating))
+                or not (np.isfinite(margin) and margin >= 0)):
             raise InputError(f"clearance margin must be a finite number ≥ 0 [m], got {margin!r}")
         return float(margin)
 
@@ -334,6 +336,8 @@ class DesignScene:
         regions = []
         for spring in self.result.problem.springs:
             for end, anchor in _anchors(spring).items():
+                if getattr(anchor, "mount", None) == "collision":
+                    continue    # mounted on the link's own surface: the link is the mounting surface drawn
                 corners = _region_corners(anchor.point)
                 if corners is None:
                     continue
@@ -723,7 +727,8 @@ class StaticScene:
 
 def scene_html(result, joint_values=None, animate: bool = True, autoplay: bool = True, legend: bool = True,
                **options) -> str:
-    """The self-contained HTML page of a design's scene (no server, no network)."""
+    """The self-contained HTML page of a design's scene (no server, no network); ``options`` go to
+    :class:`DesignScene` (``frames_per_joint``, ``style``, ``fps``, ``margin`` [m])."""
     return DesignScene(result, joint_values, **options).html(animate=animate, autoplay=autoplay, legend=legend)
 
 
@@ -738,7 +743,8 @@ def show(result, joint_values=None, static: bool = False, open_browser: bool = F
 
     ``static=True`` returns a :class:`StaticScene` (inline in Jupyter, no server). Otherwise
     the scene is drawn on the session's local server (:func:`local_server`, 127.0.0.1 only)
-    and a :class:`LiveScene` with its URL is returned.
+    and a :class:`LiveScene` with its URL is returned. ``options`` go to :class:`DesignScene`
+    (``frames_per_joint``, ``style``, ``fps``, ``margin`` [m]).
     """
     scene = DesignScene(result, joint_values, **options)
     if static:
