@@ -1,8 +1,11 @@
 """UR5 with four springs kept clear of its own links (the URDF's collision meshes), beside the same design without.
 
-Problem: the four ideal extension springs of bench_buildable.py (ground→upper arm, ground→forearm,
-upper arm→forearm, shoulder→forearm; every anchor free in a ±0.3 m box of its body; stiffness in [0, 5000]
-N/m, free length in [0.05, 1] m), rms objective, on a Sobol workspace (seed 1) of the URDF's joint ranges
+Problem: four ideal extension springs, shoulder→upper arm, shoulder→forearm, upper arm→forearm and a
+second shoulder→upper arm (every anchor free in a ±0.3 m box of its body; stiffness in [0, 5000] N/m, free
+length in [0.05, 1] m). bench_ur5.py anchors two springs on the ground instead: with the shoulder pan's full
+turn, the line from any ground point off the pan axis to the upper arm passes through the turning shoulder
+column at some pan angle, so no such spring can keep clear (a real balancer is mounted on the shoulder,
+which turns with the pan and carries the same gravity torques), rms objective, on a Sobol workspace (seed 1) of the URDF's joint ranges
 except two: shoulder lift in [-π, 0] (the upper arm above the base's horizontal plane) and elbow in
 [-2.6, 2.6] rad (±149°; beyond it the forearm folds into the upper arm, poses the arm cannot take).
 Solved twice by ``DesignProblem.solve`` with the same starts and seed:
@@ -36,8 +39,8 @@ parser.add_argument("--margin", type=float, default=0.005)
 parser.add_argument("--rounds", type=int, default=12, help="most re-solves of the fitting loop")
 args = parser.parse_args()
 
-PAIRS = [("universe", "upper_arm_link"), ("universe", "forearm_link"),
-         ("upper_arm_link", "forearm_link"), ("shoulder_link", "forearm_link")]
+PAIRS = [("shoulder_link", "upper_arm_link"), ("shoulder_link", "forearm_link"),
+         ("upper_arm_link", "forearm_link"), ("shoulder_link", "upper_arm_link")]
 
 
 def springs():

@@ -54,7 +54,7 @@ import numpy as np
 from springbalance.design.solvers import Solution, solve_problem
 from springbalance.errors import InputError, SolverError
 from springbalance.model.collision import (DEFAULT_RADIUS, CollisionScene, capsule_contact, collision_geometry,
-                                           surface_distance, body_objects)
+                                           surface_distance, body_objects, hull)
 from springbalance.model.workspace import Workspace
 from springbalance.springs.params import Free
 
@@ -243,10 +243,7 @@ def _body_bounds(mechanism, geometry, body: str) -> tuple[np.ndarray, np.ndarray
     frame = mechanism.model.frames[mechanism.frame_id(body)].placement
     lows, highs = [], []
     for obj in objects:
-        shape = obj.geometry
-        if isinstance(shape, coal.BVHModelBase):
-            shape.buildConvexRepresentation(False)
-            shape = shape.convex
+        shape = hull(obj.geometry)
         shape.computeLocalAABB()
         box = shape.aabb_local
         local = frame.actInv(obj.placement)

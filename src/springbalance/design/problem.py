@@ -151,7 +151,7 @@ class DesignProblem:
     def __init__(self, mechanism: Mechanism, workspace: Workspace, springs: Sequence[Spring],
                  objective: str | Objective = "rms", weights: Mapping[str, float] | None = None,
                  scenarios: Sequence[Scenario] | None = None, per_scenario: Sequence[str] = (),
-                 aggregate: str = "sum", no_joint_worse: bool = False, clearance=None):
+                 aggregate: str = "sum", no_joint_worse: bool = False, clearance: Clearance | None = None):
         if workspace.mechanism is not mechanism:
             raise InputError("the workspace was sampled for a different mechanism object; build it from the same Mechanism")
         if aggregate not in AGGREGATES:

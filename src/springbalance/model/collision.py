@@ -119,6 +119,23 @@ class Contact:
     normal: np.ndarray
 
 
+def hull(shape):
+    """``shape`` itself, or, for a mesh (BVH), its convex hull (qhull through coal).
+
+    coal's ``buildConvexRepresentation`` only wraps the mesh's vertices and triangles as a
+    ``Convex`` without making it convex; GJK's hill-climbing support search then stalls on such a
+    shape and reports wrong distances (seen: +0.33 m where the mesh overlaps). ``buildConvexHull``
+    builds the real hull.
+    """
+    import coal
+
+    if isinstance(shape, coal.BVHModelBase):
+        if shape.convex is None:
+            shape.buildConvexHull(True, "Qt")
+        return shape.convex
+    return shape
+
+
 def _convex(geometry: pin.GeometryModel) -> pin.GeometryModel:
     """A copy of ``geometry`` in which every mesh (BVH) is replaced by its convex hull."""
     import coal
@@ -126,10 +143,7 @@ def _convex(geometry: pin.GeometryModel) -> pin.GeometryModel:
     hulls = pin.GeometryModel()
     for obj in geometry.geometryObjects:
         obj = obj.copy()
-        shape = obj.geometry
-        if isinstance(shape, coal.BVHModelBase):
-            shape.buildConvexRepresentation(False)
-            obj.geometry = shape.convex
+        obj.geometry = hull(obj.geometry)
         hulls.addGeometryObject(obj)
     return hulls
 
@@ -148,6 +162,7 @@ class CollisionScene:
 
         self.mechanism = mechanism
         geometry = collision_geometry(mechanism) if geometry is None else geometry
+        self._source = geometry   # the hulls may share memory with the meshes they were built from: keep them
         self.geometry = _convex(geometry) if convex else geometry
         self.objects = list(self.geometry.geometryObjects)
         model = mechanism.model
@@ -240,10 +255,7 @@ def surface_distance(mechanism: Mechanism, geometry: pin.GeometryModel, body: st
     probe = coal.Sphere(1e-9)
     best = None
     for obj in objects:
-        shape = obj.geometry
-        if isinstance(shape, coal.BVHModelBase):
-            shape.buildConvexRepresentation(False)
-            shape = shape.convex
+        shape = hull(obj.geometry)
         local = frame.actInv(obj.placement)        # the object in the body frame
         result = coal.DistanceResult()
         distance = coal.distance(probe, coal.Transform3s(np.eye(3), np.asarray(point, dtype=float)), shape,
