@@ -16,12 +16,13 @@ Solved twice by ``DesignProblem.solve`` with the same starts and seed:
                    separating-plane rows of springbalance.design.clearance (meshes as convex hulls).
 
 Both designs are then checked *independently* with the clearance report (coal against the URDF's own
-collision meshes, not their hulls) at 10·C Sobol poses (seed 0) of the workspace's joint ranges. The
+collision meshes, not their hulls) at 10·C Sobol poses (or --verify-samples) (seed 0) of the workspace's joint ranges. The
 script prints the time of each solve, the rms reduction of each, the price of clearance, and the smallest
 distance of every spring in the dense check; it says loudly when a spring of the clearance design comes
 below the margin.
 
 Run: .venv/bin/python benchmarks/bench_clearance.py [--samples 1024] [--check-samples 512] [--starts 4] [--rounds 12]
+     [--verify-samples N]
 (make bench-clearance; a few minutes on 2 cores)
 """
 
@@ -37,7 +38,10 @@ parser.add_argument("--starts", type=int, default=4)
 parser.add_argument("--seed", type=int, default=0)
 parser.add_argument("--margin", type=float, default=0.005)
 parser.add_argument("--rounds", type=int, default=12, help="most re-solves of the fitting loop")
+parser.add_argument("--verify-samples", type=int, default=None,
+                    help="poses of the independent check (default 10 × --check-samples)")
 args = parser.parse_args()
+VERIFY = args.verify_samples or 10 * args.check_samples
 
 PAIRS = [("shoulder_link", "upper_arm_link"), ("shoulder_link", "forearm_link"),
          ("upper_arm_link", "forearm_link"), ("shoulder_link", "upper_arm_link")]
@@ -54,7 +58,7 @@ RANGES = {"shoulder_lift_joint": [-3.141592653589793, 0.0], "elbow_joint": [-2.6
 workspace = sb.Workspace.sobol(mechanism, args.samples, seed=1, ranges=RANGES)
 print(f"UR5, 4 extension springs, {args.samples} Sobol samples, {args.starts} starts, seed {args.seed}; "
       f"clearance margin {args.margin * 1e3:g} mm checked on {args.check_samples} poses while fitting, "
-      f"independent check on {10 * args.check_samples} poses (URDF meshes)\n")
+      f"independent check on {VERIFY} poses (URDF meshes)\n")
 
 results = {}
 for label, clearance in (("unconstrained", None),
@@ -65,7 +69,7 @@ for label, clearance in (("unconstrained", None),
     result = problem.solve(starts=args.starts, seed=args.seed)
     seconds = time.perf_counter() - clock
     rms = result.metrics()["objectives"]["rms"]
-    check = result.clearance(samples=10 * args.check_samples, margin=args.margin)
+    check = result.clearance(samples=VERIFY, margin=args.margin)
     results[label] = (result, seconds, rms, check)
     print(f"{label:>13}: {seconds:7.1f} s, rms {rms['before']:.4g} → {rms['after']:.4g} N·m "
           f"({rms['reduction_percent']:.2f} % reduction)")

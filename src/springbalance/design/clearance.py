@@ -27,7 +27,11 @@ every object at ``check_samples`` poses (scrambled Sobol, seed 0, over the works
 ranges). Each pose where a spring comes closer than the margin joins the watched set; the rows
 of every watched pose are rebuilt at the current design and the problem is solved again from
 it (one warm start). When the check set is clear, a 4× denser set (seed 1) is checked too, and
-its violations join the watched set. The loop ends when both are clear, or after
+its violations join the watched set. When both are clear, a bounded descent over the joint
+coordinates from the closest sampled poses of every pair that comes near searches for the
+closest approach between the samples (in six joints, even thousands of samples lie far apart),
+and the minima below the margin join the watched set and are checked in every later round.
+The loop ends when all three are clear, or after
 :attr:`Clearance.rounds` rounds; its record (:class:`FitRecord`) says which, and what the
 clearance cost (the objective before and after).
 
@@ -53,7 +57,7 @@ import numpy as np
 
 from springbalance.design.solvers import Solution, solve_problem
 from springbalance.errors import InputError, SolverError
-from springbalance.model.collision import (DEFAULT_RADIUS, CollisionScene, capsule_contact, collision_geometry,
+from springbalance.model.collision import (DEFAULT_RADIUS, CollisionScene, Contact, capsule_contact, collision_geometry,
                                            surface_distance, body_objects, hull)
 from springbalance.model.workspace import Workspace
 from springbalance.springs.params import Free
@@ -67,6 +71,13 @@ MOUNT_TOLERANCE = 2e-4
 MOUNT_ACCEPT = 5e-4
 #: Most poses per spring and object (and round) that join the watched set.
 WORST_PER_PAIR = 4
+#: Closest sampled poses per spring and object (a quarter of the joint box apart) from which
+#: :meth:`_Checker.descend` searches.
+DESCENTS_PER_PAIR = 3
+#: A pair is searched when its closest sampled pose is within this distance [m] of the margin.
+DESCENT_BAND = 0.1
+#: Most distance evaluations of one descent.
+DESCENT_EVALUATIONS = 150
 
 
 @dataclasses.dataclass(frozen=True)
@@ -404,19 +415,27 @@ def _radius(problem: DesignProblem, spring, x: np.ndarray, default: float) -> fl
 
 
 class _Checker:
-    """Distances of every two-point spring to the arm (and to each other) at a set of poses."""
+    """Distances of every two-point spring to the arm (and to each other) at a set of poses.
+
+    Pose sets: 0 is the check set, 1 the 4× denser one, 2 the poses found by :meth:`descend`
+    (local minima of a distance over the workspace's joint box, kept for the later rounds).
+    """
 
     def __init__(self, problem: DesignProblem, clearance: Clearance):
         self.problem, self.clearance = problem, clearance
         mechanism = problem.mechanism
         self.scene = CollisionScene(mechanism, convex=True)
         base = problem.base_workspace
-        ranges = {joint.name: [float(np.min(base.joint_values[:, joint.index_v])),
-                               float(np.max(base.joint_values[:, joint.index_v]))] for joint in mechanism.joints}
+        self.bounds = [(float(np.min(base.joint_values[:, joint.index_v])),
+                        float(np.max(base.joint_values[:, joint.index_v]))) for joint in mechanism.joints]
+        ranges = {joint.name: list(bound) for joint, bound in zip(mechanism.joints, self.bounds)}
         n = clearance.check_samples
-        self.pose_sets = [mechanism.configurations(Workspace.sobol(mechanism, n=n, ranges=ranges, seed=0).joint_values),
-                          mechanism.configurations(Workspace.sobol(mechanism, n=4 * n, ranges=ranges, seed=1).joint_values)]
+        self.joint_sets = [Workspace.sobol(mechanism, n=n, ranges=ranges, seed=0).joint_values,
+                           Workspace.sobol(mechanism, n=4 * n, ranges=ranges, seed=1).joint_values]
+        self.pose_sets = [mechanism.configurations(values) for values in self.joint_sets] + [[]]
+        self.joint_sets.append([])
         self.springs = [spring for spring in problem.springs if set(spring.anchors) == {"a", "b"}]
+        self.by_name = {spring.name: spring for spring in self.springs}
         self.checked = {spring.name: self.scene.indices_except([spring.anchors[e].body for e in ("a", "b")])
                         for spring in self.springs}
         self.frame_ids = {spring.name: tuple(mechanism.frame_id(spring.anchors[e].body) for e in ("a", "b"))
@@ -430,70 +449,139 @@ class _Checker:
         return [rotation @ self.problem.model.anchor_point(spring, end, x, scenario) + translation
                 for end, (rotation, translation) in zip(("a", "b"), frames)]
 
-    def measure(self, x: np.ndarray, pose_set: int, only=None):
-        """Contacts at the poses of ``pose_set`` (or only at ``only``: {(set, sample)}) below the target.
+    def _radii(self, x: np.ndarray) -> dict[str, float]:
+        default = self.clearance.radius or DEFAULT_RADIUS
+        return {s.name: _radius(self.problem, s, x, default) for s in self.springs}
 
-        Returns ``(below, closest)``: ``below`` maps a key to its distance [m], for every contact
-        closer than the margin; ``closest`` maps a spring's name to its smallest distance.
+    def _pairs(self):
+        """Every pair checked: ``(kind, spring, object index or other spring, scenario)``."""
+        for scenario in range(self.problem.model.n_scenarios):
+            for spring in self.springs:
+                for index in self.checked[spring.name]:
+                    yield ("object", spring.name, index, scenario)
+            if self.clearance.between_springs:
+                for i, first in enumerate(self.springs):
+                    for second in self.springs[i + 1:]:
+                        yield ("spring", first.name, second.name, scenario)
+
+    def _contact(self, pair, x: np.ndarray, radius: dict) -> tuple[Contact, tuple, tuple | None]:
+        """Contact of ``pair`` at the placed pose, with the frames of its spring (and of the other spring)."""
+        kind, first, second, scenario = pair
+        spring = self.by_name[first]
+        frames = self._frames(spring)
+        ends = self._ends(spring, frames, x, scenario)
+        if kind == "object":
+            return self.scene.capsule_distance(*ends, radius[first], second), frames, None
+        other = self.by_name[second]
+        other_frames = self._frames(other)
+        contact = capsule_contact(*ends, radius[first], *self._ends(other, other_frames, x, scenario), radius[second])
+        return contact, frames, other_frames
+
+    def measure(self, x: np.ndarray, pose_set: int):
+        """Distances [m] of every pair at the poses of ``pose_set``.
+
+        Returns ``(below, closest, nearest)``: ``below`` maps a key ``(*pair, pose_set, sample)``
+        to its distance for every contact closer than the margin; ``closest`` maps a spring's name
+        to its smallest distance; ``nearest`` maps a pair to its :data:`DESCENTS_PER_PAIR` closest
+        ``(distance, pose_set, sample)``.
         """
-        problem, clearance = self.problem, self.clearance
-        radius = {s.name: _radius(problem, s, x, clearance.radius or DEFAULT_RADIUS) for s in self.springs}
-        below, closest = {}, {s.name: np.inf for s in self.springs}
+        radius = self._radii(x)
+        pairs = list(self._pairs())
         poses = self.pose_sets[pose_set]
+        distances = np.full((len(poses), len(pairs)), np.inf)
         for sample, q in enumerate(poses):
             self.scene.place(q)
-            for scenario in range(problem.model.n_scenarios):
-                ends = {}
-                for spring in self.springs:
-                    ends[spring.name] = self._ends(spring, self._frames(spring), x, scenario)
-                    for index in self.checked[spring.name]:
-                        d = self.scene.capsule_distance(*ends[spring.name], radius[spring.name], index).distance
-                        closest[spring.name] = min(closest[spring.name], d)
-                        if d < clearance.margin:
-                            below[("object", spring.name, index, pose_set, sample, scenario)] = d
-                if clearance.between_springs:
-                    for i, first in enumerate(self.springs):
-                        for second in self.springs[i + 1:]:
-                            d = capsule_contact(*ends[first.name], radius[first.name],
-                                                *ends[second.name], radius[second.name]).distance
-                            for name in (first.name, second.name):
-                                closest[name] = min(closest[name], d)
-                            if d < clearance.margin:
-                                below[("spring", first.name, second.name, pose_set, sample, scenario)] = d
+            for column, pair in enumerate(pairs):
+                distances[sample, column] = self._contact(pair, x, radius)[0].distance
+        below, closest, nearest = {}, {s.name: np.inf for s in self.springs}, {}
+        for column, pair in enumerate(pairs):
+            if not len(poses):
+                break
+            order = np.argsort(distances[:, column], kind="stable")
+            nearest[pair] = [(float(distances[s, column]), pose_set, int(s)) for s in self._apart(pose_set, order)]
+            names = (pair[1], pair[2]) if pair[0] == "spring" else (pair[1],)
+            for name in names:
+                closest[name] = min(closest[name], float(distances[order[0], column]))
+            for sample in np.flatnonzero(distances[:, column] < self.clearance.margin):
+                below[(*pair, pose_set, int(sample))] = float(distances[sample, column])
+        return below, closest, nearest
+
+    def _apart(self, pose_set: int, order) -> list[int]:
+        """Up to :data:`DESCENTS_PER_PAIR` samples, closest first, at least a quarter of the joint box
+        apart from each other (so the descents start in different basins)."""
+        values = np.asarray(self.joint_sets[pose_set], dtype=float)
+        span = np.array([high - low for low, high in self.bounds]) + 1e-12
+        chosen: list[int] = []
+        for sample in order:
+            if all(np.linalg.norm((values[sample] - values[other]) / span) > 0.25 for other in chosen):
+                chosen.append(int(sample))
+                if len(chosen) == DESCENTS_PER_PAIR:
+                    break
+        return chosen
+
+    def descend(self, x: np.ndarray, nearest: dict):
+        """Search the joint box for the closest approach of every pair that comes near.
+
+        From each of a pair's closest sampled poses within :data:`DESCENT_BAND` of the margin, a
+        bounded quasi-Newton descent (SciPy's L-BFGS-B, finite differences of 0.1 mrad) minimises
+        the pair's distance over the joint coordinates. Sampling alone misses the minima between
+        samples (in 6-D, thousands of poses are far apart); the descent finds them. A minimum below
+        the margin joins pose set 2 and is returned as ``below`` (as :meth:`measure` does).
+        """
+        from scipy.optimize import minimize
+
+        radius = self._radii(x)
+        mechanism = self.problem.mechanism
+        below, closest = {}, {s.name: np.inf for s in self.springs}
+
+        def distance(values, pair):
+            self.scene.place(mechanism.configurations(values)[0])
+            return self._contact(pair, x, radius)[0].distance
+
+        for pair, starts in nearest.items():
+            for start_distance, pose_set, sample in starts:
+                if start_distance > self.clearance.margin + DESCENT_BAND:
+                    continue
+                start = np.asarray(self.joint_sets[pose_set][sample], dtype=float)
+                found = minimize(distance, start, args=(pair,), method="L-BFGS-B", bounds=self.bounds,
+                                 options={"eps": 1e-4, "maxfun": DESCENT_EVALUATIONS})
+                value = float(distance(found.x, pair))
+                names = (pair[1], pair[2]) if pair[0] == "spring" else (pair[1],)
+                for name in names:
+                    closest[name] = min(closest[name], value)
+                if value < self.clearance.margin:
+                    self.joint_sets[2].append(np.array(found.x))
+                    self.pose_sets[2].append(mechanism.configurations(found.x)[0])
+                    below[(*pair, 2, len(self.pose_sets[2]) - 1)] = value
         return below, closest
 
     def cuts(self, x: np.ndarray, keys) -> tuple[list, list]:
         """The cuts of the watched ``keys`` at design ``x``."""
-        problem, clearance = self.problem, self.clearance
-        springs = {spring.name: spring for spring in self.springs}
-        radius = {s.name: _radius(problem, s, x, clearance.radius or DEFAULT_RADIUS) for s in self.springs}
+        clearance = self.clearance
+        radius = self._radii(x)
         object_cuts, spring_cuts = [], []
-        for key in sorted(keys, key=lambda k: (k[3], k[4])):
-            kind, first, second, pose_set, sample, scenario = key
+        for key in sorted(keys, key=lambda k: (k[4], k[5], k[:4])):
+            pair, pose_set, sample = key[:4], key[4], key[5]
+            kind, first, second, scenario = pair
             self.scene.place(self.pose_sets[pose_set][sample])
-            spring = springs[first]
-            frames = self._frames(spring)
-            ends = self._ends(spring, frames, x, scenario)
+            contact, frames, other_frames = self._contact(pair, x, radius)
+            spring = self.by_name[first]
             if kind == "object":
-                contact = self.scene.capsule_distance(*ends, radius[first], second)
                 label = f"{first} clear of {self.scene.objects[second].name} (pose {pose_set}:{sample})"
                 object_cuts.append((label, spring, scenario, frames, contact, radius[first], clearance.target))
             else:
-                other = springs[second]
-                other_frames = self._frames(other)
-                contact = capsule_contact(*ends, radius[first], *self._ends(other, other_frames, x, scenario),
-                                          radius[second])
                 spring_cuts.append((f"{first} clear of {second} (pose {pose_set}:{sample})",
-                                    (spring, frames, radius[first]), (other, other_frames, radius[second]),
+                                    (spring, frames, radius[first]), (self.by_name[second], other_frames,
+                                                                      radius[second]),
                                     scenario, contact, clearance.target))
         return object_cuts, spring_cuts
 
 
 def _worst(below: dict) -> list:
-    """Of the contacts below the margin, the :data:`WORST_PER_PAIR` closest per spring and object (or spring pair)."""
+    """Of the contacts below the margin, the :data:`WORST_PER_PAIR` closest per pair."""
     groups: dict = {}
     for key, distance in below.items():
-        groups.setdefault((key[0], key[1], key[2], key[5]), []).append((distance, key))
+        groups.setdefault(key[:4], []).append((distance, key))
     chosen = []
     for items in groups.values():
         chosen += [key for _, key in sorted(items)[:WORST_PER_PAIR]]
@@ -525,10 +613,18 @@ def fit_to_arm(problem: DesignProblem, solution: Solution, **solve_options) -> t
         mounted = all(error <= MOUNT_ACCEPT for error in mounts.values())
         new = []
         if checker is not None:
-            below, closest = checker.measure(x, 0)
+            below, closest, nearest = checker.measure(x, 0)
+            if checker.pose_sets[2]:
+                found, nearby, _ = checker.measure(x, 2)
+                below.update(found)
+                closest = {name: min(closest[name], nearby[name]) for name in closest}
             if not below:
-                below, dense = checker.measure(x, 1)
+                below, dense, nearest_dense = checker.measure(x, 1)
                 closest = {name: min(closest[name], dense[name]) for name in closest}
+                nearest = nearest_dense             # 4× denser: its closest poses are the better starts
+            if not below:
+                below, searched = checker.descend(x, nearest)
+                closest = {name: min(closest[name], searched[name]) for name in closest}
             new = [key for key in _worst(below) if key not in watched]
             converged = not below and mounted
         else:
