@@ -6,7 +6,7 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 DOCS_STAMP := $(VENV)/.docs-installed
 
-.PHONY: demo test bench bench-buildable bench-clearance clean chromium demo-check docs
+.PHONY: demo test bench bench-buildable bench-clearance bench-explore bench-startup bench-workers bench-memory clean chromium demo-check docs
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -78,6 +78,22 @@ bench-buildable: $(STAMP)
 # UR5 with 4 springs kept 5 mm clear of its collision meshes, beside the same design without clearance
 bench-clearance: $(STAMP)
 	$(BIN)/python benchmarks/bench_clearance.py
+
+# A UR5 topology study (springbalance explore) on a Dask LocalCluster against the same study run sequentially
+bench-explore: $(STAMP)
+	$(BIN)/python benchmarks/bench_explore.py
+
+# Start-up: import time, the compiled residual from an empty and from a warm disk cache, the CLI end to end
+bench-startup: $(STAMP)
+	$(BIN)/python benchmarks/bench_startup.py
+
+# Both cores: 8 UR5 starts on a pool of worker processes against the same starts one after another
+bench-workers: $(STAMP)
+	$(BIN)/python benchmarks/bench_workers.py
+
+# No full Jacobian: peak memory per sample and time per start at 25,000 and 100,000 UR5 samples
+bench-memory: $(STAMP)
+	$(BIN)/python benchmarks/bench_memory.py
 
 clean:
 	rm -rf $(VENV) design.json site

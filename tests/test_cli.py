@@ -158,8 +158,11 @@ def test_out_is_a_directory_fails_before_solving(tmp_path, capsys):
 
 
 def test_solver_failure_exits_1_with_statuses(tmp_path, capsys):
-    # free length 1 m but the ends are never more than 0.3 m apart: no tension spring fits.
-    record = edited(springs__0__b={"body": "link1", "point": [0.2, 0, 0]}, springs__0__free_length=1.0)
+    # a rate of at least 5000 N/m stretched at least 5 cm pulls with at least 250 N, but max_force is 1 N:
+    # infeasible, which no single bound shows (a free length the ends cannot reach is refused up front,
+    # exit 2: tests/io/test_bad_input_round_two.py)
+    record = edited(springs__0__b={"body": "link1", "point": [0.2, 0, 0]}, springs__0__free_length=0.05,
+                    springs__0__stiffness={"lower": 5000, "upper": 10000}, springs__0__max_force=1.0)
     record["solve"] = {"starts": 1}
     out = tmp_path / "design.json"
     line = run_error(capsys, ["design", str(write_config(tmp_path, record)), "--out", str(out)], code=1)

@@ -25,7 +25,7 @@ from springbalance.springs.laws import (CompressionSpring, ConstantForceSpring, 
 from springbalance.springs.laws.helical_compression import HelicalCompressionSpring
 from springbalance.springs.laws.helical_extension import HelicalExtensionSpring
 from springbalance.springs.mass import CoilMass
-from springbalance.springs.params import Anchor, Free, Plane, Segment
+from springbalance.springs.params import Anchor, Free, Plane, Pulley, Segment
 from springbalance.springs.sizing import MATERIALS, Helical, HelicalDesign, Material, size_helical_spring
 
 __all__ = [
@@ -33,7 +33,7 @@ __all__ = [
     "DesignResult", "Evaluation", "ExtensionSpring", "Free", "GROUND", "GasSpring", "Helical", "HelicalCompressionSpring", "HelicalDesign",
     "HelicalExtensionSpring",
     "InputError", "Joint", "MATERIALS", "Material", "Mechanism", "OBJECTIVES", "Payload", "PayloadRange",
-    "PayloadSweep", "Plane", "Scenario", "Segment", "SolverError",
+    "PayloadSweep", "Plane", "Pulley", "Scenario", "Segment", "SolverError",
     "Spring", "SpringBalanceError", "TorsionalSpring", "TwoPointSpring", "Workspace", "ZeroFreeLengthSpring",
     "__version__", "constraints", "exact", "payload_range", "payload_scenarios", "residual_vs_payload",
     "size_helical_spring",

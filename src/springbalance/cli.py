@@ -2,7 +2,7 @@
 
 ::
 
-    springbalance design CONFIG.yaml --out design.json [--starts N] [--seed S] [--method M] [--stock CATALOGUE.csv] [--quiet]
+    springbalance design CONFIG.yaml --out design.json [--starts N] [--seed S] [--method M] [--workers W] [--stock CATALOGUE.csv] [--quiet]
     springbalance evaluate design.json [--workspace WORKSPACE.yaml]
     springbalance clearance design.json [--samples N] [--radius R] [--margin M]
     springbalance view design.json [--port P] [--open] [--frames N]
@@ -13,8 +13,13 @@
     springbalance inspect ROBOT_OR_URDF [--json] [--mimic]
     springbalance schema [--out config.schema.json]
 
+Every command takes ``--max-memory SIZE`` (e.g. ``2G``; default: the environment variable
+``SPRINGBALANCE_MAX_MEMORY``, else half the available memory): work whose estimated memory is
+larger (a workspace of too many samples, a scene of too many frames) is refused before it starts
+(:mod:`springbalance.model.budget`).
+
 Exit status: 0 on success, 1 when the solver finds no feasible design, 2 on bad input
-(unknown key, body or joint, malformed file, missing file, ...). Errors are printed as one
+(unknown key, body or joint, malformed file, missing file, too little memory, ...). Errors are printed as one
 line, ``springbalance: error: <message>``, on stderr, without a traceback; ``design``
 writes its output file atomically and only after a successful solve, so a failed run
 leaves no (partial) output file behind.
@@ -44,8 +49,12 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _run(args) -> int:
+    from springbalance.model.budget import current_limit, memory_limit
+
     try:
-        return args.handler(args)
+        with memory_limit(getattr(args, "max_memory", None)):
+            current_limit()  # a malformed SPRINGBALANCE_MAX_MEMORY is reported before any work
+            return args.handler(args)
     except SolverError as error:
         _print_error(error)
         return 1
@@ -63,6 +72,10 @@ def _run(args) -> int:
     except KeyboardInterrupt:
         print(f"{PROG}: interrupted", file=sys.stderr)
         return 130
+    except MemoryError:  # an allocation the estimates did not foresee
+        _print_error(f"out of memory; lower the sample counts or set a lower --max-memory so that springbalance "
+                     f"refuses such work up front")
+        return 2
 
 
 def _print_warning(message, category, filename, lineno, file=None, line=None) -> None:
@@ -78,10 +91,16 @@ def build_parser() -> argparse.ArgumentParser:
         epilog="Exit status: 0 success, 1 solver found no feasible design, 2 bad input. "
                f"Run '{PROG} COMMAND --help' for the options of a command.")
     parser.add_argument("--version", action="version", version=f"{PROG} {__version__}")
+    memory_help = ("refuse work estimated to need more memory than SIZE (e.g. 2G, 512M, or 'unlimited'; default: "
+                   "the environment variable SPRINGBALANCE_MAX_MEMORY, else half the available memory)")
+    parser.add_argument("--max-memory", metavar="SIZE", help=memory_help)
+    # also accepted after the command's name (the command's value wins)
+    common = argparse.ArgumentParser(add_help=False)
+    common.add_argument("--max-memory", metavar="SIZE", default=argparse.SUPPRESS, help=memory_help)
     commands = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
 
     design = commands.add_parser(
-        "design", help="solve the design problem of a config file and save the design",
+        "design", parents=[common], help="solve the design problem of a config file and save the design",
         description="Build the design problem described by CONFIG (YAML or JSON), solve it with a "
                     "multi-start, print the report and save the design as JSON.")
     design.add_argument("config", metavar="CONFIG", help="config file (.yaml, .yml or .json)")
@@ -92,6 +111,9 @@ def build_parser() -> argparse.ArgumentParser:
     design.add_argument("--seed", type=_nonnegative_int, metavar="S",
                         help="seed of the start points (overrides solve.seed)")
     design.add_argument("--method", choices=METHODS, help="solver backend (overrides solve.method)")
+    design.add_argument("--workers", type=_positive_int, metavar="W",
+                        help="processes that run the starts at once (overrides solve.workers; default: the "
+                             "number of cores); the design does not depend on it")
     design.add_argument("--stock", metavar="CATALOGUE.csv",
                         help="then pick each extension and compression spring from this stock catalogue (CSV, "
                              "columns in README 'Stock springs') and re-optimise the anchors")
@@ -99,7 +121,7 @@ def build_parser() -> argparse.ArgumentParser:
     design.set_defaults(handler=_design)
 
     evaluate = commands.add_parser(
-        "evaluate", help="print the report of a saved design",
+        "evaluate", parents=[common], help="print the report of a saved design",
         description="Load a design saved by 'springbalance design' and print its report, on the "
                     "workspace it was designed on or on another one.")
     evaluate.add_argument("design", metavar="DESIGN.json", help="design file written by 'springbalance design'")
@@ -109,7 +131,7 @@ def build_parser() -> argparse.ArgumentParser:
     evaluate.set_defaults(handler=_evaluate)
 
     clearance = commands.add_parser(
-        "clearance", help="check that the springs of a saved design stay clear of the arm",
+        "clearance", parents=[common], help="check that the springs of a saved design stay clear of the arm",
         description="Model each two-point spring of a saved design as a capsule between its end points and "
                     "print its smallest distance to the URDF's collision geometry over the workspace, with the "
                     "closest link and the pose. The collision objects of a spring's two anchor bodies are exempt. "
@@ -126,7 +148,7 @@ def build_parser() -> argparse.ArgumentParser:
     clearance.set_defaults(handler=_clearance)
 
     view = commands.add_parser(
-        "view", help="show a saved design in Meshcat, served on 127.0.0.1",
+        "view", parents=[common], help="show a saved design in Meshcat, served on 127.0.0.1",
         description="Serve the 3-D scene of a saved design on this machine only (127.0.0.1): the arm, each "
                     "spring as a helix coloured by its tension, animated through a sweep of each joint. "
                     "Prints the URL and serves until Ctrl-C.")
@@ -138,7 +160,7 @@ def build_parser() -> argparse.ArgumentParser:
     view.set_defaults(handler=_view)
 
     report = commands.add_parser(
-        "report", help="write an HTML report of a saved design (tables, plots, 3-D scene)",
+        "report", parents=[common], help="write an HTML report of a saved design (tables, plots, 3-D scene)",
         description="Write FOLDER/report.html (design and metrics tables, plots), FOLDER/scene.html (the "
                     "self-contained Meshcat scene, opens without a server or network), FOLDER/torques.png/.svg "
                     "and FOLDER/histogram.png/.svg.")
@@ -152,7 +174,7 @@ def build_parser() -> argparse.ArgumentParser:
     report.set_defaults(handler=_report)
 
     export = commands.add_parser(
-        "export", help="write the balanced arm as a URDF with spring anchors and/or a MuJoCo model",
+        "export", parents=[common], help="write the balanced arm as a URDF with spring anchors and/or a MuJoCo model",
         description="Write the design's URDF with a massless link at every spring anchor and the spring "
                     "records (plus a .springs.json sidecar), and/or a MuJoCo model (MJCF) with a tendon per "
                     "spring. Springs whose real law MuJoCo's linear two-sided spring cannot express at some "
@@ -165,7 +187,7 @@ def build_parser() -> argparse.ArgumentParser:
     export.set_defaults(handler=_export)
 
     payload = commands.add_parser(
-        "payload-range", help="anchor position against payload, and the largest payload, of a saved design",
+        "payload-range", parents=[common], help="anchor position against payload, and the largest payload, of a saved design",
         description="For a saved design with per-scenario variables (an adjustable anchor), keep the shared "
                     "variables and re-fit the per-scenario ones for each payload MASS at POINT of BODY; print the "
                     "table and the largest payload balanced to --max-residual. A design without per-scenario "
@@ -182,13 +204,13 @@ def build_parser() -> argparse.ArgumentParser:
     payload.set_defaults(handler=_payload_range)
 
     robots = commands.add_parser(
-        "robots", help="list the robots of example-robot-data",
+        "robots", parents=[common], help="list the robots of example-robot-data",
         description="List the robot names accepted by 'mechanism: {robot: NAME}' in a config.")
     robots.add_argument("--paths", action="store_true", help="also print the URDF file of each robot")
     robots.set_defaults(handler=_robots)
 
     inspect = commands.add_parser(
-        "inspect", help="list the bodies and joints of a robot or URDF (the names anchors and workspaces use)",
+        "inspect", parents=[common], help="list the bodies and joints of a robot or URDF (the names anchors and workspaces use)",
         description="Print the bodies (mass, centre of mass in the body frame, parent joint), the joints (type, "
                     "axis, limits, mimic coupling), the total mass and the ground bodies of an example-robot-data "
                     "robot or a URDF file: the names to write in a config's anchors and workspace.")
@@ -198,10 +220,37 @@ def build_parser() -> argparse.ArgumentParser:
     inspect.add_argument("--json", action="store_true", help="print the description as JSON instead of tables")
     inspect.add_argument("--mimic", action="store_true",
                          help="couple mimic joints to their primary joints (as 'mechanism: {mimic: true}' in a config)")
+    inspect.add_argument("--no-validate", action="store_true",
+                         help="load a URDF whose masses, inertias or joint limits are physically impossible (as "
+                              "'mechanism: {validate: false}' in a config); malformed numbers are still refused")
     inspect.set_defaults(handler=_inspect)
 
+    explore = commands.add_parser(
+        "explore", parents=[common], help="find where springs should go: solve every spring topology on Dask",
+        description="Enumerate the spring topologies of a study config (a design config with an 'explore' "
+                    "section instead of 'springs'), prune those that cannot balance exactly, solve the rest as "
+                    "tasks on a Dask cluster (a local one with a worker process per core by default), and write "
+                    "each result as it finishes into OUT/results/, then OUT/results.csv, OUT/report.html and "
+                    "the best design per spring count (OUT/best_<k>_springs.json). Running it again resumes.")
+    explore.add_argument("config", metavar="CONFIG", help="study config file (.yaml, .yml or .json)")
+    explore.add_argument("--out", "-o", required=True, metavar="FOLDER", help="the study folder")
+    explore.add_argument("--max-springs", type=int, metavar="N",
+                         help="most springs per topology (overrides explore.max_springs; default 2)")
+    explore.add_argument("--scheduler", metavar="ADDRESS",
+                         help="run on an existing Dask cluster (e.g. tcp://host:8786) instead of a local one")
+    explore.add_argument("--workers", type=_positive_int, metavar="W",
+                         help="worker processes of the local cluster (default: one per core)")
+    explore.add_argument("--timeout", type=float, default=10.0, metavar="SECONDS",
+                         help="how long to wait for the scheduler given by --scheduler (default 10)")
+    explore.add_argument("--sequential", action="store_true", help="solve the tasks one after another in this "
+                                                                   "process (no Dask)")
+    explore.add_argument("--force", action="store_true",
+                         help="use a study folder that holds another study's results (they are discarded)")
+    explore.add_argument("--quiet", "-q", action="store_true", help="no progress bar and no summary")
+    explore.set_defaults(handler=_explore)
+
     schema = commands.add_parser(
-        "schema", help="print the JSON Schema of config files",
+        "schema", parents=[common], help="print the JSON Schema of config files",
         description="Print the JSON Schema (draft 2020-12) that config files follow, for editors (completion "
                     "and checking, e.g. with a '# yaml-language-server: $schema=PATH' first line) and other "
                     "validators; --out writes it to a file instead.")
@@ -211,6 +260,39 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 # ---------------------------------------------------------------------- commands
+def _explore(args) -> int:
+    from springbalance.explore.study import load_study, make_client
+
+    if args.max_springs is not None and args.max_springs < 1:
+        raise InputError(f"--max-springs must be an integer ≥ 1, got {args.max_springs}")
+    if args.sequential and (args.scheduler or args.workers):
+        raise InputError("--sequential runs without Dask: it takes no --scheduler or --workers")
+    study = load_study(args.config, max_springs=args.max_springs)
+    # nothing left to solve (a finished study run again): no cluster to start
+    client = None if args.sequential or not study.pending(args.out) else make_client(args.scheduler, args.workers,
+                                                                                     args.timeout)
+    try:
+        result = study.run(args.out, client=client, force=args.force, progress=not args.quiet)
+    finally:
+        if client is not None:
+            cluster = getattr(client, "cluster", None)
+            client.close()
+            if cluster is not None and args.scheduler is None:
+                cluster.close()
+    if not args.quiet:
+        summary = study.summary()
+        print(f"{len(study.candidates)} candidates, {summary['topologies']} topologies × {summary['grid_points']} "
+              f"grid point(s); {summary['reachability']}: {len(summary['unreachable'])} proven unreachable, "
+              f"{len(summary['degenerate'])} degenerate; {len(result.dominated)} dominated; solved "
+              f"{len(result.solved)} now, {result.resumed} from an earlier run")
+        for count, record in result.best().items():
+            print(f"  best with {count} spring(s): {' + '.join(record['springs'])}  residual "
+                  f"{record['relative_residual']:.3g} of the unbalanced peak{'  (exact)' if record['exact'] else ''}"
+                  f"  -> {Path(args.out) / f'best_{count}_springs.json'}")
+        print(f"report: {Path(args.out) / 'report.html'}")
+    return 0
+
+
 def _design(args) -> int:
     from springbalance.io.config import load_config
 
@@ -223,14 +305,14 @@ def _design(args) -> int:
         parts = read_catalogue(args.stock)
     config = load_config(args.config)
     progress = False if args.quiet else None
-    overrides = {"starts": args.starts, "seed": args.seed, "method": args.method}
+    overrides = {"starts": args.starts, "seed": args.seed, "method": args.method, "workers": args.workers}
     result = config.solve(**overrides, progress=progress)
     selection = None
     if parts is not None:
         from springbalance.design.stock import select_stock
 
         given = {"starts": 8, **config.solve_options, **{key: value for key, value in overrides.items() if value is not None}}
-        options = {key: given[key] for key in ("seed", "method", "max_iterations", "tolerance") if key in given}
+        options = {key: given[key] for key in ("seed", "method", "max_iterations", "tolerance", "workers") if key in given}
         # each candidate part: the warm start at the continuous anchors plus one Sobol start
         options["starts"] = min(int(given["starts"]), 2)
         selection = select_stock(config.problem, result, parts, **options)
@@ -287,6 +369,7 @@ def _view(args) -> int:
     from springbalance.viz.scene import DesignScene
 
     result = DesignResult.load(args.design)
+    _check_scene_budget(result, args.frames)
     scene = DesignScene(result, frames_per_joint=args.frames)
     server = MeshcatServer(port=args.port)
     try:
@@ -322,6 +405,8 @@ def _report(args) -> int:
 
         workspace = load_workspace(args.workspace, result.problem.mechanism)
         result = DesignResult.load(args.design, mechanism=result.problem.mechanism, workspace=workspace)
+    if not args.no_scene:
+        _check_scene_budget(result, args.frames)
     path = result.report(out, scene=not args.no_scene, frames_per_joint=args.frames)
     files = ["report.html"] + ([] if args.no_scene else ["scene.html"]) + [
         "torques.png", "torques.svg", "histogram.png", "histogram.svg"]
@@ -394,24 +479,24 @@ def _robots(args) -> int:
 def _inspect(args) -> int:
     import json
 
-    summary = _load_mechanism(args.source, mimic=args.mimic).summary()
+    summary = _load_mechanism(args.source, mimic=args.mimic, validate=not args.no_validate).summary()
     print(json.dumps(summary, indent=2) if args.json else _summary_text(summary))
     return 0
 
 
-def _load_mechanism(argument: str, mimic: bool = False):
+def _load_mechanism(argument: str, mimic: bool = False, validate: bool = True):
     """The URDF file ``argument`` if it is a file or looks like a path, else the robot of that name."""
     from springbalance.model.mechanism import Mechanism
 
     path = Path(argument)
     if path.is_file():
-        return Mechanism.from_urdf(path, mimic=mimic)
+        return Mechanism.from_urdf(path, mimic=mimic, validate=validate)
     if "/" in argument or os.sep in argument or path.suffix.lower() in (".urdf", ".xml"):
         if path.is_dir():
             raise InputError(f"{argument!r} is a directory; give a URDF file or an example-robot-data robot name")
-        return Mechanism.from_urdf(path, mimic=mimic)
+        return Mechanism.from_urdf(path, mimic=mimic, validate=validate)
     try:
-        return Mechanism.from_robot(argument, mimic=mimic)
+        return Mechanism.from_robot(argument, mimic=mimic, validate=validate)
     except InputError as error:
         if path.is_dir():
             raise InputError(f"{argument!r} is a directory, not a URDF file, and {error}") from None
@@ -493,6 +578,17 @@ def _schema(args) -> int:
 
 
 # ---------------------------------------------------------------------- helpers
+def _check_scene_budget(result, frames_per_joint: int) -> None:
+    """Refuse (--frames too large) a scene whose estimated memory is above the limit, before drawing it."""
+    from springbalance.model import budget
+    from springbalance.model.sweeps import moving_joints
+
+    frames = frames_per_joint * max(len(moving_joints(result)), 1) + 1
+    objects = len(result.problem.mechanism.body_names) + len(result.problem.springs)
+    budget.require(budget.scene_bytes(frames, objects),
+                   f"a scene of {frames} frames (--frames {frames_per_joint} per moving joint) and {objects} objects")
+
+
 def _check_output(out: Path, option: str = "--out", example: str = "design.json") -> None:
     """Fail before solving (or exporting) when the file could not be saved at ``out``."""
     if out.is_dir():

@@ -79,11 +79,12 @@ def test_clearance_fitted_from_a_design_through_link2_keeps_the_margin_at_10x_th
     assert fit.objective <= 1.05 * fit.objective_before   # stepping out of the plane costs (almost) nothing
 
 
-def test_the_search_between_samples_clears_a_design_fitted_on_very_few_poses(arm, workspace, in_plane):
-    """Fitted on 8 poses only, the design still keeps the margin at 2,560: the descent from the
-    closest sampled poses finds the closest approaches between them."""
+def test_the_search_between_samples_clears_a_design_fitted_on_16_poses(arm, workspace, in_plane):
+    """Fitted on 16 poses only (and the 64 of the denser set), the design still keeps the margin at
+    2,560: the descent from the closest sampled poses finds the closest approaches between them
+    (without it, this design passes through the tool)."""
     margin = 0.005
-    problem = sb.DesignProblem(arm, workspace, springs(0.1), clearance=sb.Clearance(margin=margin, check_samples=8))
+    problem = sb.DesignProblem(arm, workspace, springs(0.1), clearance=sb.Clearance(margin=margin, check_samples=16))
     start = np.array([in_plane.variables.get(name, 0.0) for name in problem.variables.names])
     solution, fit = fit_to_arm(problem, Solution(start, [], "auto", 0, "given"), method="auto", max_iterations=100,
                                tolerance=1e-8, polish_iterations=None)

@@ -71,7 +71,16 @@ def test_schema_is_a_valid_draft_2020_12_schema(schema):
 
 @pytest.mark.parametrize("example", EXAMPLES, ids=[path.name for path in EXAMPLES])
 def test_every_example_validates_against_the_schema(schema, example):
-    jsonschema.Draft202012Validator(schema).validate(read_config_file(example))
+    record = read_config_file(example)
+    if "explore" in record:
+        # a study config (springbalance explore): a design config whose springs the study writes; each
+        # task's config (with its springs) is what the schema checks
+        from springbalance.explore import load_study
+
+        study = load_study(example)
+        assert study.tasks
+        record = study.tasks[0].record
+    jsonschema.Draft202012Validator(schema).validate(record)
 
 
 def test_the_schema_rejects_what_the_loader_rejects(schema):
@@ -112,7 +121,10 @@ def test_schema_command_help_and_bad_out(capsys, tmp_path):
 
 def test_spring_laws_come_from_the_registry(schema):
     members = [item["$ref"].rsplit("/", 1)[-1] for item in schema["properties"]["springs"]["items"]["oneOf"]]
-    assert members == [cls.__name__ for cls in SPRING_TYPES.values()]
+    # every law of the registry, and the routed spring (a path, and one of those laws on it)
+    assert members == [cls.__name__ for cls in SPRING_TYPES.values()] + ["RoutedSpring"]
+    routed = schema["$defs"]["RoutedSpring"]
+    assert {"path", "spring", "cable_length"} <= set(routed["required"])
     tabulated = schema["$defs"][SPRING_TYPES["tabulated"].__name__]
     assert tabulated["properties"]["type"]["const"] == "tabulated"
     assert "table" in tabulated["properties"] and "table" in tabulated["required"]

@@ -73,9 +73,9 @@ MOUNT_ACCEPT = 5e-4
 WORST_PER_PAIR = 4
 #: Closest sampled poses per spring and object (a quarter of the joint box apart) from which
 #: :meth:`_Checker.descend` searches.
-DESCENTS_PER_PAIR = 3
+DESCENTS_PER_PAIR = 2
 #: A pair is searched when its closest sampled pose is within this distance [m] of the margin.
-DESCENT_BAND = 0.1
+DESCENT_BAND = 0.02
 #: Most distance evaluations of one descent.
 DESCENT_EVALUATIONS = 150
 
@@ -234,7 +234,7 @@ def resolve_mounts(mechanism, springs: list) -> list:
         for end, anchor in spring.anchors.items():
             if getattr(anchor, "mount", None) != "collision" or anchor.point is not None:
                 continue
-            lower, upper = _body_bounds(mechanism, geometry, anchor.body)
+            lower, upper = body_bounds(mechanism, geometry, anchor.body)
             grown = anchor.offset + 0.005
             anchor = copy.copy(anchor)
             anchor.point = Free(lower - grown, upper + grown)
@@ -243,7 +243,7 @@ def resolve_mounts(mechanism, springs: list) -> list:
     return resolved
 
 
-def _body_bounds(mechanism, geometry, body: str) -> tuple[np.ndarray, np.ndarray]:
+def body_bounds(mechanism, geometry, body: str) -> tuple[np.ndarray, np.ndarray]:
     """Axis-aligned bounds (body frame, [m]) of ``body``'s collision objects."""
     import coal
 
@@ -387,7 +387,7 @@ def _rows(problem: DesignProblem, x: np.ndarray, object_cuts: list, spring_cuts:
                     labels.append(f"{spring.name}.{end} {'on' if sign > 0 else 'within'} the offset surface "
                                   f"of {anchor.body}")
     for label, spring, scenario, frames, contact, radius, target in object_cuts:
-        for end, (rotation, translation) in zip(("a", "b"), frames):
+        for end, (rotation, translation) in zip(_ends_of(spring), frames):
             gradient, value = end_row(spring, end, scenario, rotation, translation, contact.normal, contact.on_object)
             matrix.append(gradient)
             offset.append(value - radius - target - gradient @ x)
@@ -395,7 +395,7 @@ def _rows(problem: DesignProblem, x: np.ndarray, object_cuts: list, spring_cuts:
     for label, first, second, scenario, contact, target in spring_cuts:
         middle = (contact.on_capsule + contact.on_object) / 2
         for (spring, frames, radius), sign in ((first, 1.0), (second, -1.0)):
-            for end, (rotation, translation) in zip(("a", "b"), frames):
+            for end, (rotation, translation) in zip(_ends_of(spring), frames):
                 gradient, value = end_row(spring, end, scenario, rotation, translation, sign * contact.normal, middle)
                 matrix.append(gradient)
                 offset.append(value - radius - target / 2 - gradient @ x)
@@ -406,6 +406,12 @@ def _rows(problem: DesignProblem, x: np.ndarray, object_cuts: list, spring_cuts:
 
 
 # ====================================================================== the loop
+def _ends_of(spring) -> tuple[str, str]:
+    """The ends of a spring's own body: ``a`` and ``b``, or for a routed spring ``a`` and its first
+    pulley (the capsule is its first segment; its cable beyond is not checked)."""
+    return getattr(spring, "spring_ends", ("a", "b"))
+
+
 def _radius(problem: DesignProblem, spring, x: np.ndarray, default: float) -> float:
     """Capsule radius [m] of ``spring`` at design ``x``: half its coil's outer diameter, or ``default``."""
     values = problem.model.spring_values(spring, x)
@@ -434,11 +440,11 @@ class _Checker:
                            Workspace.sobol(mechanism, n=4 * n, ranges=ranges, seed=1).joint_values]
         self.pose_sets = [mechanism.configurations(values) for values in self.joint_sets] + [[]]
         self.joint_sets.append([])
-        self.springs = [spring for spring in problem.springs if set(spring.anchors) == {"a", "b"}]
+        self.springs = [spring for spring in problem.springs if getattr(spring, "ends", ()) == ("a", "b")]
         self.by_name = {spring.name: spring for spring in self.springs}
-        self.checked = {spring.name: self.scene.indices_except([spring.anchors[e].body for e in ("a", "b")])
+        self.checked = {spring.name: self.scene.indices_except([spring.anchors[e].body for e in _ends_of(spring)])
                         for spring in self.springs}
-        self.frame_ids = {spring.name: tuple(mechanism.frame_id(spring.anchors[e].body) for e in ("a", "b"))
+        self.frame_ids = {spring.name: tuple(mechanism.frame_id(spring.anchors[e].body) for e in _ends_of(spring))
                           for spring in self.springs}
 
     def _frames(self, spring):
@@ -447,7 +453,7 @@ class _Checker:
 
     def _ends(self, spring, frames, x, scenario):
         return [rotation @ self.problem.model.anchor_point(spring, end, x, scenario) + translation
-                for end, (rotation, translation) in zip(("a", "b"), frames)]
+                for end, (rotation, translation) in zip(_ends_of(spring), frames)]
 
     def _radii(self, x: np.ndarray) -> dict[str, float]:
         default = self.clearance.radius or DEFAULT_RADIUS

@@ -279,6 +279,9 @@ def residual_blocks(target, springs) -> BalanceBlocks:
         if not isinstance(spring, ZeroFreeLengthSpring):
             raise InputError(f"spring {spring.name!r} is {spring.kind}; the stiffness-matrix analysis needs "
                              "zero-free-length springs")
+        if getattr(spring, "routed", False):
+            raise InputError(f"spring {spring.name!r} is routed over pulleys; the stiffness-matrix analysis takes "
+                             "straight zero-free-length springs (the residual of the design says whether it is exact)")
         anchors = spring.anchors
         if any(anchor.is_free for anchor in anchors.values()) or isinstance(spring.parameters["stiffness"], Free):
             raise InputError(f"spring {spring.name!r} has free anchors or stiffness; fix them (e.g. result.fixed_springs())")

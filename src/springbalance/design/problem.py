@@ -28,16 +28,18 @@ import casadi as ca
 import numpy as np
 
 from springbalance.errors import InputError
+from springbalance.model import budget
 from springbalance.model.mechanism import Mechanism
 from springbalance.design.objectives import NlpPieces, Objective, objective_named
 from springbalance.design.scenarios import Scenario, ScenarioWorkspace, check_scenarios
 from springbalance.design.clearance import Clearance, LinearRows, check_mounts, fit_to_arm, mount_rows, resolve_mounts
 from springbalance.design.coil_start import coil_springs, coil_start
-from springbalance.design.solvers import solve_problem
+from springbalance.design.solvers import solve_problem, workers_default
 from springbalance.design.standard_wire import coils_with_free_wire, round_wires
 from springbalance.springs.laws import Spring
+from springbalance.springs.params import Free
 from springbalance.springs.records import spring_from_dict
-from springbalance.design.torque_model import SampleEvaluator, TorqueModel
+from springbalance.design.torque_model import BlockEvaluator, TorqueModel
 from springbalance.model.workspace import Workspace
 
 AGGREGATES = ("sum", "worst")
@@ -177,11 +179,18 @@ class DesignProblem:
             # case; a potential's constant differs per scenario, so its variance is taken per scenario
             self.objective = ScenarioAggregate(self.objective, len(self.scenarios), worst=aggregate == "worst")
         self.weights = _weights(mechanism, weights)
+        nv, nq, samples = mechanism.nv, mechanism.model.nq, workspace.size
+        budget.require(budget.kinematics_bytes(samples, nv, nq), f"the gravity torques of {samples} samples")
         kinematics = workspace.kinematics()
         self.no_joint_worse = bool(no_joint_worse)
         self.joint_limits = _joint_limits(kinematics.gravity_torque, self.weights, max(len(self.scenarios), 1))
         self.model = TorqueModel(mechanism, self.springs, [s.name for s in self.scenarios], self.per_scenario,
                                  joint_limits=self.joint_limits if self.no_joint_worse else None)
+        model = self.model
+        budget.require(budget.evaluation_bytes(samples, nv, nq, model.data_size, nv + 1 + 2 * model.n_springs
+                                               + model.n_constraints, model.variables.size, model.n_constraints),
+                       f"a design problem of {samples} samples, {model.n_springs} springs and "
+                       f"{model.variables.size} variables")
         self.data = self.model.data_matrix(kinematics)
         self.path_steps = np.abs(np.diff(workspace.joint_values, axis=0)) if workspace.ordered and workspace.size > 1 else None
         if self.path_steps is not None and self.scenarios:
@@ -223,9 +232,9 @@ class DesignProblem:
         if x.shape != (self.variables.size,):
             raise InputError(f"design vector has {x.size} entries, problem has {self.variables.size}: "
                              f"{', '.join(self.variables.names)}")
-        if self._evaluator is None:
-            self._evaluator = SampleEvaluator(self.model.sample, self.data)
-        tau, potential, lengths, tensions, rows = (np.array(out) for out in self._evaluator(x))
+        if self._evaluator is None:   # block by block: no work arrays for all samples at once
+            self._evaluator = BlockEvaluator(self.model.sample, self.data)
+        tau, potential, lengths, tensions, rows = self._evaluator.evaluate(x)
         n = self.workspace.size
         return Evaluation(x, tau.reshape(n, -1), potential.reshape(n), lengths.reshape(n, -1),
                           tensions.reshape(n, -1), rows.reshape(n, -1))
@@ -300,7 +309,7 @@ class DesignProblem:
 
     def solve(self, starts: int = 8, seed: int = 0, method: str = "auto", progress: bool | None = None,
               max_iterations: int = 100, tolerance: float = 1e-8, polish_iterations: int | None = None,
-              standard_wire: bool = True):
+              standard_wire: bool = True, workers: int | None = None):
         """Multi-start solve; returns the best feasible :class:`~springbalance.results.result.DesignResult`.
 
         Args:
@@ -317,7 +326,18 @@ class DesignProblem:
             standard_wire: round every helical spring's free wire diameter to the preferred
                 series and re-optimise the rest (:mod:`~springbalance.design.standard_wire`);
                 the result's ``wire_rounding`` says what it cost.
+            workers: processes that run the starts (and polish runs) at once; the design does not
+                depend on it. Default: ``$SPRINGBALANCE_WORKERS``, else ``os.cpu_count()`` (1 for a
+                small problem, where a pool would cost more than it saves).
         """
+        with workers_default(workers):
+            return self._solve(starts, seed, method, progress, max_iterations, tolerance, polish_iterations,
+                               standard_wire)
+
+    def _solve(self, starts, seed, method, progress, max_iterations, tolerance, polish_iterations, standard_wire):
+        if isinstance(starts, (int, np.integer)) and not isinstance(starts, bool) and starts > 0:
+            budget.require(budget.FLOAT * 4 * int(starts) * max(self.variables.size, 1),
+                           f"{starts} starts of {self.variables.size} design variables")
         # helical coils start from the ideal twin's optimum, wound into a coil (design/coil_start.py)
         initial = coil_start(self, starts=starts, seed=seed, method=method, max_iterations=max_iterations,
                              tolerance=tolerance) if coil_springs(self) else None
@@ -442,7 +462,11 @@ class DesignProblem:
     # ---------------------------------------------------------------- checks
     def _check_springs(self) -> None:
         # Each spring checked its own bodies and joints when the torque model was built
-        # (Spring.check); what needs an evaluation is a two-point spring of zero length.
+        # (Spring.check); what needs an evaluation is a two-point spring of zero length, and a
+        # routed spring's cable that is longer than its path can ever be.
+        for spring in self.springs:
+            if getattr(spring, "routed", False):
+                self._check_cable(spring)
         for column, spring in enumerate(self.springs):
             anchors = list(spring.anchors.values())
             if len(anchors) == 2 and not any(anchor.is_free for anchor in anchors):
@@ -451,6 +475,39 @@ class DesignProblem:
                 if shortest < 1e-9:
                     sample = int(np.argmin(evaluation.lengths[:, column]))
                     raise InputError(f"spring {spring.name!r}: its ends coincide (zero length) at workspace sample {sample}")
+
+    def _check_cable(self, spring) -> None:
+        """Refuse a routed spring whose shortest allowed cable is at least the longest path it can make.
+
+        The longest path is bounded at each sample by the largest distance between the corners of
+        consecutive points' regions (a distance between boxes is largest at corners), plus ``2π r``
+        per wrapping pulley; the spring (``ℓ − cable``) would then never have a positive length."""
+        cable = spring.parameters["cable_length"]
+        shortest = float(cable.lower) if isinstance(cable, Free) else float(cable)
+        kinematics = self.base_workspace.kinematics()
+        ground = self.model.ground_placements
+        corners = []
+        for anchor in spring.anchors.values():
+            region = anchor.region()
+            box = np.array(np.meshgrid(*[(low, high) for low, high in zip(region.lower, region.upper)],
+                                       indexing="ij")).reshape(len(region.lower), -1).T if len(region.lower) else \
+                np.zeros((1, 0))
+            local = region.offset + box @ region.basis.T                                   # K×3 [m], body frame
+            if anchor.body in ground:
+                translation, rotation = ground[anchor.body]
+                corners.append(np.broadcast_to(local @ rotation.T + translation, (kinematics.workspace.size,) + local.shape))
+            else:
+                body = kinematics.body(anchor.body)
+                corners.append(np.einsum("nij,kj->nki", body.rotation, local) + body.translation[:, None, :])
+        longest = np.zeros(kinematics.workspace.size)
+        for first, second in zip(corners, corners[1:]):
+            gaps = np.linalg.norm(first[:, :, None, :] - second[:, None, :, :], axis=-1)   # N×K×K' [m]
+            longest += gaps.reshape(len(longest), -1).max(axis=1)
+        longest += 2 * np.pi * sum(spring.radii)
+        if shortest >= float(longest.max()):
+            raise InputError(f"spring {spring.name!r}: its cable ({shortest:.6g} m at the shortest) is at least as long "
+                             f"as its path can ever be ({float(longest.max()):.6g} m over the workspace): the spring "
+                             "would be slack everywhere; shorten cable_length")
 
     def __repr__(self) -> str:
         return (f"DesignProblem({self.mechanism.name!r}, N={self.workspace.size}, springs={len(self.springs)}, "

@@ -4,8 +4,9 @@ Backends:
 
 - ``least_squares``: for objectives with least-squares structure (``rms``,
   ``pe_variance``) one per-sample CasADi function of the scaled variables gives the residual
-  rows and their exact Jacobian; mapped over the samples, JIT-compiled to C when a compiler
-  is available, and evaluated straight into NumPy buffers. SciPy's bounded
+  rows and their exact Jacobian; compiled to C when a compiler is available (the library is
+  cached on disk, :mod:`~springbalance.design.compile_cache`) and evaluated over blocks of
+  samples straight into NumPy buffers, where ``JᵀJ`` and ``Jᵀr`` are summed. SciPy's bounded
   trust-region-reflective method then works on an equivalent *compressed* residual of n+1
   rows (n ≈ 30 variables, while the residual has N·nv ≈ 25,000 rows), see
   :meth:`_MultiStartSolver._trust_region`. Practical constraints (tension, stretch, force,
@@ -29,22 +30,29 @@ optimum for the start's geometry (kept ≥ 10 % into their range so that no spri
 iteration budget, and the starts within 25 % of the best that stopped on the budget are
 continued with a larger one ("screen, then polish"). The best feasible start wins; for a
 lexicographic objective, the one with the lowest tiebreak among those within ``slack`` of the best value.
+
+Starts are independent: with ``workers`` > 1 the starts (and then the polish runs) go to a pool of
+worker processes forked from this one, which inherit the problem and its compiled residual (no
+pickling, no recompilation). Each start computes exactly what it computes alone, so the result is
+bit for bit the sequential one. Without ``workers``, :func:`default_workers` decides.
 """
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import dataclasses
+import os
 import sys
 import time
 
 import casadi as ca
 import numpy as np
-from scipy.optimize import least_squares, lsq_linear
-from scipy.stats import qmc
 from threadpoolctl import threadpool_limits
 
 from springbalance.errors import InputError, SolverError
-from springbalance.design.torque_model import SampleEvaluator, compiled
+from springbalance.design.torque_model import BlockEvaluator, compiled
+from springbalance.model.sobol import sobol_engine
 
 METHODS = ("auto", "least_squares", "ipopt")
 FEASIBILITY_TOLERANCE = 1e-6  # [m or N]
@@ -105,20 +113,179 @@ def start_points(problem, starts: int, seed: int, initial=None) -> np.ndarray:
     first = np.clip(problem.unscale(np.asarray(guess, dtype=float)), 0.0, 1.0)
     if starts <= 1 or n == 0:
         return first[None, :]
-    sobol = qmc.Sobol(d=n, scramble=True, seed=np.random.default_rng(seed))
+    sobol = sobol_engine(n, np.random.default_rng(seed))
     others = sobol.random(1 << int(np.ceil(np.log2(starts - 1)))) if starts > 2 else sobol.random(1)
     return np.vstack([first, others[: starts - 1]])
 
 
+# ---------------------------------------------------------------------- worker processes
+WORKERS_ENV = "SPRINGBALANCE_WORKERS"
+#: by default, starts go to the pool only when one start is expected to take longer than this [s]
+#: (a pool's start-up, forking and collecting, costs 50-100 ms)
+POOL_MIN_SECONDS = 0.1
+_DEFAULT_WORKERS: contextvars.ContextVar = contextvars.ContextVar("springbalance_workers", default=None)
+_WORKER_SOLVER = None  # the solver a forked worker runs its starts with (set before the fork)
+_IN_WORKER = False
+
+
+def default_workers() -> int:
+    """Worker processes of a solve that does not say: ``$SPRINGBALANCE_WORKERS`` when set, else
+    ``os.cpu_count()``."""
+    text = os.environ.get(WORKERS_ENV, "").strip()
+    if text:
+        try:
+            value = int(text)
+        except ValueError:
+            raise InputError(f"{WORKERS_ENV} must be an integer ≥ 1, got {text!r}") from None
+        if value < 1:
+            raise InputError(f"{WORKERS_ENV} must be an integer ≥ 1, got {value}")
+        return value
+    return os.cpu_count() or 1
+
+
+def check_workers(workers) -> int | None:
+    """``workers`` as an int ≥ 1, or None (the default); InputError otherwise."""
+    if workers is None:
+        return None
+    if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
+        raise InputError(f"workers must be an integer ≥ 1, got {workers!r}")
+    return int(workers)
+
+
+@contextlib.contextmanager
+def workers_default(workers):
+    """Within the block, solves that do not pass ``workers`` use this number (None: no change).
+    :meth:`DesignProblem.solve` sets it, so that the solves it makes along the way (coil start,
+    clearance fit, wire rounding) use the caller's choice."""
+    workers = check_workers(workers)
+    token = _DEFAULT_WORKERS.set(workers if workers is not None else _DEFAULT_WORKERS.get())
+    try:
+        yield
+    finally:
+        _DEFAULT_WORKERS.reset(token)
+
+
+def _pool_workers(problem, workers, tasks: int) -> tuple[int, bool]:
+    """``(processes, asked)``: how many processes may run ``tasks`` starts, and whether the caller
+    asked for them (else :class:`_StartRunner` first checks that a start is worth a pool). 1 inside a
+    worker (ours, or a daemonic process, which may not have children), without ``fork`` or for one
+    task; else ``min(workers, tasks)``."""
+    import multiprocessing
+
+    if (_IN_WORKER or tasks < 2 or multiprocessing.current_process().daemon or sys.platform == "darwin"
+            or "fork" not in multiprocessing.get_all_start_methods()):
+        return 1, False
+    chosen = check_workers(workers)
+    if chosen is None:
+        chosen = _DEFAULT_WORKERS.get()
+    asked = chosen is not None
+    if chosen is None:
+        chosen = default_workers()
+    return max(1, min(chosen, tasks)), asked
+
+
+def _mark_worker() -> None:
+    global _IN_WORKER
+    _IN_WORKER = True
+
+
+def _run_in_worker(index, z0, prepare, max_iterations):
+    solver = _WORKER_SOLVER
+    solver.max_iterations = max_iterations
+    return solver.run(index, z0, prepare=prepare)
+
+
+class _StartRunner:
+    """Runs starts ``(index, z0, prepare)`` with a solver, in order: here, or on a pool of
+    ``workers`` processes forked from this one (opened when first needed, closed by :meth:`close`).
+
+    Unless ``asked``, the pool must pay for itself: it opens at once when a start is expected to
+    last :data:`POOL_MIN_SECONDS` (IPOPT certain, or one residual evaluation × the iteration budget);
+    otherwise the first start runs here, and the pool opens for the others only if it took that long.
+    Either way each start computes the same numbers.
+    """
+
+    def __init__(self, solver, workers: int, asked: bool = True):
+        self.solver, self.workers, self.asked = solver, int(workers), bool(asked)
+        self._executor = None
+
+    def run(self, tasks, done=None) -> list:
+        """The records of ``tasks`` in their order; ``done(record)`` is called as each one finishes."""
+        tasks, records = list(tasks), []
+        if self.workers > 1 and len(tasks) > 1 and self._executor is None and not self.asked:
+            self.asked = True  # decided once, for the polish runs too
+            if not self._worth_a_pool():
+                clock = time.perf_counter()
+                records.append(self._here(tasks.pop(0), done))
+                if time.perf_counter() - clock < POOL_MIN_SECONDS:
+                    self.workers = 1
+        if self.workers <= 1 or len(tasks) <= 1:
+            return records + [self._here(task, done) for task in tasks]
+        from concurrent.futures import as_completed
+
+        executor = self._pool()
+        futures = [executor.submit(_run_in_worker, index, z0, prepare, self.solver.max_iterations)
+                   for index, z0, prepare in tasks]
+        for future in as_completed(futures):
+            if done is not None:
+                done(future.result())
+        return records + [future.result() for future in futures]
+
+    def _here(self, task, done):
+        index, z0, prepare = task
+        record = self.solver.run(index, z0, prepare=prepare)
+        if done is not None:
+            done(record)
+        return record
+
+    def _worth_a_pool(self) -> bool:
+        """Whether one start is expected to last :data:`POOL_MIN_SECONDS`: IPOPT runs for sure, or one
+        evaluation of the compiled residual times the iteration budget is that long."""
+        solver, problem = self.solver, self.solver.problem
+        if solver.method == "ipopt" or not problem.objective.least_squares:
+            return True
+        if not problem.variables.size:
+            return False
+        residuals = solver._residuals()
+        z = np.full(problem.variables.size, 0.5)
+        clock = time.perf_counter()
+        residuals.normal_equations(z)
+        return (time.perf_counter() - clock) * solver.max_iterations >= POOL_MIN_SECONDS
+
+    def _pool(self):
+        global _WORKER_SOLVER
+        if self._executor is None:
+            import multiprocessing
+            from concurrent.futures import ProcessPoolExecutor
+
+            self.solver.prepare()  # the compiled residual is built here, once, and inherited by the workers
+            _WORKER_SOLVER = self.solver
+            self._executor = ProcessPoolExecutor(self.workers, mp_context=multiprocessing.get_context("fork"),
+                                                 initializer=_mark_worker)
+        return self._executor
+
+    def close(self) -> None:
+        global _WORKER_SOLVER
+        if self._executor is not None:
+            self._executor.shutdown(wait=True, cancel_futures=True)
+            self._executor = None
+            _WORKER_SOLVER = None
+
+
 def solve_problem(problem, starts=8, seed=0, method="auto", progress=None, max_iterations=100, tolerance=1e-8,
-                  polish_iterations=None, *, initial=None):
+                  polish_iterations=None, *, initial=None, workers=None):
     """Run every start and return the best feasible design (see :meth:`DesignProblem.solve`).
 
     Screen, then polish: every start runs with ``max_iterations``; up to three feasible starts
     within 25 % of the best that stopped on the iteration limit then continue from where they
     stopped for up to ``polish_iterations`` (default 4 × max_iterations). Starts that stall far
     from the best cost only their budget, and the chosen design still converges.
+
+    ``workers``: processes that run the starts at once (the result does not depend on it); default
+    :func:`default_workers` (``os.cpu_count()``), used when a start is expected to last
+    :data:`POOL_MIN_SECONDS` (see :class:`_StartRunner`).
     """
+    workers = check_workers(workers)
     if method not in METHODS:
         raise InputError(f"unknown solver method {method!r}; valid: {', '.join(METHODS)}")
     starts = int(starts)
@@ -130,11 +297,16 @@ def solve_problem(problem, starts=8, seed=0, method="auto", progress=None, max_i
     # The linear algebra here is small (n ≈ 30 columns): BLAS threads only contend with each
     # other and with the evaluation, badly so on a loaded machine, so use one.
     with threadpool_limits(limits=1, user_api="blas"):
-        return _solve(problem, starts, seed, method, progress, max_iterations, tolerance, polish_iterations, initial)
+        runner = _StartRunner(_MultiStartSolver(problem, method, max_iterations, tolerance),
+                              *_pool_workers(problem, workers, starts))
+        try:
+            return _solve(problem, runner, starts, seed, method, progress, max_iterations, polish_iterations, initial)
+        finally:
+            runner.close()
 
 
-def _solve(problem, starts, seed, method, progress, max_iterations, tolerance, polish_iterations, initial=None):
-    solver = _MultiStartSolver(problem, method, max_iterations, tolerance)
+def _solve(problem, runner, starts, seed, method, progress, max_iterations, polish_iterations, initial=None):
+    solver = runner.solver
     points = start_points(problem, starts, seed, initial)
     if progress is None:
         progress = len(points) > 1 and sys.stderr.isatty()
@@ -143,13 +315,16 @@ def _solve(problem, starts, seed, method, progress, max_iterations, tolerance, p
         from tqdm.auto import tqdm
 
         bar = tqdm(total=len(points), desc="starts", unit="start")
-    records = []
-    for index in range(len(points)):
-        records.append(solver.run(index, points[index]))
+    finished = []
+
+    def done(record):
+        finished.append(record)
         if bar is not None:
-            best = min((r.objective for r in records if r.feasible), default=float("nan"))
+            best = min((r.objective for r in finished if r.feasible), default=float("nan"))
             bar.set_postfix(best=f"{best:.4g}")
             bar.update()
+
+    records = runner.run([(index, points[index], True) for index in range(len(points))], done)
     if bar is not None:
         bar.close()
     feasible = [record for record in records if record.feasible]
@@ -163,8 +338,8 @@ def _solve(problem, starts, seed, method, progress, max_iterations, tolerance, p
         candidates = sorted((r for r in feasible if "iteration limit" in r.status and r.objective <= 1.25 * best.objective),
                             key=lambda record: record.objective)[:3]
         solver.max_iterations = polish
-        for record in candidates:
-            polished = solver.run(record.index, problem.unscale(record.x), prepare=False)
+        polished_records = runner.run([(record.index, problem.unscale(record.x), False) for record in candidates])
+        for record, polished in zip(candidates, polished_records):
             polished.z0 = record.z0
             polished.status = f"{polished.status} (polished after {record.iterations} iterations)"
             polished.iterations += record.iterations
@@ -198,6 +373,11 @@ class _MultiStartSolver:
         self._nlp = None
         self._first = None  # (nlp, solver) of a lexicographic objective's first phase
 
+    def prepare(self) -> None:
+        """Build what every start needs (the compiled least-squares residual), before workers fork."""
+        if self.method in ("auto", "least_squares") and self.problem.variables.size:
+            self._residuals()
+
     # ------------------------------------------------------------------ one start
     def run(self, index: int, z0: np.ndarray, prepare: bool = True) -> StartRecord:
         problem = self.problem
@@ -224,12 +404,7 @@ class _MultiStartSolver:
     def _least_squares(self, z0, prepare=True):
         """Bounded Gauss–Newton (SciPy TRF) on the residuals; practical constraints by an
         augmented Lagrangian whose penalty rows ``max(0, λ - μ c)/√μ`` join the residuals."""
-        problem = self.problem
-        if self._ls is None:   # compiled once per problem, kept across solves (the fit loop re-solves)
-            if problem.least_squares_cache is None:
-                problem.least_squares_cache = _LeastSquaresResiduals(problem)
-            self._ls = problem.least_squares_cache
-        ls = self._ls
+        ls = self._residuals()
         ls.set_penalty(None, 0.0)
         z = np.clip(z0, 0.0, 1.0)
         if prepare:
@@ -254,6 +429,14 @@ class _MultiStartSolver:
             previous_violation = violation
         return z, status, iterations
 
+    def _residuals(self) -> "_LeastSquaresResiduals":
+        problem = self.problem
+        if self._ls is None:   # compiled once per problem, kept across solves (the fit loop re-solves)
+            if problem.least_squares_cache is None:
+                problem.least_squares_cache = _LeastSquaresResiduals(problem)
+            self._ls = problem.least_squares_cache
+        return self._ls
+
     def _trust_region(self, ls, z):
         """SciPy's bounded trust-region-reflective least squares on the *compressed* residual.
 
@@ -261,24 +444,25 @@ class _MultiStartSolver:
         ``λ ≤ 1e-13 λ_max`` dropped) and ``ρ² = |r|² - |q|²``, the residual ``(q, ρ)`` with
         Jacobian ``[R; 0]`` has the same norm and the same Gauss–Newton model,
         ``|r + J δ|² = |q + R δ|² + ρ²``, as the full one. The solver's iterates are unchanged
-        while its linear algebra shrinks from N·nv rows to n+1 (the Gram matrix costs one
-        BLAS product).
+        while its linear algebra shrinks from N·nv rows to n+1 (the Gram matrix ``JᵀJ`` and ``Jᵀr``
+        are summed over blocks of samples, :meth:`_LeastSquaresResiduals.normal_equations`).
         """
+        from scipy.optimize import least_squares  # imported when first used: SciPy's optimize costs 0.2 s at start-up
+
         cache = {}
 
         def compressed(zz):
             key = zz.tobytes()
             if key not in cache:
-                r, J = ls.residuals_and_jacobian(zz)
-                gram, projected = J.T @ J, J.T @ r
+                gram, projected, squares = ls.normal_equations(zz)   # summed over blocks of samples
                 eigenvalues, vectors = np.linalg.eigh(gram)
                 keep = eigenvalues > 1e-13 * max(float(eigenvalues[-1]), 1e-300)
                 root = np.sqrt(eigenvalues[keep])
-                n = J.shape[1]
+                n = gram.shape[1]
                 reduced, jacobian = np.zeros(n + 1), np.zeros((n + 1, n))
                 reduced[: root.size] = (vectors[:, keep].T @ projected) / root
                 jacobian[: root.size] = root[:, None] * vectors[:, keep].T
-                reduced[n] = np.sqrt(max(float(r @ r) - float(reduced[:n] @ reduced[:n]), 0.0))
+                reduced[n] = np.sqrt(max(squares - float(reduced[:n] @ reduced[:n]), 0.0))
                 cache.clear()
                 cache[key] = (reduced, jacobian)
             return cache[key]
@@ -294,12 +478,13 @@ class _MultiStartSolver:
         ``r(z) = r(z0) + J_lin (z_lin - z0_lin)``, so one evaluation and one BVLS solve suffice.
         This keeps a start from wasting its budget on a stiffness guess off by orders of magnitude
         (and from stalling at k = 0, where the anchors have no gradient)."""
+        from scipy.optimize import lsq_linear
+
         z = self._feasible_free_lengths(z)
         linear = self.problem.model.linear_indices
         if not linear:
             return z
-        r, J = self._ls.residuals_and_jacobian(z)
-        columns = J[:, linear]
+        r, columns = self._ls.linear_columns(z, linear)
         # Keep every stiffness at least 10 % into its range: at k = 0 a spring's anchors have no
         # gradient (a saddle the start could not leave); the solver may still drive k to 0.
         # Other linear variables (initial tension, constant force, preload) may start anywhere.
@@ -390,15 +575,20 @@ class _LeastSquaresResiduals:
 
     One per-sample CasADi function of the *scaled* variables ``z`` gives the sample's
     residual rows and their transposed Jacobian, already scaled, so that the mapped,
-    JIT-compiled evaluation lands in NumPy buffers that *are* ``r`` and ``J`` (no copies):
+    compiled evaluation lands in NumPy buffers that *are* blocks of ``r`` and ``J`` (no copies):
 
     - ``rms`` (and the warm-start phase of ``peak``/``energy``): ``w ⊙ tau / (S·sqrt(N·nv))``;
     - ``pe_variance``: the total potential over ``P·sqrt(N)``, centred here in NumPy;
     - constraint rows ``c / scale`` (≥ 0 when feasible) for the augmented Lagrangian, whose
       penalty rows ``max(0, λ - μ c)/√μ`` follow the objective rows when a penalty is set.
+
+    The solver needs only ``JᵀJ``, ``Jᵀr`` and ``rᵀr`` (:meth:`normal_equations`): they are summed
+    over blocks of samples (:class:`~springbalance.design.torque_model.BlockEvaluator`), so that the
+    Jacobian never exists for all samples at once. ``pe_variance``, whose rows are centred over
+    all samples, and :func:`refine` assemble the full ``r`` and ``J`` (:meth:`residuals_and_jacobian`).
     """
 
-    def __init__(self, problem):
+    def __init__(self, problem, block: int | None = None):
         self.problem = problem
         self.variance = problem.objective.name == "pe_variance"
         model = problem.model
@@ -420,9 +610,11 @@ class _LeastSquaresResiduals:
         function = ca.Function("scaled_residual", [z, data],
                                [residual, ca.jacobian(residual, z).T, scaled_rows, ca.jacobian(scaled_rows, z).T])
         self.function = compiled(function)
-        self.evaluator = SampleEvaluator(self.function, problem.data)
+        self.evaluator = BlockEvaluator(self.function, problem.data, block)
         self.multipliers, self.penalty = None, 0.0
-        self._last_z = None
+        self._rows_z, self._rows = None, None            # the sample constraint rows at _rows_z
+        self._normal_key, self._normal = None, None      # (z, penalty, multipliers) → (JᵀJ, Jᵀr, rᵀr)
+        self._full_z, self._full = None, None            # z → full outputs (residuals_and_jacobian)
 
     def set_penalty(self, multipliers, penalty: float) -> None:
         self.multipliers, self.penalty = multipliers, penalty
@@ -446,27 +638,115 @@ class _LeastSquaresResiduals:
         scales = list(self.row_scale) + ([self.problem.linear_rows.scale] if self._linear()[1].size else [])
         return float(min(scales)) if scales else 1.0
 
-    def _evaluate(self, z):
-        if self._last_z is None or not np.array_equal(z, self._last_z):
-            self.outputs = self.evaluator(z)
-            self._last_z = np.array(z)
-        return self.outputs
+    # ---------------------------------------------------------------- block pass
+    def _blocks(self, z):
+        """The evaluator's blocks at ``z``; records the sample constraint rows on the way."""
+        z = np.array(z, dtype=float)
+        rows_all = np.empty(self.n_sample_rows)
+        n_c = self.row_scale.size
+        for start, stop, outputs in self.evaluator.blocks(z):
+            if n_c:
+                rows_all[start * n_c: stop * n_c] = outputs[2].reshape(-1)
+            yield start, stop, outputs
+        self._rows_z, self._rows = z, rows_all
 
     def constraint_rows(self, z) -> np.ndarray:
         """Scaled constraint rows (N·n_c, then the linear rows), ≥ 0 when feasible."""
+        if self._rows_z is None or not np.array_equal(z, self._rows_z):
+            for _ in self._blocks(z):
+                pass
         matrix, offset = self._linear()
-        return np.concatenate([self._evaluate(z)[2].reshape(-1), matrix @ z + offset])
+        return np.concatenate([self._rows, matrix @ z + offset])
 
-    def residuals_and_jacobian(self, z):
-        residual, jacobian, rows, row_jacobian = self._evaluate(z)
+    def normal_equations(self, z) -> tuple[np.ndarray, np.ndarray, float]:
+        """``(JᵀJ, Jᵀr, rᵀr)`` of the residual (with the penalty rows when a penalty is set) at ``z``,
+        summed block by block."""
+        key = (np.array(z, dtype=float).tobytes(), self.penalty,
+               None if self.multipliers is None else np.asarray(self.multipliers).tobytes())
+        if self._normal_key == key:
+            return self._normal
+        if self.variance:
+            r, J = self.residuals_and_jacobian(z)
+            normal = (J.T @ J, J.T @ r, float(r @ r))
+        else:
+            normal = self._accumulate(np.array(z, dtype=float))
+        self._normal_key, self._normal = key, normal
+        return normal
+
+    def _accumulate(self, z):
+        n_x = self.problem.variables.size
+        n_c = self.row_scale.size
+        gram, projected, squares = np.zeros((n_x, n_x)), np.zeros(n_x), 0.0
+        penalised = self.multipliers is not None
+        if penalised:
+            root = np.sqrt(self.penalty)
+            multipliers = np.asarray(self.multipliers)
+        for start, stop, (residual, jacobian, rows, row_jacobian) in self._blocks(z):
+            r, J = residual.reshape(-1), jacobian.reshape(-1, n_x)
+            gram += J.T @ J
+            projected += J.T @ r
+            squares += float(r @ r)
+            if penalised and n_c:
+                shifted = multipliers[start * n_c: stop * n_c] - self.penalty * rows.reshape(-1)
+                active = shifted > 0
+                if np.any(active):
+                    penalty_r = shifted[active] / root
+                    penalty_J = -root * row_jacobian.reshape(-1, n_x)[active]
+                    gram += penalty_J.T @ penalty_J
+                    projected += penalty_J.T @ penalty_r
+                    squares += float(penalty_r @ penalty_r)
+        matrix, offset = self._linear()
+        if penalised and offset.size:
+            shifted = multipliers[self.n_sample_rows:] - self.penalty * (matrix @ z + offset)
+            active = shifted > 0
+            penalty_r = shifted[active] / root
+            penalty_J = -root * matrix[active]
+            gram += penalty_J.T @ penalty_J
+            projected += penalty_J.T @ penalty_r
+            squares += float(penalty_r @ penalty_r)
+        return gram, projected, squares
+
+    def linear_columns(self, z, columns) -> tuple[np.ndarray, np.ndarray]:
+        """The objective residual ``r`` (no penalty rows) and the columns ``columns`` of its Jacobian at ``z``."""
+        if self.variance:
+            r, J = self._objective_rows(z)
+            return r, J[:, columns]
+        n_x, per_sample = self.problem.variables.size, None
+        r = J = None
+        for start, stop, (residual, jacobian, _, _) in self._blocks(z):
+            if r is None:
+                per_sample = residual.shape[1] * residual.shape[2]
+                r = np.empty(self.evaluator.n_samples * per_sample)
+                J = np.empty((r.size, len(columns)))
+            r[start * per_sample: stop * per_sample] = residual.reshape(-1)
+            J[start * per_sample: stop * per_sample] = jacobian.reshape(-1, n_x)[:, columns]
+        return r, J
+
+    # ---------------------------------------------------------------- full arrays
+    def _full_outputs(self, z):
+        """Every output for all samples at ``z`` (``(N, cols, rows)`` arrays, as SampleEvaluator's)."""
+        if self._full_z is None or not np.array_equal(z, self._full_z):
+            self._full = self.evaluator.evaluate(np.array(z, dtype=float))
+            self._full_z = np.array(z)
+        return self._full
+
+    def _objective_rows(self, z):
+        residual, jacobian, _, _ = self._full_outputs(z)
         n_x = jacobian.shape[2]
         r, J = residual.reshape(-1), jacobian.reshape(-1, n_x)
         if self.variance:  # centre the potential (per scenario block): r_i - mean(r), J_i - mean(J)
             blocks = self.problem.model.n_scenarios
             r = (r.reshape(blocks, -1) - r.reshape(blocks, -1).mean(axis=1, keepdims=True)).reshape(-1)
             J = (J.reshape(blocks, -1, n_x) - J.reshape(blocks, -1, n_x).mean(axis=1, keepdims=True)).reshape(-1, n_x)
+        return r, J
+
+    def residuals_and_jacobian(self, z):
+        """The full residual ``r`` and Jacobian ``J`` (with the penalty rows when a penalty is set)."""
+        r, J = self._objective_rows(z)
         if self.multipliers is None:
             return r, J
+        _, _, rows, row_jacobian = self._full_outputs(z)
+        n_x = J.shape[1]
         matrix, offset = self._linear()
         rows = np.concatenate([rows.reshape(-1), matrix @ z + offset])
         row_jacobian = np.vstack([row_jacobian.reshape(-1, n_x), matrix])
@@ -497,6 +777,8 @@ def refine(problem, x, iterations: int = 8) -> np.ndarray:
     """
     if not problem.objective.least_squares or problem.model.n_constraints or not problem.variables.size:
         return np.asarray(x, dtype=float)
+    from scipy.optimize import lsq_linear
+
     residuals = _LeastSquaresResiduals(problem)
     z = np.clip(problem.unscale(x), 0.0, 1.0)
     with threadpool_limits(limits=1, user_api="blas"):

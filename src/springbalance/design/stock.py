@@ -142,6 +142,8 @@ def part_spring(part: StockPart, spring: Spring) -> Spring:
     coil = {"material": part.material, "wire_diameter": part.wire_diameter, "mean_diameter": part.mean_diameter,
             "active_coils": part.active_coils, "max_force": max_force, "min_length": spring.min_length,
             "max_outer_diameter": getattr(spring, "max_outer_diameter", None), "part_number": part.part_number}
+    if getattr(spring, "routed", False):   # the part on the same path, with the same cable
+        coil.update(via=spring.via, cable_length=spring.parameters["cable_length"])
     if kind == "extension":
         max_length = part.max_length if spring.max_length is None else min(part.max_length, spring.max_length)
         return HelicalExtensionSpring(spring.a, spring.b, spring.name, initial_tension=part.initial_tension,
@@ -301,7 +303,7 @@ class StockSelection:
 # ---------------------------------------------------------------------- the selection
 def select_stock(problem: DesignProblem, continuous: np.ndarray | object, parts: Sequence[StockPart], *, candidates: int = CANDIDATES,
                  starts: int = 2, seed: int = 0, method: str = "auto", max_iterations: int = 100,
-                 tolerance: float = 1e-8) -> StockSelection:
+                 tolerance: float = 1e-8, workers: int | None = None) -> StockSelection:
     """Replace each extension and compression spring of a continuous design by a catalogue part.
 
     Args:
@@ -315,6 +317,7 @@ def select_stock(problem: DesignProblem, continuous: np.ndarray | object, parts:
         method: solver method of those solves.
         max_iterations: iteration budget of each start.
         tolerance: stopping tolerance of the least squares.
+        workers: processes that run the starts of each solve at once (:meth:`DesignProblem.solve`).
 
     Returns a :class:`StockSelection`. Raises :class:`SolverError` naming the spring when none of
     its candidates (or no part of its type) gives a feasible design, :class:`InputError` when the
@@ -337,7 +340,7 @@ def select_stock(problem: DesignProblem, continuous: np.ndarray | object, parts:
     objective = _inner_objective(problem)
     continuous_value = problem.objective_value(problem.evaluate(x))
     solve_options = {"starts": int(starts), "seed": int(seed), "method": method, "progress": False,
-                     "max_iterations": int(max_iterations), "tolerance": float(tolerance)}
+                     "max_iterations": int(max_iterations), "tolerance": float(tolerance), "workers": workers}
     current, current_x = problem, x
     choices, notes = [], []
     for name in names:

@@ -159,6 +159,8 @@ class TorqueModel:
         self.bodies = _moving_bodies(mechanism, springs)
         self.joints = _spring_joints(mechanism, springs)
         self._ground = _ground_placements(mechanism, springs)
+        #: world placement ``(translation, rotation)`` of every ground body a spring uses
+        self.ground_placements = self._ground
 
         # Design variables: every free anchor coordinate and every Free parameter.
         variable_slots = []  # (spring, end, region, index list)
@@ -215,7 +217,8 @@ class TorqueModel:
             forces.append(share.force)
             for constraint in spring.constraints():
                 parts = getattr(constraint, "parts", None)
-                rows = constraint.rows(share.state, share.force, parameters)
+                rows = (constraint.rows(share.state, share.force, parameters, share.extra)
+                        if getattr(constraint, "uses_extra", False) else constraint.rows(share.state, share.force, parameters))
                 if parts is None:
                     parts, rows = ((constraint.name, constraint.unit, constraint.scale),), [rows]
                 for (name, unit, scale), row in zip(parts, rows):
@@ -340,7 +343,7 @@ class TorqueModel:
 
     # ---------------------------------------------------------------- numeric data
     def data_matrix(self, kinematics) -> np.ndarray:
-        """Sample data columns (data_size × N) from a workspace's numeric cache."""
+        """Sample data columns (data_size × N, Fortran order) from a workspace's numeric cache."""
         kinematics.prepare(self.bodies)
         n = kinematics.gravity_torque.shape[0]
         blocks = [kinematics.gravity_torque, kinematics.potential[:, None]]
@@ -356,7 +359,7 @@ class TorqueModel:
             if n % len(self.scenarios):
                 raise InputError(f"{n} samples do not split into {len(self.scenarios)} scenario blocks")
             blocks.append(np.kron(np.eye(len(self.scenarios)), np.ones((n // len(self.scenarios), 1))))
-        return np.ascontiguousarray(np.hstack(blocks).T)
+        return np.hstack(blocks).T   # Fortran order: each sample's column is contiguous, as the evaluators read it
 
     @functools.lru_cache(maxsize=8)
     def mapped(self, n: int) -> ca.Function:
@@ -418,33 +421,21 @@ def compiler_available() -> bool:
 
 
 def compiled(function: ca.Function) -> ca.Function:
-    """``function`` JIT-compiled to C when a compiler is available (about 8× faster than
-    CasADi's virtual machine for these functions), else ``function`` itself.
+    """``function`` compiled to C when a compiler is available (about 8× faster than CasADi's
+    virtual machine for these functions), else ``function`` itself.
 
-    Set ``SPRINGBALANCE_JIT=0`` to disable compilation.
+    The compiled library is cached on disk (:mod:`springbalance.design.compile_cache`): a second
+    process on the same problem loads it without running the compiler. Set
+    ``SPRINGBALANCE_JIT=0`` to disable compilation.
     """
     if os.environ.get("SPRINGBALANCE_JIT", "1") == "0" or not compiler_available():
         return function
-    compiler = os.environ.get("CC", "gcc") if shutil.which(os.environ.get("CC", "gcc")) else "cc"
-    folder = _jit_folder()
-    options = {"jit": True, "compiler": "shell", "jit_cleanup": True, "jit_temp_suffix": True,
-               "jit_name": "springbalance_jit",  # written into `directory`
-               "jit_options": {"flags": ["-O2"], "compiler": compiler, "verbose": False,
-                               "directory": folder + os.sep}}
+    from springbalance.design.compile_cache import compile_function
+
     try:
-        return ca.Function(function.name(), function.sx_in(), function.call(function.sx_in()), options)
+        return compile_function(function)
     except RuntimeError:  # compiler present but unusable: stay on the virtual machine
         return function
-
-
-@functools.lru_cache(maxsize=1)
-def _jit_folder() -> str:
-    """Folder for generated C code and shared objects (CasADi removes its files after use)."""
-    import tempfile
-
-    folder = os.path.join(tempfile.gettempdir(), f"springbalance-jit-{os.getuid() if hasattr(os, 'getuid') else 0}")
-    os.makedirs(folder, exist_ok=True)
-    return folder
 
 
 class SampleEvaluator:
@@ -455,16 +446,21 @@ class SampleEvaluator:
     NumPy arrays. An output of per-sample shape ``(rows, cols)`` comes back as an array
     ``(N, cols, rows)`` — the per-sample *transpose*, which is CasADi's column-major
     memory read row-major (a view, no copy, for dense outputs).
+
+    The map is CasADi's plain serial ``Map``, which reads each sample's inputs in place; ``x``
+    is repeated once per sample here (N·n_x numbers). A map with ``x`` as a shared ("reduced")
+    input would wrap it in an MX function whose work vector copies the data, the repeated ``x``
+    and the outputs on every call: about twice the memory, and slower.
     """
 
     def __init__(self, function: ca.Function, data: np.ndarray):
         n = data.shape[1]
         self.n_samples = n
-        self.mapped = function.map(f"{function.name()}_map", "serial", n, [0], [], {})
-        self._x = np.zeros(function.size1_in(0))
-        self._data = np.asfortranarray(data).reshape(-1, order="F")
+        self.mapped = function.map(n, "serial")
+        self._x = np.zeros((n, function.nnz_in(0)))   # row i: the x of sample i (all equal)
+        self._data = np.asfortranarray(data).reshape(-1, order="F")  # a view of Fortran-ordered data, no copy
         self._buffer, self._trigger = self.mapped.buffer()
-        self._buffer.set_arg(0, memoryview(self._x))
+        self._buffer.set_arg(0, memoryview(self._x.reshape(-1)))
         self._buffer.set_arg(1, memoryview(self._data))
         self.outputs = []
         self._sparse = []
@@ -482,6 +478,14 @@ class SampleEvaluator:
                 self._sparse.append((raw, np.array(triplet_cols, dtype=int), np.array(triplet_rows, dtype=int),
                                      sparsity.nnz()))
 
+    def rebind(self, data: np.ndarray) -> None:
+        """Evaluate on other data columns from now on: ``data`` holds ``n_samples`` columns, flat in
+        Fortran order (a view, kept alive here)."""
+        if data.size != self._data.size:
+            raise ValueError(f"{data.size} data values, the evaluator reads {self._data.size}")
+        self._data = data
+        self._buffer.set_arg(1, memoryview(self._data))
+
     def __call__(self, x) -> list[np.ndarray]:
         self._x[:] = x
         self._trigger()
@@ -490,3 +494,56 @@ class SampleEvaluator:
                 raw, cols, rows, nnz = sparse
                 out[:, cols, rows] = raw.reshape(self.n_samples, nnz)
         return self.outputs
+
+
+#: a block of samples of :class:`BlockEvaluator` holds about this many bytes of outputs
+BLOCK_BYTES = 512 * 1024
+
+
+class BlockEvaluator:
+    """A per-sample function evaluated over the samples block by block, into buffers of one block.
+
+    ``blocks(x)`` yields ``(start, stop, outputs)`` for consecutive blocks of samples; ``outputs``
+    are as :class:`SampleEvaluator`'s for the block's samples and are overwritten by the next block.
+    The sample data is read in place (no copy when it is in Fortran order, as
+    :meth:`TorqueModel.data_matrix` makes it), and the outputs never exist for all samples at
+    once: a caller that reduces each block (``JᵀJ``, ``Jᵀr``) needs memory for one block only.
+
+    Args:
+        block: samples per block; default: outputs of about :data:`BLOCK_BYTES`.
+    """
+
+    def __init__(self, function: ca.Function, data: np.ndarray, block: int | None = None):
+        self.function = function
+        self.n_samples = n = data.shape[1]
+        self._rows = data.shape[0]
+        self._data = np.asfortranarray(data).reshape(-1, order="F")
+        if block is None:
+            per_sample = 8 * max(sum(function.sparsity_out(i).nnz() for i in range(function.n_out())), 1)
+            block = max(BLOCK_BYTES // per_sample, 32)
+        self.block = int(max(1, min(block, n)))
+        self._parts: dict[int, SampleEvaluator] = {}
+
+    def _part(self, size: int) -> SampleEvaluator:
+        if size not in self._parts:
+            self._parts[size] = SampleEvaluator(self.function, self._data[: size * self._rows].reshape(
+                self._rows, size, order="F"))
+        return self._parts[size]
+
+    def blocks(self, x):
+        """``(start, stop, outputs)`` of each block of samples, in order."""
+        for start in range(0, self.n_samples, self.block):
+            stop = min(start + self.block, self.n_samples)
+            part = self._part(stop - start)
+            part.rebind(self._data[start * self._rows: stop * self._rows])
+            yield start, stop, part(x)
+
+    def evaluate(self, x) -> list[np.ndarray]:
+        """Every output for all samples, ``(N, cols, rows)`` arrays as :class:`SampleEvaluator`'s (new arrays)."""
+        full = None
+        for start, stop, outputs in self.blocks(x):
+            if full is None:
+                full = [np.empty((self.n_samples,) + out.shape[1:]) for out in outputs]
+            for whole, out in zip(full, outputs):
+                whole[start:stop] = out
+        return full

@@ -9,7 +9,9 @@ models, whose JSON Schema ``springbalance schema`` prints). A config is read in 
    ``"2e3"`` a string, a key given twice an error) and every number must be finite;
 2. the record is validated against the schema (shape and types of every key);
 3. the objects are built, with the checks that need the URDF (bodies and joints that exist) or
-   relate values (lower ≤ upper, one of ``urdf``/``robot``, keys of a workspace kind).
+   relate values (lower ≤ upper, one of ``urdf``/``robot``, keys of a workspace kind), and the
+   springs' bounds are checked against each other and the anchor regions' reach
+   (:func:`springbalance.design.bounds.check_bounds`: ``min_length`` ≤ ``max_length``, ...).
 
 Every problem is reported as a :class:`ConfigError` whose one-line message starts with the file
 and the key path of the culprit, e.g. ``config.yaml: workspace: unknown key 'nn'; valid keys:
@@ -35,9 +37,11 @@ import yaml
 from springbalance.errors import ConfigError, InputError
 from springbalance.io.inputs import read_input_text
 from springbalance.io import schema
-from springbalance.io.yaml_loader import DuplicateKeyError, load_json, load_yaml
+from springbalance.io.yaml_loader import MAX_BYTES, DuplicateKeyError, LimitError, load_json, load_yaml
+from springbalance.model import budget
 from springbalance.model.mechanism import Mechanism
 from springbalance.design.clearance import Clearance
+from springbalance.design.bounds import check_bounds
 from springbalance.design.problem import DesignProblem
 from springbalance.springs.laws import Spring
 from springbalance.springs.records import spring_from_dict
@@ -120,6 +124,7 @@ def config_from_dict(record, base_dir: str | Path = ".", label: str = "config", 
                      if model.clearance is not None else None)
         problem = DesignProblem(mechanism, workspace, springs, objective=model.objective, weights=weights,
                                 no_joint_worse=model.no_joint_worse, clearance=clearance, **scenario_options)
+        check_bounds(problem)  # contradictions between the springs' bounds, named before any solve
     return Config(path, mechanism, workspace, springs, problem, solve_options)
 
 
@@ -150,10 +155,12 @@ def read_config_file(path: str | Path):
     """
     path = Path(path)
     label = str(path)
-    text = read_input_text(path, "config file", ConfigError)
+    text = read_input_text(path, "config file", ConfigError, max_bytes=MAX_BYTES)
     if path.suffix.lower() == ".json":
         try:
             return load_json(text)
+        except LimitError as error:
+            raise ConfigError(f"{label}: {error}") from None
         except DuplicateKeyError as error:
             raise ConfigError(f"{label}: duplicate key {error.key!r} in a JSON object") from None
         except ValueError as error:  # json.JSONDecodeError
@@ -161,6 +168,8 @@ def read_config_file(path: str | Path):
                               f"{error.msg}") from None
     try:
         return load_yaml(text)
+    except LimitError as error:
+        raise ConfigError(f"{label}: {error}") from None
     except DuplicateKeyError as error:
         raise ConfigError(f"{label}: {error.path + ': ' if error.path else ''}{error}") from None
     except yaml.YAMLError as error:
@@ -214,15 +223,13 @@ def _mechanism(model: schema.Mechanism, base_dir: str | Path, where: str) -> Mec
     if len(sources) != 1:
         given = f" (got {' and '.join(sources)})" if sources else ""
         raise ConfigError(f"{where}: give exactly one of 'urdf' (a file) or 'robot' (an example-robot-data name){given}")
-    gravity, mimic = model.gravity, model.mimic
+    gravity, mimic, validate = model.gravity, model.mimic, model.validate
     if model.urdf is not None:
         urdf_path = Path(base_dir) / Path(model.urdf).expanduser()
-        if not urdf_path.is_file():
-            raise ConfigError(f"{where}.urdf: URDF file {str(urdf_path)!r} does not exist")
         with _prefixed(f"{where}.urdf"):
-            return Mechanism.from_urdf(urdf_path, gravity=gravity, mimic=mimic)
+            return Mechanism.from_urdf(urdf_path, gravity=gravity, mimic=mimic, validate=validate)
     with _prefixed(f"{where}.robot"):
-        return Mechanism.from_robot(model.robot, gravity=gravity, mimic=mimic)
+        return Mechanism.from_robot(model.robot, gravity=gravity, mimic=mimic, validate=validate)
 
 
 def _workspace(mechanism: Mechanism, model: schema.Workspace | None, base_dir: str | Path, where: str) -> Workspace:
@@ -397,6 +404,8 @@ def _samples_file(mechanism: Mechanism, path: Path, where: str) -> np.ndarray:
     if not path.is_file():
         raise ConfigError(f"{where}: samples file {str(path)!r} does not exist")
     suffix = path.suffix.lower()
+    per_byte = budget.NPY_BYTES_PER_BYTE if suffix == ".npy" else budget.CSV_BYTES_PER_BYTE
+    budget.require(budget.file_bytes(path) * per_byte, f"{where}: reading samples file {str(path)!r}")
     if suffix == ".npy":
         try:
             values = np.load(path, allow_pickle=False)

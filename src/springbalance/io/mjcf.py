@@ -247,12 +247,16 @@ class _MjcfBuilder:
             if not spring.anchors:
                 self._add_torsional(actuator, spring, record)
                 continue
-            sites = []
-            for end in spring.anchors:
+            sites = []   # the tendon's path through the sites; a pulley's cylinder is drawn, not wrapped
+            for end, radius in zip(spring.anchors, getattr(spring, "radii", [0.0] * len(spring.anchors))):
                 body = self._body(record[end]["body"])
                 name = anchor_link_name(spring.name, end)
                 E(body, "site", name=name, pos=_vector(record[end]["point"]), size="0.01")
                 sites.append(name)
+                if radius > 0:
+                    self._add_pulley(body, spring, end, record, radius)
+            if any(radius > 0 for radius in getattr(spring, "radii", ())):
+                self.warnings.append(self._pulley_warning(spring, record))
             lengths = self.result.evaluation.lengths[:, self.result.problem.springs.index(spring)]
             stiffness, spring_length, constant, deviation = _tendon_law(spring, record, lengths)  # [N/m], [m], [N], [N]
             if deviation > 0:
@@ -273,7 +277,7 @@ class _MjcfBuilder:
                   biastype="affine", biasprm=_vector([-constant, 0, 0]))
             mass = record.get("mass")
             if mass:
-                for end in spring.anchors:
+                for end in getattr(spring, "spring_ends", spring.anchors):
                     body_name = record[end]["body"]
                     if self.mechanism.is_ground(body_name):
                         continue
@@ -284,6 +288,61 @@ class _MjcfBuilder:
         for element in (tendon, actuator):
             if not len(element):
                 root.remove(element)
+
+    def _add_pulley(self, body, spring, end, record, radius: float) -> None:
+        """A cylinder of ``radius`` [m] drawn at the pulley ``end`` of a routed spring (no contact, no
+        mass), its axis normal to the plane of the pulley and its neighbours at the reference pose."""
+        from lxml import etree
+
+        ends = list(spring.anchors)
+        index = ends.index(end)
+        centre = np.asarray(record[end]["point"], dtype=float)
+        rotation, translation = self._reference_placement(record[end]["body"])
+        neighbours = []
+        for other in (ends[index - 1], ends[index + 1]):
+            r_other, t_other = self._reference_placement(record[other]["body"])
+            point = r_other @ np.asarray(record[other]["point"], dtype=float) + t_other
+            neighbours.append(rotation.T @ (point - translation) - centre)       # in the pulley's body frame
+        axis = np.cross(neighbours[0], neighbours[1])
+        for fallback in ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]):
+            if np.linalg.norm(axis) >= 1e-9:
+                break
+            axis = np.cross(neighbours[0], fallback)
+        etree.SubElement(body, "geom", name=f"{anchor_link_name(spring.name, end)}_pulley", type="cylinder",
+                         pos=_vector(centre), zaxis=_vector(axis / np.linalg.norm(axis)),
+                         size=_vector([radius, 0.005]), contype="0", conaffinity="0", mass="0",
+                         rgba="0.3 0.3 0.3 1")
+
+    def _pulley_warning(self, spring, record) -> str:
+        """How far MuJoCo's tendon (through the pulleys' centres) is from the wrapped cable over the workspace."""
+        problem = self.result.problem
+        kinematics = problem.base_workspace.kinematics()
+        points = []   # world positions (N×3) [m] of the path's points
+        for end in spring.anchors:
+            body, local = record[end]["body"], np.asarray(record[end]["point"], dtype=float)
+            if self.mechanism.is_ground(body):
+                rotation, translation = self._reference_placement(body)
+                points.append(np.broadcast_to(rotation @ local + translation, (problem.base_workspace.size, 3)))
+            else:
+                points.append(kinematics.body(body).points(local))
+        centres = sum(np.linalg.norm(second - first, axis=1) for first, second in zip(points, points[1:]))   # [m]
+        column = problem.springs.index(spring)
+        wrapped = self.result.evaluation.lengths[:problem.base_workspace.size, column] + float(record["cable_length"])
+        error = float(np.max(np.abs(wrapped - centres)))
+        return (f"spring {spring.name!r}: MuJoCo's spatial tendon runs through the centres of its wrapping pulleys "
+                f"(a MuJoCo wrapping geom only deflects a tendon that would cut through it, and a pulley sits inside the "
+                f"cable's bend), so its length is off the wrapped cable's by up to {error:.3g} m over the workspace; "
+                f"the pulleys are drawn as cylinders")
+
+    def _reference_placement(self, body: str) -> tuple[np.ndarray, np.ndarray]:
+        """World rotation and translation of ``body`` at the model's reference pose (all joints 0)."""
+        import pinocchio as pin
+
+        mechanism = self.result.problem.mechanism
+        data = mechanism.model.createData()
+        pin.framesForwardKinematics(mechanism.model, data, pin.neutral(mechanism.model))
+        placement = data.oMf[mechanism.frame_id(body)]
+        return np.array(placement.rotation), np.array(placement.translation)
 
     def _add_torsional(self, actuator, spring, record):
         """Collect a torsional spring; :meth:`_finish_torsional` writes each joint's sum."""
@@ -337,6 +396,9 @@ def _tendon_law(spring, record, lengths) -> tuple[float, float, float, float]:
     exact for a linear law; a nonlinear one gives its best line over the workspace ``lengths`` [m]
     and the largest deviation there)."""
     k, constant, deviation = spring.tendon_law(record, lengths)          # F = k L + constant
+    if getattr(spring, "routed", False):
+        # MuJoCo's tendon is the whole path, ℓ = L + cable: F = k ℓ + (constant − k cable)
+        constant -= k * float(record["cable_length"])
     if k <= 0:
         return 0.0, 0.0, constant, deviation
     length = -constant / k                         # L_s with F = k (L - L_s)

@@ -24,6 +24,7 @@ import json
 import re
 import types
 import typing
+import warnings
 from typing import Annotated, Any, Literal, Optional, Union
 
 import annotated_types
@@ -37,7 +38,7 @@ from springbalance.design.problem import AGGREGATES
 from springbalance.design.solvers import METHODS
 from springbalance.errors import ConfigError
 from springbalance.springs import SPRING_TYPES
-from springbalance.springs.records import ideal_law_hint
+from springbalance.springs.records import ROUTED, ideal_law_hint
 
 JSON_SCHEMA_DIALECT = "https://json-schema.org/draft/2020-12/schema"
 TITLE = "springbalance config"
@@ -263,6 +264,35 @@ class Anchor(Record):
                                     shown=0.0)
 
 
+class PulleySize(Record):
+    """A wrapping pulley (docs/model.md §3.9)."""
+
+    radius: NonNegative = Field(0.0, description="radius [m]; 0 is a guide point the cable runs through")
+
+
+class PathPoint(Anchor):
+    """A point of a routed spring's path: a body and a point of it, fixed or free (as an anchor); the
+    points between the ends may carry a pulley."""
+
+    pulley: PulleySize = _optional("a pulley at this point (points between the path's ends only)")
+
+
+class RoutedSpring(Record):
+    """A spring whose body lies on the path's first segment, pulling a cable over pulleys (or guide points)
+    to the path's last point (docs/model.md §3.9)."""
+
+    name: Text = _optional("unique name; default s1, s2, ... by position")
+    type: Literal["routed"] = Field(description="a routed spring")
+    path: Annotated[list[PathPoint], annotated_types.MinLen(2), _expect("a list of at least two points", deep=False)] = Field(
+        description="the spring's fixed end, then pulleys or guide points, then the cable's end")
+    spring: dict[str, Any] = Field(
+        description="the spring's law, a two-point spring record without ends: {type?, ideal?, stiffness, "
+                    "free_length, ...}; for a coil (type extension or compression without ideal: true) "
+                    "helical: {material, ...} gives its options")
+    cable_length: NonNegativeParameter = Field(description="length of the cable [m]: a number (fixed) or "
+                                                           "{lower, upper, init?} (a design variable)")
+
+
 class Clearance(Record):
     """How far the springs keep from the arm's links (docs/model.md §11)."""
 
@@ -425,7 +455,7 @@ def _spring_tag(value):
 def _spring_union(laws: tuple):
     """One spring record: the model of the law its ``type`` names (default ``extension``)."""
     keys = tuple(key for key, _ in laws)
-    kinds = tuple(dict.fromkeys(cls.kind for _, cls in laws))
+    kinds = tuple(dict.fromkeys(cls.kind for _, cls in laws)) + (ROUTED,)
 
     def check(value):
         if not isinstance(value, dict):
@@ -434,6 +464,8 @@ def _spring_union(laws: tuple):
         if not isinstance(kind, str) or kind not in kinds:
             raise _fail("unknown_spring_type", f"unknown spring type {_shown(kind)}; valid: {', '.join(kinds)}",
                         key="type")
+        if kind == ROUTED:
+            return value
         ideal = value.get("ideal", False)
         if not isinstance(ideal, bool):
             raise _fail("expected", f"expected true or false, got {_shown(ideal)}", key="ideal")
@@ -445,7 +477,8 @@ def _spring_union(laws: tuple):
             raise _fail("ideal_law_key", hint)
         return value
 
-    members = tuple(Annotated[spring_model(cls), Tag(kind)] for kind, cls in laws)
+    members = tuple(Annotated[spring_model(cls), Tag(kind)] for kind, cls in laws) + (
+        Annotated[RoutedSpring, Tag(ROUTED)],)
     return Annotated[Annotated[Union[members], Discriminator(_spring_tag)], BeforeValidator(check)]
 
 
@@ -467,17 +500,24 @@ def _spring_list_adapter(laws: tuple) -> pydantic.TypeAdapter:
 
 
 # ---------------------------------------------------------------------- sections
-class Mechanism(Record):
-    """The arm: a URDF file or an example-robot-data robot (exactly one of ``urdf`` and ``robot``), and gravity."""
+# the key `validate` shadows the deprecated classmethod BaseModel.validate, which nothing here calls
+with warnings.catch_warnings():
+    warnings.filterwarnings("ignore", message='Field name "validate"', category=UserWarning)
 
-    model_config = ConfigDict(json_schema_extra=_exactly_one(("urdf", "robot")))
+    class Mechanism(Record):
+        """The arm: a URDF file or an example-robot-data robot (exactly one of ``urdf`` and ``robot``), and gravity."""
 
-    urdf: Text = _optional("URDF file of the arm, relative to the config file's folder")
-    robot: Text = _optional("example-robot-data robot name (ur5, panda, ...; see `springbalance robots`)")
-    gravity: Annotated[Union[Number, Annotated[list[Number], annotated_types.Len(3, 3)]],
-                       _expect("a magnitude [m/s²] or a 3-vector")] = _optional(
-        "magnitude g [m/s²], meaning (0, 0, -g), or the gravity vector [m/s²] in the world frame", shown=9.81)
-    mimic: bool = Field(False, description="parse URDF mimic joints as coupled joints (closed chains)")
+        model_config = ConfigDict(json_schema_extra=_exactly_one(("urdf", "robot")))
+
+        urdf: Text = _optional("URDF file of the arm, relative to the config file's folder")
+        robot: Text = _optional("example-robot-data robot name (ur5, panda, ...; see `springbalance robots`)")
+        gravity: Annotated[Union[Number, Annotated[list[Number], annotated_types.Len(3, 3)]],
+                           _expect("a magnitude [m/s²] or a 3-vector")] = _optional(
+            "magnitude g [m/s²], meaning (0, 0, -g), or the gravity vector [m/s²] in the world frame", shown=9.81)
+        mimic: bool = Field(False, description="parse URDF mimic joints as coupled joints (closed chains)")
+        validate: bool = Field(True, description="check the arm's physics at load (masses ≥ 0, inertias positive "
+                                                 "semi-definite within the triangle inequality, joint limits lower ≤ "
+                                                 "upper); false loads a deliberately odd URDF anyway")
 
 
 class Coupling(Record):
@@ -536,7 +576,7 @@ class Workspace(Record):
 
 
 class Solve(Record):
-    """Options of the multi-start solve (the command line's --starts, --seed, --method override them)."""
+    """Options of the multi-start solve (the command line's --starts, --seed, --method, --workers override them)."""
 
     starts: Counting = _optional("starts of the multi-start: the initial guess, then scrambled Sobol "
                                     "points of the bounds", shown=8)
@@ -546,6 +586,9 @@ class Solve(Record):
     max_iterations: Counting = _optional("iteration budget of each start (and of each IPOPT phase)", shown=100)
     tolerance: Positive = _optional("least squares stop when a step lowers the cost by less than this "
                                     "fraction [1]; IPOPT uses min(tolerance, 1e-8)", shown=1e-8)
+    workers: Counting = _optional("processes that run the starts at once (the design does not depend on it); "
+                                  "default $SPRINGBALANCE_WORKERS, else the number of cores, once a start "
+                                  "lasts long enough to pay for the pool")
 
 
 class Payload(Record):

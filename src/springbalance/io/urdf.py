@@ -94,7 +94,12 @@ def urdf_strings(result, name: str = "balanced.urdf", resolve_packages: bool = F
             parent = root_link if body == GROUND else body
             anchor_elements += _anchor_elements(link_name, joint_name, parent, values[end]["point"])
             attributes[f"anchor_{end}"] = link_name
-            saved[end] = {"body": body, "point": [float(v) for v in values[end]["point"]], "link": link_name}
+            entry = {"body": body, "point": [float(v) for v in values[end]["point"]], "link": link_name}
+            if saved.get("type") == "routed":   # the path's points, in order a, via1 …, b
+                index = list(spring.anchors).index(end)
+                saved["path"][index] = {**entry, **({"pulley": values[end]["pulley"]} if "pulley" in values[end] else {})}
+            else:
+                saved[end] = entry
         element = etree.SubElement(root, f"{{{URDF_NAMESPACE}}}spring", attrib=attributes)
         element.text = json.dumps(saved)
         records.append(saved)
@@ -172,7 +177,9 @@ def _check_urdf(xml: str, result) -> None:
     from springbalance.model.mechanism import Mechanism
 
     try:
-        Mechanism.from_urdf_string(xml, mimic=bool(result.problem.mechanism.source.get("mimic", False)))
+        source = result.problem.mechanism.source
+        Mechanism.from_urdf_string(xml, mimic=bool(source.get("mimic", False)),
+                                   validate=source.get("validate", True) is not False)
         yourdfpy.URDF.load(io.BytesIO(xml.encode()), build_scene_graph=False, load_meshes=False)
     except Exception as error:
         raise InputError(f"the exported URDF does not load back: {error}") from None
@@ -198,16 +205,25 @@ def springs_from_urdf(path: str | Path) -> list:
     springs = []
     for element in root.iter(f"{{{URDF_NAMESPACE}}}spring"):
         record = json.loads(element.text)
-        for end in ("a", "b"):
-            if end not in record:
-                continue
+        routed = record.get("type") == "routed" and isinstance(record.get("path"), list)
+        if routed:   # the path's points are the ends a, via1 …, b
+            points = record["path"]
+            ends = ["a", *(f"via{i}" for i in range(1, len(points) - 1)), "b"]
+        else:
+            ends = [end for end in ("a", "b") if end in record]
+            points = [record[end] for end in ends]
+        for index, (end, point) in enumerate(zip(ends, points)):
             joint = joints.get(element.get(f"anchor_{end}"))
             if joint is None:
                 raise InputError(f"URDF {str(path)!r}: spring {record['name']!r} has no anchor link for end {end!r}")
             parent = joint.find("parent").get("link")
             origin = joint.find("origin")
-            body = record[end]["body"] if parent == root_link and record[end]["body"] == GROUND else parent
-            record[end] = {"body": body, "point": [float(v) for v in origin.get("xyz").split()]}
+            body = point["body"] if parent == root_link and point["body"] == GROUND else parent
+            entry = {"body": body, "point": [float(v) for v in origin.get("xyz").split()]}
+            if routed:
+                record["path"][index] = {**entry, **({"pulley": point["pulley"]} if "pulley" in point else {})}
+            else:
+                record[end] = entry
         springs.append(spring_from_dict(record, f"{path.name}: spring {record.get('name')!r}"))
     if not springs:
         raise InputError(f"URDF {str(path)!r} holds no springbalance springs")

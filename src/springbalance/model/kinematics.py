@@ -50,18 +50,26 @@ class BodyKinematics:
 
 
 def gravity_and_potential(model: pin.Model, configurations: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``g(q_i)`` (N×nv) [N·m or N] and ``V_g(q_i)`` (N) [J] of ``model`` at the configurations (N×nq)."""
-    data = model.createData()
+    """``g(q_i)`` (N×nv) [N·m or N] and ``V_g(q_i)`` (N) [J] of ``model`` at the configurations (N×nq).
+
+    ``g`` comes from one batched call (``rneaInParallel`` with zero velocity and acceleration, a C++
+    loop over the samples); a model with mimic joints, which that call does not handle, takes
+    ``computeGeneralizedGravity`` sample by sample. ``V_g = -M g·c`` with ``M`` the mass of the moving
+    bodies and ``c`` their centre of mass (``centerOfMass``: one C++ call per sample), the same as
+    ``-Σ_j m_j g·c_j`` over the moving bodies (``computePotentialEnergy`` rejects mimic joints).
+    """
+    configurations = np.asarray(configurations, dtype=float)
     n = configurations.shape[0]
-    gravity_torque = np.empty((n, model.nv))
-    potential = np.empty(n)
-    gravity = np.array(model.gravity.linear)
-    for i, q in enumerate(configurations):
-        gravity_torque[i] = pin.computeGeneralizedGravity(model, data, q)
-        # V_g = -Σ_j m_j g·c_j over the moving bodies, as computePotentialEnergy (which rejects mimic joints)
-        pin.forwardKinematics(model, data, q)
-        potential[i] = -sum(model.inertias[j].mass * float(gravity @ data.oMi[j].act(model.inertias[j].lever))
-                            for j in range(1, model.njoints))
+    data = model.createData()
+    if n and not len(model.mimicking_joints) and hasattr(pin, "rneaInParallel"):
+        gravity_torque = np.zeros((model.nv, n), order="F")
+        zero = np.zeros((model.nv, n), order="F")
+        pin.rneaInParallel(1, pin.ModelPool(model, 1), np.asfortranarray(configurations.T), zero, zero, gravity_torque)
+        gravity_torque = np.ascontiguousarray(gravity_torque.T)
+    else:
+        gravity_torque = np.array([pin.computeGeneralizedGravity(model, data, q) for q in configurations]).reshape(n, model.nv)
+    centres = np.array([pin.centerOfMass(model, data, q, False) for q in configurations]).reshape(n, 3)
+    potential = -data.mass[0] * (centres @ np.array(model.gravity.linear)) if n else np.zeros(0)
     return gravity_torque, potential
 
 

@@ -24,10 +24,12 @@ import numpy as np
 import numpy.typing as npt
 import pinocchio as pin
 
-from springbalance.model import robots
+from springbalance.model import robots, validation
 from springbalance.errors import InputError
 
 GROUND = "universe"
+#: the largest magnitude of gravity [m/s²] taken (about 100 g): beyond it a number is a typo
+MAX_GRAVITY = 1e3
 
 _REVOLUTE = {"JointModelRX", "JointModelRY", "JointModelRZ", "JointModelRevoluteUnaligned"}
 _CONTINUOUS = {"JointModelRUBX", "JointModelRUBY", "JointModelRUBZ", "JointModelRevoluteUnboundedUnaligned"}
@@ -69,7 +71,11 @@ class Mechanism:
     """A Pinocchio model with named degrees of freedom and bodies.
 
     Use the constructors :meth:`from_urdf`, :meth:`from_urdf_string`, :meth:`from_robot`
-    or :meth:`from_model`.
+    or :meth:`from_model`. Each checks the arm's physics first (:mod:`springbalance.model.validation`:
+    masses ≥ 0, inertias positive semi-definite within the triangle inequality, ordered joint
+    limits) and raises :class:`~springbalance.errors.InputError` naming the link or joint and the
+    attribute; ``validate=False`` loads a deliberately odd arm anyway (malformed numbers are
+    always refused). The choice is kept in :attr:`source` (``"validate": false``).
 
     Attributes:
         model: the ``pinocchio.Model`` (gravity already set).
@@ -78,11 +84,15 @@ class Mechanism:
     """
 
     def __init__(self, model: pin.Model, source: dict[str, Any] | None = None,
-                 gravity: npt.ArrayLike | None = None) -> None:
+                 gravity: npt.ArrayLike | None = None, validate: bool = True) -> None:
         self.model = model.copy() if hasattr(model, "copy") else pin.Model(model)
         if gravity is not None:
             self.model.gravity.linear = _gravity_vector(gravity)
         self.source = dict(source or {"kind": "model"})
+        if not validate:
+            self.source["validate"] = False
+        elif self.source.get("kind") == "model":  # a URDF was checked before Pinocchio read it
+            validation.check_model(self.model, f"mechanism {self.model.name!r}")
         self.source["gravity"] = [float(v) for v in self.model.gravity.linear]
         self.joints = _degrees_of_freedom(self.model)
         if len(self.joints) != self.model.nv:
@@ -97,24 +107,31 @@ class Mechanism:
 
     # ----------------------------------------------------------------- constructors
     @classmethod
-    def from_urdf(cls, path: str | Path, gravity: npt.ArrayLike | None = None, mimic: bool = False) -> Mechanism:
-        """Load a URDF file. ``gravity``: magnitude g (then (0, 0, -g)) or a 3-vector [m/s²]."""
+    def from_urdf(cls, path: str | Path, gravity: npt.ArrayLike | None = None, mimic: bool = False,
+                  validate: bool = True) -> Mechanism:
+        """Load a URDF file. ``gravity``: magnitude g (then (0, 0, -g)) or a 3-vector [m/s²];
+        ``validate``: check the physics (see the class documentation)."""
         path = Path(path)
-        if not path.is_file():
-            raise InputError(f"URDF file {str(path)!r} does not exist")
+        where = f"URDF file {str(path)!r}"
+        text = validation.read_urdf(path)
+        validation.check_urdf(text, where, physics=validate)
         try:
             with _quiet_native_stderr():
                 model = pin.buildModelFromUrdf(str(path), mimic=mimic)
         except Exception as exc:  # Pinocchio raises RuntimeError/ValueError with C++ text
-            raise InputError(f"URDF file {str(path)!r} could not be parsed: {_one_line(exc)}") from None
+            raise InputError(f"{where} could not be parsed: {_one_line(exc)}") from None
         if not mimic:
-            _warn_unused_mimic(path.read_text(errors="replace"), str(path))
+            _warn_unused_mimic(text, str(path))
         source = {"kind": "urdf", "path": str(path.resolve()), "mimic": mimic}
-        return cls(model, source=source, gravity=gravity)
+        return cls(model, source=source, gravity=gravity, validate=validate)
 
     @classmethod
-    def from_urdf_string(cls, text: str, gravity: npt.ArrayLike | None = None, mimic: bool = False) -> Mechanism:
-        """Parse a URDF given as XML text."""
+    def from_urdf_string(cls, text: str, gravity: npt.ArrayLike | None = None, mimic: bool = False,
+                         validate: bool = True) -> Mechanism:
+        """Parse a URDF given as XML text (``validate``: as :meth:`from_urdf`)."""
+        if not isinstance(text, str):
+            raise InputError(f"a URDF string must be text, got {type(text).__name__}")
+        validation.check_urdf(text, "URDF string", physics=validate)
         try:
             with _quiet_native_stderr():
                 model = pin.buildModelFromXML(text, mimic=mimic)
@@ -122,19 +139,21 @@ class Mechanism:
             raise InputError(f"URDF string could not be parsed: {_one_line(exc)}") from None
         if not mimic:
             _warn_unused_mimic(text, "URDF string")
-        return cls(model, source={"kind": "urdf_string", "text": text, "mimic": mimic}, gravity=gravity)
+        return cls(model, source={"kind": "urdf_string", "text": text, "mimic": mimic}, gravity=gravity,
+                   validate=validate)
 
     @classmethod
-    def from_robot(cls, name: str, gravity: npt.ArrayLike | None = None, mimic: bool = False) -> Mechanism:
-        """Load a robot of example-robot-data by name (``"ur5"``, ``"panda"``, ...)."""
-        mechanism = cls.from_urdf(robots.robot_urdf(name), gravity=gravity, mimic=mimic)
+    def from_robot(cls, name: str, gravity: npt.ArrayLike | None = None, mimic: bool = False,
+                   validate: bool = True) -> Mechanism:
+        """Load a robot of example-robot-data by name (``"ur5"``, ``"panda"``, ...; ``validate``: as :meth:`from_urdf`)."""
+        mechanism = cls.from_urdf(robots.robot_urdf(name), gravity=gravity, mimic=mimic, validate=validate)
         mechanism.source = {**mechanism.source, "kind": "robot", "robot": name}
         return mechanism
 
     @classmethod
-    def from_model(cls, model: pin.Model, gravity: npt.ArrayLike | None = None) -> Mechanism:
-        """Wrap an existing Pinocchio model (it is copied)."""
-        return cls(model, source={"kind": "model"}, gravity=gravity)
+    def from_model(cls, model: pin.Model, gravity: npt.ArrayLike | None = None, validate: bool = True) -> Mechanism:
+        """Wrap an existing Pinocchio model (it is copied; ``validate``: check its masses, inertias and limits)."""
+        return cls(model, source={"kind": "model"}, gravity=gravity, validate=validate)
 
     @classmethod
     def from_source(cls, source: dict[str, Any]) -> Mechanism:
@@ -142,12 +161,13 @@ class Mechanism:
         kind = source.get("kind")
         gravity = source.get("gravity")
         mimic = bool(source.get("mimic", False))
+        validate = source.get("validate", True) is not False
         if kind == "robot":
-            return cls.from_robot(source["robot"], gravity=gravity, mimic=mimic)
+            return cls.from_robot(source["robot"], gravity=gravity, mimic=mimic, validate=validate)
         if kind == "urdf":
-            return cls.from_urdf(source["path"], gravity=gravity, mimic=mimic)
+            return cls.from_urdf(source["path"], gravity=gravity, mimic=mimic, validate=validate)
         if kind == "urdf_string":
-            return cls.from_urdf_string(source["text"], gravity=gravity, mimic=mimic)
+            return cls.from_urdf_string(source["text"], gravity=gravity, mimic=mimic, validate=validate)
         raise InputError(f"cannot rebuild a mechanism from source kind {kind!r} (a bare Pinocchio model is not saved)")
 
     # ----------------------------------------------------------------- names
@@ -403,6 +423,8 @@ def _gravity_vector(gravity: npt.ArrayLike) -> np.ndarray:
         vector = np.array([0.0, 0.0, -float(vector)])
     if vector.shape != (3,) or not np.all(np.isfinite(vector)):
         raise InputError(f"gravity must be a magnitude or a finite 3-vector, got {gravity!r}")
+    if np.max(np.abs(vector)) > MAX_GRAVITY:
+        raise InputError(f"gravity {gravity!r} is beyond {MAX_GRAVITY:g} m/s² (about 100 g); give it in m/s²")
     return vector
 
 

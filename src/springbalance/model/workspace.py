@@ -3,10 +3,11 @@
 A :class:`Workspace` holds joint coordinates ``θ`` (N×nv, rad or m, one column per
 degree of freedom of the mechanism) and knows whether the rows form an ordered path
 (needed by the ``energy`` objective). Constructors sample joint ranges on a grid, with a
-scrambled Sobol sequence (``scipy.stats.qmc``), uniformly at random, or take explicit
-arrays. Ranges default to the URDF limits and may be overridden per joint; linear
-couplings ``lower ≤ Σ_j c_j θ_j ≤ upper`` (for example ``knee - hip in [-60°, 0°]``)
-reject samples outside them.
+scrambled Sobol sequence (:mod:`springbalance.model.sobol`: the points of
+``scipy.stats.qmc.Sobol``), uniformly at random, or take explicit arrays. Ranges default to
+the URDF limits and may be overridden per joint; linear couplings
+``lower ≤ Σ_j c_j θ_j ≤ upper`` (for example ``knee - hip in [-60°, 0°]``) reject samples
+outside them.
 """
 
 from __future__ import annotations
@@ -17,15 +18,18 @@ from typing import TYPE_CHECKING, Any, Mapping, Sequence
 
 import numpy as np
 import numpy.typing as npt
-from scipy.stats import qmc
 
 from springbalance.errors import InputError
+from springbalance.model import budget
 from springbalance.model.mechanism import Mechanism
+from springbalance.model.sobol import sobol_engine
 
 if TYPE_CHECKING:
     from springbalance.model.kinematics import WorkspaceKinematics
 
 Range = tuple[float, float]
+#: the largest joint value a workspace takes [rad or m]: beyond it a number is a typo, and would overflow
+MAX_JOINT_VALUE = 1e6
 
 
 @dataclasses.dataclass(frozen=True)
@@ -98,6 +102,10 @@ class Workspace:
         if not np.all(np.isfinite(values)):
             row = int(np.argwhere(~np.isfinite(values))[0][0])
             raise InputError(f"workspace sample {row} is not finite: {values[row].tolist()}")
+        if np.any(np.abs(values) > MAX_JOINT_VALUE):
+            row = int(np.argwhere(np.abs(values) > MAX_JOINT_VALUE)[0][0])
+            raise InputError(f"workspace sample {row} has a joint value beyond ±{MAX_JOINT_VALUE:g} rad or m: "
+                             f"{values[row].tolist()}")
         self.mechanism = mechanism
         self.joint_values = values
         self.ordered = bool(ordered)
@@ -126,15 +134,16 @@ class Workspace:
         counts = []
         for joint in mechanism.joints:
             count = n.get(joint.name, 1 if lower[joint.index_v] == upper[joint.index_v] else 16) if isinstance(n, Mapping) else n
-            count = int(count)
-            if count < 1:
-                raise InputError(f"grid count for joint {joint.name!r} must be ≥ 1, got {count}")
+            count = _count(count, f"grid count for joint {joint.name!r}")
             if lower[joint.index_v] == upper[joint.index_v]:
                 count = 1
             counts.append(count)
         if isinstance(n, Mapping):
             for name in n:
                 mechanism.joint(name)
+        total = int(np.prod(counts, dtype=object))
+        budget.require(_workspace_bytes(mechanism, "grid", total),
+                       f"a grid workspace of {' × '.join(map(str, counts))} = {total} samples")
         axes = [np.linspace(lo, hi, c) if c > 1 else np.array([(lo + hi) / 2]) for lo, hi, c in zip(lower, upper, counts)]
         values = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, mechanism.nv)
         values = _apply_couplings(mechanism, values, couplings)
@@ -159,20 +168,21 @@ class Workspace:
               degrees: bool = False) -> Workspace:
         """Ordered sweep of one joint over its range, the others at their range midpoints."""
         index = mechanism.joint(joint).index_v
+        n = _count(n, "sweep point count")
         lower, upper = _ranges(mechanism, ranges, degrees)
-        values = np.tile((lower + upper) / 2, (int(n), 1))
-        values[:, index] = np.linspace(lower[index], upper[index], int(n))
-        return cls(mechanism, values, ordered=True, description={"kind": "sweep", "joint": joint, "n": int(n)})
+        budget.require(_workspace_bytes(mechanism, "sweep", n), f"a sweep of {n} samples")
+        values = np.tile((lower + upper) / 2, (n, 1))
+        values[:, index] = np.linspace(lower[index], upper[index], n)
+        return cls(mechanism, values, ordered=True, description={"kind": "sweep", "joint": joint, "n": n})
 
     @classmethod
     def _sampled(cls, mechanism: Mechanism, n: int, ranges: Mapping[str, Sequence[float]] | None,
                  couplings: Sequence[Coupling], degrees: bool, seed: int, kind: str) -> Workspace:
-        n = int(n)
-        if n < 1:
-            raise InputError(f"workspace sample count must be ≥ 1, got {n}")
+        n = _count(n, "workspace sample count")
+        budget.require(_workspace_bytes(mechanism, kind, n), f"a {kind} workspace of {n} samples of {mechanism.nv} joints")
         lower, upper = _ranges(mechanism, ranges, degrees)
         rng = np.random.default_rng(seed)
-        sampler = qmc.Sobol(d=mechanism.nv, scramble=True, seed=rng) if kind == "sobol" else None
+        sampler = sobol_engine(mechanism.nv, rng) if kind == "sobol" else None
         accepted = np.empty((0, mechanism.nv))
         drawn = 0
         while accepted.shape[0] < n:
@@ -213,11 +223,32 @@ class Workspace:
         from springbalance.model.kinematics import WorkspaceKinematics
 
         if self._kinematics is None:
+            model = self.mechanism.model
+            budget.require(budget.kinematics_bytes(self.size, model.nv, model.nq),
+                           f"the gravity torques of a workspace of {self.size} samples")
             self._kinematics = WorkspaceKinematics(self)
         return self._kinematics
 
     def __repr__(self) -> str:
         return f"Workspace({self.description.get('kind')}, N={self.size}, ordered={self.ordered})"
+
+
+def _workspace_bytes(mechanism: Mechanism, kind: str, n: int) -> int:
+    """Memory [bytes] to sample ``n`` poses and compute their gravity torques (what every use of a
+    workspace does next), :mod:`springbalance.model.budget`."""
+    return budget.sampling_bytes(kind, n, mechanism.nv) + budget.kinematics_bytes(n, mechanism.nv, mechanism.model.nq)
+
+
+def _count(n, what: str) -> int:
+    """``n`` as an int ≥ 1 (an integral float such as ``1e4`` counts); InputError naming ``what`` otherwise."""
+    if isinstance(n, (bool, np.bool_)) or not isinstance(n, (int, float, np.integer, np.floating)):
+        raise InputError(f"{what} must be an integer ≥ 1, got {n!r}")
+    if isinstance(n, (float, np.floating)) and not (np.isfinite(n) and float(n).is_integer()):
+        raise InputError(f"{what} must be an integer ≥ 1, got {n!r}")
+    count = int(n)
+    if count < 1:
+        raise InputError(f"{what} must be ≥ 1, got {count}")
+    return count
 
 
 def _ranges(mechanism: Mechanism, ranges, degrees: bool) -> tuple[np.ndarray, np.ndarray]:
@@ -230,6 +261,8 @@ def _ranges(mechanism: Mechanism, ranges, degrees: bool) -> tuple[np.ndarray, np
             values = np.array([values[0], values[0]])
         if values.size != 2 or not np.all(np.isfinite(values)):
             raise InputError(f"range of joint {name!r} must be [lower, upper] with finite numbers, got {bounds!r}")
+        if np.any(np.abs(values) > MAX_JOINT_VALUE):
+            raise InputError(f"range of joint {name!r} must lie within ±{MAX_JOINT_VALUE:g} rad or m, got {bounds!r}")
         if degrees and joint.kind != "prismatic":
             values = np.deg2rad(values)
         if values[0] > values[1]:

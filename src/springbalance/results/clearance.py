@@ -214,11 +214,12 @@ def clearance(result: DesignResult, radius: float | None = None, samples: int | 
             skipped.append(spring.name)
             continue
         spring_radius = capsule_radius(record, radius)
-        bodies = (record["a"]["body"], record["b"]["body"])
+        ends = getattr(spring, "spring_ends", ("a", "b"))   # a routed spring: its first segment
+        bodies = tuple(record[end]["body"] for end in ends)
         variants = []   # (scenario name, point a, point b), one per distinct pair of anchor points
         for index, name in enumerate(scenario_names):
             points = tuple(np.asarray(problem.model.anchor_point(spring, end, result.x, scenario=index), dtype=float)
-                           for end in ("a", "b"))
+                           for end in ends)
             if not any(np.array_equal(points[0], a) and np.array_equal(points[1], b) for _, a, b in variants):
                 variants.append((name, *points))
         if len(variants) == 1:

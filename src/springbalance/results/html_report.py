@@ -79,7 +79,7 @@ def design_rows(result) -> list[dict]:
         units = dict(getattr(spring, "parameter_units", {}))
         preload_key = next((key for key in PRELOAD_KEYS if key in units), None)
         if "a" in record and "b" in record:
-            where = [(end, record[end]["body"], record[end]["point"]) for end in ("a", "b")]
+            where = [(end, record[end]["body"], record[end]["point"]) for end in spring.anchors]
         else:
             where = [("joint", record.get("joint", "?"), None)]
         state_unit = getattr(spring, "state_quantity", ("length", "m"))

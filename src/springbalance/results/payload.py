@@ -37,6 +37,11 @@ if TYPE_CHECKING:
 
     from springbalance.results.result import DesignResult
 
+#: the largest payload mass taken [kg] and the farthest payload point from its body's origin [m]:
+#: beyond these a number is a typo, not a payload
+MAX_MASS = 1e6
+MAX_DISTANCE = 100.0
+
 ANCHOR_COLOR = "#2b8cbe"
 RESIDUAL_COLOR = "#d7301f"
 
@@ -194,10 +199,14 @@ def payload_range(result: DesignResult, body: str, point: Sequence[float] = (0.0
     problem = result.problem
     if not problem.model.per_scenario:
         raise InputError("payload_range needs a design with per-scenario variables (e.g. per_scenario=['s1.b'])")
+    point = _checked_point(problem, body, point)
+    masses = None if masses is None else _checked_masses(masses)
     springs = _adjustable_springs(problem, result.x)
-    point = tuple(float(v) for v in point)
     if max_residual is None:
         max_residual = 1e-6 * float(np.max(np.abs(problem.base_workspace.kinematics().gravity_torque)))
+    elif isinstance(max_residual, bool) or not isinstance(max_residual, (int, float, np.integer, np.floating)) \
+            or not (np.isfinite(max_residual) and max_residual > 0):
+        raise InputError(f"max residual must be a finite number > 0 [N·m], got {max_residual!r}")
     max_residual = float(max_residual)
     solved: dict[float, PayloadRow] = {}
 
@@ -248,9 +257,9 @@ def residual_vs_payload(result: DesignResult, body: str, masses: npt.ArrayLike,
                         point: Sequence[float] = (0.0, 0.0, 0.0), scenario: int = 0) -> PayloadSweep:
     """Peak and RMS residual torque [N·m] of a fixed design (its values in ``scenario``) with each payload."""
     problem = result.problem
+    point = _checked_point(problem, body, point)
+    masses = _checked_masses(masses)
     springs = problem.scenario_springs(result.x, scenario) if problem.scenarios else result.fixed_springs()
-    point = tuple(float(v) for v in point)
-    masses = np.asarray(masses, dtype=float)
     stacked = DesignProblem(problem.mechanism, problem.base_workspace, springs, objective="rms",
                             weights=problem.weights_by_name(), scenarios=_scenarios(body, point, masses))
     peak, rms = _per_block(stacked, stacked.evaluate(np.zeros(0)).tau, len(masses))
@@ -258,6 +267,35 @@ def residual_vs_payload(result: DesignResult, body: str, masses: npt.ArrayLike,
 
 
 # ---------------------------------------------------------------------- helpers
+def _checked_masses(masses) -> np.ndarray:
+    """``masses`` [kg] as a 1-D array of finite numbers in [0, MAX_MASS]; InputError naming the first bad one."""
+    try:
+        values = np.asarray(masses, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise InputError(f"payload masses must be numbers [kg], got {masses!r}") from None
+    if values.size == 0:
+        raise InputError("give at least one payload mass [kg]")
+    for value in values:
+        if not (np.isfinite(value) and 0 <= value <= MAX_MASS):
+            raise InputError(f"payload mass {value:g} kg: masses must be finite numbers from 0 to {MAX_MASS:g} kg")
+    return values
+
+
+def _checked_point(problem, body: str, point) -> tuple[float, ...]:
+    """The payload ``point`` [m] of ``body``: three finite numbers within MAX_DISTANCE of the body's origin."""
+    problem.mechanism.frame_id(body)  # an unknown body is named
+    try:
+        values = np.asarray(point, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise InputError(f"payload point must be three numbers [m], got {point!r}") from None
+    if values.shape != (3,) or not np.all(np.isfinite(values)):
+        raise InputError(f"payload point must be three finite numbers [m], got {point!r}")
+    if float(np.linalg.norm(values)) > MAX_DISTANCE:
+        raise InputError(f"payload point {values.tolist()} is {np.linalg.norm(values):.3g} m from the origin of "
+                         f"{body!r}; a payload sits within {MAX_DISTANCE:g} m of its body")
+    return tuple(values.tolist())
+
+
 def _scenarios(body, point, masses):
     return [Scenario(f"payload {i}: {m:g} kg", [Payload(body, float(m), point)] if m > 0 else [])
             for i, m in enumerate(masses)]

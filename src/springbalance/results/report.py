@@ -32,7 +32,7 @@ def result_table(result) -> str:
         lines.append(f"  {record['name']} ({record['type']}{ideal}{part})")
         for end in spring.anchors:
             point = ", ".join(f"{v:+.4f}" for v in record[end]["point"])
-            lines.append(f"    {end}: {record[end]['body']:<18s} [{point}]")
+            lines.append(f"    {end + ':':<5s} {record[end]['body']:<18s} [{point}]" + (f"  pulley r = {record[end]['pulley']['radius'] * 1e3:.4g} mm" if 'pulley' in record[end] else ''))
         if "joint" in record:
             lines.append(f"    joint: {record['joint']}")
         parameters = "  ".join(f"{key} {record[key]:.6g} {unit}" for key, unit in spring.parameter_units.items())

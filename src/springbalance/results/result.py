@@ -9,7 +9,6 @@ docs/model.md §6 before and after, whichever one was optimised.
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Iterable
 
@@ -18,10 +17,12 @@ import numpy.typing as npt
 
 from springbalance.errors import InputError
 from springbalance.files import write_json_atomic
+from springbalance.results.design_file import FORMAT, check_design_mechanism, check_design_record, read_design_record
 from springbalance.model.mechanism import Mechanism
 from springbalance.design.objectives import OBJECTIVES
 from springbalance.design.problem import DesignProblem, register_result_type
 from springbalance.design.standard_wire import WireRounding
+from springbalance.design.bounds import check_magnitudes
 from springbalance.design.clearance import FitRecord
 from springbalance.springs.sizing import size_helical_spring
 from springbalance.springs.mass import CoilMass
@@ -41,7 +42,6 @@ if TYPE_CHECKING:
     from springbalance.viz.live import LiveScene
     from springbalance.viz.scene import StaticScene
 
-FORMAT = "springbalance-design/1"
 
 
 class DesignResult:
@@ -88,8 +88,11 @@ class DesignResult:
             record = {"name": spring.name, "type": spring.kind}
             if spring.ideal is not None:
                 record["ideal"] = bool(spring.ideal)
-            for end, anchor in spring.anchors.items():
+            for end, anchor, radius in zip(spring.anchors, spring.anchors.values(), getattr(spring, "radii", ())
+                                           or [0.0] * len(spring.anchors)):
                 record[end] = {"body": anchor.body, "point": model.anchor_point(spring, end, self.x).tolist()}
+                if radius > 0:
+                    record[end]["pulley"] = {"radius": radius}
             for joint in spring.joints:
                 record["joint"] = joint
             values = model.spring_values(spring, self.x)
@@ -120,9 +123,16 @@ class DesignResult:
         """The springs with every free parameter and anchor fixed at this design's values."""
         records = []
         for spring, values in zip(self.problem.springs, self.springs):
-            record = {**spring.to_dict(), **{key: values[key] for key in spring.parameter_units}}
-            for end in spring.anchors:
-                record[end] = {"body": values[end]["body"], "point": values[end]["point"]}
+            record = spring.to_dict()
+            parameters = {key: values[key] for key in spring.parameter_units}
+            points = [values[end] for end in spring.anchors]
+            if record.get("type") == "routed":
+                record.update(path=points, cable_length=parameters.pop("cable_length"),
+                              spring={**record["spring"], **parameters})
+            else:
+                record.update(parameters)
+                record.update({end: {"body": point["body"], "point": point["point"]}
+                               for end, point in zip(spring.anchors, points)})
             records.append(spring_from_dict(record))
         return records
 
@@ -344,21 +354,18 @@ class DesignResult:
         design on other samples (of that mechanism).
         """
         path = Path(path)
-        try:
-            record = json.loads(path.read_text())
-        except FileNotFoundError:
-            raise InputError(f"design file {str(path)!r} does not exist") from None
-        except (json.JSONDecodeError, UnicodeDecodeError) as error:
-            raise InputError(f"design file {str(path)!r} is not valid JSON: {error}") from None
-        if not isinstance(record, dict) or record.get("format") != FORMAT:
-            raise InputError(f"design file {str(path)!r} is not a springbalance design (format {FORMAT!r})")
+        label = f"design file {str(path)!r}"
+        record = read_design_record(path)   # JSON without repeated keys, within the memory budget
+        check_design_record(record, label)  # types and finite numbers, before anything uses them
         try:
             mechanism = mechanism or Mechanism.from_source(record["mechanism"])
+            check_design_mechanism(record, mechanism, label, own_workspace=workspace is None)
             if workspace is None:
                 saved = record["workspace"]
                 workspace = Workspace(mechanism, saved["joint_values"], ordered=saved["ordered"],
                                       description=saved["description"])
             springs = [spring_from_dict(s, f"{path.name}: springs[{i}]") for i, s in enumerate(record["springs"])]
+            check_magnitudes(springs)
             objective = record["objective"]
             if OBJECTIVES[objective].needs_path and not workspace.ordered:
                 objective = "rms"
@@ -371,6 +378,10 @@ class DesignResult:
             x = np.array([values[name] for name in problem.variables.names], dtype=float)
         except KeyError as error:
             raise InputError(f"design file {str(path)!r} lacks key {error}") from None
+        except InputError:
+            raise
+        except (TypeError, ValueError, AttributeError, IndexError) as error:  # a record damaged past the checks
+            raise InputError(f"{label} is damaged: {' '.join(str(error).split())[:300]}") from None
         solver = record.get("solver", {})
         return cls(problem, x, method=solver.get("method", "evaluate"), seed=solver.get("seed"),
                    status=solver.get("status", "loaded"), fit=FitRecord.from_dict(solver.get("fit")))

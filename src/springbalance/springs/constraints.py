@@ -79,6 +79,20 @@ class MaxLength:
 
 
 @dataclasses.dataclass(frozen=True)
+class FitsSegment:
+    """A routed spring's body (with its fittings) fits on its segment: ``|P_1 - P_0| - L ≥ 0`` [m]
+    (the cable then spans the rest of the path)."""
+
+    name = "fits_segment"
+    unit = "m"
+    scale = 0.01  # [m]
+    uses_extra = True
+
+    def rows(self, length, force, parameters, extra):
+        return extra["segment"] - length
+
+
+@dataclasses.dataclass(frozen=True)
 class MinLength:
     """The spring is never shorter than ``limit``: ``L - L_min ≥ 0`` [m]."""
 

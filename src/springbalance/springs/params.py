@@ -374,3 +374,51 @@ def anchor_from_dict(record: Any, where: str) -> Anchor:
         if str(error).startswith(where):
             raise
         raise InputError(f"{where}: {error}") from None
+
+
+class Pulley:
+    """A point of a routed spring's path after its first end: a pulley of ``radius`` [m] (0: a
+    guide point or eyelet the cable passes through) on ``anchor`` (an :class:`Anchor`: a fixed
+    point, or free in a region like any anchor). The last point of a path is where the cable ends."""
+
+    def __init__(self, anchor: Anchor, radius: float = 0.0) -> None:
+        if not isinstance(anchor, Anchor):
+            raise InputError(f"a pulley sits on an Anchor, got {anchor!r}")
+        if isinstance(radius, bool) or not isinstance(radius, (int, float, np.floating)) or not np.isfinite(radius) \
+                or radius < 0:
+            raise InputError(f"pulley on {anchor.body!r}: radius must be a finite number ≥ 0 [m], got {radius!r}")
+        self.anchor, self.radius = anchor, float(radius)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The anchor's record, with ``pulley: {radius}`` for a wrapping pulley."""
+        record = self.anchor.to_dict()
+        if self.radius > 0:
+            record["pulley"] = {"radius": self.radius}
+        return record
+
+    def __repr__(self) -> str:
+        return f"Pulley({self.anchor!r}, radius={self.radius:g})"
+
+
+def path_from_dict(records: Any, where: str) -> list[tuple[Anchor, float]]:
+    """``[{body, point | box | ..., pulley?: {radius}}, ...]`` → ``[(anchor, radius), ...]`` (≥ 2 points)."""
+    if not isinstance(records, list) or len(records) < 2:
+        raise InputError(f"{where}: a path needs at least two points (the spring's end, then the cable's end), "
+                         f"got {records!r}")
+    path = []
+    for i, record in enumerate(records):
+        here = f"{where}[{i}]"
+        if not isinstance(record, dict):
+            raise InputError(f"{here}: expected a mapping {{body, point | box, pulley?}}, got {record!r}")
+        radius = 0.0
+        if "pulley" in record:
+            if i in (0, len(records) - 1):
+                raise InputError(f"{here}.pulley: the first and last points are the path's ends; only the points "
+                                 "between them carry pulleys")
+            pulley = check_keys(record["pulley"], ("radius",), f"{here}.pulley")
+            radius = pulley.get("radius", 0.0)
+            if isinstance(radius, bool) or not isinstance(radius, (int, float)) or not np.isfinite(radius) or radius < 0:
+                raise InputError(f"{here}.pulley.radius: must be a finite number ≥ 0 [m], got {radius!r}")
+        anchor = anchor_from_dict({key: value for key, value in record.items() if key != "pulley"}, here)
+        path.append((anchor, float(radius)))
+    return path

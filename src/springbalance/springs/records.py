@@ -10,12 +10,16 @@ from __future__ import annotations
 from springbalance.errors import InputError
 from springbalance.springs.laws.base import SPRING_TYPES, Spring
 from springbalance.springs.mass import mass_from_record
-from springbalance.springs.params import anchor_from_dict, check_keys, value_from_record
+from springbalance.springs.params import Pulley, anchor_from_dict, check_keys, path_from_dict, value_from_record
 from springbalance.springs.sizing import helical_from_dict
 
 
 #: the law of a record without ``type``
 DEFAULT_TYPE = "extension"
+
+
+#: the ``type`` of a routed spring's record (its law is the record's ``spring``)
+ROUTED = "routed"
 
 
 def spring_types() -> list[str]:
@@ -57,16 +61,19 @@ def ideal_law_hint(cls: type[Spring], record: dict) -> str | None:
             f"({', '.join(ideal.parameter_units)})")
 
 
-def spring_from_dict(record, where: str = "spring") -> Spring:
+def spring_from_dict(record, where: str = "spring", **routing) -> Spring:
     """Build a spring from its record (as in configs and saved designs).
 
     Two-point springs: ``{name?, type, a: anchor, b: anchor, <parameters>, <options>}``;
     torsional springs: ``{name?, type: torsional, joint, <parameters>, <options>}``. Each
     parameter is a number or ``{lower, upper, init?}``; the options of each type are its
-    class's ``option_keys``.
+    class's ``option_keys``. Routed springs: ``{name?, type: routed, path, spring, cable_length}``
+    (``routing``, the ``via`` and ``cable_length`` of a routed spring's law, is how that is built).
     """
     if not isinstance(record, dict):
         raise InputError(f"{where}: expected a mapping, got {record!r}")
+    if record.get("type") == ROUTED:
+        return _routed_from_dict(record, where)
     cls = law_of(record, where)
     ends = cls.ends
     check_keys(record, ("name", "type", *ends, *cls.parameter_units, *cls.option_keys), where)
@@ -93,9 +100,58 @@ def spring_from_dict(record, where: str = "spring") -> Spring:
             return cls(record["joint"], name, **parameters, **extra)
         a = anchor_from_dict(record["a"], f"{where}.a")
         b = anchor_from_dict(record["b"], f"{where}.b")
-        return cls(a, b, name, **parameters, **extra)
+        return cls(a, b, name, **parameters, **extra, **routing)
     except InputError as error:
         if str(error).startswith(where):
             raise
         raise InputError(f"{where}: {error}") from None
 
+
+
+def _routed_from_dict(record: dict, where: str) -> Spring:
+    """``{name?, type: routed, path: [point, pulley…, point], spring: {law record without ends}, cable_length}``.
+
+    The law is any two-point law (``spring.type``, default ``extension``); the path's first point
+    is the spring's fixed end, the last the cable's end, and the points between are pulleys
+    (``pulley: {radius}``) or guide points.
+    """
+    check_keys(record, ("name", "type", "path", "spring", "cable_length"), where)
+    name = record.get("name")
+    where = f"{where} {name!r}" if name else where
+    for key in ("path", "spring", "cable_length"):
+        if key not in record:
+            raise InputError(f"{where}: missing key {key!r} of a routed spring")
+    law = record["spring"]
+    if not isinstance(law, dict):
+        raise InputError(f"{where}.spring: expected the spring's law as a mapping {{type?, stiffness, ...}}, "
+                         f"got {law!r}")
+    if law.get("type") == ROUTED:
+        raise InputError(f"{where}.spring.type: the law of a routed spring is a two-point law, not 'routed'")
+    if "cable_length" in law or "name" in law or any(end in law for end in ("a", "b", "joint", "path")):
+        key = next(key for key in ("cable_length", "name", "a", "b", "joint", "path") if key in law)
+        raise InputError(f"{where}.spring.{key}: give it on the routed spring itself, not in its law")
+    law = _coil_options(law, f"{where}.spring")
+    cls = law_of(law, f"{where}.spring")
+    if cls.ends != ("a", "b"):
+        raise InputError(f"{where}.spring.type: a routed spring needs a two-point law, not {cls.kind!r}")
+    path = path_from_dict(record["path"], f"{where}.path")
+    cable = value_from_record(record["cable_length"], f"{where}.cable_length")
+    inner = {**law, "a": path[0][0].to_dict(), "b": path[-1][0].to_dict()}
+    if name is not None:
+        inner["name"] = name
+    return spring_from_dict(inner, f"{where}.spring", via=[Pulley(anchor, radius) for anchor, radius in path[1:-1]],
+                            cable_length=cable)
+
+
+def _coil_options(law: dict, where: str) -> dict:
+    """A coil law (``type`` extension or compression, not ``ideal: true``) takes ``helical: {material, ...}``
+    as its own options (material, max_outer_diameter, ...); the ideal laws keep ``helical`` as theirs."""
+    helical = law.get("helical")
+    if helical is None or law.get("ideal", False) is True:
+        return law
+    kind = law.get("type", DEFAULT_TYPE)
+    coil = SPRING_TYPES.get(kind) if isinstance(kind, str) else None
+    if coil is None or coil.ideal is not False:
+        return law
+    check_keys(helical, [key for key in coil.option_keys if key not in ("ideal", "part_number")], f"{where}.helical")
+    return {**{key: value for key, value in law.items() if key != "helical"}, **helical}

@@ -86,6 +86,9 @@ from springbalance.viz.recorder import SceneRecorder
 #: Meshcat path (below ``/meshcat``) of everything springbalance draws besides the arm.
 ROOT = "springbalance"
 ANCHOR_COLOR = 0x333333
+#: a routed spring's cable (docs/model.md §3.9): a thin dark line from the spring's end over its pulleys
+CABLE_COLOR = 0x222222
+CABLE_RADIUS = 0.0015  # [m]
 REGION_COLOR = 0x8c6bb1
 REGION_OPACITY = 0.12
 #: Height of a spring's name label [px] on its 256 px canvas texture (smaller for long names).
@@ -137,6 +140,30 @@ class SpringTrack:
     radius: float | None = None
     clearance: np.ndarray | None = None
     below_margin: np.ndarray | None = None
+    #: a routed spring's cable per pose (N×K×3) [m]: the spring's moving end, the pulleys, the cable's end
+    cable: np.ndarray | None = None
+    #: world position per pose (N×3) [m] of every point of the spring's path by end name (a, via1 …, b)
+    anchor_points: dict | None = None
+
+    def points_by_end(self) -> dict:
+        """World positions (N×3) [m] of the spring's anchor points by end name."""
+        return self.anchor_points if self.anchor_points is not None else {"a": self.starts, "b": self.ends}
+
+    def cable_placement(self, segment: int, frame: int) -> tuple[np.ndarray, float]:
+        """Cable segment ``segment`` at pose ``frame``: the rigid placement (4×4) of a unit cylinder
+        (axis y) at the segment's middle along it, and the segment's length [m] (its y scale)."""
+        start, end = self.cable[frame, segment], self.cable[frame, segment + 1]
+        direction = end - start
+        length = float(np.linalg.norm(direction))
+        rotation = spring_rotation(direction if length > 0 else np.array([0.0, 0.0, 1.0]), self.side)
+        # spring_rotation takes e_z to the direction; the cylinder's axis is y: turn y onto z first
+        y_to_z = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
+        return placement(rotation @ y_to_z, (start + end) / 2), max(length, 1e-9)
+
+    def cable_transform(self, segment: int, frame: int) -> np.ndarray:
+        """Full node transform (4×4) of cable segment ``segment`` at pose ``frame`` (scaled to its length)."""
+        rigid, length = self.cable_placement(segment, frame)
+        return rigid @ np.diag([1.0, length, 1.0, 1.0])
 
     def midpoints(self) -> np.ndarray:
         """The middle of the spring per pose (N×3) [m]."""
@@ -231,13 +258,23 @@ class DesignScene:
         self._records: dict[str, dict] = {}
         columns = []
         for column, (spring, record) in enumerate(zip(result.problem.springs, result.springs)):
-            if tuple(spring.anchors) != ("a", "b"):   # a joint spring (torsional) has no ends to draw a helix between
+            if getattr(spring, "ends", ()) != ("a", "b"):   # a joint spring (torsional) has no ends to draw a helix between
                 continue
             columns.append(column)
-            a, b = record["a"], record["b"]
-            starts = kinematics.body(a["body"]).points(np.array(a["point"]))
-            ends = kinematics.body(b["body"]).points(np.array(b["point"]))
             lengths = self.evaluation.lengths[:, column]
+            path = {end: kinematics.body(record[end]["body"]).points(np.array(record[end]["point"]))
+                    for end in spring.anchors}
+            cable = None
+            if getattr(spring, "routed", False):
+                # the spring lies from a towards the first pulley, as long as the law says; the cable goes on
+                first, second = path["a"], path[list(spring.anchors)[1]]
+                direction = (second - first) / np.linalg.norm(second - first, axis=1, keepdims=True)
+                starts, ends = first, first + lengths[:, None] * direction
+                cable = np.stack([ends, *list(path.values())[1:]], axis=1)
+                a, b = record["a"], record[list(spring.anchors)[1]]
+            else:
+                a, b = record["a"], record["b"]
+                starts, ends = path["a"], path["b"]
             reference = float(np.linalg.norm(ends[0] - starts[0])) or float(np.max(lengths)) or 0.1
             coil, wire = style.dimensions(reference)
             mean_direction = np.mean(ends - starts, axis=0)
@@ -245,7 +282,8 @@ class DesignScene:
             self.springs.append(SpringTrack(
                 record["name"], record["type"], (a["body"], b["body"]), np.array([a["point"], b["point"]]),
                 starts, ends, lengths.copy(), self.evaluation.tensions[:, column].copy(), side, int(style.coils),
-                coil, wire, reference, style.lead, style.points_per_coil, style.sides))
+                coil, wire, reference, style.lead, style.points_per_coil, style.sides, cable=cable,
+                anchor_points=path if cable is not None else None))
             self._records[record["name"]] = record
         #: the springs left out of the drawing (torsional springs), by name
         self.skipped = [record["name"] for column, record in enumerate(result.springs) if column not in columns]
@@ -374,10 +412,15 @@ class DesignScene:
             label = root["labels"][spring.name]
             label.set_object(_TextSprite(spring.name, label_size))
             label.set_transform(placement(np.eye(3), self.label_positions(spring)[0]))
-            for end, positions in (("a", spring.starts), ("b", spring.ends)):
+            for end, positions in spring.points_by_end().items():
                 sphere = root["anchors"][f"{spring.name}.{end}"]
                 sphere.set_object(mg.Sphere(1.6 * spring.wire_radius + 0.004), mg.MeshPhongMaterial(color=ANCHOR_COLOR))
                 sphere.set_transform(placement(np.eye(3), positions[0]))
+            if spring.cable is not None:
+                for segment in range(spring.cable.shape[1] - 1):
+                    node = root["cables"][spring.name][f"segment{segment}"]
+                    node.set_object(mg.Cylinder(1.0, CABLE_RADIUS), mg.MeshPhongMaterial(color=CABLE_COLOR))
+                    node.set_transform(spring.cable_transform(segment, 0))
         for region in self.regions:
             node = root["regions"][f"{region.spring}.{region.end}"]
             geometry, edges = _region_geometry(region)
@@ -418,8 +461,14 @@ class DesignScene:
                     node.set_property(f"{helix_objects[spring.name]}.material.color", "color",
                                       list(self.rgb(spring, frame)))
                     root["labels"][spring.name].set_transform(placement(np.eye(3), labels[spring.name][frame]))
-                    root["anchors"][f"{spring.name}.a"].set_transform(placement(np.eye(3), spring.starts[frame]))
-                    root["anchors"][f"{spring.name}.b"].set_transform(placement(np.eye(3), spring.ends[frame]))
+                    for end, positions in spring.points_by_end().items():
+                        root["anchors"][f"{spring.name}.{end}"].set_transform(placement(np.eye(3), positions[frame]))
+                    if spring.cable is not None:
+                        for segment in range(spring.cable.shape[1] - 1):
+                            rigid, length = spring.cable_placement(segment, frame)
+                            node = root["cables"][spring.name][f"segment{segment}"]
+                            node.set_transform(rigid)
+                            node.set_property("scale", "vector3", [1.0, length, 1.0])
                 for region in self.regions:
                     root["regions"][f"{region.spring}.{region.end}"].set_transform(region.placements[frame])
         return animation
@@ -457,7 +506,7 @@ class DesignScene:
         centres, radii = [], []
         for spring in self.springs:
             reach = spring.coil_radius + spring.wire_radius
-            for points in (spring.starts, spring.ends):
+            for points in (spring.starts, spring.ends, *spring.points_by_end().values()):
                 centres.append(points)
                 radii.append(np.full(len(points), reach))
         for region in self.regions:

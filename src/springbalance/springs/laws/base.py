@@ -43,7 +43,8 @@ import numpy as np
 from springbalance.errors import InputError
 from springbalance.springs import constraints as practical
 from springbalance.springs.mass import CoilMass, MassOption, mass_from_record
-from springbalance.springs.params import Anchor, Free
+from springbalance.springs.params import Anchor, Free, Pulley
+from springbalance.springs.routing import path_length
 from springbalance.springs.sizing import helical_from_dict
 
 #: spring ``type`` name in configs and saved designs -> class. Every subclass of :class:`Spring`
@@ -70,6 +71,8 @@ class Contribution:
     potential: object
     state: object
     force: object
+    #: what a constraint may need besides: ``segment`` [m], the length of a routed spring's first segment
+    extra: dict = dataclasses.field(default_factory=dict)
 
 
 class Spring(abc.ABC):
@@ -203,6 +206,14 @@ class TwoPointSpring(Spring):
     Options: ``max_force`` [N] (``|F| ≤``), ``max_length`` / ``min_length`` [m], ``mass``:
     a number [kg] or a :class:`CoilMass` (or its record), ``part_number``: the catalogue part
     this spring is (a stock spring; reports show it).
+
+    **Routed** (``via``, ``cable_length``; docs/model.md §3.9): the spring's body lies from ``a``
+    towards the first pulley, and a cable of length ``cable_length`` [m] (a parameter, fixed or
+    free) runs from the spring's other end over the pulleys ``via``
+    (:class:`~springbalance.springs.params.Pulley`) to ``b``. The law's length is then
+    ``L = ℓ(path) − cable_length`` (:func:`~springbalance.springs.routing.path_length`), the tension
+    acts along every segment, and the spring must fit on its segment: ``L ≤ |P_1 − P_0|`` at every
+    sample (the constraint ``fits_segment``). Its own mass hangs at ``a`` and the first pulley.
     """
 
     ends = ("a", "b")
@@ -211,10 +222,22 @@ class TwoPointSpring(Spring):
 
     def __init__(self, a: Anchor, b: Anchor, name: str | None = None, *, max_force: float | None = None,
                  max_length: float | None = None, min_length: float | None = None, mass=None,
-                 part_number: str | None = None, **parameters):
+                 part_number: str | None = None, via=(), **parameters):
         if not isinstance(a, Anchor) or not isinstance(b, Anchor):
             raise InputError(f"spring {name or ''!s}: ends must be Anchor objects, got {a!r} and {b!r}")
         self.a, self.b = a, b
+        via = [via] if isinstance(via, Pulley) else list(via or ())
+        if any(not isinstance(pulley, Pulley) for pulley in via):
+            raise InputError(f"spring {name or ''!s}: via must be a list of Pulley objects, got {via!r}")
+        #: the pulleys (and guide points) of a routed spring, in path order
+        self.via = tuple(via)
+        if self.via and "cable_length" not in parameters:
+            raise InputError(f"spring {name or ''!s}: a spring routed over pulleys needs a cable_length "
+                             "(a number or Free, [m])")
+        if "cable_length" in parameters:
+            # an instance's own parameter list: the law's, and the cable
+            self.parameter_units = {**type(self).parameter_units, "cable_length": "m"}
+            self.nonnegative = (*type(self).nonnegative, "cable_length")
         super().__init__(name, **parameters)
         self.max_force = _positive_option(self, "max_force", max_force)
         self.max_length = _positive_option(self, "max_length", max_length)
@@ -270,24 +293,58 @@ class TwoPointSpring(Spring):
 
     # ---------------------------------------------------------------- element
     @property
+    def routed(self) -> bool:
+        """Whether a cable (over pulleys, or straight) joins the spring to ``b``."""
+        return "cable_length" in self.parameters
+
+    @property
     def anchors(self) -> dict[str, Anchor]:
-        return {"a": self.a, "b": self.b}
+        """The path's points in order: ``a``, the pulleys ``via1 …``, ``b``."""
+        return {"a": self.a, **{f"via{i + 1}": pulley.anchor for i, pulley in enumerate(self.via)}, "b": self.b}
+
+    @property
+    def spring_ends(self) -> tuple[str, str]:
+        """The ends of the spring's own body: ``a`` and the first pulley (``b`` when not routed over one)."""
+        return ("a", "via1" if self.via else "b")
+
+    @property
+    def radii(self) -> tuple[float, ...]:
+        """Pulley radius [m] at every point of the path (0 at the ends and at guide points)."""
+        return (0.0, *(pulley.radius for pulley in self.via), 0.0)
 
     def check(self, mechanism) -> None:
         a, b = self.a, self.b
         for anchor in (a, b):
             mechanism.is_ground(anchor.body)  # raises InputError naming an unknown body
-        if a.body == b.body or (mechanism.is_ground(a.body) and mechanism.is_ground(b.body)):
+        for pulley in self.via:
+            mechanism.is_ground(pulley.anchor.body)
+        bodies = {anchor.body for anchor in self.anchors.values()}
+        if self.via and (len(bodies) == 1 or all(mechanism.is_ground(body) for body in bodies)):
+            raise InputError(f"spring {self.name!r}: every point of its path is on "
+                             f"{'body ' + repr(a.body) if len(bodies) == 1 else 'the ground'}; "
+                             "it cannot act on the mechanism")
+        if self.via:
+            fixed = [(end, anchor) for end, anchor in self.anchors.items() if not anchor.is_free]
+            for (end, first), (next_end, second) in zip(fixed, fixed[1:]):
+                if first.body == second.body and np.allclose(first.region().point([]), second.region().point([])) \
+                        and list(self.anchors).index(next_end) == list(self.anchors).index(end) + 1:
+                    raise InputError(f"spring {self.name!r}: path points {end} and {next_end} coincide on body "
+                                     f"{first.body!r} at {first.region().point([]).tolist()} m; a segment needs "
+                                     "two distinct points")
+        elif a.body == b.body or (mechanism.is_ground(a.body) and mechanism.is_ground(b.body)):
             where = f"body {a.body!r}" if a.body == b.body else f"the ground ({a.body!r}, {b.body!r})"
             raise InputError(f"spring {self.name!r}: both ends are on {where}; it cannot act on the mechanism")
 
     def contribution(self, sample, parameters, points) -> Contribution:
+        if self.routed:
+            return self._routed_contribution(sample, parameters, points)
         end_a, end_b = sample.point(self.a.body, points["a"]), sample.point(self.b.body, points["b"])
         d = end_b.position - end_a.position                     # [m]
         length = (d.T @ d) ** 0.5                                # L [m]
         force = self.tension_per_length(length, parameters) * d  # F u [N], pulls b towards a
         torque = end_b.generalized(force) - end_a.generalized(force)   # F (J_pb - J_pa)^T u
-        potential = self.potential(length, parameters)
+        square = getattr(self, "potential_of_square", None)      # a law smooth in L² (no √ at L = 0)
+        potential = square(d.T @ d, parameters) if square is not None else self.potential(length, parameters)
         if self.carries_mass:
             half = 0.5 * self.spring_mass(parameters)            # [kg] at each end
             hold = -half * sample.gravity                        # force that holds each half up [N]
@@ -295,9 +352,28 @@ class TwoPointSpring(Spring):
             potential = potential - half * (sample.gravity.T @ (end_a.position + end_b.position))  # [J]
         return Contribution(torque, potential, length, self.tension(length, parameters))
 
+    def _routed_contribution(self, sample, parameters, points) -> Contribution:
+        """``L = ℓ(path) − cable``; torque ``F Σ_i J_{P_i}^T ∂ℓ/∂P_i`` (see :mod:`springbalance.springs.routing`)."""
+        ends = [sample.point(anchor.body, points[end]) for end, anchor in self.anchors.items()]
+        path, gradients = path_length([end.position for end in ends], self.radii)    # [m], [1]
+        length = path - parameters["cable_length"]                                    # L [m]
+        tension = self.tension(length, parameters)                                    # F [N]
+        torque = sample.zero()
+        for end, gradient in zip(ends, gradients):
+            torque = torque + end.generalized(tension * gradient)
+        potential = self.potential(length, parameters)
+        first, second = ends[0], ends[1]
+        if self.carries_mass:
+            half = 0.5 * self.spring_mass(parameters)
+            hold = -half * sample.gravity
+            torque = torque + first.generalized(hold) + second.generalized(hold)
+            potential = potential - half * (sample.gravity.T @ (first.position + second.position))
+        d = second.position - first.position
+        return Contribution(torque, potential, length, tension, {"segment": (d.T @ d) ** 0.5})
+
     # ---------------------------------------------------------------- constraints and records
     def constraints(self) -> list:
-        rows = []
+        rows = [practical.FitsSegment()] if self.routed else []
         if self.max_force is not None:
             rows.append(practical.MaxForce(self.max_force))
         if self.max_length is not None:
@@ -305,6 +381,21 @@ class TwoPointSpring(Spring):
         if self.min_length is not None:
             rows.append(practical.MinLength(self.min_length))
         return rows
+
+    def ends_to_dict(self) -> dict:
+        return {end: anchor.to_dict() for end, anchor in (("a", self.a), ("b", self.b))}
+
+    def to_dict(self) -> dict:
+        """The record; a routed spring's is ``{name, type: routed, path, spring: {the law's record}, cable_length}``."""
+        record = super().to_dict()
+        if not self.routed:
+            return record
+        cable = record.pop("cable_length")
+        name = record.pop("name")
+        for end in ("a", "b"):
+            record.pop(end)
+        path = [self.a.to_dict(), *(pulley.to_dict() for pulley in self.via), self.b.to_dict()]
+        return {"name": name, "type": "routed", "path": path, "spring": record, "cable_length": cable}
 
     def options(self) -> dict:
         record = {key: value for key, value in (("max_force", self.max_force), ("max_length", self.max_length),
@@ -349,7 +440,8 @@ class TwoPointSpring(Spring):
         return warnings
 
     def __repr__(self) -> str:
-        return f"{type(self).__name__}({self.name!r}, {self.a!r} -> {self.b!r})"
+        via = "".join(f" -> {pulley!r}" for pulley in self.via)
+        return f"{type(self).__name__}({self.name!r}, {self.a!r}{via} -> {self.b!r})"
 
 
 

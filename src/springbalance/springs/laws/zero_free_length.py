@@ -22,6 +22,10 @@ class ZeroFreeLengthSpring(TwoPointSpring):
     def potential(self, length, parameters):
         return 0.5 * parameters["stiffness"] * length * length        # [N/m]·[m²] = [J]
 
+    def potential_of_square(self, square, parameters):
+        """``k L² / 2`` from ``L²`` [m²]: its derivative stays finite where the ends meet (``L = 0``)."""
+        return 0.5 * parameters["stiffness"] * square                 # [N/m]·[m²] = [J]
+
     def tension_per_length(self, length, parameters):
         return parameters["stiffness"] + 0 * length                   # smooth at L = 0
 

@@ -1,0 +1,129 @@
+"""Start-up: import time, the compiled residual from an empty and from a warm disk cache, the CLI end to end.
+
+Prints, each figure measured in this run (the machine may be shared: compare the ratios):
+  1. `import springbalance` in a fresh interpreter, timed inside it (median of --imports runs),
+     beside the import of its heavy dependencies alone (numpy, casadi, pinocchio, pydantic);
+  2. the UR5 problem of bench_ur5.py (4 extension springs, --samples Sobol samples): building its
+     compiled residual in a first process on an empty cache (code generation + compiler), then in
+     a second process on the same problem (the library is loaded from the cache, no compiler);
+  3. one evaluation of the residual and Jacobian at --samples samples, compiled with the cache's
+     flags (-O3 -march=native -ffp-contract=off) beside the former JIT flags (-O2);
+  4. `springbalance design examples/two_link.yaml --out d.json` end to end, from an empty cache,
+     then again from the warm cache (--skip-cli leaves it out).
+
+Run: .venv/bin/python benchmarks/bench_startup.py [--samples 4096] [--imports 7] [--skip-cli]
+(make bench-startup; about 3 minutes with the CLI part, most of it the two CLI runs)
+"""
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import textwrap
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+PYTHON = sys.executable
+
+parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+parser.add_argument("--samples", type=int, default=4096)
+parser.add_argument("--imports", type=int, default=7)
+parser.add_argument("--skip-cli", action="store_true")
+args = parser.parse_args()
+
+
+def run(command, env=None, cwd=ROOT):
+    clock = time.perf_counter()
+    done = subprocess.run(command, cwd=cwd, env={**os.environ, **(env or {})}, capture_output=True, text=True)
+    seconds = time.perf_counter() - clock
+    if done.returncode != 0:
+        sys.exit(f"{' '.join(map(str, command))} failed:\n{done.stderr}")
+    return seconds, done.stdout
+
+
+# ---------------------------------------------------------------- 1. import time
+def import_time(modules):
+    """Median seconds of ``import modules`` in a fresh interpreter, timed inside it (and of the whole process)."""
+    code = f"import time; t = time.perf_counter(); import {modules}; print(time.perf_counter() - t)"
+    runs = [run([PYTHON, "-c", code]) for _ in range(args.imports)]
+    return statistics.median(float(out) for _, out in runs), statistics.median(wall for wall, _ in runs)
+
+
+package, package_process = import_time("springbalance")
+dependencies, _ = import_time("numpy, casadi, pinocchio, pydantic")
+print(f"import springbalance        : {package:.3f} s (median of {args.imports}; the process with interpreter start and "
+      f"exit {package_process:.3f} s; numpy+casadi+pinocchio+pydantic alone {dependencies:.3f} s)")
+
+# ---------------------------------------------------------------- 2. compiled residual, cold and warm cache
+SETUP = textwrap.dedent(f"""
+    import json, time
+    import numpy as np
+    import springbalance as sb
+    from springbalance.design import compile_cache
+    from springbalance.design.solvers import _LeastSquaresResiduals
+    box = lambda: sb.Free([-0.3] * 3, [0.3] * 3)
+    pairs = [("universe", "upper_arm_link"), ("universe", "forearm_link"),
+             ("upper_arm_link", "forearm_link"), ("shoulder_link", "forearm_link")]
+    springs = [sb.ExtensionSpring(sb.Anchor(a, box()), sb.Anchor(b, box()), f"s{{i + 1}}",
+                                  stiffness=sb.Free(0, 5000), free_length=sb.Free(0.05, 1.0))
+               for i, (a, b) in enumerate(pairs)]
+    mechanism = sb.Mechanism.from_robot("ur5")
+    problem = sb.DesignProblem(mechanism, sb.Workspace.sobol(mechanism, {args.samples}, seed=1), springs)
+    clock = time.perf_counter()
+    residuals = _LeastSquaresResiduals(problem)
+    seconds = time.perf_counter() - clock
+""")
+PROBLEM = SETUP + textwrap.dedent("""
+    print(json.dumps({"seconds": seconds, "compiles": compile_cache.STATS.compiles,
+                      "hits": compile_cache.STATS.hits, "compiler": compile_cache.STATS.compile_seconds}))
+""")
+EVALUATE = SETUP + textwrap.dedent("""
+    import os
+    os.environ["SPRINGBALANCE_CFLAGS"] = "-O2"          # the former JIT's flags, in the same process
+    former = _LeastSquaresResiduals(problem)
+    z = np.full(problem.variables.size, 0.4)
+    best = [float("inf"), float("inf")]
+    for _ in range(15):                                   # alternate, keep the best of each
+        for slot, evaluator in enumerate((residuals.evaluator, former.evaluator)):
+            start = time.perf_counter()
+            for _ in range(10):
+                for _ in evaluator.blocks(z):   # the compiled residual and Jacobian, block by block
+                    pass
+            best[slot] = min(best[slot], (time.perf_counter() - start) / 10)
+    print(json.dumps({"evaluation": best}))
+""")
+with tempfile.TemporaryDirectory(prefix="springbalance-bench-cache-") as cache:
+    environment = {"SPRINGBALANCE_CACHE_DIR": cache}
+    cold_wall, out = run([PYTHON, "-c", PROBLEM], environment)
+    cold = json.loads(out.strip().splitlines()[-1])
+    warm_wall, out = run([PYTHON, "-c", PROBLEM], environment)
+    warm = json.loads(out.strip().splitlines()[-1])
+print(f"compiled residual, 1st process (empty cache): {cold['seconds']:.2f} s to build "
+      f"({cold['compiles']} compiled, compiler {cold['compiler']:.2f} s); process {cold_wall:.2f} s")
+print(f"compiled residual, 2nd process (warm cache) : {warm['seconds']:.2f} s to build "
+      f"({warm['compiles']} compiled, {warm['hits']} loaded from the cache); process {warm_wall:.2f} s "
+      f"-> {cold['seconds'] / warm['seconds']:.1f}x faster, compiler skipped: {warm['compiles'] == 0}")
+
+# ---------------------------------------------------------------- 3. evaluation time, cache flags vs -O2
+with tempfile.TemporaryDirectory(prefix="springbalance-bench-cache-") as cache:
+    output = run([PYTHON, "-c", EVALUATE], {"SPRINGBALANCE_CACHE_DIR": cache})[1]
+new, old = json.loads(output.strip().splitlines()[-1])["evaluation"]
+print(f"residual + Jacobian at {args.samples} samples: {1e3 * new:.2f} ms with the cache's flags "
+      f"(-O3 -march=native -ffp-contract=off), {1e3 * old:.2f} ms with -O2 as before (ratio {new / old:.2f}; "
+      "best of 15×10, alternated)")
+
+# ---------------------------------------------------------------- 4. the CLI end to end
+if not args.skip_cli:
+    with tempfile.TemporaryDirectory(prefix="springbalance-bench-cache-") as cache, \
+            tempfile.TemporaryDirectory(prefix="springbalance-bench-out-") as out:
+        command = [str(Path(PYTHON).with_name("springbalance")), "design", "examples/two_link.yaml",
+                   "--out", str(Path(out) / "d.json"), "--quiet"]
+        environment = {"SPRINGBALANCE_CACHE_DIR": cache}
+        cold_cli = run(command, environment)[0]
+        warm_cli = run(command, environment)[0]
+    print(f"springbalance design examples/two_link.yaml --out d.json: {cold_cli:.2f} s from an empty cache, "
+          f"{warm_cli:.2f} s from the warm cache")

@@ -1,0 +1,458 @@
+r"""A study: every spring topology (× every point of a parameter grid) solved as a task on Dask.
+
+A study config is a design config (``mechanism``, ``workspace``, ``objective``, ``solve``, ...)
+whose ``springs`` section is replaced by ``explore``::
+
+    explore:
+      candidates: auto             # or [[body_a, body_b], ...] or [{a: {body, box}, b: {body, box}}, ...]
+      span: 2                      # auto: joints a spring may cross between two moving bodies
+      margin: 0.05                 # auto: growth [m] of a body's collision bounding box
+      default_box: 0.3             # half-width [m] of an end's box on a body without collision geometry
+      max_springs: 3
+      spring: {type: zero_free_length, stiffness: {lower: 0, upper: 5000}}   # the law of every spring
+      starts: 4                    # multi-start of each topology (default: the solve section's)
+      seed: 0
+      grid: {objective: [rms, peak], "workspace.n": [64, 128]}   # optional sweep: dotted keys -> values
+      prune: true                  # skip the topologies that cannot balance exactly (false: solve them too,
+                                   # for the best approximate design of each spring count)
+
+Each task is one topology at one grid point: a pure function of its record
+(:func:`solve_task`), so the same task gives the same result on any worker. Tasks run on
+**Dask distributed**: a ``LocalCluster`` with one worker process per core by default, or any
+cluster by its scheduler address. They are submitted by spring count, so that a topology whose
+subset already balances exactly is not solved (dominance, :mod:`springbalance.explore.topology`).
+
+**The study folder.** ``study.json`` holds the study's fingerprint (a hash of the config, without
+``max_springs``), the candidates and the pruning. Each finished task is written at once, atomically,
+to ``results/<id>.json`` (``<id>``: a hash of the task's record), and ``results.csv`` is rewritten
+after each. Running the same command again resumes: the tasks whose result files exist are not
+solved again. A folder that holds another config's study is refused unless ``force`` (which starts
+it afresh). At the end, ``report.html`` (:mod:`springbalance.explore.report`) and the best design of
+each spring count, ``best_<k>_springs.json`` (a design file every command accepts), are written.
+"""
+
+from __future__ import annotations
+
+import copy
+import csv
+import dataclasses
+import hashlib
+import io
+import itertools
+import json
+import math
+import os
+import shutil
+import time
+from pathlib import Path
+from typing import Any, Callable, Sequence
+
+from springbalance.errors import InputError, SolverError, SpringBalanceError
+from springbalance.explore.candidates import (DEFAULT_HALF_WIDTH, DEFAULT_MARGIN, Candidate, auto_candidates,
+                                             candidates_from_records)
+from springbalance.explore.topology import Verdict, enumerate_topologies, reachability
+from springbalance.files import write_json_atomic, write_text_atomic
+from springbalance.io.config import config_from_dict, mechanism_from_dict, read_config_file
+
+#: a design balances exactly when its residual peak is below this fraction of the unbalanced peak
+EXACT = 1e-6
+#: keys of the ``explore`` section
+EXPLORE_KEYS = ("candidates", "span", "margin", "default_box", "max_springs", "spring", "starts", "seed", "grid",
+                "prune")
+#: the columns of ``results.csv``
+COLUMNS = ("id", "status", "springs", "count", "grid", "objective", "objective_value", "objective_before",
+           "peak_residual", "relative_residual", "exact", "spring_mass", "buildable", "seconds", "error")
+#: seconds to wait for a scheduler given by address
+CONNECT_TIMEOUT = 10.0
+
+
+@dataclasses.dataclass
+class Task:
+    """One topology at one grid point: ``record`` is the full design config given to :func:`solve_task`."""
+
+    id: str
+    topology: tuple[int, ...]
+    labels: tuple[str, ...]
+    grid: dict[str, Any]
+    record: dict[str, Any]
+
+    @property
+    def count(self) -> int:
+        return len(self.topology)
+
+
+@dataclasses.dataclass
+class Layout:
+    """One mechanism's candidates, its topologies and the verdicts of its pruning."""
+
+    mechanism: Any
+    candidates: list[Candidate]
+    note: str
+    topologies: list[tuple[int, ...]]
+    verdicts: dict[tuple[int, ...], Verdict]
+
+
+def _fingerprint(record: Any) -> str:
+    return hashlib.sha256(json.dumps(record, sort_keys=True, default=str).encode()).hexdigest()[:16]
+
+
+def _set_dotted(record: dict, key: str, value, where: str) -> None:
+    """Set ``a.b.c`` in a nested mapping (the grid's overrides)."""
+    parts = key.split(".")
+    node = record
+    for part in parts[:-1]:
+        if not isinstance(node.get(part), dict):
+            node[part] = {}
+        node = node[part]
+    node[parts[-1]] = value
+
+
+class Study:
+    """A study read from a config (see the module documentation)."""
+
+    def __init__(self, record: dict, base_dir: str | Path = ".", label: str = "study", max_springs: int | None = None):
+        if not isinstance(record, dict):
+            raise InputError(f"{label}: expected a mapping with the sections of a design config and 'explore'")
+        if "springs" in record:
+            raise InputError(f"{label}: springs: a study finds the springs itself; give an 'explore' section instead")
+        explore = record.get("explore")
+        if not isinstance(explore, dict):
+            raise InputError(f"{label}: missing section 'explore' (candidates, max_springs, spring, ...)")
+        unknown = [key for key in explore if key not in EXPLORE_KEYS]
+        if unknown:
+            raise InputError(f"{label}: explore: unknown key {unknown[0]!r}; valid keys: {', '.join(EXPLORE_KEYS)}")
+        self.label, self.base_dir = label, Path(base_dir)
+        self.base = {key: value for key, value in record.items() if key != "explore"}
+        self.explore = dict(explore)
+        if max_springs is not None:
+            self.explore["max_springs"] = max_springs
+        self.max_springs = self.explore.get("max_springs", 2)
+        if isinstance(self.max_springs, bool) or not isinstance(self.max_springs, int) or self.max_springs < 1:
+            raise InputError(f"{label}: explore.max_springs (--max-springs) must be an integer ≥ 1, got "
+                             f"{self.max_springs!r}")
+        law = self.explore.get("spring", {"type": "zero_free_length", "stiffness": {"lower": 0.0, "upper": 5000.0}})
+        if not isinstance(law, dict) or any(key in law for key in ("a", "b", "name", "joint", "path")):
+            raise InputError(f"{label}: explore.spring: the law of every spring, a spring record without name and "
+                             f"ends, got {law!r}")
+        self.law = law
+        self.starts = self.explore.get("starts", (self.base.get("solve") or {}).get("starts", 4))
+        self.seed = self.explore.get("seed", (self.base.get("solve") or {}).get("seed", 0))
+        for key, value in (("starts", self.starts), ("seed", self.seed)):
+            if isinstance(value, bool) or not isinstance(value, int) or value < (1 if key == "starts" else 0):
+                raise InputError(f"{label}: explore.{key} must be an integer ≥ {1 if key == 'starts' else 0}, "
+                                 f"got {value!r}")
+        if "mechanism" not in self.base:
+            raise InputError(f"{label}: missing section 'mechanism'")
+        self.margin = self.explore.get("margin", DEFAULT_MARGIN)
+        self.default_box = self.explore.get("default_box", DEFAULT_HALF_WIDTH)
+        for key, value in (("margin", self.margin), ("default_box", self.default_box)):
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not value >= 0:
+                raise InputError(f"{label}: explore.{key} must be a number ≥ 0 [m], got {value!r}")
+        self.prune = self.explore.get("prune", True)
+        if not isinstance(self.prune, bool):
+            raise InputError(f"{label}: explore.prune must be true or false, got {self.prune!r}")
+        self._layouts: dict[str, Layout] = {}
+        layout = self._layout(self.base["mechanism"])   # the base mechanism's (a grid may sweep others)
+        self.mechanism, self.candidates, self.reachability_note = layout.mechanism, layout.candidates, layout.note
+        self.topologies, self.verdicts = layout.topologies, layout.verdicts
+        self.grid = self._grid(self.explore.get("grid") or {})
+        self.fingerprint = _fingerprint({**self.base, "explore": {k: v for k, v in self.explore.items()
+                                                                   if k != "max_springs"}})
+        self.tasks = [task for point in self.grid for task in self._tasks(point)]
+        # a config error (a bad grid value, a bad law) shows here, not on a worker
+        if self.tasks:
+            config_from_dict(self.tasks[0].record, self.base_dir, f"{label} (task {self.tasks[0].id})")
+
+    # ---------------------------------------------------------------- tasks
+    def _layout(self, mechanism_record) -> "Layout":
+        """The candidates, topologies and pruning of one mechanism (a grid may sweep robots)."""
+        key = json.dumps(mechanism_record, sort_keys=True, default=str)
+        if key not in self._layouts:
+            label = self.label
+            mechanism = mechanism_from_dict(mechanism_record, self.base_dir, f"{label}: mechanism")
+            candidates = self.explore.get("candidates", "auto")
+            try:
+                if candidates == "auto":
+                    found = auto_candidates(mechanism, self.explore.get("span", 2), self.margin, self.default_box)
+                else:
+                    found = candidates_from_records(mechanism, candidates, self.margin, self.default_box)
+            except InputError as error:
+                raise InputError(f"{label}: {error}") from None
+            test, note = reachability(mechanism, found, self.law.get("type", "extension"))
+            topologies = enumerate_topologies(len(found), self.max_springs)
+            verdicts = {}
+            if test is not None:
+                for topology in topologies:
+                    verdict = test.verdict(topology)
+                    if verdict is not None:
+                        verdicts[topology] = verdict
+            self._layouts[key] = Layout(mechanism, found, note, topologies, verdicts)
+        return self._layouts[key]
+
+    def _grid(self, grid) -> list[dict[str, Any]]:
+        if not isinstance(grid, dict):
+            raise InputError(f"{self.label}: explore.grid: expected a mapping of dotted config keys to lists of values")
+        keys = list(grid)
+        for key in keys:
+            if not isinstance(grid[key], list) or not grid[key]:
+                raise InputError(f"{self.label}: explore.grid.{key}: expected a non-empty list of values")
+            if key.split(".")[0] in ("explore", "springs"):
+                raise InputError(f"{self.label}: explore.grid.{key}: a grid sweeps the design config, not "
+                                 f"{key.split('.')[0]!r}")
+        return [dict(zip(keys, values)) for values in itertools.product(*(grid[key] for key in keys))] or [{}]
+
+    def _tasks(self, point: dict[str, Any]) -> list[Task]:
+        base = copy.deepcopy(self.base)
+        for key, value in point.items():
+            _set_dotted(base, key, copy.deepcopy(value), key)
+        layout = self._layout(base.get("mechanism"))
+        tasks = []
+        for topology in layout.topologies:
+            if self.prune and topology in layout.verdicts:
+                continue
+            springs = []
+            for number, index in enumerate(topology):
+                a, b = layout.candidates[index].anchors()
+                springs.append({**copy.deepcopy(self.law), "name": f"s{number + 1}", "a": a, "b": b})
+            record = {**base, "springs": springs}
+            labels = tuple(layout.candidates[index].label for index in topology)
+            task_id = _fingerprint({"record": record, "starts": self.starts, "seed": self.seed})
+            tasks.append(Task(task_id, topology, labels, point, record))
+        return tasks
+
+    def summary(self) -> dict[str, Any]:
+        """The enumeration and its pruning, as saved in ``study.json``."""
+        total = len(self.topologies)
+        orderings = sum(math.factorial(len(topology)) for topology in self.topologies)
+        by_kind: dict[str, list] = {}
+        for topology, verdict in self.verdicts.items():
+            by_kind.setdefault(verdict.kind, []).append(
+                {"springs": [self.candidates[index].label for index in topology], "reason": verdict.reason})
+        return {"candidates": [{"label": c.label, **c.to_dict()} for c in self.candidates],
+                "topologies": total, "orderings": orderings, "grid_points": len(self.grid),
+                "reachability": self.reachability_note,
+                "unreachable": by_kind.get("unreachable", []), "degenerate": by_kind.get("degenerate", []),
+                "tasks": len(self.tasks)}
+
+    # ---------------------------------------------------------------- running
+    def pending(self, folder: str | Path) -> int:
+        """How many tasks have no result in ``folder`` yet (0: a run has nothing to solve)."""
+        results = Path(folder) / "results"
+        return sum(1 for task in self.tasks if not (results / f"{task.id}.json").exists())
+
+    def run(self, folder: str | Path, client=None, force: bool = False, progress: bool = True,
+            on_result: Callable[[dict], None] | None = None) -> "StudyResult":
+        """Solve every task not solved yet (see the module documentation); ``client`` is a Dask
+        ``Client`` (None: one after another in this process)."""
+        folder = Path(folder)
+        results_dir = folder / "results"
+        self._claim(folder, force)
+        done = {}
+        for path in sorted(results_dir.glob("*.json")):
+            try:
+                record = json.loads(path.read_text(encoding="utf-8"))
+            except (OSError, ValueError):
+                continue   # a damaged file: the task is solved again
+            if isinstance(record, dict) and record.get("id") == path.stem:
+                done[path.stem] = record
+        resumed = sum(1 for task in self.tasks if task.id in done)
+        solved, dominated = [], []
+        bar = _progress(len(self.tasks) - resumed, progress)
+        for count in range(1, self.max_springs + 1):
+            level = []
+            for task in self.tasks:
+                if task.count != count or task.id in done:
+                    continue
+                exact = [other for other in self.tasks if other.count < count and other.grid == task.grid
+                         and set(other.topology) < set(task.topology) and done.get(other.id, {}).get("exact")]
+                if exact:
+                    dominated.append({"id": task.id, "springs": list(task.labels), "grid": task.grid,
+                                      "because": list(exact[0].labels)})
+                    bar.update(1)
+                    continue
+                level.append(task)
+            for record in _execute(level, client, self.base_dir, self.starts, self.seed):
+                write_json_atomic(results_dir / f"{record['id']}.json", record)
+                done[record["id"]] = record
+                solved.append(record["id"])
+                self._write_table(folder, done)
+                bar.update(1)
+                if on_result is not None:
+                    on_result(record)
+        bar.close()
+        result = StudyResult(self, folder, {task.id: done[task.id] for task in self.tasks if task.id in done},
+                             dominated, solved, resumed)
+        result.write()
+        return result
+
+    def _claim(self, folder: Path, force: bool) -> None:
+        """Make ``folder`` this study's: refuse another study's folder unless ``force`` (then start afresh)."""
+        marker = folder / "study.json"
+        if marker.exists():
+            try:
+                previous = json.loads(marker.read_text(encoding="utf-8")).get("fingerprint")
+            except (OSError, ValueError, AttributeError):
+                previous = None
+            if previous != self.fingerprint:
+                if not force:
+                    raise InputError(f"study folder {str(folder)!r} holds the results of a different config "
+                                     f"(fingerprint {previous} ≠ {self.fingerprint}); use another --out, or --force "
+                                     "to discard them")
+                shutil.rmtree(folder / "results", ignore_errors=True)
+        elif folder.exists() and any(folder.iterdir()) and not force:
+            raise InputError(f"study folder {str(folder)!r} is not empty and holds no study; use another --out, or "
+                             "--force")
+        write_json_atomic(marker, {"fingerprint": self.fingerprint, "config": {**self.base, "explore": self.explore},
+                                   **self.summary()})
+
+    def _write_table(self, folder: Path, done: dict) -> None:
+        rows = [done[task.id] for task in self.tasks if task.id in done]
+        write_text_atomic(folder / "results.csv", _csv(rows))
+
+
+def _csv(rows: Sequence[dict]) -> str:
+    stream = io.StringIO()
+    writer = csv.DictWriter(stream, fieldnames=COLUMNS, extrasaction="ignore")
+    writer.writeheader()
+    for row in rows:
+        writer.writerow({**row, "springs": " + ".join(row.get("springs", [])),
+                         "grid": json.dumps(row.get("grid", {}), sort_keys=True)})
+    return stream.getvalue()
+
+
+class _NoBar:
+    def update(self, n: int = 1) -> None:
+        pass
+
+    def close(self) -> None:
+        pass
+
+
+def _progress(total: int, show: bool):
+    if not show or total <= 0:
+        return _NoBar()
+    from tqdm import tqdm
+
+    return tqdm(total=total, desc="topologies", unit="task", leave=False)
+
+
+def _payload(task: Task, base_dir: Path, starts: int, seed: int) -> dict[str, Any]:
+    return {"id": task.id, "labels": list(task.labels), "grid": task.grid, "record": task.record,
+            "base_dir": str(base_dir), "starts": starts, "seed": seed}
+
+
+def _execute(tasks: Sequence[Task], client, base_dir: Path, starts: int, seed: int):
+    """Yield each task's result as it finishes (in this process, or on the Dask cluster)."""
+    payloads = [_payload(task, base_dir, starts, seed) for task in tasks]
+    if client is None:
+        for payload in payloads:
+            yield solve_task(payload)
+        return
+    from dask.distributed import as_completed
+
+    futures = [client.submit(solve_task, payload, key=f"springbalance-{payload['id']}", pure=False)
+               for payload in payloads]
+    for future in as_completed(futures):
+        yield future.result()
+
+
+def solve_task(payload: dict[str, Any]) -> dict[str, Any]:
+    """Solve one task (a pure function of ``payload``): the multi-start of one topology at one grid point.
+
+    Returns the row of ``results.csv`` plus ``design``, the design's saved record (None when it failed).
+    """
+    clock = time.perf_counter()
+    row: dict[str, Any] = {"id": payload["id"], "springs": payload["labels"], "count": len(payload["labels"]),
+                           "grid": payload["grid"], "starts": payload["starts"], "seed": payload["seed"]}
+    try:
+        config = config_from_dict(payload["record"], payload["base_dir"], f"task {payload['id']}")
+        # one process per task: the study spreads tasks over the cores, not the starts of one task
+        result = config.solve(starts=payload["starts"], seed=payload["seed"], progress=False, workers=1)
+    except (SolverError, SpringBalanceError) as error:
+        return {**row, "status": "failed", "error": str(error).splitlines()[0], "exact": False, "design": None,
+                "seconds": time.perf_counter() - clock}
+    except (ArithmeticError, ValueError, RuntimeError) as error:   # numerical trouble: this topology fails, not the study
+        return {**row, "status": "failed", "error": f"{type(error).__name__}: {str(error).splitlines()[0]}",
+                "exact": False, "design": None, "seconds": time.perf_counter() - clock}
+    metrics = result.metrics()
+    balance = result.exact_balance()
+    objective = metrics["optimised"]
+    masses = [record.get("mass") for record in result.springs]
+    sheets = [record["helical"]["buildable"] for record in result.springs if isinstance(record.get("helical"), dict)]
+    flags = [flag.kind for flag in result.warnings()]
+    buildable = all(sheets) and not any(kind in ("unbuildable", "unbuildable_ideal") for kind in flags)
+    return {**row, "status": "solved", "objective": objective,
+            "objective_value": metrics["objectives"][objective]["after"],
+            "objective_before": metrics["objectives"][objective]["before"],
+            "peak_residual": balance["residual"], "relative_residual": balance["relative_residual"],
+            "exact": bool(balance["relative_residual"] < EXACT),
+            "spring_mass": float(sum(masses)) if masses and all(m is not None for m in masses) else None,
+            "buildable": bool(buildable), "error": "", "design": result.to_dict(),
+            "seconds": time.perf_counter() - clock}
+
+
+@dataclasses.dataclass
+class StudyResult:
+    """What a run of a study leaves: every task's result by id, and what was skipped."""
+
+    study: Study
+    folder: Path
+    results: dict[str, dict]
+    dominated: list[dict]
+    solved: list[str]
+    resumed: int
+
+    def best(self) -> dict[int, dict]:
+        """The solved task with the smallest relative residual, per spring count (over the grid)."""
+        best: dict[int, dict] = {}
+        for record in self.results.values():
+            if record.get("status") != "solved":
+                continue
+            count = record["count"]
+            if count not in best or record["relative_residual"] < best[count]["relative_residual"]:
+                best[count] = record
+        return dict(sorted(best.items()))
+
+    def exact(self) -> list[dict]:
+        return [record for record in self.results.values() if record.get("exact")]
+
+    def write(self) -> None:
+        """``best_<k>_springs.json`` per spring count, the dominance in ``study.json``, and ``report.html``."""
+        from springbalance.explore.report import write_report
+
+        for count, record in self.best().items():
+            write_json_atomic(self.folder / f"best_{count}_springs.json", record["design"])
+        marker = self.folder / "study.json"
+        summary = json.loads(marker.read_text(encoding="utf-8"))
+        summary["dominated"] = self.dominated
+        write_json_atomic(marker, summary)
+        write_report(self)
+
+
+# ---------------------------------------------------------------------- entry points
+def load_study(path: str | Path, max_springs: int | None = None) -> Study:
+    """A :class:`Study` from a study config file (YAML or JSON)."""
+    path = Path(path)
+    record = read_config_file(path)
+    return Study(record, path.parent, str(path), max_springs=max_springs)
+
+
+def make_client(scheduler: str | None = None, workers: int | None = None, timeout: float = CONNECT_TIMEOUT):
+    """A Dask ``Client``: on the scheduler at ``scheduler`` (``tcp://host:port``), or on a new
+    ``LocalCluster`` of ``workers`` processes (default: one per core), one thread each."""
+    import logging
+
+    from dask.distributed import Client, LocalCluster
+
+    if scheduler is not None:
+        try:
+            return Client(scheduler, timeout=f"{timeout}s")
+        except (OSError, TimeoutError, ValueError) as error:
+            raise InputError(f"cannot reach the Dask scheduler at {scheduler!r} within {timeout:g} s "
+                             f"({type(error).__name__}: {str(error).splitlines()[0] if str(error) else 'no answer'})") \
+                from None
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
+        raise InputError(f"workers must be an integer ≥ 1, got {workers!r}")
+    cluster = LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1, processes=True,
+                           dashboard_address=":0", silence_logs=logging.ERROR)
+    return Client(cluster)

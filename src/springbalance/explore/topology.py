@@ -1,0 +1,105 @@
+r"""Spring topologies of a study: which candidates carry a spring, enumerated and pruned.
+
+A **topology** is a set of 1 … ``max_springs`` distinct candidates
+(:mod:`springbalance.explore.candidates`). Before anything is solved, the enumeration is pruned:
+
+- **Symmetry.** A topology is a *set*: the ``k!`` orderings of its springs are one design, and
+  bodies welded to each other are one candidate (:class:`~springbalance.explore.candidates.BodyTree`).
+- **Reachability** (planar serial chains with zero-free-length springs; docs/model.md §9). With
+  body ``0`` the ground, exact balance needs every off-diagonal block
+  :math:`K_{ij} = G_{ij} + \sum_s k_s \bar D_{s,i} D_{s,j}` of the stiffness matrix to vanish. A
+  spring from body ``a`` to body ``b`` (``a < b``) has :math:`D_{s,j} \ne 0` exactly for
+  ``j ∈ {a} ∪ [max(a, 1), b]``, so it reaches the blocks between those bodies. A topology is
+  **proven unreachable** when
+
+  1. it has fewer than :math:`\lceil n(n-1)/4 \rceil` springs (``n(n-1)`` real conditions, four
+     anchor coordinates per spring), or
+  2. a gravity block :math:`G_{0j} \ne 0` is reached by no spring (it can never be cancelled);
+
+  and **unreachable but for degenerate anchors** when a block without gravity is reached by one
+  spring only: its product :math:`k \bar D_i D_j` must vanish, which puts an anchor on a joint
+  axis, where the spring is another topology's.
+- **Dominance** (while the study runs): a topology is not solved when one of its subsets already
+  balances exactly (:class:`~springbalance.explore.study.Study` solves by spring count).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import itertools
+import math
+from typing import Sequence
+
+import numpy as np
+
+from springbalance.design.exact import PlanarChain
+from springbalance.errors import InputError
+from springbalance.explore.candidates import Candidate
+from springbalance.model.mechanism import Mechanism
+
+#: a gravity block counts as zero below this fraction of the largest one
+GRAVITY_ZERO = 1e-12
+
+
+@dataclasses.dataclass(frozen=True)
+class Verdict:
+    """Why a topology is not solved: ``kind`` is ``unreachable`` (proven), ``degenerate`` or ``dominated``."""
+
+    kind: str
+    reason: str
+
+
+class Reachability:
+    """The exact-balance reachability test of a planar chain (see the module documentation)."""
+
+    def __init__(self, mechanism: Mechanism, candidates: Sequence[Candidate]):
+        self.chain = PlanarChain.from_mechanism(mechanism)
+        gravity = np.abs(self.chain.gravity_blocks())
+        self.loaded = [j for j in range(1, self.chain.size) if gravity[j] > GRAVITY_ZERO * max(gravity.max(), 1e-300)]
+        self.ends = [tuple(sorted((self.chain.body_index(c.a), self.chain.body_index(c.b)))) for c in candidates]
+
+    def _reached(self, spring: tuple[int, int]) -> set[tuple[int, int]]:
+        a, b = spring
+        bodies = sorted({a, *range(max(a, 1), b + 1)})
+        return set(itertools.combinations(bodies, 2))
+
+    def verdict(self, topology: Sequence[int]) -> Verdict | None:
+        """None when exact balance may be reached; else why not."""
+        n = self.chain.size
+        needed = math.ceil(n * (n - 1) / 4)
+        if len(topology) < needed:
+            return Verdict("unreachable", f"{len(topology)} spring(s) give {4 * len(topology)} anchor coordinates for "
+                                          f"{n * (n - 1)} conditions: at least {needed} springs are needed")
+        reach = [self._reached(self.ends[index]) for index in topology]
+        names = self.chain.bodies
+        for j in self.loaded:
+            if not any((0, j) in blocks for blocks in reach):
+                return Verdict("unreachable", f"the weight moment of {names[j]!r} and beyond (block K_0{j}) is reached "
+                                              f"by no spring from the ground to {names[j]!r} or further out")
+        counts: dict[tuple[int, int], int] = {}
+        for blocks in reach:
+            for block in blocks:
+                counts[block] = counts.get(block, 0) + 1
+        for (i, j), count in sorted(counts.items()):
+            if count == 1 and not (i == 0 and j in self.loaded):
+                return Verdict("degenerate", f"block K_{i}{j} ({names[i]!r}, {names[j]!r}) is reached by one spring "
+                                             "only: it vanishes only with an anchor on a joint axis (another topology)")
+        return None
+
+
+def enumerate_topologies(count: int, max_springs: int) -> list[tuple[int, ...]]:
+    """Every set of 1 … ``max_springs`` of ``count`` candidates, fewer springs first."""
+    if isinstance(max_springs, bool) or not isinstance(max_springs, int) or max_springs < 1:
+        raise InputError(f"max_springs must be an integer ≥ 1, got {max_springs!r}")
+    return [combination for size in range(1, min(max_springs, count) + 1)
+            for combination in itertools.combinations(range(count), size)]
+
+
+def reachability(mechanism: Mechanism, candidates: Sequence[Candidate], law: str) -> tuple[Reachability | None, str]:
+    """The reachability test when it applies, and a sentence saying whether it does."""
+    if law != "zero_free_length":
+        return None, f"reachability test not applied: it is for zero-free-length springs (the study's law is {law!r})"
+    try:
+        return Reachability(mechanism, candidates), "reachability test applied (planar chain, zero-free-length springs)"
+    except InputError as error:
+        return None, f"reachability test not applied: {error}"
