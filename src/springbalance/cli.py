@@ -34,7 +34,7 @@ import warnings
 from pathlib import Path
 
 from springbalance._version import __version__
-from springbalance.errors import InputError, SolverError, SpringBalanceError
+from springbalance.errors import InputError, Interrupted, SolverError, SpringBalanceError
 
 PROG = "springbalance"
 
@@ -118,6 +118,8 @@ def build_parser() -> argparse.ArgumentParser:
                         help="then pick each extension and compression spring from this stock catalogue (CSV, "
                              "columns in README 'Stock springs') and re-optimise the anchors")
     design.add_argument("--quiet", "-q", action="store_true", help="print nothing on success, no progress bar")
+    design.add_argument("--partial", action="store_true",
+                        help="on Ctrl-C, save the best design of the starts that had finished at --out")
     design.set_defaults(handler=_design)
 
     evaluate = commands.add_parser(
@@ -306,7 +308,10 @@ def _design(args) -> int:
     config = load_config(args.config)
     progress = False if args.quiet else None
     overrides = {"starts": args.starts, "seed": args.seed, "method": args.method, "workers": args.workers}
-    result = config.solve(**overrides, progress=progress)
+    try:
+        result = config.solve(**overrides, progress=progress)
+    except Interrupted as stop:
+        return _interrupted(stop, out, args.partial)
     selection = None
     if parts is not None:
         from springbalance.design.stock import select_stock
@@ -324,6 +329,33 @@ def _design(args) -> int:
             print(f"\n{selection.summary()}")
         print(f"\ndesign saved to {out}")
     return 0
+
+
+#: finished starts listed by name when a design is interrupted
+MAX_STARTS_SHOWN = 8
+
+
+def _interrupted(stop, out: Path, partial: bool) -> int:
+    """Ctrl-C during ``design``: say which starts had finished; with ``--partial`` save the best so far."""
+    shown = [f"{record.index} ({record.objective:.4g}{'' if record.feasible else ', infeasible'})"
+             for record in stop.starts[:MAX_STARTS_SHOWN]]
+    more = len(stop.starts) - len(shown)
+    finished = ", ".join(shown) + (f" and {more} more" if more > 0 else "")
+    feasible = [record for record in stop.starts if record.feasible]
+    if feasible:
+        best = min(feasible, key=lambda record: record.objective)
+        finished += f"; best objective {best.objective:.6g} (start {best.index})"
+    if partial and stop.best_x is not None:
+        result = stop.problem.result(stop.best_x, starts=stop.starts, method="interrupted", seed=None,
+                                     status=f"{stop} (the best design so far, saved with --partial)")
+        _save_design(result, out)
+        saved = f"; the best design so far is saved to {out}"
+    elif partial:
+        saved = "; no start had finished with a feasible design, so nothing is saved"
+    else:
+        saved = f"; nothing is saved ({out} is unchanged; --partial saves the best design so far)"
+    print(f"{PROG}: {stop}{': starts ' + finished if finished else ''}{saved}", file=sys.stderr)
+    return 130
 
 
 def _save_design(result, out: Path, selection=None, catalogue: str | None = None) -> None:

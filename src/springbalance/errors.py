@@ -32,3 +32,21 @@ class SolverError(SpringBalanceError):
         super().__init__(message)
         self.problem = problem
         self.starts = starts or []
+
+
+class Interrupted(SpringBalanceError):
+    """The user stopped a solve (Ctrl-C).
+
+    Attributes:
+        problem: the :class:`~springbalance.design.problem.DesignProblem` being solved.
+        starts: the records of the starts that had finished.
+        total: how many starts the multi-start had.
+        best_x: the best feasible design found so far (variables of ``problem``), or None.
+    """
+
+    def __init__(self, message: str, problem=None, starts=None, total: int = 0, best_x=None):
+        super().__init__(message)
+        self.problem = problem
+        self.starts = list(starts or [])
+        self.total = int(total)
+        self.best_x = best_x

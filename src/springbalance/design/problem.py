@@ -27,7 +27,7 @@ from typing import Mapping, Sequence
 import casadi as ca
 import numpy as np
 
-from springbalance.errors import InputError
+from springbalance.errors import InputError, Interrupted
 from springbalance.model import budget
 from springbalance.model.mechanism import Mechanism
 from springbalance.design.objectives import NlpPieces, Objective, objective_named
@@ -339,8 +339,12 @@ class DesignProblem:
             budget.require(budget.FLOAT * 4 * int(starts) * max(self.variables.size, 1),
                            f"{starts} starts of {self.variables.size} design variables")
         # helical coils start from the ideal twin's optimum, wound into a coil (design/coil_start.py)
-        initial = coil_start(self, starts=starts, seed=seed, method=method, max_iterations=max_iterations,
-                             tolerance=tolerance) if coil_springs(self) else None
+        try:
+            initial = coil_start(self, starts=starts, seed=seed, method=method, max_iterations=max_iterations,
+                                 tolerance=tolerance) if coil_springs(self) else None
+        except Interrupted:   # the ideal twin's starts are not designs of this problem
+            raise Interrupted("interrupted while finding the coils' first guess: no start of the design had "
+                              f"finished (0 of {starts})", problem=self, total=starts) from None
         options = {"method": method, "max_iterations": max_iterations, "tolerance": tolerance,
                    "polish_iterations": polish_iterations}
         fitting = self.clearance is not None or self.mounts
@@ -348,12 +352,18 @@ class DesignProblem:
             self.linear_rows = mount_rows(self, self.variables.start)
         solution = solve_problem(self, starts=starts, seed=seed, progress=progress, initial=initial, **options)
         info = {}
-        if fitting:
-            solution, info["fit"] = fit_to_arm(self, solution, **options)
-        if standard_wire and coils_with_free_wire(self):
-            solution, rounding = round_wires(self, solution, method=method, max_iterations=max_iterations,
-                                             tolerance=tolerance, polish_iterations=polish_iterations)
-            info["wire_rounding"] = rounding
+        try:
+            if fitting:
+                solution, info["fit"] = fit_to_arm(self, solution, **options)
+            if standard_wire and coils_with_free_wire(self):
+                solution, rounding = round_wires(self, solution, method=method, max_iterations=max_iterations,
+                                                 tolerance=tolerance, polish_iterations=polish_iterations)
+                info["wire_rounding"] = rounding
+        except Interrupted:   # after the multi-start: its best design (or the last fitted one) is the best so far
+            phase = "fitting the springs to the arm" if fitting and "fit" not in info else "rounding the wires"
+            raise Interrupted(f"interrupted while {phase}: all {len(solution.starts)} starts had finished",
+                              problem=self, starts=solution.starts, total=len(solution.starts),
+                              best_x=solution.x) from None
         return self.result(solution.x, starts=solution.starts, method=solution.method, seed=solution.seed,
                            status=solution.status, **info)
 

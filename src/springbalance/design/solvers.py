@@ -50,7 +50,7 @@ import casadi as ca
 import numpy as np
 from threadpoolctl import threadpool_limits
 
-from springbalance.errors import InputError, SolverError
+from springbalance.errors import InputError, Interrupted, SolverError
 from springbalance.design.torque_model import BlockEvaluator, compiled
 from springbalance.model.sobol import sobol_engine
 
@@ -324,7 +324,15 @@ def _solve(problem, runner, starts, seed, method, progress, max_iterations, poli
             bar.set_postfix(best=f"{best:.4g}")
             bar.update()
 
-    records = runner.run([(index, points[index], True) for index in range(len(points))], done)
+    try:
+        records = runner.run([(index, points[index], True) for index in range(len(points))], done)
+    except KeyboardInterrupt:
+        if bar is not None:
+            bar.close()
+        feasible = [record for record in finished if record.feasible]
+        raise Interrupted(f"interrupted: {len(finished)} of {len(points)} starts had finished",
+                          problem=problem, starts=sorted(finished, key=lambda record: record.index),
+                          total=len(points), best_x=_best(feasible, problem).x if feasible else None) from None
     if bar is not None:
         bar.close()
     feasible = [record for record in records if record.feasible]
@@ -338,7 +346,11 @@ def _solve(problem, runner, starts, seed, method, progress, max_iterations, poli
         candidates = sorted((r for r in feasible if "iteration limit" in r.status and r.objective <= 1.25 * best.objective),
                             key=lambda record: record.objective)[:3]
         solver.max_iterations = polish
-        polished_records = runner.run([(record.index, problem.unscale(record.x), False) for record in candidates])
+        try:
+            polished_records = runner.run([(record.index, problem.unscale(record.x), False) for record in candidates])
+        except KeyboardInterrupt:
+            raise Interrupted(f"interrupted while polishing: all {len(points)} starts had finished",
+                              problem=problem, starts=records, total=len(points), best_x=best.x) from None
         for record, polished in zip(candidates, polished_records):
             polished.z0 = record.z0
             polished.status = f"{polished.status} (polished after {record.iterations} iterations)"

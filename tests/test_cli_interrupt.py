@@ -1,0 +1,70 @@
+"""Ctrl-C during ``springbalance design``: a clean stop (exit 130, one line that says which starts
+had finished, no file), and with ``--partial`` the best design of the finished starts saved.
+
+The command runs as a real process that receives a real SIGINT while it works through 100,000
+starts of a small problem (far more than it can finish before the signal).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from springbalance.results.result import DesignResult
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _config(tmp_path) -> Path:
+    path = tmp_path / "slow.yaml"
+    path.write_text(f"""
+mechanism: {{urdf: {ROOT / 'urdf' / 'two_link_planar.urdf'}}}
+workspace: {{kind: sobol, n: 64}}
+springs:
+  - {{name: s1, type: zero_free_length, a: {{body: universe, box: {{lower: [-0.1, 0, 0.1], upper: [0.1, 0, 0.4]}}}},
+      b: {{body: link1, box: {{lower: [0.1, 0, -0.05], upper: [0.5, 0, 0.05]}}}}, stiffness: {{lower: 0, upper: 5000}}}}
+solve: {{starts: 100000, workers: 1}}
+""")
+    return path
+
+
+def _interrupt(tmp_path, *extra) -> tuple[int, str, Path]:
+    out = tmp_path / "design.json"
+    process = subprocess.Popen([sys.executable, "-m", "springbalance", "design", str(_config(tmp_path)), "--out",
+                                str(out), *extra], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                               env={**os.environ, "SPRINGBALANCE_WORKERS": "1"})
+    time.sleep(8.0)        # start-up, compile, and some starts
+    assert process.poll() is None, process.communicate()
+    process.send_signal(signal.SIGINT)
+    _, err = process.communicate(timeout=60)
+    return process.returncode, err, out
+
+
+@pytest.mark.parametrize("partial", [False, True])
+def test_ctrl_c_stops_cleanly_and_partial_saves_the_best_so_far(tmp_path, partial):
+    code, err, out = _interrupt(tmp_path, *(["--partial"] if partial else []))
+    assert code == 130
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and "Traceback" not in err, err
+    match = re.search(r"interrupted: (\d+) of 100000 starts had finished", lines[0])
+    assert match, lines[0]
+    finished = int(match.group(1))
+    assert 1 <= finished < 100000
+    assert f"starts 0 (" in lines[0] and "best objective" in lines[0]   # the finished starts, and the best
+    if partial:
+        assert out.exists() and "saved to" in lines[0]
+        result = DesignResult.load(out)
+        assert result.metrics()["objectives"]["rms"]["reduction_percent"] > 50   # a real design, not the start
+        saved = json.loads(out.read_text())
+        assert len(saved["solver"]["starts"]) == finished and saved["solver"]["method"] == "interrupted"
+    else:
+        assert not out.exists() and "nothing is saved" in lines[0]
+        assert not list(tmp_path.glob(".design.json*"))   # no temporary file left either
