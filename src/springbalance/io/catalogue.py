@@ -32,7 +32,7 @@ import math
 from pathlib import Path
 
 from springbalance.errors import InputError
-from springbalance.io.inputs import read_input_text
+from springbalance.files import read_input_text
 from springbalance.design.stock import STOCK_KINDS, StockPart
 from springbalance.springs.sizing import MATERIALS, spring_rate
 
@@ -53,7 +53,7 @@ def read_catalogue(path: str | Path) -> list[StockPart]:
     """The parts of the stock catalogue at ``path`` (format: module docstring)."""
     path = Path(path)
     label = str(path)
-    text = read_input_text(path, "stock catalogue", encoding="utf-8-sig")
+    text = read_input_text(path, "stock catalogue", InputError, encoding="utf-8-sig")
     lines = [(number, line) for number, line in enumerate(text.splitlines(), start=1)
              if line.strip() and not line.lstrip().startswith("#")]
     if not lines:

@@ -35,7 +35,7 @@ import numpy as np
 import yaml
 
 from springbalance.errors import ConfigError, InputError
-from springbalance.io.inputs import read_input_text
+from springbalance.files import read_input_text
 from springbalance.io import schema
 from springbalance.io.yaml_loader import MAX_BYTES, DuplicateKeyError, LimitError, load_json, load_yaml
 from springbalance.model import budget

@@ -36,6 +36,7 @@ from pathlib import Path
 import numpy as np
 
 from springbalance.errors import InputError
+from springbalance.files import read_input_text
 
 #: a number as the URDF parser reads it: decimal, optional sign, fraction and exponent
 NUMBER = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
@@ -74,21 +75,7 @@ _INERTIA_KEYS = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
 def read_urdf(path: str | Path) -> str:
     """The text of the URDF file ``path``; InputError when it is missing, a directory, unreadable
     (permission denied) or not UTF-8 text."""
-    label = str(path)
-    try:
-        data = Path(path).read_bytes()
-    except FileNotFoundError:
-        raise InputError(f"URDF file {label!r} does not exist") from None
-    except IsADirectoryError:
-        raise InputError(f"URDF file {label!r} is a directory; give a .urdf file") from None
-    except PermissionError:
-        raise InputError(f"URDF file {label!r} cannot be read: permission denied") from None
-    except OSError as error:
-        raise InputError(f"URDF file {label!r} cannot be read: {error.strerror or error}") from None
-    try:
-        return data.decode("utf-8")
-    except UnicodeDecodeError:
-        raise InputError(f"URDF file {label!r} is not UTF-8 text") from None
+    return read_input_text(path, "URDF file", InputError)
 
 
 def check_urdf(text: str, where: str, physics: bool = True) -> None:

@@ -23,7 +23,7 @@ from pathlib import Path
 from typing import Any
 
 from springbalance.errors import InputError
-from springbalance.io.inputs import read_input_text
+from springbalance.files import read_input_text
 from springbalance.io.yaml_loader import DuplicateKeyError, LimitError, load_json
 from springbalance.model import budget
 
@@ -40,7 +40,7 @@ def read_design_record(path: str | Path) -> dict[str, Any]:
     path = Path(path)
     label = f"design file {str(path)!r}"
     budget.require(budget.file_bytes(path) * MEMORY_PER_BYTE, f"reading {label}")
-    text = read_input_text(path, "design file")
+    text = read_input_text(path, "design file", InputError)
     try:
         record = load_json(text)
     except DuplicateKeyError as error:
