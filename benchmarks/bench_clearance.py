@@ -22,7 +22,7 @@ distance of every spring in the dense check; it says loudly when a spring of the
 below the margin.
 
 Run: .venv/bin/python benchmarks/bench_clearance.py [--samples 1024] [--check-samples 512] [--starts 4] [--rounds 12]
-     [--verify-samples N]
+     [--verify-samples N] [--fit-starts N]
 (make bench-clearance; a few minutes on 2 cores)
 """
 
@@ -38,6 +38,7 @@ parser.add_argument("--starts", type=int, default=4)
 parser.add_argument("--seed", type=int, default=0)
 parser.add_argument("--margin", type=float, default=0.005)
 parser.add_argument("--rounds", type=int, default=12, help="most re-solves of the fitting loop")
+parser.add_argument("--fit-starts", type=int, default=1, help="clearance.starts: best designs the loop fits")
 parser.add_argument("--verify-samples", type=int, default=None,
                     help="poses of the independent check (default 10 × --check-samples)")
 args = parser.parse_args()
@@ -63,7 +64,7 @@ print(f"UR5, 4 extension springs, {args.samples} Sobol samples, {args.starts} st
 results = {}
 for label, clearance in (("unconstrained", None),
                          ("clearance", sb.Clearance(margin=args.margin, check_samples=args.check_samples,
-                                                      rounds=args.rounds))):
+                                                      rounds=args.rounds, starts=args.fit_starts))):
     clock = time.perf_counter()
     problem = sb.DesignProblem(mechanism, workspace, springs(), clearance=clearance)
     result = problem.solve(starts=args.starts, seed=args.seed)

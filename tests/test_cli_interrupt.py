@@ -36,12 +36,23 @@ solve: {{starts: 100000, workers: 1}}
     return path
 
 
+def _cpu_seconds(pid: int) -> float:
+    """User + system CPU time [s] of process ``pid`` (Linux /proc)."""
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
 def _interrupt(tmp_path, *extra) -> tuple[int, str, Path]:
     out = tmp_path / "design.json"
     process = subprocess.Popen([sys.executable, "-m", "springbalance", "design", str(_config(tmp_path)), "--out",
                                 str(out), *extra], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                                env={**os.environ, "SPRINGBALANCE_WORKERS": "1"})
-    time.sleep(8.0)        # start-up, compile, and some starts
+    # start-up, compile and some starts: wait for 6 s of the process's own CPU time (not wall time, which a
+    # loaded machine stretches), at most 120 s
+    deadline = time.monotonic() + 120.0
+    while _cpu_seconds(process.pid) < 6.0 and time.monotonic() < deadline:
+        assert process.poll() is None, process.communicate()
+        time.sleep(0.2)
     assert process.poll() is None, process.communicate()
     process.send_signal(signal.SIGINT)
     _, err = process.communicate(timeout=60)

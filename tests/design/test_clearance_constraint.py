@@ -94,6 +94,22 @@ def test_the_search_between_samples_clears_a_design_fitted_on_16_poses(arm, work
         assert row.distance >= margin, str(report)
 
 
+def test_fitting_more_starts_keeps_the_best_fit(arm, workspace):
+    """With clearance.starts = 3 the loop fits the three best designs of the multi-start and keeps the
+    fitted one of lowest objective: never worse than fitting the best start alone, and still clear."""
+    margin = 0.005
+    results = {}
+    for starts in (1, 3):
+        clearance = sb.Clearance(margin=margin, check_samples=64, starts=starts)
+        results[starts] = sb.DesignProblem(arm, workspace, springs(0.1), clearance=clearance).solve(starts=4, seed=1)
+    assert results[1].fit.starts == 1 and results[3].fit.starts == 3
+    assert results[3].fit.converged and results[3].fit.rounds >= results[1].fit.rounds
+    assert results[3].fit.objective <= results[1].fit.objective * (1 + 1e-9)
+    assert results[3].metrics()["objectives"]["rms"]["after"] == pytest.approx(results[3].fit.objective, rel=1e-9)
+    for row in results[3].clearance(samples=DENSE).rows:
+        assert row.distance >= margin
+
+
 def test_solve_with_clearance_keeps_springs_apart_and_saves_the_fit(arm, workspace, tmp_path):
     """Both springs start on link1 on top of each other; with between_springs they keep the margin
     from each other too (checked by brute force on the segments)."""

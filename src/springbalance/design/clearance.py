@@ -92,6 +92,9 @@ class Clearance:
         buffer: extra distance [m] the rows ask for, for the poses between the checked ones
             (default: 10 % of the margin, at least 0.5 mm).
         rounds: most re-solves of the loop.
+        starts: how many of the multi-start's best feasible designs the loop fits (each from its own
+            start); the fitted design of lowest objective is kept. The loop linearises around the
+            design it starts from, so a second or third start can end in a better optimum.
     """
 
     margin: float = 0.005
@@ -100,6 +103,7 @@ class Clearance:
     between_springs: bool = False
     buffer: float | None = None
     rounds: int = 12
+    starts: int = 1
 
     def __post_init__(self) -> None:
         for key in ("margin", "buffer"):
@@ -111,7 +115,7 @@ class Clearance:
         if self.radius is not None and (isinstance(self.radius, bool) or not isinstance(self.radius, (int, float))
                                         or not np.isfinite(self.radius) or self.radius <= 0):
             raise InputError(f"clearance.radius must be a finite number > 0 [m], got {self.radius!r}")
-        for key in ("check_samples", "rounds"):
+        for key in ("check_samples", "rounds", "starts"):
             value = getattr(self, key)
             if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
                 raise InputError(f"clearance.{key} must be an integer ≥ 1, got {value!r}")
@@ -151,7 +155,8 @@ class FitRecord:
             poses checked in the last round (check set and dense set).
         mounts: ``"<spring>.<end>"`` → distance [m] of a mounted anchor from its offset surface.
         poses: the number of poses checked (check set + dense set).
-        seconds: wall time of the loop.
+        seconds: wall time of the loop (of every fitted start).
+        starts: how many of the multi-start's designs were fitted (the best fit is this record's).
     """
 
     rounds: int
@@ -163,6 +168,7 @@ class FitRecord:
     mounts: dict = dataclasses.field(default_factory=dict)
     poses: int = 0
     seconds: float = 0.0
+    starts: int = 1
 
     @property
     def cost_percent(self) -> float:
@@ -592,6 +598,29 @@ def _worst(below: dict) -> list:
     for items in groups.values():
         chosen += [key for _, key in sorted(items)[:WORST_PER_PAIR]]
     return chosen
+
+
+def fit_from_starts(problem: DesignProblem, solution: Solution, **solve_options) -> tuple[Solution, FitRecord]:
+    """:func:`fit_to_arm` from the :attr:`Clearance.starts` best feasible designs of the multi-start
+    (``solution.starts``, distinct, best first); keeps the converged fit of lowest objective (else the
+    first), and leaves its rows on the problem."""
+    count = problem.clearance.starts if problem.clearance is not None else 1
+    records = sorted((record for record in solution.starts if record.feasible), key=lambda record: record.objective)
+    others = [record for record in records if not np.array_equal(record.x, solution.x)][:count - 1]
+    fits, initial_rows = [], problem.linear_rows   # the mounting rows of the multi-start, if any
+    for x in [solution.x] + [record.x for record in others]:
+        start = Solution(np.array(x, dtype=float), solution.starts, solution.method, solution.seed, solution.status)
+        problem.linear_rows = initial_rows
+        fitted, record = fit_to_arm(problem, start, **solve_options)
+        fits.append((fitted, record, problem.linear_rows))
+    converged = [fit for fit in fits if fit[1].converged] or fits[:1]
+    fitted, record, rows = min(converged, key=lambda fit: fit[1].objective)
+    problem.linear_rows = rows
+    record.starts = len(fits)
+    if len(fits) > 1:
+        record.rounds = sum(fit[1].rounds for fit in fits)
+        record.seconds = sum(fit[1].seconds for fit in fits)
+    return fitted, record
 
 
 def fit_to_arm(problem: DesignProblem, solution: Solution, **solve_options) -> tuple[Solution, FitRecord]:

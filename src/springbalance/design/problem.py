@@ -32,7 +32,8 @@ from springbalance.model import budget
 from springbalance.model.mechanism import Mechanism
 from springbalance.design.objectives import NlpPieces, Objective, objective_named
 from springbalance.design.scenarios import Scenario, ScenarioWorkspace, check_scenarios
-from springbalance.design.clearance import Clearance, LinearRows, check_mounts, fit_to_arm, mount_rows, resolve_mounts
+from springbalance.design.clearance import (Clearance, LinearRows, check_mounts, fit_from_starts, mount_rows,
+                                           resolve_mounts)
 from springbalance.design.coil_start import coil_springs, coil_start
 from springbalance.design.solvers import solve_problem, workers_default
 from springbalance.design.standard_wire import coils_with_free_wire, round_wires
@@ -354,7 +355,7 @@ class DesignProblem:
         info = {}
         try:
             if fitting:
-                solution, info["fit"] = fit_to_arm(self, solution, **options)
+                solution, info["fit"] = fit_from_starts(self, solution, **options)
             if standard_wire and coils_with_free_wire(self):
                 solution, rounding = round_wires(self, solution, method=method, max_iterations=max_iterations,
                                                  tolerance=tolerance, polish_iterations=polish_iterations)

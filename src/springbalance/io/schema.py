@@ -305,6 +305,8 @@ class Clearance(Record):
     buffer: NonNegative = _optional("extra distance [m] asked for between checked poses (default 10 % of the "
                                     "margin, at least 0.5 mm)")
     rounds: Counting = Field(12, description="most re-solves of the fitting loop")
+    starts: Counting = Field(1, description="how many of the multi-start's best designs are fitted (each from its "
+                                            "own start); the fitted design of lowest objective is kept")
 
 
 # ---------------------------------------------------------------------- springs, from the registry
