@@ -65,6 +65,7 @@ def test_three_link_chain_exact_topology_found_and_unreachable_ones_listed(tmp_p
     best = result.best()[3]
     assert best["relative_residual"] < EXACT and best["exact"]
     assert set(best["springs"]) == {"universe→link2", "universe→link3", "link1→link3"}
+    assert best["buildable"] is False      # ideal zero-free-length springs: no coil spec sheet says they can be wound
     summary = json.loads((tmp_path / "study" / "study.json").read_text())
     unreachable = [set(item["springs"]) for item in summary["unreachable"]]
     assert {"universe→link1", "link1→link2", "link2→link3"} in unreachable   # the chain of neighbours

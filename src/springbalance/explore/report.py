@@ -2,7 +2,8 @@
 
 The plot puts each solved topology at its number of springs (or, when every spring has a mass,
 the springs' total mass [kg]) against its residual peak relative to the unbalanced peak (log
-scale); buildable designs are filled, the others hollow, and the front (no other design has
+scale); buildable designs (every spring a helical coil whose spec sheet passes) are filled, the
+others hollow, and the front (no other design has
 fewer springs and a smaller residual) is joined by a line. The tables list the best design of
 each spring count (with its design file), every solved topology, and the topologies that were
 not solved and why (proven unreachable, degenerate, dominated by an exact subset, failed).
@@ -36,7 +37,8 @@ def pareto_svg(records: list[dict]) -> str:
         points = [(a, b) for a, b, record in zip(x, y, records) if bool(record.get("buildable")) == buildable]
         if points:
             axes.scatter(*zip(*points), s=36, marker=marker, facecolors="C0" if buildable else "none",
-                         edgecolors="C0", label="buildable" if buildable else "not buildable as it is")
+                         edgecolors="C0", label="buildable (every spring a coil that passes its spec sheet)" if buildable
+                         else "not shown buildable (ideal laws, or a spec sheet fails)")
     front, best = [], float("inf")
     for a, b in sorted(zip(x, y)):
         if b < best:

@@ -380,7 +380,10 @@ def solve_task(payload: dict[str, Any]) -> dict[str, Any]:
     masses = [record.get("mass") for record in result.springs]
     sheets = [record["helical"]["buildable"] for record in result.springs if isinstance(record.get("helical"), dict)]
     flags = [flag.kind for flag in result.warnings()]
-    buildable = all(sheets) and not any(kind in ("unbuildable", "unbuildable_ideal") for kind in flags)
+    # buildable: every spring is a coil whose spec sheet passes (an ideal law, such as a zero-free-length
+    # spring, says nothing about a part that could be wound)
+    buildable = (len(sheets) == len(result.springs) and all(sheets)
+                 and not any(kind in ("unbuildable", "unbuildable_ideal") for kind in flags))
     return {**row, "status": "solved", "objective": objective,
             "objective_value": metrics["objectives"][objective]["after"],
             "objective_before": metrics["objectives"][objective]["before"],
