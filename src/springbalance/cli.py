@@ -137,7 +137,8 @@ def build_parser() -> argparse.ArgumentParser:
         description="Model each two-point spring of a saved design as a capsule between its end points and "
                     "print its smallest distance to the URDF's collision geometry over the workspace, with the "
                     "closest link and the pose. The collision objects of a spring's two anchor bodies are exempt. "
-                    "A check of the finished design: the optimisation does not constrain it.")
+                    "An independent check of the finished design, against the URDF's own shapes (a config's "
+                    "clearance section makes the optimisation keep the margin).")
     clearance.add_argument("design", metavar="DESIGN.json", help="design file written by 'springbalance design'")
     clearance.add_argument("--samples", "-n", type=_positive_int, metavar="N",
                            help="check N Sobol poses over the workspace's joint ranges instead of its own poses")

@@ -22,8 +22,12 @@ bounds alone and names both keys:
     ``stays_compressed``, ``stroke``: :meth:`free_length_interval` of its law) must meet the
     ``free_length`` bounds.
 
-Springs routed over pulleys and anchors mounted ``on: collision`` without a box are left to the
-solver. Lengths in m, forces in N.
+A routed spring (over pulleys) gets one check of its own, :func:`check_cable` (which
+:class:`~springbalance.design.problem.DesignProblem` runs for every routed spring): its path can
+be no longer than the sum of its segments' longest distances (plus ``2π r`` per wrapping pulley),
+so a shortest cable at least that long leaves the spring slack everywhere. Its other length
+bounds, and anchors mounted ``on: collision`` without a box, are left to the solver. Lengths in m,
+forces in N.
 """
 
 from __future__ import annotations
@@ -130,6 +134,24 @@ def _check_force(spring, label: str) -> None:
         if _exceeds(floor, limit):
             raise InputError(f"{label}: {key} is at least {floor:g} N, above max_force {limit:g} N ({why} at every "
                              "sample); no force meets both")
+
+
+def check_cable(problem, spring) -> None:
+    """Refuse a routed ``spring`` whose shortest allowed cable is at least the longest path it can make."""
+    cable = _bounds(spring, "cable_length")
+    if cable is None:
+        return
+    anchors = list(spring.anchors.values())
+    kinematics = problem.base_workspace.kinematics()
+    longest = 2 * np.pi * sum(spring.radii)                   # what wrapping pulleys can add [m]
+    for first, second in zip(anchors, anchors[1:]):
+        longest = longest + _distance_bounds(kinematics, [first.body, second.body],
+                                             [first.region(), second.region()])[1]
+    reach = float(np.max(longest))
+    if cable[0] >= reach:
+        raise InputError(f"spring {spring.name!r}: its cable ({cable[0]:.6g} m at the shortest) is at least as long "
+                         f"as its path can ever be ({reach:.6g} m over the workspace): the spring would be slack "
+                         "everywhere; shorten cable_length")
 
 
 def _distance_bounds(kinematics, bodies, regions) -> tuple[np.ndarray, np.ndarray]:

@@ -30,6 +30,7 @@ import numpy as np
 from springbalance.errors import InputError, Interrupted
 from springbalance.model import budget
 from springbalance.model.mechanism import Mechanism
+from springbalance.design.bounds import check_cable
 from springbalance.design.objectives import NlpPieces, Objective, objective_named
 from springbalance.design.scenarios import Scenario, ScenarioWorkspace, check_scenarios
 from springbalance.design.clearance import (Clearance, LinearRows, check_mounts, fit_from_starts, mount_rows,
@@ -38,7 +39,6 @@ from springbalance.design.coil_start import coil_springs, coil_start
 from springbalance.design.solvers import solve_problem, workers_default
 from springbalance.design.standard_wire import coils_with_free_wire, round_wires
 from springbalance.springs.laws import Spring
-from springbalance.springs.params import Free
 from springbalance.springs.records import spring_from_dict
 from springbalance.design.torque_model import BlockEvaluator, TorqueModel
 from springbalance.model.workspace import Workspace
@@ -477,7 +477,7 @@ class DesignProblem:
         # routed spring's cable that is longer than its path can ever be.
         for spring in self.springs:
             if getattr(spring, "routed", False):
-                self._check_cable(spring)
+                check_cable(self, spring)
         for column, spring in enumerate(self.springs):
             anchors = list(spring.anchors.values())
             if len(anchors) == 2 and not any(anchor.is_free for anchor in anchors):
@@ -486,39 +486,6 @@ class DesignProblem:
                 if shortest < 1e-9:
                     sample = int(np.argmin(evaluation.lengths[:, column]))
                     raise InputError(f"spring {spring.name!r}: its ends coincide (zero length) at workspace sample {sample}")
-
-    def _check_cable(self, spring) -> None:
-        """Refuse a routed spring whose shortest allowed cable is at least the longest path it can make.
-
-        The longest path is bounded at each sample by the largest distance between the corners of
-        consecutive points' regions (a distance between boxes is largest at corners), plus ``2π r``
-        per wrapping pulley; the spring (``ℓ − cable``) would then never have a positive length."""
-        cable = spring.parameters["cable_length"]
-        shortest = float(cable.lower) if isinstance(cable, Free) else float(cable)
-        kinematics = self.base_workspace.kinematics()
-        ground = self.model.ground_placements
-        corners = []
-        for anchor in spring.anchors.values():
-            region = anchor.region()
-            box = np.array(np.meshgrid(*[(low, high) for low, high in zip(region.lower, region.upper)],
-                                       indexing="ij")).reshape(len(region.lower), -1).T if len(region.lower) else \
-                np.zeros((1, 0))
-            local = region.offset + box @ region.basis.T                                   # K×3 [m], body frame
-            if anchor.body in ground:
-                translation, rotation = ground[anchor.body]
-                corners.append(np.broadcast_to(local @ rotation.T + translation, (kinematics.workspace.size,) + local.shape))
-            else:
-                body = kinematics.body(anchor.body)
-                corners.append(np.einsum("nij,kj->nki", body.rotation, local) + body.translation[:, None, :])
-        longest = np.zeros(kinematics.workspace.size)
-        for first, second in zip(corners, corners[1:]):
-            gaps = np.linalg.norm(first[:, :, None, :] - second[:, None, :, :], axis=-1)   # N×K×K' [m]
-            longest += gaps.reshape(len(longest), -1).max(axis=1)
-        longest += 2 * np.pi * sum(spring.radii)
-        if shortest >= float(longest.max()):
-            raise InputError(f"spring {spring.name!r}: its cable ({shortest:.6g} m at the shortest) is at least as long "
-                             f"as its path can ever be ({float(longest.max()):.6g} m over the workspace): the spring "
-                             "would be slack everywhere; shorten cable_length")
 
     def __repr__(self) -> str:
         return (f"DesignProblem({self.mechanism.name!r}, N={self.workspace.size}, springs={len(self.springs)}, "

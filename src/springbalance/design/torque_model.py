@@ -159,8 +159,6 @@ class TorqueModel:
         self.bodies = _moving_bodies(mechanism, springs)
         self.joints = _spring_joints(mechanism, springs)
         self._ground = _ground_placements(mechanism, springs)
-        #: world placement ``(translation, rotation)`` of every ground body a spring uses
-        self.ground_placements = self._ground
 
         # Design variables: every free anchor coordinate and every Free parameter.
         variable_slots = []  # (spring, end, region, index list)
