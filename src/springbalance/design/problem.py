@@ -274,12 +274,20 @@ class DesignProblem:
         first phase this way). For ``peak_then_joints`` the NLP is its second phase, the
         ``joint_peaks`` epigraph, whose variables the solver bounds by the first phase's optimum.
         """
-        objective = self.objective if objective is None else objective
-        n = self.workspace.size
         design = ca.MX.sym("z", self.variables.size)
         lower, upper = self.variables.bounds()
         x = ca.DM(lower) + ca.DM(upper - lower) * design
-        tau, potential, _, _, rows = self.model.mapped(n)(x, ca.DM(self.data))
+        tau, potential, _, _, rows = self.model.mapped(self.workspace.size)(x, ca.DM(self.data))
+        return self.assemble(design, tau, potential, rows, objective)
+
+    def assemble(self, design: ca.MX, tau: ca.MX, potential: ca.MX, rows: ca.MX,
+                 objective: Objective | None = None) -> Nlp:
+        """The NLP of :meth:`build` from the per-sample outputs as given: residual torques ``tau``
+        (nv×N), potentials (1×N) and constraint rows (n_c×N) as CasADi expressions of the scaled
+        design variables ``design`` (or as symbols of their own: :mod:`~springbalance.design.structured_nlp`
+        differentiates the NLP through them)."""
+        objective = self.objective if objective is None else objective
+        lower, upper = self.variables.bounds()
         weighted = ca.DM(self.weights) * tau if self.mechanism.nv > 1 else float(self.weights[0]) * tau
         pieces = objective.nlp(weighted, potential, self.path_steps, self.torque_scale, self.potential_scale)
         variables = [design]

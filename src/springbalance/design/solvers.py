@@ -51,6 +51,7 @@ import numpy as np
 from threadpoolctl import threadpool_limits
 
 from springbalance.errors import InputError, Interrupted, SolverError
+from springbalance.design.structured_nlp import NotStructured, StructuredNlp
 from springbalance.design.torque_model import BlockEvaluator, compiled
 from springbalance.model.sobol import sobol_engine
 
@@ -382,13 +383,17 @@ class _MultiStartSolver:
         self.tolerance = tolerance
         self._ls = None
         self._ipopt = None
-        self._nlp = None
-        self._first = None  # (nlp, solver) of a lexicographic objective's first phase
+        self._first = None  # the IPOPT of a lexicographic objective's first phase
 
     def prepare(self) -> None:
-        """Build what every start needs (the compiled least-squares residual), before workers fork."""
-        if self.method in ("auto", "least_squares") and self.problem.variables.size:
+        """Build what every start needs (the compiled least-squares residual, the NLP when IPOPT may
+        run), before workers fork."""
+        problem = self.problem
+        if self.method in ("auto", "least_squares") and problem.variables.size:
             self._residuals()
+        if problem.variables.size and (self.method == "ipopt" or not problem.objective.least_squares
+                                       or (self.method == "auto" and problem.model.n_constraints)):
+            self._ipopt_solvers()
 
     # ------------------------------------------------------------------ one start
     def run(self, index: int, z0: np.ndarray, prepare: bool = True) -> StartRecord:
@@ -532,35 +537,42 @@ class _MultiStartSolver:
         return np.clip(z, 0.0, 1.0)
 
     # ------------------------------------------------------------------ IPOPT
-    def _nlpsol(self, nlp):
+    def _nlpsol(self, objective=None):
+        """IPOPT on the problem's NLP (of ``objective``, default its own): with derivatives from the
+        per-sample structure on a working set of rows (:mod:`~springbalance.design.structured_nlp`), or
+        CasADi's own of the plain NLP when it lacks that structure."""
         options = {"print_time": False, "ipopt.print_level": 0, "ipopt.sb": "yes",
-                   "ipopt.max_iter": self.max_iterations, "ipopt.tol": min(self.tolerance, 1e-8),
-                   "ipopt.acceptable_tol": 1e-8, "ipopt.mu_strategy": "adaptive"}
-        return ca.nlpsol("springbalance", "ipopt", {"x": nlp.z, "f": nlp.cost, "g": nlp.rows}, options)
+                   "ipopt.tol": min(self.tolerance, 1e-8), "ipopt.acceptable_tol": 1e-8,
+                   "ipopt.mu_strategy": "adaptive"}
+        try:
+            return _StructuredIpopt(StructuredNlp(self.problem, objective), options)
+        except NotStructured:
+            return _PlainIpopt(self.problem.build(objective), options)
+
+    def _ipopt_solvers(self) -> None:
+        """Build the NLP solvers once: the objective's, and a lexicographic objective's first phase."""
+        if self._ipopt is None:
+            first_phase = self.problem.objective.first_phase
+            if first_phase is not None:
+                self._first = self._nlpsol(first_phase)
+            self._ipopt = self._nlpsol()
 
     def _ipopt_solve(self, z, evaluation):
         problem = self.problem
+        self._ipopt_solvers()
         first_phase = problem.objective.first_phase
         if first_phase is None:
-            if self._ipopt is None:
-                self._nlp = problem.build()
-                self._ipopt = self._nlpsol(self._nlp)
-            return self._ipopt_run(self._ipopt, self._nlp, z, evaluation)
+            return self._ipopt_run(self._ipopt, z, evaluation)
         # lexicographic: the first phase's optimum T*, then the objective's own NLP with its
         # epigraph variables bounded by T*·(1 + slack)
-        if self._first is None:
-            nlp = problem.build(first_phase)
-            self._first = (nlp, self._nlpsol(nlp))
-            self._nlp = problem.build()
-            self._ipopt = self._nlpsol(self._nlp)
-        z1, status1, iterations1 = self._ipopt_run(self._first[1], self._first[0], z, evaluation)
+        z1, status1, iterations1 = self._ipopt_run(self._first, z, evaluation)
         first = problem.evaluate(problem.scale(z1))
         weighted = first.tau * problem.weights
         bound = problem.objective.phase_two_bound(first_phase.value(weighted, first.potential, problem.path_steps),
                                                   problem.torque_scale)
-        upper = self._nlp.upper.copy()
-        upper[self._nlp.n_design:] = bound
-        z2, status2, iterations2 = self._ipopt_run(self._ipopt, self._nlp, z1, first, upper=upper)
+        upper = self._ipopt.nlp.upper.copy()
+        upper[self._ipopt.nlp.n_design:] = bound
+        z2, status2, iterations2 = self._ipopt_run(self._ipopt, z1, first, upper=upper)
         second = problem.evaluate(problem.scale(z2))
         value = problem.objective.value(second.tau * problem.weights, second.potential, problem.path_steps)
         kept = (second.max_violation <= max(FEASIBILITY_TOLERANCE, first.max_violation)
@@ -568,18 +580,45 @@ class _MultiStartSolver:
         status = f"{status1}, then {status2.removeprefix('ipopt: ')}{'' if kept else ' (not kept)'}"
         return (z2 if kept else z1), status, iterations1 + iterations2
 
-    def _ipopt_run(self, solver, nlp, z, evaluation, upper=None):
-        problem = self.problem
+    def _ipopt_run(self, ipopt, z, evaluation, upper=None):
+        problem, nlp = self.problem, ipopt.nlp
         start = z
         if nlp.size > nlp.n_design:
             extra = nlp.extra_start(evaluation.tau * problem.weights)
             if upper is not None:
                 extra = np.minimum(extra, upper[nlp.n_design:])
             start = np.concatenate([z, extra])
-        solution = solver(x0=start, lbx=nlp.lower, ubx=nlp.upper if upper is None else upper, lbg=0.0, ubg=np.inf)
+        x, status, iterations = ipopt.solve(start, nlp.lower, nlp.upper if upper is None else upper, self.max_iterations)
+        return np.clip(x[: nlp.n_design], 0.0, 1.0), f"ipopt: {status}", iterations
+
+
+class _StructuredIpopt:
+    """IPOPT through :class:`~springbalance.design.structured_nlp.StructuredNlp` (working set of rows)."""
+
+    def __init__(self, structured, options):
+        self.structured, self.nlp, self.options = structured, structured.nlp, options
+
+    def solve(self, start, lower, upper, max_iterations):
+        return self.structured.solve(start, lower, upper, self.options, max_iterations)
+
+
+class _PlainIpopt:
+    """IPOPT on the plain NLP, every row, CasADi's derivatives (for an NLP without the per-sample structure)."""
+
+    def __init__(self, nlp, options):
+        self.nlp, self.options, self._solvers = nlp, options, {}
+
+    def solve(self, start, lower, upper, max_iterations):
+        solver = self._solvers.get(max_iterations)
+        if solver is None:
+            nlp = self.nlp
+            solver = self._solvers[max_iterations] = ca.nlpsol(
+                "springbalance", "ipopt", {"x": nlp.z, "f": nlp.cost, "g": nlp.rows},
+                {**self.options, "ipopt.max_iter": int(max_iterations)})
+        solution = solver(x0=start, lbx=lower, ubx=upper, lbg=0.0, ubg=np.inf)
         stats = solver.stats()
-        z_new = np.clip(np.array(solution["x"]).reshape(-1)[: nlp.n_design], 0.0, 1.0)
-        return z_new, f"ipopt: {stats.get('return_status', 'unknown')}", int(stats.get("iter_count", 0))
+        return (np.array(solution["x"]).reshape(-1), str(stats.get("return_status", "unknown")),
+                int(stats.get("iter_count", 0)))
 
 
 class _LeastSquaresResiduals:

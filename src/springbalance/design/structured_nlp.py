@@ -1,0 +1,259 @@
+r"""IPOPT's derivatives from the per-sample structure of the NLP (docs/model.md §7).
+
+Every NLP of :meth:`~springbalance.design.problem.DesignProblem.build` is a function of the scaled
+design variables ``z`` *through the per-sample outputs* ``y_s = (τ_s, V_s, c_s)`` (residual torques,
+potential, constraint rows of sample ``s``), plus the objective's extra variables ``e`` (epigraph
+bounds) and rows linear in ``z``:
+
+.. math::
+    \min_{w=(z,e)} f(Y(z), w) \quad \text{s.t.}\quad g(Y(z), w) \ge 0, \qquad Y = [y_1 \dots y_N].
+
+``f`` and ``g`` (:meth:`~springbalance.design.problem.DesignProblem.assemble`) are cheap: sums,
+differences and squares of the entries of ``Y``. The costly part is ``Y(z)``, one small function per
+sample. With ``J_s = ∂y_s/∂z`` (m × n, from one compiled per-sample function) the chain rule gives
+
+- ``∇f = Σ_s J_sᵀ ∂f/∂y_s + ∂f/∂w`` and ``∂g/∂z = Σ_s ∂g/∂y_s J_s``;
+- for the Lagrangian ``L = λ_f f + λ_gᵀ g`` and ``ȳ_s = ∂L/∂y_s``:
+
+  .. math::
+      \nabla^2_{zz} L = \sum_s \nabla^2_{zz}\big(\bar y_s^\mathsf{T} y_s(z)\big)
+                      + \sum_{s,t} J_s^\mathsf{T}\,\frac{\partial^2 L}{\partial y_s \partial y_t}\,J_t .
+
+  The first term is one compiled per-sample function of ``(z, data_s, ȳ_s)`` (an n × n Hessian,
+  summed over the samples in C). The second is a Gauss–Newton-like term: zero when ``f`` and ``g``
+  are linear in ``Y`` (``peak``, ``joint_peaks``, ``energy``, every constraint row), ``Jᵀ diag(2λ_f c) J``
+  for ``rms``; CasADi forms it as ``n`` forward directions through ``∂L/∂Y``.
+
+This is the *exact* Hessian of the Lagrangian, at the cost of one pass over the samples, instead of
+CasADi differentiating the mapped MX graph twice (``n`` forward-over-reverse sweeps of every sample
+on its interpreter). The extra variables enter ``f`` and ``g`` linearly (checked when the NLP is
+built, else :class:`StructuredNlp` refuses and the solver differentiates the plain NLP), so the
+Hessian has only its ``z``–``z`` block.
+
+**Working set.** An interior-point method keeps every row of ``g`` in its linear systems, and most
+rows never matter: of the ``2·N·nv`` epigraph rows of ``peak`` only those of the worst samples bind,
+of a coil's stress rows only those of its longest stretch. :meth:`StructuredNlp.solve` gives IPOPT
+the rows that are violated or among the :data:`WORKING_ROWS` closest to binding (at least
+:data:`ROWS_PER_VARIABLE` per variable) at the start, solves, evaluates *every* row at the solution,
+adds the rows found violated (and the next closest), and solves again from there, until no row
+outside the set is violated: the answer then satisfies the full NLP's KKT conditions, as if all rows
+had been there. The maps over the samples run only over the samples that the cost and the rows in
+the set depend on (all of them for ``rms``, a few hundred for ``peak``).
+"""
+
+from __future__ import annotations
+
+import casadi as ca
+import numpy as np
+
+from springbalance.design.torque_model import compiled
+
+
+class NotStructured(ValueError):
+    """The NLP does not have the structure :class:`StructuredNlp` relies on (the caller falls back)."""
+
+
+#: rows IPOPT starts with: the violated ones and the closest to binding, at least this many ...
+WORKING_ROWS = 64
+#: ... and this many per variable
+ROWS_PER_VARIABLE = 6
+#: ... and every row of this many samples, the first ones (Sobol and grid prefixes spread over the workspace)
+SPREAD_SAMPLES = 64
+#: IPOPT's barrier parameter at the start of a warm-started round, and how far it pushes the start
+#: point and multipliers into the interior
+WARM_MU, WARM_PUSH = 1e-4, 1e-6
+#: a row outside the working set counts as violated below this (scaled units, as IPOPT's ``tol``)
+ROW_TOLERANCE = 1e-8
+#: IPOPT statuses after which a further round may follow (not after a failure or the iteration limit)
+CONVERGED = ("Solve_Succeeded", "Solved_To_Acceptable_Level")
+#: working-set rounds at most (each adds rows; the last one solves with every row still missing)
+MAX_ROUNDS = 12
+
+
+class StructuredNlp:
+    """IPOPT on ``problem``'s NLP (of ``objective``) with its gradient, constraint Jacobian and
+    Lagrangian Hessian from compiled per-sample functions, on a growing working set of rows (see
+    the module docstring).
+
+    Attributes:
+        nlp: the :class:`~springbalance.design.problem.Nlp`: variables, bounds, extra starts (its ``cost``
+            and ``rows`` are expressions of per-sample output symbols: solve with :meth:`solve`).
+    """
+
+    def __init__(self, problem, objective=None):
+        model = problem.model
+        self.n_samples, nv, n_c = problem.workspace.size, problem.mechanism.nv, model.n_constraints
+        self.n_design = n_x = problem.variables.size
+        self.n_outputs = m = nv + 1 + n_c
+        lower, upper = problem.variables.bounds()
+
+        # the NLP over symbols of the per-sample outputs (vec(Y), sample by sample)
+        self._outputs = ca.MX.sym("Y", m * self.n_samples)
+        grid = ca.reshape(self._outputs, m, self.n_samples)
+        design = ca.MX.sym("z", n_x)
+        self.nlp = nlp = problem.assemble(design, grid[:nv, :], grid[nv, :], grid[nv + 1:, :], objective)
+        both = ca.vertcat(nlp.cost, nlp.rows)
+        if nlp.size > n_x and not _linear_in(both, ca.vertcat(*nlp.z.primitives()[1:])):
+            raise NotStructured("the objective's extra variables enter its NLP nonlinearly")
+        if not _linear_in(both, design):
+            raise NotStructured("the NLP depends nonlinearly on the design variables other than through the samples")
+        self.n_rows = int(nlp.rows.numel())
+        self.extra_start = None
+        if nlp.size > n_x:
+            def extra_start(z):
+                return nlp.extra_start(problem.evaluate(problem.scale(z)).tau * problem.weights)
+            self.extra_start = extra_start
+        # the first sample each row depends on (n_samples for rows of no sample: linear, or of the extras only)
+        rows_of, columns_of = ca.jacobian(nlp.rows, self._outputs).sparsity().get_triplet()
+        self._row_sample = np.full(self.n_rows, self.n_samples)
+        np.minimum.at(self._row_sample, np.asarray(rows_of, dtype=int), np.asarray(columns_of, dtype=int) // m)
+
+        # per sample, compiled: y_s, then y_s with J_sᵀ, then the Hessian of ȳ_sᵀ y_s
+        z = ca.SX.sym("z", n_x)
+        data = ca.SX.sym("data", model.data_size)
+        weights = ca.SX.sym("ybar", m)
+        tau, potential, _, _, rows = model.sample(ca.DM(lower) + ca.DM(upper - lower) * z, data)
+        y = ca.vertcat(tau, potential, rows)
+        hessian, _ = ca.hessian(ca.dot(weights, y), z)
+        self._sample_outputs = compiled(ca.Function("sample_outputs", [z, data], [y]))
+        self._sample_jacobian = compiled(ca.Function("sample_jacobian", [z, data], [y, ca.jacobian(y, z).T]))
+        self._sample_hessian = compiled(ca.Function("sample_hessian", [z, data, weights], [ca.triu(hessian)]))
+        self._data = np.asarray(problem.data)
+        x = ca.MX.sym("x", nlp.size)
+        self._all_rows = ca.Function("all_rows", [x], [self._oracle(x, np.arange(self.n_samples), nlp.rows)[1]])
+
+    def _oracle(self, x, samples, rows):
+        """``(f, g)`` at ``x`` with the per-sample outputs of ``samples`` only (the others are not needed)."""
+        outputs = self._sample_outputs.map("outputs", "serial", samples.size, [0], [])(
+            x[: self.n_design], ca.MX(ca.DM(self._data[:, samples])))
+        return ca.Function("phi", [self._outputs, self.nlp.z], [self.nlp.cost, rows])(self._scatter(samples) @ ca.vec(outputs), x)
+
+    def _scatter(self, samples) -> ca.DM:
+        """The sparse 0/1 matrix that places the outputs of ``samples`` in vec(Y) (zeros elsewhere)."""
+        m = self.n_outputs
+        positions = (samples[:, None] * m + np.arange(m)[None, :]).reshape(-1)
+        return ca.DM(ca.Sparsity.triplet(m * self.n_samples, positions.size, positions.tolist(),
+                                         list(range(positions.size))), 1.0)
+
+    def row_values(self, x) -> np.ndarray:
+        """Every row of the NLP at ``x`` (design and extra variables, scaled)."""
+        return np.array(self._all_rows(x)).reshape(-1)
+
+    def _solver(self, rows: np.ndarray, options: dict) -> ca.Function:
+        """IPOPT on the NLP restricted to ``rows``, differentiated through the samples they use."""
+        nlp, n_x, m = self.nlp, self.n_design, self.n_outputs
+        f, g = nlp.cost, nlp.rows[rows.tolist()] if rows.size < self.n_rows else nlp.rows
+        used = ca.jacobian(ca.vertcat(f, g), self._outputs).sparsity().get_col()
+        samples = np.unique(np.asarray(used, dtype=int) // m) if len(used) else np.zeros(0, dtype=int)
+        if samples.size == 0:
+            samples = np.zeros(1, dtype=int)
+        count = samples.size
+        # the NLP over the outputs of those samples only
+        local = ca.MX.sym("Y", m * count)
+        f_local, g_local = ca.Function("phi", [self._outputs, nlp.z], [f, g])(self._scatter(samples) @ local, nlp.z)
+        n_g = int(g_local.numel())
+        lam_f, lam_g = ca.MX.sym("lam_f"), ca.MX.sym("lam_g", n_g)
+        ybar = ca.gradient(lam_f * f_local + ca.dot(lam_g, g_local), local)
+        directions = ca.MX.sym("J", m * count, n_x)
+        # (∂²L/∂Y²) J: zero when f and g are linear in Y
+        curvature = ca.jtimes(ybar, local, directions) if ca.depends_on(ybar, local) else ca.MX(m * count, n_x)
+        phi = ca.Function("phi", [local, nlp.z], [f_local, g_local])
+        phi_gradient = ca.Function("phi_gradient", [local, nlp.z], [f_local, ca.gradient(f_local, local),
+                                                                    ca.gradient(f_local, nlp.z)])
+        phi_jacobian = ca.Function("phi_jacobian", [local, nlp.z], [g_local, ca.jacobian(g_local, local),
+                                                                    ca.jacobian(g_local, nlp.z)])
+        phi_hessian = ca.Function("phi_hessian", [local, nlp.z, lam_f, lam_g, directions],
+                                  [ybar, ca.MX(n_x, n_x) if _structurally_zero(curvature)
+                                   else ca.mtimes(directions.T, curvature)])
+
+        # the oracle and its derivatives, as IPOPT's callbacks expect them
+        x, p = ca.MX.sym("x", nlp.size), ca.MX.sym("p", 0)
+        zx, columns, n_extra = x[:n_x], ca.MX(ca.DM(self._data[:, samples])), nlp.size - n_x
+        values = ca.vec(self._sample_outputs.map("outputs", "serial", count, [0], [])(zx, columns))
+        cost, constraints = phi(values, x)
+        values_j, transposed = self._sample_jacobian.map("jacobian", "serial", count, [0], [])(zx, columns)
+        values_j = ca.vec(values_j)
+        cost_j, cost_y, cost_w = phi_gradient(values_j, x)
+        grad_f = ca.Function("nlp_grad_f", [x, p], [cost_j, cost_w + ca.vertcat(ca.mtimes(transposed, cost_y), ca.MX(n_extra, 1))],
+                             ["x", "p"], ["f", "grad_f_x"])
+        rows_j, rows_y, rows_w = phi_jacobian(values_j, x)
+        jac_g = ca.Function("nlp_jac_g", [x, p], [rows_j, rows_w + ca.horzcat(ca.mtimes(rows_y, transposed.T), ca.MX(n_g, n_extra))],
+                            ["x", "p"], ["g", "jac_g_x"])
+        weight_f, weight_g = ca.MX.sym("lam_f"), ca.MX.sym("lam_g", n_g)
+        ybar_value, gauss_newton = phi_hessian(values_j, x, weight_f, weight_g, transposed.T)
+        summed = self._sample_hessian.map("hessian", "serial", count, [0], [0])(zx, columns, ca.reshape(ybar_value, m, count))
+        hessian = ca.diagcat(summed + ca.triu(gauss_newton), ca.MX(n_extra, n_extra))
+        hess_lag = ca.Function("nlp_hess_l", [x, p, weight_f, weight_g], [ca.triu(hessian)],
+                               ["x", "p", "lam_f", "lam_g"], ["triu_hess_gamma_x_x"])
+        options = {**options, "grad_f": grad_f, "jac_g": jac_g, "hess_lag": hess_lag, "calc_lam_p": False,
+                   "no_nlp_grad": True}
+        return ca.nlpsol("springbalance", "ipopt", {"x": x, "f": cost, "g": constraints}, options)
+
+    def solve(self, start: np.ndarray, lower: np.ndarray, upper: np.ndarray, options: dict,
+              max_iterations: int) -> tuple[np.ndarray, str, int]:
+        """IPOPT from ``start`` (design and extra variables) within the bounds, rows ≥ 0, on a working set
+        grown until no other row is violated. Returns ``(x, IPOPT's status, iterations)``; the
+        iterations of all rounds share ``max_iterations``."""
+        x = np.clip(np.asarray(start, dtype=float), lower, upper)
+        values = self.row_values(x)
+        keep = max(WORKING_ROWS, ROWS_PER_VARIABLE * self.nlp.size)
+        # the rows of the first samples (a workspace's samples are space-filling in any prefix), the rows
+        # of no sample, the violated rows and the closest to binding
+        active = (self._row_sample < min(SPREAD_SAMPLES, self.n_samples // 8)) | (self._row_sample == self.n_samples)
+        active |= values < ROW_TOLERANCE
+        active[_closest(values, active, keep)] = True
+        iterations, status, multipliers = 0, "not run", None
+        for round_ in range(MAX_ROUNDS):
+            if round_ == MAX_ROUNDS - 1:
+                active[:] = True
+            rows = np.flatnonzero(active)
+            # a warm round usually needs a few iterations; it may take half the budget even when the
+            # first rounds used it up (all rounds together stop at twice the budget)
+            round_options = {**options, "ipopt.max_iter": max(1, max_iterations - iterations, max_iterations // 2)}
+            arguments = {"x0": x, "lbx": lower, "ubx": upper, "lbg": 0.0, "ubg": np.inf}
+            if multipliers is not None:   # warm start: the previous round's multipliers, 0 for the new rows
+                lam_x, lam_g = multipliers
+                arguments.update(lam_x0=lam_x, lam_g0=lam_g[rows])
+                round_options.update({"ipopt.warm_start_init_point": "yes", "ipopt.mu_init": WARM_MU,
+                                      **{f"ipopt.warm_start_{name}": WARM_PUSH for name in (
+                                          "bound_push", "bound_frac", "slack_bound_push", "slack_bound_frac",
+                                          "mult_bound_push")}})
+                if self.extra_start is not None:   # the epigraph bounds of the design reached, over every sample
+                    x[self.n_design:] = np.clip(np.maximum(x[self.n_design:], self.extra_start(x[: self.n_design])),
+                                                lower[self.n_design:], upper[self.n_design:])
+            solver = self._solver(rows, round_options)
+            result = solver(**arguments)
+            stats = solver.stats()
+            iterations += int(stats.get("iter_count", 0))
+            status = str(stats.get("return_status", "unknown"))
+            x = np.clip(np.array(result["x"]).reshape(-1), lower, upper)
+            lam_g = np.zeros(self.n_rows)
+            lam_g[rows] = np.array(result["lam_g"]).reshape(-1)
+            multipliers = (np.array(result["lam_x"]).reshape(-1), lam_g)
+            values = self.row_values(x)
+            violated = ~active & (values < -ROW_TOLERANCE)
+            if not violated.any() or iterations >= 2 * max_iterations or status not in CONVERGED:
+                break
+            added = violated.copy()
+            added[_closest(values, active | violated, keep // 2)] = True
+            active |= added
+        return x, status, iterations
+
+
+def _closest(values: np.ndarray, taken: np.ndarray, count: int) -> np.ndarray:
+    """Indices of the ``count`` smallest ``values`` not yet ``taken``."""
+    free = np.flatnonzero(~taken)
+    if free.size <= count:
+        return free
+    return free[np.argpartition(values[free], count)[:count]]
+
+
+def _linear_in(expression: ca.MX, variables: ca.MX) -> bool:
+    """Whether ``expression`` is (structurally) linear in ``variables``."""
+    if variables.numel() == 0:
+        return True
+    return _structurally_zero(ca.jacobian(ca.jacobian(expression, variables), variables))
+
+
+def _structurally_zero(expression: ca.MX) -> bool:
+    return expression.nnz() == 0 or bool(expression.is_zero())
