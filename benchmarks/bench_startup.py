@@ -1,8 +1,13 @@
 """Start-up: import time, the compiled residual from an empty and from a warm disk cache, the CLI end to end.
 
 Prints, each figure measured in this run (the machine may be shared: compare the ratios):
-  1. `import springbalance` in a fresh interpreter, timed inside it (median of --imports runs),
-     beside the import of its heavy dependencies alone (numpy, casadi, pinocchio, pydantic);
+  1. import time in a fresh interpreter, timed inside it (median of --imports runs, after one
+     discarded run that fills a bytecode cache of its own, as an installed package has its .pyc
+     even where PYTHONDONTWRITEBYTECODE is set): `import springbalance`, which is lazy (SPEC 1:
+     it loads no subpackage and no dependency); `import springbalance; springbalance.DesignProblem`,
+     the first use, which loads the library (model, springs, design; numpy, casadi, pinocchio, not
+     pydantic, which only the config schema needs); and the dependencies alone (numpy, casadi,
+     pinocchio; and with pydantic);
   2. the UR5 problem of bench_ur5.py (4 extension springs, --samples Sobol samples): building its
      compiled residual in a first process on an empty cache (code generation + compiler), then in
      a second process on the same problem (the library is loaded from the cache, no compiler);
@@ -36,9 +41,11 @@ parser.add_argument("--skip-cli", action="store_true")
 args = parser.parse_args()
 
 
-def run(command, env=None, cwd=ROOT):
+def run(command, env=None, cwd=ROOT, replace=False):
+    """``(seconds, stdout)`` of ``command``; ``env`` is added to the environment (or is the environment: ``replace``)."""
     clock = time.perf_counter()
-    done = subprocess.run(command, cwd=cwd, env={**os.environ, **(env or {})}, capture_output=True, text=True)
+    environment = dict(env) if replace else {**os.environ, **(env or {})}
+    done = subprocess.run(command, cwd=cwd, env=environment, capture_output=True, text=True)
     seconds = time.perf_counter() - clock
     if done.returncode != 0:
         sys.exit(f"{' '.join(map(str, command))} failed:\n{done.stderr}")
@@ -46,17 +53,27 @@ def run(command, env=None, cwd=ROOT):
 
 
 # ---------------------------------------------------------------- 1. import time
-def import_time(modules):
-    """Median seconds of ``import modules`` in a fresh interpreter, timed inside it (and of the whole process)."""
-    code = f"import time; t = time.perf_counter(); import {modules}; print(time.perf_counter() - t)"
-    runs = [run([PYTHON, "-c", code]) for _ in range(args.imports)]
+def import_time(statement, bytecode):
+    """Median seconds of ``statement`` in a fresh interpreter, timed inside it (and of the whole process), after
+    one discarded run that fills the bytecode cache ``bytecode``."""
+    code = f"import time; t = time.perf_counter(); {statement}; print(time.perf_counter() - t)"
+    environment = {key: value for key, value in os.environ.items() if key != "PYTHONDONTWRITEBYTECODE"}
+    environment["PYTHONPYCACHEPREFIX"] = bytecode
+    runs = [run([PYTHON, "-c", code], environment, replace=True) for _ in range(1 + args.imports)][1:]
     return statistics.median(float(out) for _, out in runs), statistics.median(wall for wall, _ in runs)
 
 
-package, package_process = import_time("springbalance")
-dependencies, _ = import_time("numpy, casadi, pinocchio, pydantic")
-print(f"import springbalance        : {package:.3f} s (median of {args.imports}; the process with interpreter start and "
-      f"exit {package_process:.3f} s; numpy+casadi+pinocchio+pydantic alone {dependencies:.3f} s)")
+with tempfile.TemporaryDirectory(prefix="springbalance-bench-pyc-") as bytecode:
+    lazy, lazy_process = import_time("import springbalance", bytecode)
+    first_use, first_use_process = import_time("import springbalance; springbalance.DesignProblem", bytecode)
+    needed, _ = import_time("import numpy, casadi, pinocchio", bytecode)
+    dependencies, _ = import_time("import numpy, casadi, pinocchio, pydantic", bytecode)
+print(f"import springbalance                              : {lazy:.3f} s (lazy; median of {args.imports}, the process "
+      f"with interpreter start and exit {lazy_process:.3f} s)")
+print(f"import springbalance; springbalance.DesignProblem : {first_use:.3f} s (first use: the library; the process "
+      f"{first_use_process:.3f} s)")
+print(f"numpy+casadi+pinocchio alone                      : {needed:.3f} s (with pydantic, which the config schema "
+      f"needs: {dependencies:.3f} s)")
 
 # ---------------------------------------------------------------- 2. compiled residual, cold and warm cache
 SETUP = textwrap.dedent(f"""

@@ -31,6 +31,7 @@ import argparse
 import os
 import sys
 import warnings
+from collections.abc import Sequence
 from pathlib import Path
 
 from springbalance._version import __version__
@@ -82,9 +83,24 @@ def _print_warning(message, category, filename, lineno, file=None, line=None) ->
     print(f"{PROG}: warning: {' '.join(str(message).split())}", file=sys.stderr)
 
 
-def build_parser() -> argparse.ArgumentParser:
-    from springbalance.design.solvers import METHODS
+class _Methods(Sequence):
+    """The solver methods (:data:`springbalance.design.solvers.METHODS`) as the choices of ``--method``,
+    imported when argparse checks or shows them: the commands that solve nothing (``--help``,
+    ``inspect``, ``robots`` ...) do not load the solvers (casadi)."""
 
+    def _methods(self) -> tuple[str, ...]:
+        from springbalance.design.solvers import METHODS
+
+        return METHODS
+
+    def __getitem__(self, index):
+        return self._methods()[index]
+
+    def __len__(self) -> int:
+        return len(self._methods())
+
+
+def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog=PROG,
         description="Design gravity-balancing springs for robot arms described by URDF.",
@@ -110,7 +126,8 @@ def build_parser() -> argparse.ArgumentParser:
                         help="number of starts of the multi-start (overrides solve.starts)")
     design.add_argument("--seed", type=_nonnegative_int, metavar="S",
                         help="seed of the start points (overrides solve.seed)")
-    design.add_argument("--method", choices=METHODS, help="solver backend (overrides solve.method)")
+    design.add_argument("--method", choices=_Methods(), metavar="METHOD",  # a metavar: argparse lists no choices up front
+                        help="solver backend: %(choices)s (overrides solve.method)")
     design.add_argument("--workers", type=_positive_int, metavar="W",
                         help="processes that run the starts at once (overrides solve.workers; default: the "
                              "number of cores); the design does not depend on it")

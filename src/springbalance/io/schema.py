@@ -19,6 +19,7 @@ revolute joints in the workspace section are in degrees).
 """
 
 import functools
+import importlib
 import inspect
 import json
 import re
@@ -387,7 +388,11 @@ def _adopted_model(model: type[BaseModel]) -> type[BaseModel]:
 
 
 def _adopted(annotation):
-    """``annotation`` with every pydantic model in it (outside :class:`Record`) adopted."""
+    """``annotation`` with every pydantic model in it (outside :class:`Record`) adopted, and every
+    forward reference to one (``ForwardRef(name, module=...)``, as the spring laws name the
+    records of :mod:`springbalance.springs.options`) resolved."""
+    if isinstance(annotation, typing.ForwardRef) and annotation.__forward_module__ is not None:
+        annotation = getattr(importlib.import_module(annotation.__forward_module__), annotation.__forward_arg__)
     if isinstance(annotation, type) and issubclass(annotation, BaseModel) and not issubclass(annotation, Record):
         return _adopted_model(annotation)
     origin, args = typing.get_origin(annotation), typing.get_args(annotation)

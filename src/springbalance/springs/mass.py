@@ -2,39 +2,37 @@ r"""The mass of a spring itself (docs/model.md §5): fixed, or coupled to its ra
 
 A spring's mass is carried as a uniform body between its ends, half at each end; see
 :class:`~springbalance.springs.laws.base.TwoPointSpring`. In a record, ``mass`` is a number [kg]
-(:class:`FixedMass`) or a coil mapping (:class:`CoilMass`, whose keys :class:`CoilMassRecord` lists).
+(:class:`FixedMass`) or a coil mapping (:class:`CoilMass`, whose keys
+:class:`~springbalance.springs.options.CoilMassRecord` lists).
 """
 
 from __future__ import annotations
 
 import math
-from typing import Annotated, Optional, Union
+import typing
+from typing import Annotated, Union
 
 import annotated_types
 import numpy as np
-import pydantic
 
 from springbalance.errors import InputError
 from springbalance.springs.sizing import coil_mass, material_named
 
-_Positive = Annotated[float, annotated_types.Gt(0)]
+#: The pydantic record of a coil mass in the config schema, by forward reference (resolved by the
+#: schema, so that the spring laws load without pydantic): :class:`springbalance.springs.options.CoilMassRecord`.
+COIL_MASS_RECORD = typing.ForwardRef("CoilMassRecord", module="springbalance.springs.options")
 
 
-class CoilMassRecord(pydantic.BaseModel):
-    """The keys of a coil mass: ``{coil_diameter, active_coils, wire_length?, material? | shear_modulus, density}``."""
+def __getattr__(name: str):
+    if name == "CoilMassRecord":  # where it was defined before springbalance.springs.options
+        from springbalance.springs.options import CoilMassRecord
 
-    model_config = pydantic.ConfigDict(extra="forbid")
-
-    coil_diameter: _Positive = pydantic.Field(description="mean coil diameter D [m]")
-    active_coils: _Positive = pydantic.Field(description="active coils n [1]")
-    wire_length: Optional[_Positive] = pydantic.Field(None, description="wire length L_w [m]; default π D (n + 2)")
-    material: Optional[str] = pydantic.Field(None, description="a material of springbalance.springs.sizing.MATERIALS")
-    shear_modulus: Optional[_Positive] = pydantic.Field(None, description="G [Pa], instead of a material")
-    density: Optional[_Positive] = pydantic.Field(None, description="ρ [kg/m³], instead of a material")
+        return CoilMassRecord
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 #: the type of the ``mass`` option in the config schema: kilograms, or a coil.
-MassOption = Union[Annotated[float, annotated_types.Ge(0)], CoilMassRecord]
+MassOption = Union[Annotated[float, annotated_types.Ge(0)], COIL_MASS_RECORD]
 
 
 class CoilMass:

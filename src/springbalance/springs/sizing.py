@@ -44,12 +44,11 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from typing import Annotated, Sequence
+import typing
+from typing import Sequence
 
-import annotated_types
 import casadi as ca
 import numpy as np
-import pydantic
 
 from springbalance.errors import InputError
 
@@ -307,15 +306,18 @@ class Helical:
         return f"Helical({self.material.name!r}, index={self.index}, min_active_coils={self.min_active_coils})"
 
 
-class HelicalOption(pydantic.BaseModel):
-    """The keys of the ``helical`` option of a spring record (see :class:`Helical`)."""
+#: The type of the ``helical`` option in the config schema: a forward reference to the pydantic
+#: record :class:`springbalance.springs.options.HelicalOption`, which the schema resolves (so that
+#: the spring laws load without pydantic).
+HELICAL_OPTION = typing.ForwardRef("HelicalOption", module="springbalance.springs.options")
 
-    model_config = pydantic.ConfigDict(extra="forbid")
 
-    material: str = pydantic.Field("music_wire", description="a material of MATERIALS")
-    index: Annotated[float, annotated_types.Ge(4), annotated_types.Le(15)] = pydantic.Field(
-        8.0, description="spring index C = D/d [1], 4–15")
-    min_active_coils: Annotated[float, annotated_types.Ge(1)] = pydantic.Field(3.0, description="[1]")
+def __getattr__(name: str):
+    if name == "HelicalOption":  # where it was defined before springbalance.springs.options
+        from springbalance.springs.options import HelicalOption
+
+        return HelicalOption
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def helical_from_dict(record, where: str = "helical") -> Helical:

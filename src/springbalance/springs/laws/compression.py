@@ -10,7 +10,7 @@ from springbalance.errors import InputError
 from springbalance.springs import constraints as practical
 from springbalance.springs.laws.base import HelicalSpringMixin, PositiveNumber, TwoPointSpring, _positive_option
 from springbalance.springs.params import Anchor
-from springbalance.springs.sizing import HelicalOption
+from springbalance.springs.sizing import HELICAL_OPTION
 
 
 class CompressionSpring(HelicalSpringMixin, TwoPointSpring):
@@ -34,7 +34,7 @@ class CompressionSpring(HelicalSpringMixin, TwoPointSpring):
     defaults = {"preload": 0.0}
     linear_parameters = ("stiffness", "preload")
     option_types = {**TwoPointSpring.option_types, "ideal": Literal[True], "stays_compressed": bool, "stroke": PositiveNumber | None,
-                    "helical": HelicalOption | None}
+                    "helical": HELICAL_OPTION | None}
     helical_kind = "compression"
 
     def __init__(self, a: Anchor, b: Anchor, name: str | None = None, *, ideal: bool = True, stays_compressed: bool = True,

@@ -10,7 +10,7 @@ from springbalance.errors import InputError
 from springbalance.springs import constraints as practical
 from springbalance.springs.laws.base import HelicalSpringMixin, StretchRatio, TwoPointSpring, _positive_option
 from springbalance.springs.params import Anchor
-from springbalance.springs.sizing import HelicalOption
+from springbalance.springs.sizing import HELICAL_OPTION
 
 
 class ExtensionSpring(HelicalSpringMixin, TwoPointSpring):
@@ -34,7 +34,7 @@ class ExtensionSpring(HelicalSpringMixin, TwoPointSpring):
     defaults = {"initial_tension": 0.0}
     linear_parameters = ("stiffness", "initial_tension")
     option_types = {**TwoPointSpring.option_types, "ideal": Literal[True], "keep_tension": bool, "max_stretch": StretchRatio | None,
-                    "helical": HelicalOption | None}
+                    "helical": HELICAL_OPTION | None}
     helical_kind = "extension"
 
     def __init__(self, a: Anchor, b: Anchor, name: str | None = None, *, ideal: bool = True, keep_tension: bool = True,

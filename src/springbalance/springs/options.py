@@ -1,0 +1,43 @@
+"""The pydantic records of the spring options that are mappings: ``helical`` and a coil ``mass``.
+
+They live in their own module, the only one of :mod:`springbalance.springs` that imports pydantic,
+so that the spring laws, and with them the design problem, load without pydantic. A law names
+them in its ``option_types`` by the forward references
+:data:`springbalance.springs.sizing.HELICAL_OPTION` and :data:`springbalance.springs.mass.COIL_MASS_RECORD`;
+the config schema (:mod:`springbalance.io.schema`) resolves those, which imports this module when
+a config is validated or the schema written.
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Optional
+
+import annotated_types
+import pydantic
+
+_Positive = Annotated[float, annotated_types.Gt(0)]
+
+
+class HelicalOption(pydantic.BaseModel):
+    """The keys of the ``helical`` option of a spring record (see :class:`Helical`)."""
+
+    model_config = pydantic.ConfigDict(extra="forbid")
+
+    material: str = pydantic.Field("music_wire", description="a material of MATERIALS")
+    index: Annotated[float, annotated_types.Ge(4), annotated_types.Le(15)] = pydantic.Field(
+        8.0, description="spring index C = D/d [1], 4–15")
+    min_active_coils: Annotated[float, annotated_types.Ge(1)] = pydantic.Field(3.0, description="[1]")
+
+
+class CoilMassRecord(pydantic.BaseModel):
+    """The keys of a coil mass: ``{coil_diameter, active_coils, wire_length?, material? | shear_modulus, density}``."""
+
+    model_config = pydantic.ConfigDict(extra="forbid")
+
+    coil_diameter: _Positive = pydantic.Field(description="mean coil diameter D [m]")
+    active_coils: _Positive = pydantic.Field(description="active coils n [1]")
+    wire_length: Optional[_Positive] = pydantic.Field(None, description="wire length L_w [m]; default π D (n + 2)")
+    material: Optional[str] = pydantic.Field(None, description="a material of springbalance.springs.sizing.MATERIALS")
+    shear_modulus: Optional[_Positive] = pydantic.Field(None, description="G [Pa], instead of a material")
+    density: Optional[_Positive] = pydantic.Field(None, description="ρ [kg/m³], instead of a material")
+
