@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import copy
 import dataclasses
+import importlib
 from typing import Mapping, Sequence
 
 import casadi as ca
@@ -51,8 +52,8 @@ JOINT_LIMIT_FLOOR = 1e-6
 
 #: What :meth:`DesignProblem.solve` and :meth:`DesignProblem.result` wrap a design vector in:
 #: :class:`springbalance.results.result.DesignResult`, which registers itself here when the
-#: results layer is imported (``import springbalance`` does that before any submodule runs).
-#: The design layer thus hands its solution up without importing the layers above it.
+#: results layer is imported (:meth:`DesignProblem.result` imports it by name when nothing has yet).
+#: The design layer thus hands its solution up without a static import of the layers above it.
 _RESULT_TYPE = None
 
 
@@ -381,8 +382,8 @@ class DesignProblem:
 
         ``info``: ``starts``, ``method``, ``seed`` and ``status`` of the solve that found ``x``.
         """
-        if _RESULT_TYPE is None:
-            raise RuntimeError("no result type registered: import springbalance (its results layer registers it)")
+        if _RESULT_TYPE is None:   # the results layer registers its type when imported (it sits above this one)
+            importlib.import_module("springbalance.results.result")
         return _RESULT_TYPE(self, np.asarray(x, dtype=float), **info)
 
     # ---------------------------------------------------------------- scenarios
