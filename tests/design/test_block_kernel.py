@@ -1,0 +1,55 @@
+"""The block kernel (design/block_kernel.py) gives bit for bit CasADi's own compiled result."""
+
+import numpy as np
+import pytest
+
+from springbalance.design.block_kernel import SOURCE_ATTRIBUTE, block_kernel, block_kernel_code
+from springbalance.design.solvers import _LeastSquaresResiduals
+from springbalance.design.torque_model import BlockEvaluator, compiler_available
+from springbalance.io.config import load_config
+
+pytestmark = pytest.mark.skipif(not compiler_available(), reason="no C compiler on PATH: the kernel is C")
+
+
+@pytest.fixture(scope="module")
+def coil_problem(tmp_path_factory):
+    """The two-link demo (three helical coils: square roots, powers, stress and hook rows) on 2,100
+    samples, a number that is not a multiple of the kernel's 4 lanes nor of a block."""
+    import pathlib
+
+    root = pathlib.Path(__file__).resolve().parents[2]
+    text = (root / "examples" / "two_link.yaml").read_text().replace("n: 128", "n: 2100")
+    text = text.replace("../urdf/", str(root / "urdf") + "/")
+    path = tmp_path_factory.mktemp("kernel") / "two_link.yaml"
+    path.write_text(text)
+    return load_config(path).problem
+
+
+def test_kernel_outputs_equal_casadi_bit_for_bit(coil_problem):
+    residuals = _LeastSquaresResiduals(coil_problem)
+    function = residuals.function
+    assert block_kernel(function, coil_problem.workspace.size) is not None   # it is built for this function
+    assert "vector_size(32)" in block_kernel_code(getattr(function, SOURCE_ATTRIBUTE))   # 4 doubles per vector
+    with_kernel = BlockEvaluator(function, coil_problem.data, kernel=True)
+    without = BlockEvaluator(function, coil_problem.data, kernel=False)
+    rng = np.random.default_rng(3)
+    for z in rng.random((3, coil_problem.variables.size)):
+        for a, b in zip(with_kernel.evaluate(z), without.evaluate(z)):
+            assert a.shape == b.shape
+            assert np.array_equal(a, b), float(np.max(np.abs(a - b)))
+
+
+def test_normal_equations_equal_with_and_without_kernel(coil_problem, monkeypatch):
+    """The solver's sums JᵀJ, Jᵀr, rᵀr (two threads by default) equal those of CasADi's map."""
+    z = np.full(coil_problem.variables.size, 0.4)
+    fast = _LeastSquaresResiduals(coil_problem)
+    fast.evaluator = BlockEvaluator(fast.function, coil_problem.data, kernel=True)
+    plain = _LeastSquaresResiduals(coil_problem)
+    plain.evaluator = BlockEvaluator(plain.function, coil_problem.data, kernel=False)
+    for a, b in zip(fast.normal_equations(z), plain.normal_equations(z)):
+        assert np.array_equal(a, b)
+
+
+def test_small_workspaces_keep_casadi_map(coil_problem):
+    function = _LeastSquaresResiduals(coil_problem).function
+    assert block_kernel(function, 128) is None
