@@ -6,7 +6,7 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 DOCS_STAMP := $(VENV)/.docs-installed
 
-.PHONY: demo test bench bench-buildable bench-clearance bench-explore bench-startup bench-workers bench-memory clean chromium demo-check docs
+.PHONY: demo test bench bench-buildable bench-clearance bench-explore bench-startup bench-workers bench-memory bench-evaluation bench-ipopt clean chromium demo-check docs
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -94,6 +94,14 @@ bench-workers: $(STAMP)
 # No full Jacobian: peak memory per sample and time per start at 25,000 and 100,000 UR5 samples
 bench-memory: $(STAMP)
 	$(BIN)/python benchmarks/bench_memory.py
+
+# The least-squares path: residual + Jacobian at 4,096 UR5 samples, a normal-equations pass, a start at 100,000
+bench-evaluation: $(STAMP)
+	$(BIN)/python benchmarks/bench_evaluation.py
+
+# The IPOPT path: one peak start at 4,096 UR5 samples and one coil-constrained two-link solve, structured vs plain NLP
+bench-ipopt: $(STAMP)
+	$(BIN)/python benchmarks/bench_ipopt.py
 
 clean:
 	rm -rf $(VENV) design.json site

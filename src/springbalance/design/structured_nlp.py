@@ -1,4 +1,4 @@
-r"""IPOPT's derivatives from the per-sample structure of the NLP (docs/model.md §7).
+r"""IPOPT's derivatives from the per-sample structure of the NLP (docs/model.md §6, "How IPOPT sees the NLP").
 
 Every NLP of :meth:`~springbalance.design.problem.DesignProblem.build` is a function of the scaled
 design variables ``z`` *through the per-sample outputs* ``y_s = (τ_s, V_s, c_s)`` (residual torques,
@@ -141,6 +141,14 @@ class StructuredNlp:
 
     def _solver(self, rows: np.ndarray, options: dict) -> ca.Function:
         """IPOPT on the NLP restricted to ``rows``, differentiated through the samples they use."""
+        x, cost, constraints, derivatives = self.callbacks(rows)
+        options = {**options, **derivatives, "calc_lam_p": False, "no_nlp_grad": True}
+        return ca.nlpsol("springbalance", "ipopt", {"x": x, "f": cost, "g": constraints}, options)
+
+    def callbacks(self, rows: np.ndarray) -> tuple:
+        """``(x, f, g, {"grad_f", "jac_g", "hess_lag"})`` of the NLP restricted to ``rows``: the variables,
+        cost and rows as MX expressions, and the three derivative functions with the signatures IPOPT's
+        interface expects (``nlp_grad_f``, ``nlp_jac_g``, ``nlp_hess_l``)."""
         nlp, n_x, m = self.nlp, self.n_design, self.n_outputs
         f, g = nlp.cost, nlp.rows[rows.tolist()] if rows.size < self.n_rows else nlp.rows
         used = ca.jacobian(ca.vertcat(f, g), self._outputs).sparsity().get_col()
@@ -185,9 +193,7 @@ class StructuredNlp:
         hessian = ca.diagcat(summed + ca.triu(gauss_newton), ca.MX(n_extra, n_extra))
         hess_lag = ca.Function("nlp_hess_l", [x, p, weight_f, weight_g], [ca.triu(hessian)],
                                ["x", "p", "lam_f", "lam_g"], ["triu_hess_gamma_x_x"])
-        options = {**options, "grad_f": grad_f, "jac_g": jac_g, "hess_lag": hess_lag, "calc_lam_p": False,
-                   "no_nlp_grad": True}
-        return ca.nlpsol("springbalance", "ipopt", {"x": x, "f": cost, "g": constraints}, options)
+        return x, cost, constraints, {"grad_f": grad_f, "jac_g": jac_g, "hess_lag": hess_lag}
 
     def solve(self, start: np.ndarray, lower: np.ndarray, upper: np.ndarray, options: dict,
               max_iterations: int) -> tuple[np.ndarray, str, int]:

@@ -1,0 +1,87 @@
+"""IPOPT's derivatives through the per-sample structure (design/structured_nlp.py) equal CasADi's
+own derivatives of the plain NLP, and the working set of rows ends at a solution of the full NLP."""
+
+import casadi as ca
+import numpy as np
+import pytest
+
+import springbalance as sb
+from springbalance.design.structured_nlp import StructuredNlp
+from springbalance.io.config import load_config
+
+
+def _planar(objective, samples=96):
+    mechanism = sb.Mechanism.from_urdf("urdf/two_link_planar.urdf")
+    workspace = sb.Workspace.sobol(mechanism, samples, seed=2)
+    springs = [
+        sb.ExtensionSpring(sb.Anchor("universe", sb.Free([-0.1, 0, 0.05], [0.1, 0, 0.3])),
+                           sb.Anchor("link1", sb.Free([0.05, 0, 0], [0.5, 0, 0])), "shoulder",
+                           stiffness=sb.Free(0, 3000), free_length=sb.Free(0.02, 0.3)),
+        sb.ExtensionSpring(sb.Anchor("link1", sb.Free([0.1, 0, -0.05], [0.5, 0, 0.05])),
+                           sb.Anchor("link2", sb.Free([-0.15, 0, -0.05], [0.4, 0, 0.05])), "elbow",
+                           stiffness=sb.Free(0, 3000), free_length=sb.Free(0.02, 0.3)),
+    ]
+    return sb.DesignProblem(mechanism, workspace, springs, objective=objective)
+
+
+def _coils():
+    return load_config("examples/two_link.yaml").problem
+
+
+def _dense(value):
+    return np.array(ca.densify(value))
+
+
+@pytest.mark.parametrize("make", [lambda: _planar("peak"), lambda: _planar("joint_peaks"), lambda: _planar("rms"),
+                                  _coils], ids=["peak", "joint_peaks", "rms", "coil-rows"])
+def test_derivatives_equal_casadi_of_the_plain_nlp(make):
+    problem = make()
+    structured = StructuredNlp(problem)
+    x, _, _, derivatives = structured.callbacks(np.arange(structured.n_rows))
+    plain = problem.build()
+    solver = ca.nlpsol("plain", "ipopt", {"x": plain.z, "f": plain.cost, "g": plain.rows},
+                       {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes"})
+    rng = np.random.default_rng(7)
+    point, multipliers = rng.random(plain.size), rng.normal(size=plain.n_rows)
+    for name, ours, arguments in (("nlp_grad_f", derivatives["grad_f"], (point, [])),
+                                  ("nlp_jac_g", derivatives["jac_g"], (point, [])),
+                                  ("nlp_hess_l", derivatives["hess_lag"], (point, [], 0.8, multipliers))):
+        theirs = solver.get_function(name)(*arguments)
+        mine = ours(*arguments)
+        theirs, mine = ([theirs], [mine]) if name == "nlp_hess_l" else (theirs, mine)
+        for a, b in zip(theirs, mine):
+            a, b = _dense(a), _dense(b)
+            assert a.shape == b.shape, name
+            assert np.allclose(a, b, rtol=1e-10, atol=1e-12 * max(1.0, np.max(np.abs(a)))), name
+
+
+def test_working_set_ends_at_a_solution_of_the_full_nlp():
+    """From the rms design, a peak solve sees a part of the 2·N·nv rows, yet every row holds at its answer
+    and IPOPT on all rows, started there, finds nothing lower."""
+    problem = _planar("peak", samples=512)
+    rms = _planar("rms", samples=512)
+    start = rms.solve(starts=1, workers=1).x
+    structured = StructuredNlp(problem)
+    nlp = structured.nlp
+    evaluation = problem.evaluate(start)
+    w0 = np.concatenate([np.clip(problem.unscale(start), 0, 1), nlp.extra_start(evaluation.tau * problem.weights)])
+    seen = []
+    original = structured._solver
+
+    def counting(rows, options):
+        seen.append(rows.size)
+        return original(rows, options)
+
+    structured._solver = counting
+    options = {"print_time": False, "ipopt.print_level": 0, "ipopt.sb": "yes", "ipopt.tol": 1e-8}
+    w, status, iterations = structured.solve(w0, nlp.lower, nlp.upper, options, 200)
+    assert status == "Solve_Succeeded"
+    assert max(seen) < nlp.n_rows / 2          # IPOPT never had most of the rows
+    assert np.min(structured.row_values(w)) > -1e-7
+    peak = problem.objective_value(problem.evaluate(problem.scale(w[: nlp.n_design])))
+    assert peak < 0.9 * problem.objective_value(evaluation)
+    plain = problem.build()
+    solver = ca.nlpsol("plain", "ipopt", {"x": plain.z, "f": plain.cost, "g": plain.rows}, options)
+    again = np.array(solver(x0=w, lbx=plain.lower, ubx=plain.upper, lbg=0, ubg=np.inf)["x"]).reshape(-1)
+    polished = problem.objective_value(problem.evaluate(problem.scale(np.clip(again[: plain.n_design], 0, 1))))
+    assert polished > peak * (1 - 1e-4)
