@@ -53,3 +53,21 @@ def test_normal_equations_equal_with_and_without_kernel(coil_problem, monkeypatc
 def test_small_workspaces_keep_casadi_map(coil_problem):
     function = _LeastSquaresResiduals(coil_problem).function
     assert block_kernel(function, 128) is None
+
+
+@pytest.mark.parametrize("text, expected", [("1", 1), ("2", 2), ("8", 2)])
+def test_threads_from_the_environment(monkeypatch, text, expected):
+    from springbalance.design.torque_model import THREADS_ENV, evaluation_threads
+
+    monkeypatch.setenv(THREADS_ENV, text)
+    assert evaluation_threads() == expected
+
+
+@pytest.mark.parametrize("text", ["0", "-1", "two", "1.5"])
+def test_bad_thread_counts_name_the_variable(monkeypatch, text):
+    from springbalance.design.torque_model import THREADS_ENV, evaluation_threads
+    from springbalance.errors import InputError
+
+    monkeypatch.setenv(THREADS_ENV, text)
+    with pytest.raises(InputError, match=f"{THREADS_ENV} must be an integer ≥ 1, got"):
+        evaluation_threads()

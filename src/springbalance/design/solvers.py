@@ -52,7 +52,7 @@ from threadpoolctl import threadpool_limits
 
 from springbalance.errors import InputError, Interrupted, SolverError
 from springbalance.design.structured_nlp import NotStructured, StructuredNlp
-from springbalance.design.torque_model import BlockEvaluator, compiled
+from springbalance.design.torque_model import BlockEvaluator, compiled, count_from_environment, use_one_thread
 from springbalance.model.sobol import sobol_engine
 
 METHODS = ("auto", "least_squares", "ipopt")
@@ -132,14 +132,8 @@ _IN_WORKER = False
 def default_workers() -> int:
     """Worker processes of a solve that does not say: ``$SPRINGBALANCE_WORKERS`` when set, else
     ``os.cpu_count()``."""
-    text = os.environ.get(WORKERS_ENV, "").strip()
-    if text:
-        try:
-            value = int(text)
-        except ValueError:
-            raise InputError(f"{WORKERS_ENV} must be an integer ≥ 1, got {text!r}") from None
-        if value < 1:
-            raise InputError(f"{WORKERS_ENV} must be an integer ≥ 1, got {value}")
+    value = count_from_environment(WORKERS_ENV)
+    if value is not None:
         return value
     return os.cpu_count() or 1
 
@@ -188,6 +182,7 @@ def _pool_workers(problem, workers, tasks: int) -> tuple[int, bool]:
 def _mark_worker() -> None:
     global _IN_WORKER
     _IN_WORKER = True
+    use_one_thread()
 
 
 def _run_in_worker(index, z0, prepare, max_iterations):

@@ -40,7 +40,6 @@ import functools
 import os
 import queue
 import shutil
-import sys
 import threading
 from typing import Sequence
 
@@ -455,20 +454,38 @@ def compiled(function: ca.Function) -> ca.Function:
 THREADS_ENV = "SPRINGBALANCE_THREADS"
 
 
+def count_from_environment(name: str) -> int | None:
+    """The integer ≥ 1 that environment variable ``name`` holds, None when it is unset or empty;
+    :class:`~springbalance.errors.InputError` naming the variable for anything else."""
+    text = os.environ.get(name, "").strip()
+    if not text:
+        return None
+    try:
+        value = int(text)
+    except ValueError:
+        raise InputError(f"{name} must be an integer ≥ 1, got {text!r}") from None
+    if value < 1:
+        raise InputError(f"{name} must be an integer ≥ 1, got {value}")
+    return value
+
+
+_ONE_THREAD = False   # set in the worker processes of a pool of starts (which already use the cores)
+
+
+def use_one_thread() -> None:
+    """Evaluate block passes in the calling thread only, from now on in this process (the pool's
+    worker processes call it: the pool already uses the cores)."""
+    global _ONE_THREAD
+    _ONE_THREAD = True
+
+
 def evaluation_threads() -> int:
-    """Threads of a block pass: ``$SPRINGBALANCE_THREADS`` when set, else 2 when this process may run
-    on 2 cores or more and is not a worker process of a pool of starts, else 1."""
-    text = os.environ.get(THREADS_ENV, "").strip()
-    if text:
-        try:
-            value = int(text)
-        except ValueError:
-            raise InputError(f"{THREADS_ENV} must be an integer ≥ 1, got {text!r}") from None
-        if value < 1:
-            raise InputError(f"{THREADS_ENV} must be an integer ≥ 1, got {value}")
+    """Threads of a block pass: ``$SPRINGBALANCE_THREADS`` when set (1 or 2), else 2 when this process
+    may run on 2 cores or more and is not a worker process of a pool of starts, else 1."""
+    value = count_from_environment(THREADS_ENV)
+    if value is not None:
         return min(value, 2)
-    solvers = sys.modules.get("springbalance.design.solvers")
-    if solvers is not None and getattr(solvers, "_IN_WORKER", False):   # the pool already uses the cores
+    if _ONE_THREAD:
         return 1
     try:
         cores = len(os.sched_getaffinity(0))
