@@ -163,16 +163,16 @@ class StructuredNlp:
         lam_f, lam_g = ca.MX.sym("lam_f"), ca.MX.sym("lam_g", n_g)
         ybar = ca.gradient(lam_f * f_local + ca.dot(lam_g, g_local), local)
         directions = ca.MX.sym("J", m * count, n_x)
-        # (∂²L/∂Y²) J: zero when f and g are linear in Y
-        curvature = ca.jtimes(ybar, local, directions) if ca.depends_on(ybar, local) else ca.MX(m * count, n_x)
+        # (∂²L/∂Y²) J, and ȳ itself, do not depend on Y when f and g are linear in Y (epigraphs, constraint rows)
+        linear = not ca.depends_on(ybar, local)
+        curvature = ca.MX(m * count, n_x) if linear else ca.jtimes(ybar, local, directions)
         phi = ca.Function("phi", [local, nlp.z], [f_local, g_local])
         phi_gradient = ca.Function("phi_gradient", [local, nlp.z], [f_local, ca.gradient(f_local, local),
                                                                     ca.gradient(f_local, nlp.z)])
         phi_jacobian = ca.Function("phi_jacobian", [local, nlp.z], [g_local, ca.jacobian(g_local, local),
                                                                     ca.jacobian(g_local, nlp.z)])
         phi_hessian = ca.Function("phi_hessian", [local, nlp.z, lam_f, lam_g, directions],
-                                  [ybar, ca.MX(n_x, n_x) if _structurally_zero(curvature)
-                                   else ca.mtimes(directions.T, curvature)])
+                                  [ybar, ca.MX(n_x, n_x) if linear else ca.mtimes(directions.T, curvature)])
 
         # the oracle and its derivatives, as IPOPT's callbacks expect them
         x, p = ca.MX.sym("x", nlp.size), ca.MX.sym("p", 0)
@@ -188,7 +188,10 @@ class StructuredNlp:
         jac_g = ca.Function("nlp_jac_g", [x, p], [rows_j, rows_w + ca.horzcat(ca.mtimes(rows_y, transposed.T), ca.MX(n_g, n_extra))],
                             ["x", "p"], ["g", "jac_g_x"])
         weight_f, weight_g = ca.MX.sym("lam_f"), ca.MX.sym("lam_g", n_g)
-        ybar_value, gauss_newton = phi_hessian(values_j, x, weight_f, weight_g, transposed.T)
+        if linear:   # no per-sample outputs nor Jacobians needed: only the samples' Hessians of ȳᵀy
+            ybar_value, gauss_newton = phi_hessian(ca.MX(m * count, 1), x, weight_f, weight_g, ca.MX(m * count, n_x))
+        else:
+            ybar_value, gauss_newton = phi_hessian(values_j, x, weight_f, weight_g, transposed.T)
         summed = self._sample_hessian.map("hessian", "serial", count, [0], [0])(zx, columns, ca.reshape(ybar_value, m, count))
         hessian = ca.diagcat(summed + ca.triu(gauss_newton), ca.MX(n_extra, n_extra))
         hess_lag = ca.Function("nlp_hess_l", [x, p, weight_f, weight_g], [ca.triu(hessian)],
