@@ -41,7 +41,8 @@ from springbalance.design.solvers import solve_problem, workers_default
 from springbalance.design.standard_wire import coils_with_free_wire, round_wires
 from springbalance.springs.laws import Spring
 from springbalance.springs.records import spring_from_dict
-from springbalance.design.torque_model import BlockEvaluator, TorqueModel
+from springbalance.design.block_kernel import KERNEL_MIN_SAMPLES
+from springbalance.design.torque_model import BlockEvaluator, TorqueModel, compiled
 from springbalance.model.workspace import Workspace
 
 AGGREGATES = ("sum", "worst")
@@ -235,7 +236,9 @@ class DesignProblem:
             raise InputError(f"design vector has {x.size} entries, problem has {self.variables.size}: "
                              f"{', '.join(self.variables.names)}")
         if self._evaluator is None:   # block by block: no work arrays for all samples at once
-            self._evaluator = BlockEvaluator(self.model.sample, self.data)
+            # compiled (and its block kernel) for large workspaces, where the virtual machine takes seconds
+            sample = compiled(self.model.sample) if self.workspace.size >= KERNEL_MIN_SAMPLES else self.model.sample
+            self._evaluator = BlockEvaluator(sample, self.data)
         tau, potential, lengths, tensions, rows = self._evaluator.evaluate(x)
         n = self.workspace.size
         return Evaluation(x, tau.reshape(n, -1), potential.reshape(n), lengths.reshape(n, -1),

@@ -398,12 +398,14 @@ class _MultiStartSolver:
         if problem.variables.size:
             if self.method in ("auto", "least_squares"):
                 z, status, iterations = self._least_squares(z, prepare)
-            evaluation = problem.evaluate(problem.scale(z))
-            needs_nlp = self.method == "ipopt" or (
-                self.method == "auto"
-                and (not problem.objective.least_squares
-                     or max(evaluation.max_violation, problem.linear_violation(evaluation.x)) > FEASIBILITY_TOLERANCE))
+            # IPOPT follows when asked for, for an objective without least-squares structure, or for a
+            # constraint that least squares left violated (only then is the design evaluated here)
+            needs_nlp, evaluation = self.method == "ipopt" or (self.method == "auto" and not problem.objective.least_squares), None
+            if not needs_nlp and self.method == "auto" and (problem.model.n_constraints or problem.linear_matrix()[1].size):
+                evaluation = problem.evaluate(problem.scale(z))
+                needs_nlp = max(evaluation.max_violation, problem.linear_violation(evaluation.x)) > FEASIBILITY_TOLERANCE
             if needs_nlp:
+                evaluation = evaluation if evaluation is not None else problem.evaluate(problem.scale(z))
                 z, status, more = self._ipopt_solve(z, evaluation)
                 iterations += more
         evaluation = problem.evaluate(problem.scale(z))
