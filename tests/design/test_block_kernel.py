@@ -71,3 +71,13 @@ def test_bad_thread_counts_name_the_variable(monkeypatch, text):
     monkeypatch.setenv(THREADS_ENV, text)
     with pytest.raises(InputError, match=f"{THREADS_ENV} must be an integer ≥ 1, got"):
         evaluation_threads()
+
+
+def test_one_thread_holds_within_its_block_only(monkeypatch):
+    from springbalance.design.torque_model import THREADS_ENV, evaluation_threads, one_thread
+
+    monkeypatch.delenv(THREADS_ENV, raising=False)
+    before = evaluation_threads()
+    with one_thread():
+        assert evaluation_threads() == 1
+    assert evaluation_threads() == before

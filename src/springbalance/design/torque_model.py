@@ -34,6 +34,7 @@ the constraint rows ``C`` (≥ 0 when feasible): the springs' practical constrai
 
 from __future__ import annotations
 
+import contextlib
 import ctypes
 import dataclasses
 import functools
@@ -477,6 +478,18 @@ def use_one_thread() -> None:
     worker processes call it: the pool already uses the cores)."""
     global _ONE_THREAD
     _ONE_THREAD = True
+
+
+@contextlib.contextmanager
+def one_thread():
+    """Within the block, block passes run in the calling thread only (a study's task, whose
+    processes already spread over the cores)."""
+    global _ONE_THREAD
+    saved, _ONE_THREAD = _ONE_THREAD, True
+    try:
+        yield
+    finally:
+        _ONE_THREAD = saved
 
 
 def evaluation_threads() -> int:

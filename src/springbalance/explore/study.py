@@ -47,6 +47,7 @@ import time
 from pathlib import Path
 from typing import Any, Callable, Sequence
 
+from springbalance.design.torque_model import one_thread
 from springbalance.errors import InputError, SolverError, SpringBalanceError
 from springbalance.explore.candidates import (DEFAULT_HALF_WIDTH, DEFAULT_MARGIN, Candidate, auto_candidates,
                                              candidates_from_records)
@@ -366,8 +367,9 @@ def solve_task(payload: dict[str, Any]) -> dict[str, Any]:
                            "grid": payload["grid"], "starts": payload["starts"], "seed": payload["seed"]}
     try:
         config = config_from_dict(payload["record"], payload["base_dir"], f"task {payload['id']}")
-        # one process per task: the study spreads tasks over the cores, not the starts of one task
-        result = config.solve(starts=payload["starts"], seed=payload["seed"], progress=False, workers=1)
+        # one process and one thread per task: the study spreads tasks over the cores, not the starts of one task
+        with one_thread():
+            result = config.solve(starts=payload["starts"], seed=payload["seed"], progress=False, workers=1)
     except (SolverError, SpringBalanceError) as error:
         return {**row, "status": "failed", "error": str(error).splitlines()[0], "exact": False, "design": None,
                 "seconds": time.perf_counter() - clock}
