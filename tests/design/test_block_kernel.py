@@ -81,3 +81,16 @@ def test_one_thread_holds_within_its_block_only(monkeypatch):
     with one_thread():
         assert evaluation_threads() == 1
     assert evaluation_threads() == before
+
+
+def test_a_function_the_kernel_cannot_take_keeps_casadi_map(coil_problem):
+    """An external (already compiled) function is not SX: no kernel of its own; a function that did not come
+    from compiled() gets none either, and its evaluator runs CasADi's map."""
+    from springbalance.design.block_kernel import Unsupported, _compile_kernel
+
+    function = _LeastSquaresResiduals(coil_problem).function   # a casadi.external
+    with pytest.raises(Unsupported, match="not an SX function"):
+        block_kernel_code(function)
+    assert _compile_kernel(function) is None
+    assert block_kernel(coil_problem.model.sample, coil_problem.workspace.size) is None
+    assert BlockEvaluator(coil_problem.model.sample, coil_problem.data)._kernel is None

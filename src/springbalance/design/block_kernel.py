@@ -16,7 +16,6 @@ in a helper thread while the caller sums the previous one.
 from __future__ import annotations
 
 import ctypes
-import os
 
 import casadi as ca
 import numpy as np
@@ -54,6 +53,10 @@ _HELPERS = {
 }
 
 
+class Unsupported(ValueError):
+    """A function the block kernel cannot evaluate (the evaluators then keep CasADi's map)."""
+
+
 def _helper_code(helper: str) -> str:
     if helper == "casadi_sign":
         return "static double casadi_sign(double x) { return x<0 ? -1 : x>0 ? 1 : x;}"
@@ -67,12 +70,12 @@ def _kernel_source(function: ca.Function) -> ca.Function:
     """The SX function the kernel is generated from: ``function`` with common subexpressions merged
     (the same operations on the same operands, so the same numbers), when CasADi can."""
     if not isinstance(function, ca.Function) or not function.is_a("SXFunction"):
-        raise NotImplementedError("not an SX function")
+        raise Unsupported("not an SX function")
     if function.n_in() != 2 or any(not function.sparsity_in(i).is_dense() or function.size2_in(i) != 1
                                    for i in range(2)):
-        raise NotImplementedError("not a function f(x, data) of two dense vectors")
+        raise Unsupported("not a function f(x, data) of two dense vectors")
     if function.has_free():
-        raise NotImplementedError("free variables")
+        raise Unsupported("free variables")
     try:
         arguments = function.sx_in()
         return ca.Function(function.name(), arguments, function.call(arguments), function.name_in(),
@@ -107,12 +110,12 @@ def block_kernel_code(function: ca.Function, name: str | None = None, lanes: int
     extensions (another compiler) the code is left out and the evaluators use CasADi's map.
 
     Raises:
-        NotImplementedError: ``function`` is not an SX function ``f(x, data)`` of two dense
+        Unsupported: ``function`` is not an SX function ``f(x, data)`` of two dense
             vectors, or uses an operation the kernel lacks.
     """
     source = _kernel_source(function)
     if not source.n_out():
-        raise NotImplementedError("no outputs")
+        raise Unsupported("no outputs")
     name = name or function.name()
     sizes = [source.nnz_out(i) for i in range(source.n_out())]
     shared, body, used = [], [], {}   # x-only statements, per-sample statements, x-only values the body reads
@@ -167,7 +170,7 @@ def block_kernel_code(function: ca.Function, name: str | None = None, lanes: int
                             f"{template.format(*lanes_of)};")
                 kind[target] = (True, symbol)
         else:
-            raise NotImplementedError(f"operation {operation} in the block kernel")
+            raise Unsupported(f"operation {operation} in the block kernel")
 
     results = ", ".join(f"double *restrict r{i}" for i in range(len(sizes)))
     offsets = ", ".join(f"res[{i}] + s * {size}" for i, size in enumerate(sizes))
@@ -214,44 +217,20 @@ def block_kernel_code(function: ca.Function, name: str | None = None, lanes: int
     return "\n".join(lines)
 
 
-_kernels: dict[str, "_BlockKernel | None"] = {}
-
-
 def _compile_kernel(function: ca.Function) -> "_BlockKernel | None":
-    """The block kernel of ``function`` compiled (or loaded from the disk cache, under a key of its
-    code, like :func:`~springbalance.design.compile_cache.compile_function`'s libraries); None when
-    there is none (an operation it lacks, no compiler, a compiler without vector extensions)."""
-    import subprocess
+    """The block kernel of ``function``, compiled or loaded from the disk cache
+    (:func:`~springbalance.design.compile_cache.load_or_build`); None when there is none (an operation
+    it lacks, no compiler, a compiler without vector extensions)."""
+    from springbalance.design.compile_cache import load_or_build
 
-    from springbalance.design import compile_cache as cache
-
-    path = cache.compiler()
-    if path is None:
-        return None
     try:
         code = block_kernel_code(function)
-    except NotImplementedError:
+    except Unsupported:
         return None
-    name = f"{function.name()}{_KERNEL_SUFFIX}"
-    for flags in cache._flag_candidates():
-        key = cache.cache_key(code, path, flags)
-        if key in _kernels:
-            return _kernels[key]
-        folder = cache.cache_dir()
-        library = os.path.join(folder, f"{name}-{key}{cache._SUFFIX}")
-        kernel = _load_kernel(function, library) if os.path.exists(library) else None
-        if kernel is not None:
-            cache.STATS.hits += 1
-            cache._touch(library)
-        else:
-            try:
-                cache._build(code, path, flags, folder, library)
-            except (OSError, subprocess.SubprocessError):
-                continue
-            kernel = _load_kernel(function, library)
-        _kernels[key] = kernel
-        return kernel
-    return None
+    try:
+        return load_or_build(code, f"{function.name()}{_KERNEL_SUFFIX}", lambda library: _load_kernel(function, library))
+    except RuntimeError:   # no compiler, or it refuses the code
+        return None
 
 
 def _load_kernel(function: ca.Function, library: str) -> "_BlockKernel | None":

@@ -62,7 +62,7 @@ class CacheStats:
 
 #: counters of this process (read by benchmarks/bench_startup.py and the tests)
 STATS = CacheStats()
-_loaded: dict[str, ca.Function] = {}
+_loaded: dict[str, object] = {}   # key -> what load_or_build loaded (None: unusable)
 
 
 def cache_dir() -> str:
@@ -137,36 +137,51 @@ def compile_function(function: ca.Function) -> ca.Function:
     Raises:
         RuntimeError: no compiler, or none of the flags compile the code.
     """
+    def load(library):
+        try:
+            return ca.external(function.name(), library)
+        except RuntimeError:  # not a usable library (a foreign file): built again
+            return None
+
+    loaded = load_or_build(generate_c(function), function.name(), load)
+    if loaded is None:
+        raise RuntimeError(f"could not load the compiled per-sample function {function.name()!r}")
+    return loaded
+
+
+def load_or_build(code: str, name: str, load):
+    """What ``load(library)`` makes of the shared library compiled from the C ``code`` (the file
+    ``<name>-<key>`` of the cache folder): from the cache when it holds a library ``load`` can use
+    (``load`` returns None for one it cannot, which is then built again), else compiled and stored.
+    The result is kept for the process under the key, None included.
+
+    Raises:
+        RuntimeError: no compiler, or none of the flags compile the code.
+    """
     path = compiler()
     if path is None:
         raise RuntimeError("no C compiler on PATH")
-    code = generate_c(function)
     errors = []
     for flags in _flag_candidates():
         key = cache_key(code, path, flags)
         if key in _loaded:
             return _loaded[key]
         folder = cache_dir()
-        library = os.path.join(folder, f"{function.name()}-{key}{_SUFFIX}")
-        if os.path.exists(library):
+        library = os.path.join(folder, f"{name}-{key}{_SUFFIX}")
+        loaded = load(library) if os.path.exists(library) else None
+        if loaded is not None:
+            STATS.hits += 1
+            _touch(library)
+        else:
             try:
-                loaded = ca.external(function.name(), library)
-            except RuntimeError:  # not a usable library (a foreign file): build it again
-                loaded = None
-            if loaded is not None:
-                STATS.hits += 1
-                _touch(library)
-                _loaded[key] = loaded
-                return loaded
-        try:
-            _build(code, path, flags, folder, library)
-        except (OSError, subprocess.SubprocessError) as error:
-            errors.append(f"{' '.join(flags)}: {error}")
-            continue
-        loaded = ca.external(function.name(), library)
+                _build(code, path, flags, folder, library)
+            except (OSError, subprocess.SubprocessError) as error:
+                errors.append(f"{' '.join(flags)}: {error}")
+                continue
+            loaded = load(library)
         _loaded[key] = loaded
         return loaded
-    raise RuntimeError("could not compile the per-sample function: " + "; ".join(errors))
+    raise RuntimeError(f"could not compile {name}: " + "; ".join(errors))
 
 
 def _build(code: str, compiler_path: str, flags: tuple[str, ...], folder: str, library: str) -> None:
