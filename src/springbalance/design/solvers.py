@@ -381,13 +381,13 @@ class _MultiStartSolver:
         self._first = None  # the IPOPT of a lexicographic objective's first phase
 
     def prepare(self) -> None:
-        """Build what every start needs (the compiled least-squares residual, the NLP when IPOPT may
-        run), before workers fork."""
+        """Build what every start needs (the compiled least-squares residual, the NLP when every start
+        goes to IPOPT), before workers fork. An NLP that only a violated constraint calls for is built
+        by the start that needs it."""
         problem = self.problem
         if self.method in ("auto", "least_squares") and problem.variables.size:
             self._residuals()
-        if problem.variables.size and (self.method == "ipopt" or not problem.objective.least_squares
-                                       or (self.method == "auto" and problem.model.n_constraints)):
+        if problem.variables.size and (self.method == "ipopt" or not problem.objective.least_squares):
             self._ipopt_solvers()
 
     # ------------------------------------------------------------------ one start
