@@ -73,3 +73,26 @@ def test_block_evaluator_reads_the_data_in_place(problem):
     numeric = problem.model.evaluate(x, problem.data)   # CasADi's own call on all samples
     evaluation = problem.evaluate(x)
     assert np.array_equal(evaluation.tau, numeric["tau"]) and np.array_equal(evaluation.constraint_rows, numeric["C"])
+
+
+def test_rows_no_variable_moves_are_left_out_of_the_jacobian():
+    """A shoulder spring alone: the elbow's residual row is constant in z (the link1 anchor's Jacobian
+    column of the elbow is zero at every sample). The solver's sums leave it out of J, keep it in rᵀr,
+    and the full r is the weighted, scaled residual torque of every joint."""
+    mechanism = sb.Mechanism.from_urdf(ROOT / "urdf" / "two_link_planar.urdf")
+    spring = sb.ExtensionSpring(sb.Anchor("universe", sb.Free([-0.2, 0, 0], [0.2, 0, 0.3])),
+                                sb.Anchor("link1", sb.Free([0.05, 0, 0], [0.5, 0, 0])),
+                                stiffness=sb.Free(0, 2000), free_length=sb.Free(0.02, 0.5))
+    problem = sb.DesignProblem(mechanism, sb.Workspace.sobol(mechanism, 97, seed=2), [spring])
+    residuals = _LeastSquaresResiduals(problem, block=10)
+    assert residuals.n_moving == 1 and residuals.order.tolist() == [0, 1]
+    z = np.full(problem.variables.size, 0.6)
+    r, J = residuals.residuals_and_jacobian(z)
+    n, nv = problem.workspace.size, mechanism.nv
+    tau = problem.evaluate(problem.scale(z)).tau
+    assert np.allclose(r, (tau * problem.weights / (problem.torque_scale * np.sqrt(n * nv))).reshape(-1), rtol=1e-12)
+    assert np.all(J.reshape(n, nv, -1)[:, 1] == 0) and np.any(J.reshape(n, nv, -1)[:, 0] != 0)
+    gram, projected, squares = residuals.normal_equations(z)
+    assert np.allclose(gram, J.T @ J, rtol=1e-12) and np.allclose(projected, J.T @ r, rtol=1e-12)
+    assert squares == pytest.approx(float(r @ r), rel=1e-12)
+    assert float(r.reshape(n, nv)[:, 1] @ r.reshape(n, nv)[:, 1]) > 0   # the elbow row (gravity alone) is in rᵀr

@@ -634,6 +634,14 @@ class _LeastSquaresResiduals:
     over blocks of samples (:class:`~springbalance.design.torque_model.BlockEvaluator`), so that the
     Jacobian never exists for all samples at once. ``pe_variance``, whose rows are centred over
     all samples, and :func:`refine` assemble the full ``r`` and ``J`` (:meth:`residuals_and_jacobian`).
+
+    **Rows no variable moves.** Sample data that is zero at every sample (the Jacobian column of a
+    joint that lies beyond a body, a joint no spring spans) enters the per-sample function as a
+    structural zero. Residual rows whose Jacobian is then structurally zero (the wrist joints of an
+    arm whose springs end on the forearm, a joint of weight 0) are constant in ``z``: the function
+    gives their values after the others' (for ``rᵀr``) but no Jacobian rows, and ``JᵀJ``, ``Jᵀr``
+    are summed over the :attr:`n_moving` other rows only. The numbers are the same: only the terms
+    that are exactly zero are left out.
     """
 
     def __init__(self, problem, block: int | None = None):
@@ -649,14 +657,22 @@ class _LeastSquaresResiduals:
 
         z = ca.SX.sym("z", problem.variables.size)
         data = ca.SX.sym("data", model.data_size)
-        tau, potential, _, _, rows = model.sample(ca.DM(lower) + ca.DM(upper - lower) * z, data)
+        zero = ~np.any(np.asarray(problem.data) != 0.0, axis=1)   # data entries zero at every sample
+        known = ca.vertcat(*[ca.SX(0) if zero[i] else data[i] for i in range(model.data_size)])
+        tau, potential, _, _, rows = model.sample(ca.DM(lower) + ca.DM(upper - lower) * z, known)
         if self.variance:
             residual = potential / (problem.potential_scale * np.sqrt(n))
         else:
             residual = tau * ca.DM(problem.weights / (problem.torque_scale * np.sqrt(n * nv)))
+        # the rows z moves first, then the constant ones; order[i]: the residual row at output row i
+        moving = sorted(set(ca.jacobian(residual, z).sparsity().get_triplet()[0]))
+        self.order = np.array(moving + [row for row in range(residual.numel()) if row not in moving], dtype=int)
+        self.n_moving = len(moving)
+        residual = residual[self.order.tolist()]
         scaled_rows = rows / ca.DM(self.row_scale) if blocks else rows
         function = ca.Function("scaled_residual", [z, data],
-                               [residual, ca.jacobian(residual, z).T, scaled_rows, ca.jacobian(scaled_rows, z).T])
+                               [residual, ca.densify(ca.jacobian(residual[: self.n_moving], z).T), scaled_rows,
+                                ca.jacobian(scaled_rows, z).T])
         self.function = compiled(function)
         self.evaluator = BlockEvaluator(self.function, problem.data, block)
         self.multipliers, self.penalty = None, 0.0
@@ -731,8 +747,9 @@ class _LeastSquaresResiduals:
             multipliers = np.asarray(self.multipliers)
         for start, stop, (residual, jacobian, rows, row_jacobian) in self._blocks(z):
             r, J = residual.reshape(-1), jacobian.reshape(-1, n_x)
+            moving = r if self.n_moving == self.order.size else residual.reshape(-1, self.order.size)[:, : self.n_moving].reshape(-1)
             gram += J.T @ J
-            projected += J.T @ r
+            projected += J.T @ moving
             squares += float(r @ r)
             if penalised and n_c:
                 shifted = multipliers[start * n_c: stop * n_c] - self.penalty * rows.reshape(-1)
@@ -763,12 +780,25 @@ class _LeastSquaresResiduals:
         r = J = None
         for start, stop, (residual, jacobian, _, _) in self._blocks(z):
             if r is None:
-                per_sample = residual.shape[1] * residual.shape[2]
+                per_sample = self.order.size
                 r = np.empty(self.evaluator.n_samples * per_sample)
                 J = np.empty((r.size, len(columns)))
-            r[start * per_sample: stop * per_sample] = residual.reshape(-1)
-            J[start * per_sample: stop * per_sample] = jacobian.reshape(-1, n_x)[:, columns]
+            r_block, J_block = self._in_row_order(residual, jacobian)
+            r[start * per_sample: stop * per_sample] = r_block
+            J[start * per_sample: stop * per_sample] = J_block[:, columns]
         return r, J
+
+    def _in_row_order(self, residual, jacobian) -> tuple[np.ndarray, np.ndarray]:
+        """``r`` and ``J`` of some samples' outputs in the residual's own row order (sample by sample),
+        the constant rows with their zero Jacobian rows put back."""
+        n_x, size = self.problem.variables.size, self.order.size
+        if self.n_moving == size:
+            return residual.reshape(-1), jacobian.reshape(-1, n_x)
+        count = residual.shape[0]
+        r, J = np.empty((count, size)), np.zeros((count, size, n_x))
+        r[:, self.order] = residual.reshape(count, size)
+        J[:, self.order[: self.n_moving]] = jacobian.reshape(count, self.n_moving, n_x)
+        return r.reshape(-1), J.reshape(-1, n_x)
 
     # ---------------------------------------------------------------- full arrays
     def _full_outputs(self, z):
@@ -780,8 +810,8 @@ class _LeastSquaresResiduals:
 
     def _objective_rows(self, z):
         residual, jacobian, _, _ = self._full_outputs(z)
-        n_x = jacobian.shape[2]
-        r, J = residual.reshape(-1), jacobian.reshape(-1, n_x)
+        n_x = self.problem.variables.size
+        r, J = self._in_row_order(residual, jacobian)
         if self.variance:  # centre the potential (per scenario block): r_i - mean(r), J_i - mean(J)
             blocks = self.problem.model.n_scenarios
             r = (r.reshape(blocks, -1) - r.reshape(blocks, -1).mean(axis=1, keepdims=True)).reshape(-1)
