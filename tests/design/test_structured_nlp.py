@@ -85,3 +85,24 @@ def test_working_set_ends_at_a_solution_of_the_full_nlp():
     again = np.array(solver(x0=w, lbx=plain.lower, ubx=plain.upper, lbg=0, ubg=np.inf)["x"]).reshape(-1)
     polished = problem.objective_value(problem.evaluate(problem.scale(np.clip(again[: plain.n_design], 0, 1))))
     assert polished > peak * (1 - 1e-4)
+
+
+def test_least_squares_multipliers_map_onto_the_nlp_rows():
+    """For any multipliers ν of the solver's scaled rows (N·n_c sample rows, sample by sample, then the
+    linear rows), the NLP's rows with DesignProblem.nlp_row_multipliers(ν) pull on the design with the
+    same force: J_scaledᵀ ν = J_nlpᵀ ν_nlp (the coil demo: per-sample rows and rows of no sample)."""
+    from springbalance.design.solvers import _LeastSquaresResiduals
+
+    problem = _coils()
+    blocks = problem.model.constraint_blocks
+    assert any(block.per_sample for block in blocks) and any(not block.per_sample for block in blocks)
+    residuals = _LeastSquaresResiduals(problem)
+    z = np.full(problem.variables.size, 0.45)
+    _, _, _, row_jacobian = residuals._full_outputs(z)
+    scaled_jacobian = row_jacobian.reshape(-1, problem.variables.size)       # (N·n_c) × n
+    nu = np.random.default_rng(3).random(scaled_jacobian.shape[0])
+    nlp = problem.build()
+    nlp_jacobian = _dense(ca.Function("j", [nlp.z], [ca.jacobian(nlp.rows, nlp.z)])(z))
+    mapped = problem.nlp_row_multipliers(nu, nlp.n_rows)
+    assert mapped.shape == (nlp.n_rows,) and np.all(mapped >= 0)
+    assert np.allclose(nlp_jacobian.T @ mapped, scaled_jacobian.T @ nu, rtol=1e-10, atol=1e-12)

@@ -320,6 +320,28 @@ class DesignProblem:
         return Nlp(ca.vertcat(*variables), np.concatenate(z_lower), np.concatenate(z_upper), pieces.cost,
                    ca.vertcat(*all_rows) if all_rows else ca.MX(0, 1), self.variables.size, pieces.start)
 
+    def nlp_row_multipliers(self, scaled: np.ndarray, n_rows: int) -> np.ndarray:
+        """Multipliers of the rows of :meth:`assemble` (≥ 0, for a cost in the least-squares scale) from
+        those of the solver's scaled rows ``c / scale``: ``scaled`` holds N·n_c sample rows (sample by
+        sample), then the linear rows.
+
+        The NLP's sample rows are unscaled, so ``ν = ν_scaled / scale``; a row that does not depend on
+        the sample enters the NLP once and takes the sum over the samples; the objective's own rows
+        (epigraphs) get 0. ``n_rows``: the NLP's row count.
+        """
+        blocks = self.model.constraint_blocks
+        n = self.workspace.size
+        scaled = np.asarray(scaled, dtype=float)
+        per_sample = scaled[: n * len(blocks)].reshape(n, len(blocks)) / np.array([b.scale for b in blocks] or [1.0])
+        varying = [block.offset for block in blocks if block.per_sample]
+        constant = [block.offset for block in blocks if not block.per_sample]
+        linear = scaled[n * len(blocks):]
+        parts = [per_sample[:, varying].reshape(-1), per_sample[:, constant].sum(axis=0)]
+        objective_rows = n_rows - sum(part.size for part in parts) - linear.size
+        if objective_rows < 0:
+            raise ValueError(f"{n_rows} NLP rows, fewer than the {n_rows - objective_rows} rows of the multipliers")
+        return np.concatenate(parts + [np.zeros(objective_rows), linear])
+
     def solve(self, starts: int = 8, seed: int = 0, method: str = "auto", progress: bool | None = None,
               max_iterations: int = 100, tolerance: float = 1e-8, polish_iterations: int | None = None,
               standard_wire: bool = True, workers: int | None = None):

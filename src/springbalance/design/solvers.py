@@ -51,7 +51,7 @@ import numpy as np
 from threadpoolctl import threadpool_limits
 
 from springbalance.errors import InputError, Interrupted, SolverError
-from springbalance.design.structured_nlp import NotStructured, StructuredNlp
+from springbalance.design.structured_nlp import NotStructured, StructuredNlp, warm_start_options
 from springbalance.design.torque_model import BlockEvaluator, compiled, count_from_environment, use_one_thread
 from springbalance.model.sobol import sobol_engine
 
@@ -394,10 +394,10 @@ class _MultiStartSolver:
     def run(self, index: int, z0: np.ndarray, prepare: bool = True) -> StartRecord:
         problem = self.problem
         clock = time.perf_counter()
-        z, status, iterations = np.array(z0, dtype=float), "evaluated", 0
+        z, status, iterations, multipliers = np.array(z0, dtype=float), "evaluated", 0, None
         if problem.variables.size:
             if self.method in ("auto", "least_squares"):
-                z, status, iterations = self._least_squares(z, prepare)
+                z, status, iterations, multipliers = self._least_squares(z, prepare)
             # IPOPT follows when asked for, for an objective without least-squares structure, or for a
             # constraint that least squares left violated (only then is the design evaluated here)
             needs_nlp, evaluation = self.method == "ipopt" or (self.method == "auto" and not problem.objective.least_squares), None
@@ -406,7 +406,7 @@ class _MultiStartSolver:
                 needs_nlp = max(evaluation.max_violation, problem.linear_violation(evaluation.x)) > FEASIBILITY_TOLERANCE
             if needs_nlp:
                 evaluation = evaluation if evaluation is not None else problem.evaluate(problem.scale(z))
-                z, status, more = self._ipopt_solve(z, evaluation)
+                z, status, more = self._ipopt_solve(z, evaluation, multipliers if problem.objective.least_squares else None)
                 iterations += more
         evaluation = problem.evaluate(problem.scale(z))
         tiebreak = problem.objective.tiebreak(evaluation.tau * problem.weights, evaluation.potential, problem.path_steps)
@@ -417,7 +417,11 @@ class _MultiStartSolver:
     # ------------------------------------------------------------------ least squares
     def _least_squares(self, z0, prepare=True):
         """Bounded Gauss–Newton (SciPy TRF) on the residuals; practical constraints by an
-        augmented Lagrangian whose penalty rows ``max(0, λ - μ c)/√μ`` join the residuals."""
+        augmented Lagrangian whose penalty rows ``max(0, λ - μ c)/√μ`` join the residuals.
+
+        Returns ``(z, status, iterations, multipliers)``: ``multipliers`` are the estimates
+        ``ν = 2 max(0, λ - μ c(z))`` of the constraint rows' KKT multipliers for the cost ``rᵀr``
+        (scaled rows, as :meth:`_LeastSquaresResiduals.constraint_rows`; None without rows)."""
         ls = self._residuals()
         ls.set_penalty(None, 0.0)
         z = np.clip(z0, 0.0, 1.0)
@@ -441,7 +445,10 @@ class _MultiStartSolver:
             if violation > 0.25 * previous_violation:
                 penalty *= 10.0
             previous_violation = violation
-        return z, status, iterations
+        if not ls.n_constraint_rows:
+            return z, status, iterations, None
+        # ∇(rᵀr + Σ max(0, λ - μc)²/μ) = ∇(rᵀr) - Σ 2 max(0, λ - μc) ∇c
+        return z, status, iterations, 2.0 * np.maximum(0.0, multipliers - penalty * ls.constraint_rows(z))
 
     def _residuals(self) -> "_LeastSquaresResiduals":
         problem = self.problem
@@ -554,12 +561,14 @@ class _MultiStartSolver:
                 self._first = self._nlpsol(first_phase)
             self._ipopt = self._nlpsol()
 
-    def _ipopt_solve(self, z, evaluation):
+    def _ipopt_solve(self, z, evaluation, multipliers=None):
+        """IPOPT from ``z``; ``multipliers``: the least-squares estimates of the constraint rows'
+        multipliers when the objective is the least-squares cost itself (IPOPT then starts warm)."""
         problem = self.problem
         self._ipopt_solvers()
         first_phase = problem.objective.first_phase
         if first_phase is None:
-            return self._ipopt_run(self._ipopt, z, evaluation)
+            return self._ipopt_run(self._ipopt, z, evaluation, multipliers=multipliers)
         # lexicographic: the first phase's optimum T*, then the objective's own NLP with its
         # epigraph variables bounded by T*·(1 + slack)
         z1, status1, iterations1 = self._ipopt_run(self._first, z, evaluation)
@@ -577,15 +586,19 @@ class _MultiStartSolver:
         status = f"{status1}, then {status2.removeprefix('ipopt: ')}{'' if kept else ' (not kept)'}"
         return (z2 if kept else z1), status, iterations1 + iterations2
 
-    def _ipopt_run(self, ipopt, z, evaluation, upper=None):
+    def _ipopt_run(self, ipopt, z, evaluation, upper=None, multipliers=None):
         problem, nlp = self.problem, ipopt.nlp
         start = z
+        lam_g = None
+        if multipliers is not None:   # CasADi's sign: a row held at its lower bound has λ ≤ 0
+            lam_g = -problem.nlp_row_multipliers(multipliers, nlp.n_rows)
         if nlp.size > nlp.n_design:
             extra = nlp.extra_start(evaluation.tau * problem.weights)
             if upper is not None:
                 extra = np.minimum(extra, upper[nlp.n_design:])
             start = np.concatenate([z, extra])
-        x, status, iterations = ipopt.solve(start, nlp.lower, nlp.upper if upper is None else upper, self.max_iterations)
+        x, status, iterations = ipopt.solve(start, nlp.lower, nlp.upper if upper is None else upper, self.max_iterations,
+                                            lam_g)
         return np.clip(x[: nlp.n_design], 0.0, 1.0), f"ipopt: {status}", iterations
 
 
@@ -595,8 +608,8 @@ class _StructuredIpopt:
     def __init__(self, structured, options):
         self.structured, self.nlp, self.options = structured, structured.nlp, options
 
-    def solve(self, start, lower, upper, max_iterations):
-        return self.structured.solve(start, lower, upper, self.options, max_iterations)
+    def solve(self, start, lower, upper, max_iterations, lam_g=None):
+        return self.structured.solve(start, lower, upper, self.options, max_iterations, lam_g)
 
 
 class _PlainIpopt:
@@ -605,14 +618,16 @@ class _PlainIpopt:
     def __init__(self, nlp, options):
         self.nlp, self.options, self._solvers = nlp, options, {}
 
-    def solve(self, start, lower, upper, max_iterations):
-        solver = self._solvers.get(max_iterations)
+    def solve(self, start, lower, upper, max_iterations, lam_g=None):
+        warm = lam_g is not None
+        solver = self._solvers.get((max_iterations, warm))
         if solver is None:
             nlp = self.nlp
-            solver = self._solvers[max_iterations] = ca.nlpsol(
+            solver = self._solvers[max_iterations, warm] = ca.nlpsol(
                 "springbalance", "ipopt", {"x": nlp.z, "f": nlp.cost, "g": nlp.rows},
-                {**self.options, "ipopt.max_iter": int(max_iterations)})
-        solution = solver(x0=start, lbx=lower, ubx=upper, lbg=0.0, ubg=np.inf)
+                {**self.options, "ipopt.max_iter": int(max_iterations), **(warm_start_options() if warm else {})})
+        arguments = {"lam_g0": lam_g} if warm else {}
+        solution = solver(x0=start, lbx=lower, ubx=upper, lbg=0.0, ubg=np.inf, **arguments)
         stats = solver.stats()
         return (np.array(solution["x"]).reshape(-1), str(stats.get("return_status", "unknown")),
                 int(stats.get("iter_count", 0)))

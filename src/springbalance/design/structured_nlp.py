@@ -199,10 +199,12 @@ class StructuredNlp:
         return x, cost, constraints, {"grad_f": grad_f, "jac_g": jac_g, "hess_lag": hess_lag}
 
     def solve(self, start: np.ndarray, lower: np.ndarray, upper: np.ndarray, options: dict,
-              max_iterations: int) -> tuple[np.ndarray, str, int]:
+              max_iterations: int, lam_g: np.ndarray | None = None) -> tuple[np.ndarray, str, int]:
         """IPOPT from ``start`` (design and extra variables) within the bounds, rows ≥ 0, on a working set
         grown until no other row is violated. Returns ``(x, IPOPT's status, iterations)``; the
-        iterations of all rounds share ``max_iterations``."""
+        iterations of all rounds share ``max_iterations``. ``lam_g``: estimates of every row's
+        multiplier (CasADi's sign, ≤ 0): the first round then starts warm, and the rows they hold join
+        the working set."""
         x = np.clip(np.asarray(start, dtype=float), lower, upper)
         values = self.row_values(x)
         keep = max(WORKING_ROWS, ROWS_PER_VARIABLE * self.nlp.size)
@@ -210,8 +212,12 @@ class StructuredNlp:
         # of no sample, the violated rows and the closest to binding
         active = (self._row_sample < min(SPREAD_SAMPLES, self.n_samples // 8)) | (self._row_sample == self.n_samples)
         active |= values < ROW_TOLERANCE
+        multipliers = None
+        if lam_g is not None:
+            active |= lam_g != 0
+            multipliers = (np.zeros(self.nlp.size), np.asarray(lam_g, dtype=float))
         active[_closest(values, active, keep)] = True
-        iterations, status, multipliers = 0, "not run", None
+        iterations, status = 0, "not run"
         for round_ in range(MAX_ROUNDS):
             if round_ == MAX_ROUNDS - 1:
                 active[:] = True
@@ -223,10 +229,7 @@ class StructuredNlp:
             if multipliers is not None:   # warm start: the previous round's multipliers, 0 for the new rows
                 lam_x, lam_g = multipliers
                 arguments.update(lam_x0=lam_x, lam_g0=lam_g[rows])
-                round_options.update({"ipopt.warm_start_init_point": "yes", "ipopt.mu_init": WARM_MU,
-                                      **{f"ipopt.warm_start_{name}": WARM_PUSH for name in (
-                                          "bound_push", "bound_frac", "slack_bound_push", "slack_bound_frac",
-                                          "mult_bound_push")}})
+                round_options.update(warm_start_options())
                 if self.extra_start is not None:   # the epigraph bounds of the design reached, over every sample
                     x[self.n_design:] = np.clip(np.maximum(x[self.n_design:], self.extra_start(x[: self.n_design])),
                                                 lower[self.n_design:], upper[self.n_design:])
@@ -247,6 +250,14 @@ class StructuredNlp:
             added[_closest(values, active | violated, keep // 2)] = True
             active |= added
         return x, status, iterations
+
+
+def warm_start_options() -> dict:
+    """IPOPT's options for a start from a point and multipliers near the solution: a small barrier
+    parameter (:data:`WARM_MU`), and the point and multipliers pushed only :data:`WARM_PUSH` into the interior."""
+    return {"ipopt.warm_start_init_point": "yes", "ipopt.mu_init": WARM_MU,
+            **{f"ipopt.warm_start_{name}": WARM_PUSH for name in (
+                "bound_push", "bound_frac", "slack_bound_push", "slack_bound_frac", "mult_bound_push")}}
 
 
 def _closest(values: np.ndarray, taken: np.ndarray, count: int) -> np.ndarray:
