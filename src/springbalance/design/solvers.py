@@ -672,9 +672,8 @@ class _LeastSquaresResiduals:
 
         z = ca.SX.sym("z", problem.variables.size)
         data = ca.SX.sym("data", model.data_size)
-        zero = ~np.any(np.asarray(problem.data) != 0.0, axis=1)   # data entries zero at every sample
-        known = ca.vertcat(*[ca.SX(0) if zero[i] else data[i] for i in range(model.data_size)])
-        tau, potential, _, _, rows = model.sample(ca.DM(lower) + ca.DM(upper - lower) * z, known)
+        tau, potential, _, _, rows = model.sample(ca.DM(lower) + ca.DM(upper - lower) * z,
+                                                  model.known_zeros(data, problem.data))
         if self.variance:
             residual = potential / (problem.potential_scale * np.sqrt(n))
         else:

@@ -21,8 +21,11 @@ sample. With ``J_s = ∂y_s/∂z`` (m × n, from one compiled per-sample functio
 
   The first term is one compiled per-sample function of ``(z, data_s, ȳ_s)`` (an n × n Hessian,
   summed over the samples in C). The second is a Gauss–Newton-like term: zero when ``f`` and ``g``
-  are linear in ``Y`` (``peak``, ``joint_peaks``, ``energy``, every constraint row), ``Jᵀ diag(2λ_f c) J``
-  for ``rms``; CasADi forms it as ``n`` forward directions through ``∂L/∂Y``.
+  are linear in ``Y`` (``peak``, ``joint_peaks``, ``energy``, every constraint row). When
+  ``∂²L/∂Y²`` is diagonal (``rms``: ``2λ_f c`` on the torques), it is ``Σ_s J_kᵀ diag(d_s) J_k`` over
+  the outputs ``k`` where the diagonal has entries, and the same compiled per-sample function adds
+  it (its input ``d_s`` comes from CasADi's ``∂²L/∂Y²``). Otherwise CasADi forms it as ``n`` forward
+  directions through ``∂L/∂Y``.
 
 This is the *exact* Hessian of the Lagrangian, at the cost of one pass over the samples, instead of
 CasADi differentiating the mapped MX graph twice (``n`` forward-over-reverse sweeps of every sample
@@ -108,16 +111,25 @@ class StructuredNlp:
         self._row_sample = np.full(self.n_rows, self.n_samples)
         np.minimum.at(self._row_sample, np.asarray(rows_of, dtype=int), np.asarray(columns_of, dtype=int) // m)
 
-        # per sample, compiled: y_s, then y_s with J_sᵀ, then the Hessian of ȳ_sᵀ y_s
+        # the outputs k of a sample on which ∂²L/∂Y² has its (diagonal) entries; None when it is not diagonal
+        self._curved = _diagonal_curvature(ca.vertcat(nlp.cost, nlp.rows), self._outputs, m)
+
+        # per sample, compiled: y_s, then y_s with J_sᵀ, then the Hessian of ȳ_sᵀ y_s (+ J_kᵀ diag(d) J_k)
         z = ca.SX.sym("z", n_x)
         data = ca.SX.sym("data", model.data_size)
         weights = ca.SX.sym("ybar", m)
-        tau, potential, _, _, rows = model.sample(ca.DM(lower) + ca.DM(upper - lower) * z, data)
+        tau, potential, _, _, rows = model.sample(ca.DM(lower) + ca.DM(upper - lower) * z,
+                                                  model.known_zeros(data, problem.data))
         y = ca.vertcat(tau, potential, rows)
         hessian, _ = ca.hessian(ca.dot(weights, y), z)
+        curved = [] if self._curved is None else self._curved.tolist()
+        curvature = ca.SX.sym("d", len(curved))
+        if curved:
+            jacobian = ca.jacobian(y[curved], z)
+            hessian += ca.mtimes(jacobian.T, ca.diag(curvature) @ jacobian)
         self._sample_outputs = compiled(ca.Function("sample_outputs", [z, data], [y]))
         self._sample_jacobian = compiled(ca.Function("sample_jacobian", [z, data], [y, ca.jacobian(y, z).T]))
-        self._sample_hessian = compiled(ca.Function("sample_hessian", [z, data, weights], [ca.triu(hessian)]))
+        self._sample_hessian = compiled(ca.Function("sample_hessian", [z, data, weights, curvature], [ca.triu(hessian)]))
         self._data = np.asarray(problem.data)
         x = ca.MX.sym("x", nlp.size)
         self._all_rows = ca.Function("all_rows", [x], [self._oracle(x, np.arange(self.n_samples), nlp.rows)[1]])
@@ -163,16 +175,21 @@ class StructuredNlp:
         lam_f, lam_g = ca.MX.sym("lam_f"), ca.MX.sym("lam_g", n_g)
         ybar = ca.gradient(lam_f * f_local + ca.dot(lam_g, g_local), local)
         directions = ca.MX.sym("J", m * count, n_x)
-        # (∂²L/∂Y²) J, and ȳ itself, do not depend on Y when f and g are linear in Y (epigraphs, constraint rows)
+        # (∂²L/∂Y²) J, and ȳ itself, do not depend on Y when f and g are linear in Y (epigraphs, constraint rows);
+        # when ∂²L/∂Y² is diagonal (rms), the per-sample Hessian adds J_kᵀ diag(d_k) J_k itself
         linear = not ca.depends_on(ybar, local)
-        curvature = ca.MX(m * count, n_x) if linear else ca.jtimes(ybar, local, directions)
+        diagonal = not linear and self._curved is not None
+        curved = [] if self._curved is None else self._curved.tolist()
+        curvature = ca.MX(m * count, n_x) if linear or diagonal else ca.jtimes(ybar, local, directions)
         phi = ca.Function("phi", [local, nlp.z], [f_local, g_local])
         phi_gradient = ca.Function("phi_gradient", [local, nlp.z], [f_local, ca.gradient(f_local, local),
                                                                     ca.gradient(f_local, nlp.z)])
         phi_jacobian = ca.Function("phi_jacobian", [local, nlp.z], [g_local, ca.jacobian(g_local, local),
                                                                     ca.jacobian(g_local, nlp.z)])
         phi_hessian = ca.Function("phi_hessian", [local, nlp.z, lam_f, lam_g, directions],
-                                  [ybar, ca.MX(n_x, n_x) if linear else ca.mtimes(directions.T, curvature)])
+                                  [ybar, ca.MX(n_x, n_x) if linear or diagonal else ca.mtimes(directions.T, curvature)])
+        phi_curvature = ca.Function("phi_curvature", [local, nlp.z, lam_f, lam_g], [ybar, ca.reshape(
+            ca.densify(ca.diag(ca.jacobian(ybar, local))), m, count)[curved, :] if diagonal else ca.MX(len(curved), count)])
 
         # the oracle and its derivatives, as IPOPT's callbacks expect them
         x, p = ca.MX.sym("x", nlp.size), ca.MX.sym("p", 0)
@@ -188,11 +205,14 @@ class StructuredNlp:
         jac_g = ca.Function("nlp_jac_g", [x, p], [rows_j, rows_w + ca.horzcat(ca.mtimes(rows_y, transposed.T), ca.MX(n_g, n_extra))],
                             ["x", "p"], ["g", "jac_g_x"])
         weight_f, weight_g = ca.MX.sym("lam_f"), ca.MX.sym("lam_g", n_g)
-        if linear:   # no per-sample outputs nor Jacobians needed: only the samples' Hessians of ȳᵀy
-            ybar_value, gauss_newton = phi_hessian(ca.MX(m * count, 1), x, weight_f, weight_g, ca.MX(m * count, n_x))
+        if linear or diagonal:   # no per-sample Jacobians needed (nor outputs, when linear): only the samples' Hessians
+            ybar_value, diagonal_value = phi_curvature(values if diagonal else ca.MX(m * count, 1), x, weight_f, weight_g)
+            gauss_newton = ca.MX(n_x, n_x)
         else:
             ybar_value, gauss_newton = phi_hessian(values_j, x, weight_f, weight_g, transposed.T)
-        summed = self._sample_hessian.map("hessian", "serial", count, [0], [0])(zx, columns, ca.reshape(ybar_value, m, count))
+            diagonal_value = ca.MX(len(curved), count)
+        summed = self._sample_hessian.map("hessian", "serial", count, [0], [0])(
+            zx, columns, ca.reshape(ybar_value, m, count), diagonal_value)
         hessian = ca.diagcat(summed + ca.triu(gauss_newton), ca.MX(n_extra, n_extra))
         hess_lag = ca.Function("nlp_hess_l", [x, p, weight_f, weight_g], [ca.triu(hessian)],
                                ["x", "p", "lam_f", "lam_g"], ["triu_hess_gamma_x_x"])
@@ -266,6 +286,20 @@ def _closest(values: np.ndarray, taken: np.ndarray, count: int) -> np.ndarray:
     if free.size <= count:
         return free
     return free[np.argpartition(values[free], count)[:count]]
+
+
+def _diagonal_curvature(expression: ca.MX, outputs: ca.MX, m: int) -> np.ndarray | None:
+    """When ``∂²(λᵀ expression)/∂Y²`` (the cost and the rows, any weights ``λ``; ``Y``: the per-sample
+    ``outputs``, ``m`` per sample) is diagonal, the outputs ``k`` of a sample (0 ≤ k < m) where its
+    diagonal has entries (none when ``expression`` is linear in ``Y``); else None."""
+    weights = ca.MX.sym("lambda", expression.numel())
+    gradient = ca.gradient(ca.dot(weights, expression), outputs)
+    if not ca.depends_on(gradient, outputs):
+        return np.zeros(0, dtype=int)
+    rows, columns = ca.jacobian(gradient, outputs).sparsity().get_triplet()
+    if rows != columns:
+        return None
+    return np.array(sorted({row % m for row in rows}), dtype=int)
 
 
 def _linear_in(expression: ca.MX, variables: ca.MX) -> bool:

@@ -364,6 +364,16 @@ class TorqueModel:
             blocks.append(np.kron(np.eye(len(self.scenarios)), np.ones((n // len(self.scenarios), 1))))
         return np.hstack(blocks).T   # Fortran order: each sample's column is contiguous, as the evaluators read it
 
+    @staticmethod
+    def known_zeros(data: ca.SX, values: np.ndarray) -> ca.SX:
+        """The data symbols ``data`` with the entries that are zero in every column of ``values``
+        (the data matrix) replaced by structural zeros: the Jacobian column of a joint that lies
+        beyond a body, of a joint no spring spans. An expression built on them drops the terms
+        that are exactly zero for these samples (fewer operations, structurally zero derivatives)
+        and is valid for these samples only."""
+        zero = ~np.any(np.asarray(values) != 0.0, axis=1)
+        return ca.vertcat(*[ca.SX(0) if zero[i] else data[i] for i in range(data.numel())])
+
     @functools.lru_cache(maxsize=8)
     def mapped(self, n: int) -> ca.Function:
         """``sample`` evaluated on ``n`` data columns (serial map: a loop in C)."""
