@@ -231,10 +231,12 @@ class StructuredNlp:
         # the rows of the first samples (a workspace's samples are space-filling in any prefix), the rows
         # of no sample, the violated rows and the closest to binding
         active = (self._row_sample < min(SPREAD_SAMPLES, self.n_samples // 8)) | (self._row_sample == self.n_samples)
-        active |= values < ROW_TOLERANCE
+        violated = np.flatnonzero(values < ROW_TOLERANCE)   # at most `keep` of them, the worst: later rounds add the rest
+        active[violated[np.argsort(values[violated])[:keep]]] = True
         multipliers = None
         if lam_g is not None:
-            active |= lam_g != 0
+            held = np.flatnonzero(lam_g != 0)   # at most `keep` of them, of the largest multipliers
+            active[held[np.argsort(lam_g[held])[:keep]]] = True
             multipliers = (np.zeros(self.nlp.size), np.asarray(lam_g, dtype=float))
         active[_closest(values, active, keep)] = True
         iterations, status = 0, "not run"
