@@ -61,7 +61,7 @@ def two_link_problem():
 
     problem = load_config(ROOT / "examples" / "two_link.yaml").problem
     solver = _MultiStartSolver(problem, "auto", args.iterations, 1e-8)
-    z, _, _ = solver._least_squares(problem.unscale(problem.variables.start))
+    z = solver._least_squares(problem.unscale(problem.variables.start))[0]
     return problem, problem.scale(z)
 
 

@@ -273,9 +273,11 @@ def solve_problem(problem, starts=8, seed=0, method="auto", progress=None, max_i
     """Run every start and return the best feasible design (see :meth:`DesignProblem.solve`).
 
     Screen, then polish: every start runs with ``max_iterations``; up to three feasible starts
-    within 25 % of the best that stopped on the iteration limit then continue from where they
-    stopped for up to ``polish_iterations`` (default 4 × max_iterations). Starts that stall far
-    from the best cost only their budget, and the chosen design still converges.
+    within 25 % of the best that stopped on the iteration limit (least squares' or IPOPT's) then
+    continue from where they stopped for up to ``polish_iterations`` (default 4 × max_iterations).
+    Starts that stall far from the best cost only their budget, and the chosen design still
+    converges. When no start is feasible, up to three that the limit stopped (the least violated)
+    continue first.
 
     ``workers``: processes that run the starts at once (the result does not depend on it); default
     :func:`default_workers` (``os.cpu_count()``), used when a start is expected to last
@@ -331,31 +333,52 @@ def _solve(problem, runner, starts, seed, method, progress, max_iterations, poli
                           total=len(points), best_x=_best(feasible, problem).x if feasible else None) from None
     if bar is not None:
         bar.close()
+    polish = 4 * max_iterations if polish_iterations is None else int(polish_iterations)
+    polish = polish if problem.variables.size else 0
     feasible = [record for record in records if record.feasible]
+    if not feasible and polish > 0:
+        # no start is feasible yet: continue those the budget stopped, the closest to feasible first
+        stopped = sorted((r for r in records if _stopped_by_budget(r)), key=lambda record: record.max_violation)[:3]
+        _polish(runner, problem, records, stopped, polish, lambda new, old: new.max_violation < old.max_violation,
+                len(points), None)
+        feasible = [record for record in records if record.feasible]
     if not feasible:
         summary = "; ".join(f"start {r.index}: {r.status}, violation {r.max_violation:.3g}" for r in records)
         raise SolverError(f"no start gave a feasible design ({summary})", problem=problem, starts=records)
     best = _best(feasible, problem)
-    polish = 4 * max_iterations if polish_iterations is None else int(polish_iterations)
-    if polish > 0 and problem.variables.size:
+    if polish > 0:
         # continue the starts that are close to the best and were stopped by the budget
-        candidates = sorted((r for r in feasible if "iteration limit" in r.status and r.objective <= 1.25 * best.objective),
+        candidates = sorted((r for r in feasible if _stopped_by_budget(r) and r.objective <= 1.25 * best.objective),
                             key=lambda record: record.objective)[:3]
-        solver.max_iterations = polish
-        try:
-            polished_records = runner.run([(record.index, problem.unscale(record.x), False) for record in candidates])
-        except KeyboardInterrupt:
-            raise Interrupted(f"interrupted while polishing: all {len(points)} starts had finished",
-                              problem=problem, starts=records, total=len(points), best_x=best.x) from None
-        for record, polished in zip(candidates, polished_records):
-            polished.z0 = record.z0
-            polished.status = f"{polished.status} (polished after {record.iterations} iterations)"
-            polished.iterations += record.iterations
-            polished.seconds += record.seconds
-            if polished.feasible and polished.objective <= record.objective:
-                records[records.index(record)] = polished
+        _polish(runner, problem, records, candidates, polish,
+                lambda new, old: new.feasible and new.objective <= old.objective, len(points), best.x)
         best = _best([r for r in records if r.feasible], problem)
     return Solution(best.x, records, method, seed, best.status)
+
+
+def _stopped_by_budget(record: StartRecord) -> bool:
+    """Whether the start stopped on its iteration limit (least squares' or IPOPT's)."""
+    return "iteration limit" in record.status or "Maximum_Iterations_Exceeded" in record.status
+
+
+def _polish(runner, problem, records, candidates, iterations, better, total, best_x) -> None:
+    """Continue ``candidates`` (records of ``records``) from where they stopped for up to ``iterations``;
+    a continued start replaces its record when ``better(new, old)``."""
+    if not candidates:
+        return
+    runner.solver.max_iterations = iterations
+    try:
+        continued = runner.run([(record.index, problem.unscale(record.x), False) for record in candidates])
+    except KeyboardInterrupt:
+        raise Interrupted(f"interrupted while polishing: all {total} starts had finished",
+                          problem=problem, starts=records, total=total, best_x=best_x) from None
+    for record, polished in zip(candidates, continued):
+        polished.z0 = record.z0
+        polished.status = f"{polished.status} (polished after {record.iterations} iterations)"
+        polished.iterations += record.iterations
+        polished.seconds += record.seconds
+        if better(polished, record):
+            records[records.index(record)] = polished
 
 
 def _best(records: list, problem) -> StartRecord:

@@ -174,22 +174,25 @@ class StructuredNlp:
         n_g = int(g_local.numel())
         lam_f, lam_g = ca.MX.sym("lam_f"), ca.MX.sym("lam_g", n_g)
         ybar = ca.gradient(lam_f * f_local + ca.dot(lam_g, g_local), local)
-        directions = ca.MX.sym("J", m * count, n_x)
-        # (∂²L/∂Y²) J, and ȳ itself, do not depend on Y when f and g are linear in Y (epigraphs, constraint rows);
-        # when ∂²L/∂Y² is diagonal (rms), the per-sample Hessian adds J_kᵀ diag(d_k) J_k itself
+        # ȳ does not depend on Y when f and g are linear in Y (epigraphs, constraint rows); when ∂²L/∂Y² is
+        # diagonal (rms), its diagonal is ∂²L/∂Y² 1 and the per-sample Hessian adds J_kᵀ diag(d_k) J_k itself;
+        # otherwise the Gauss–Newton-like term is Jᵀ (∂²L/∂Y²) J, n forward directions through ȳ
         linear = not ca.depends_on(ybar, local)
         diagonal = not linear and self._curved is not None
         curved = [] if self._curved is None else self._curved.tolist()
-        curvature = ca.MX(m * count, n_x) if linear or diagonal else ca.jtimes(ybar, local, directions)
+        if linear or diagonal:
+            curvature = (ca.reshape(ca.jtimes(ybar, local, ca.DM.ones(m * count)), m, count)[curved, :] if diagonal
+                         else ca.MX(len(curved), count))
+            phi_hessian = ca.Function("phi_hessian", [local, nlp.z, lam_f, lam_g], [ybar, curvature])
+        else:
+            directions = ca.MX.sym("J", m * count, n_x)
+            phi_hessian = ca.Function("phi_hessian", [local, nlp.z, lam_f, lam_g, directions],
+                                      [ybar, ca.mtimes(directions.T, ca.jtimes(ybar, local, directions))])
         phi = ca.Function("phi", [local, nlp.z], [f_local, g_local])
         phi_gradient = ca.Function("phi_gradient", [local, nlp.z], [f_local, ca.gradient(f_local, local),
                                                                     ca.gradient(f_local, nlp.z)])
         phi_jacobian = ca.Function("phi_jacobian", [local, nlp.z], [g_local, ca.jacobian(g_local, local),
                                                                     ca.jacobian(g_local, nlp.z)])
-        phi_hessian = ca.Function("phi_hessian", [local, nlp.z, lam_f, lam_g, directions],
-                                  [ybar, ca.MX(n_x, n_x) if linear or diagonal else ca.mtimes(directions.T, curvature)])
-        phi_curvature = ca.Function("phi_curvature", [local, nlp.z, lam_f, lam_g], [ybar, ca.reshape(
-            ca.densify(ca.diag(ca.jacobian(ybar, local))), m, count)[curved, :] if diagonal else ca.MX(len(curved), count)])
 
         # the oracle and its derivatives, as IPOPT's callbacks expect them
         x, p = ca.MX.sym("x", nlp.size), ca.MX.sym("p", 0)
@@ -206,7 +209,7 @@ class StructuredNlp:
                             ["x", "p"], ["g", "jac_g_x"])
         weight_f, weight_g = ca.MX.sym("lam_f"), ca.MX.sym("lam_g", n_g)
         if linear or diagonal:   # no per-sample Jacobians needed (nor outputs, when linear): only the samples' Hessians
-            ybar_value, diagonal_value = phi_curvature(values if diagonal else ca.MX(m * count, 1), x, weight_f, weight_g)
+            ybar_value, diagonal_value = phi_hessian(values if diagonal else ca.MX(m * count, 1), x, weight_f, weight_g)
             gauss_newton = ca.MX(n_x, n_x)
         else:
             ybar_value, gauss_newton = phi_hessian(values_j, x, weight_f, weight_g, transposed.T)
@@ -298,7 +301,7 @@ def _diagonal_curvature(expression: ca.MX, outputs: ca.MX, m: int) -> np.ndarray
     gradient = ca.gradient(ca.dot(weights, expression), outputs)
     if not ca.depends_on(gradient, outputs):
         return np.zeros(0, dtype=int)
-    rows, columns = ca.jacobian(gradient, outputs).sparsity().get_triplet()
+    rows, columns = ca.jacobian_sparsity(gradient, outputs).get_triplet()
     if rows != columns:
         return None
     return np.array(sorted({row % m for row in rows}), dtype=int)
