@@ -636,8 +636,9 @@ class SampleEvaluator:
         return self.outputs
 
 
-#: a block of samples of :class:`BlockEvaluator` holds about this many bytes of outputs
-BLOCK_BYTES = 512 * 1024
+#: a block of samples of :class:`BlockEvaluator` holds at most about this many bytes of outputs (two
+#: such buffers stay in a 2-core machine's last-level cache; fewer, larger blocks cost less Python per pass)
+BLOCK_BYTES = 2 * 1024 * 1024
 
 
 class BlockEvaluator:
@@ -655,7 +656,8 @@ class BlockEvaluator:
     numbers, handed out in the same order, as with one thread.
 
     Args:
-        block: samples per block; default: outputs of about :data:`BLOCK_BYTES`.
+        block: samples per block; default: blocks of equal size (to a sample) whose outputs take at
+            most about :data:`BLOCK_BYTES`.
         kernel: use the block kernel: None (default) from :data:`~springbalance.design.block_kernel.KERNEL_MIN_SAMPLES` samples on,
             False never (CasADi's map), True whenever ``function`` has one.
     """
@@ -668,7 +670,8 @@ class BlockEvaluator:
         self._data = np.asfortranarray(data).reshape(-1, order="F")
         if block is None:
             per_sample = 8 * max(sum(function.sparsity_out(i).nnz() for i in range(function.n_out())), 1)
-            block = max(BLOCK_BYTES // per_sample, 32)
+            largest = max(BLOCK_BYTES // per_sample, 32)
+            block = -(-n // -(-n // largest))   # ceil(n / ceil(n / largest)): the blocks share the samples evenly
         self.block = int(max(1, min(block, n)))
         self._parts: dict[int, SampleEvaluator] = {}
         self._kernel = None if kernel is False else block_kernel(function, n if kernel is None else None)
