@@ -289,9 +289,11 @@ for name in SOLVERS[1:]:
     per_start = ", ".join(f"{'' if kind == '=' else kind}{value:.1f}×" for value, kind in ratios)
     verdict = ""
     if name in GOALS:
-        met = median >= GOALS[name]
-        verdict = ("; goal met" if met and qualifier in ("", "≥") else "; goal not met" if not met and qualifier in ("", "≤")
-                   else "; goal undecided (bounds)")
+        # the median's range: a "≤" start may be as low as 0, a "≥" start as high as any
+        lowest = float(np.median([value if kind != "≤" else 0.0 for value, kind in ratios]))
+        highest = float(np.median([value if kind != "≥" else np.inf for value, kind in ratios]))
+        verdict = ("; goal met" if lowest >= GOALS[name] else "; goal not met" if highest < GOALS[name]
+                   else f"; goal undecided (the median lies in [{lowest:.1f}×, {highest:.1f}×])")
     bounded = sum(kind == "≥" for _, kind in ratios)
     reached_note = (f"; {name} not reached within {100 * WITHIN:g} % on {not_reached}/{len(ours)} starts" if not_reached
                     else "")

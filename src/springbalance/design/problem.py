@@ -354,8 +354,9 @@ class DesignProblem:
                 where it does not or where constraints bind), ``"least_squares"`` or ``"ipopt"``.
             progress: show a progress bar (default: when more than one start and stderr is a terminal).
             max_iterations: iteration limit per start and phase (the screening budget).
-            polish_iterations: further iterations for the best start when it stopped on the
-                limit (default 4 × max_iterations; 0 disables).
+            polish_iterations: further iterations for the best starts when they stopped on the
+                limit, and for the least violated ones when no start is feasible (default
+                4 × max_iterations; 0 disables).
             tolerance: least squares stop when a step lowers the cost by less than this fraction
                 (a flat valley); IPOPT's own tolerance is min(tolerance, 1e-8).
             standard_wire: round every helical spring's free wire diameter to the preferred
