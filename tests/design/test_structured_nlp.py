@@ -106,3 +106,20 @@ def test_least_squares_multipliers_map_onto_the_nlp_rows():
     mapped = problem.nlp_row_multipliers(nu, nlp.n_rows)
     assert mapped.shape == (nlp.n_rows,) and np.all(mapped >= 0)
     assert np.allclose(nlp_jacobian.T @ mapped, scaled_jacobian.T @ nu, rtol=1e-10, atol=1e-12)
+
+
+def test_starts_that_ipopts_limit_left_infeasible_are_continued_before_giving_up():
+    """Ten IPOPT iterations leave both coil-demo starts infeasible: without a polish the solve fails;
+    with one, the starts the limit stopped continue and end feasible (IPOPT's limit counts as a budget
+    stop, as least squares' does)."""
+    from springbalance.design.solvers import solve_problem
+    from springbalance.errors import SolverError
+
+    problem = _coils()
+    options = {"starts": 2, "seed": 0, "method": "ipopt", "max_iterations": 10, "workers": 1}
+    with pytest.raises(SolverError, match="Maximum_Iterations_Exceeded"):
+        solve_problem(problem, polish_iterations=0, **options)
+    solution = solve_problem(problem, polish_iterations=200, **options)
+    best = min((record for record in solution.starts if record.feasible), key=lambda record: record.objective)
+    assert "polished after 10 iterations" in best.status
+    assert problem.evaluate(solution.x).max_violation <= 1e-6
