@@ -673,9 +673,8 @@ class _LeastSquaresResiduals:
     Jacobian never exists for all samples at once. ``pe_variance``, whose rows are centred over
     all samples, and :func:`refine` assemble the full ``r`` and ``J`` (:meth:`residuals_and_jacobian`).
 
-    **Rows no variable moves.** Sample data that is zero at every sample (the Jacobian column of a
-    joint that lies beyond a body, a joint no spring spans) enters the per-sample function as a
-    structural zero. Residual rows whose Jacobian is then structurally zero (the wrist joints of an
+    **Rows no variable moves.** Sample data that is zero at every sample (a spring body's Jacobian
+    columns of the joints beyond it) enters the per-sample function as a structural zero. Residual rows whose Jacobian is then structurally zero (the wrist joints of an
     arm whose springs end on the forearm, a joint of weight 0) are constant in ``z``: the function
     gives their values after the others' (for ``rᵀr``) but no Jacobian rows, and ``JᵀJ``, ``Jᵀr``
     are summed over the :attr:`n_moving` other rows only. The numbers are the same: only the terms

@@ -367,8 +367,8 @@ class TorqueModel:
     @staticmethod
     def known_zeros(data: ca.SX, values: np.ndarray) -> ca.SX:
         """The data symbols ``data`` with the entries that are zero in every column of ``values``
-        (the data matrix) replaced by structural zeros: the Jacobian column of a joint that lies
-        beyond a body, of a joint no spring spans. An expression built on them drops the terms
+        (the data matrix) replaced by structural zeros, such as a body's Jacobian columns of the
+        joints beyond it. An expression built on them drops the terms
         that are exactly zero for these samples (fewer operations, structurally zero derivatives)
         and is valid for these samples only."""
         zero = ~np.any(np.asarray(values) != 0.0, axis=1)
