@@ -223,6 +223,17 @@ class DesignProblem:
         lower, upper = self.variables.bounds()
         return lower + (upper - lower) * np.asarray(z, dtype=float)
 
+    def scaled_sample(self) -> tuple[ca.SX, ca.SX, tuple]:
+        """``(z, data, (tau, V, L, F, C))``: the per-sample model (:attr:`TorqueModel.sample`) as SX
+        expressions of the scaled variables ``z ∈ [0, 1]`` and one sample's ``data``, the data entries
+        that are zero at every sample of this problem as structural zeros
+        (:meth:`TorqueModel.known_zeros`): valid for this problem's samples only."""
+        z = ca.SX.sym("z", self.variables.size)
+        data = ca.SX.sym("data", self.model.data_size)
+        lower, upper = self.variables.bounds()
+        outputs = self.model.sample(ca.DM(lower) + ca.DM(upper - lower) * z, self.model.known_zeros(data, self.data))
+        return z, data, tuple(outputs)
+
     def unscale(self, x: np.ndarray) -> np.ndarray:
         lower, upper = self.variables.bounds()
         width = np.where(upper > lower, upper - lower, 1.0)

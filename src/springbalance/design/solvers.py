@@ -304,7 +304,6 @@ def solve_problem(problem, starts=8, seed=0, method="auto", progress=None, max_i
 
 
 def _solve(problem, runner, starts, seed, method, progress, max_iterations, polish_iterations, initial=None):
-    solver = runner.solver
     points = start_points(problem, starts, seed, initial)
     if progress is None:
         progress = len(points) > 1 and sys.stderr.isatty()
@@ -692,10 +691,7 @@ class _LeastSquaresResiduals:
         self.n_sample_rows = n * len(blocks)
         self.bounds = (lower, upper)
 
-        z = ca.SX.sym("z", problem.variables.size)
-        data = ca.SX.sym("data", model.data_size)
-        tau, potential, _, _, rows = model.sample(ca.DM(lower) + ca.DM(upper - lower) * z,
-                                                  model.known_zeros(data, problem.data))
+        z, data, (tau, potential, _, _, rows) = problem.scaled_sample()
         if self.variance:
             residual = potential / (problem.potential_scale * np.sqrt(n))
         else:
@@ -812,8 +808,7 @@ class _LeastSquaresResiduals:
         if self.variance:
             r, J = self._objective_rows(z)
             return r, J[:, columns]
-        n_x, per_sample = self.problem.variables.size, None
-        r = J = None
+        per_sample = r = J = None
         for start, stop, (residual, jacobian, _, _) in self._blocks(z):
             if r is None:
                 per_sample = self.order.size

@@ -88,7 +88,6 @@ class StructuredNlp:
         self.n_samples, nv, n_c = problem.workspace.size, problem.mechanism.nv, model.n_constraints
         self.n_design = n_x = problem.variables.size
         self.n_outputs = m = nv + 1 + n_c
-        lower, upper = problem.variables.bounds()
 
         # the NLP over symbols of the per-sample outputs (vec(Y), sample by sample)
         self._outputs = ca.MX.sym("Y", m * self.n_samples)
@@ -115,11 +114,8 @@ class StructuredNlp:
         self._curved = _diagonal_curvature(ca.vertcat(nlp.cost, nlp.rows), self._outputs, m)
 
         # per sample, compiled: y_s, then y_s with J_sᵀ, then the Hessian of ȳ_sᵀ y_s (+ J_kᵀ diag(d) J_k)
-        z = ca.SX.sym("z", n_x)
-        data = ca.SX.sym("data", model.data_size)
+        z, data, (tau, potential, _, _, rows) = problem.scaled_sample()
         weights = ca.SX.sym("ybar", m)
-        tau, potential, _, _, rows = model.sample(ca.DM(lower) + ca.DM(upper - lower) * z,
-                                                  model.known_zeros(data, problem.data))
         y = ca.vertcat(tau, potential, rows)
         hessian, _ = ca.hessian(ca.dot(weights, y), z)
         curved = [] if self._curved is None else self._curved.tolist()

@@ -576,42 +576,15 @@ class SampleEvaluator:
         self.function = function
         self._kernel = None if kernel is False else block_kernel(function, n if kernel is None else None)
         self._data = np.asfortranarray(data).reshape(-1, order="F")  # a view of Fortran-ordered data, no copy
-        self._mapped = None
+        self._buffers = _Outputs(function, n)
         if self._kernel is not None:
-            self._buffers = _Outputs(function, n)
-            self.outputs = self._buffers.views(n)
             return
-        self.mapped = function.map(n, "serial")
         self._x = np.zeros((n, function.nnz_in(0)))   # row i: the x of sample i (all equal)
-        self._buffer, self._trigger = self.mapped.buffer()
+        self._buffer, self._trigger = function.map(n, "serial").buffer()
         self._buffer.set_arg(0, memoryview(self._x.reshape(-1)))
         self._buffer.set_arg(1, memoryview(self._data))
-        self.outputs = []
-        self._sparse = []
-        for i in range(function.n_out()):
-            sparsity = function.sparsity_out(i)
-            rows, cols = sparsity.size1(), sparsity.size2()
-            raw = np.zeros(sparsity.nnz() * n)
+        for i, raw in enumerate(self._buffers.raw):
             self._buffer.set_res(i, memoryview(raw))
-            if sparsity.is_dense():
-                self.outputs.append(raw.reshape(n, cols, rows))
-                self._sparse.append(None)
-            else:
-                triplet_rows, triplet_cols = sparsity.get_triplet()
-                self.outputs.append(np.zeros((n, cols, rows)))
-                self._sparse.append((raw, np.array(triplet_cols, dtype=int), np.array(triplet_rows, dtype=int),
-                                     sparsity.nnz()))
-
-    @property
-    def mapped(self) -> ca.Function:
-        """``function.map(n, "serial")`` (built when first asked for on the kernel's path)."""
-        if self._mapped is None:
-            self._mapped = self.function.map(self.n_samples, "serial")
-        return self._mapped
-
-    @mapped.setter
-    def mapped(self, value: ca.Function) -> None:
-        self._mapped = value
 
     def rebind(self, data: np.ndarray) -> None:
         """Evaluate on other data columns from now on: ``data`` holds ``n_samples`` columns, flat in
@@ -626,14 +599,10 @@ class SampleEvaluator:
         if self._kernel is not None:
             data = np.ascontiguousarray(self._data)
             self._kernel(self._kernel.shared_input(x), data.ctypes.data, self.n_samples, self._buffers.addresses)
-            return self._buffers.views(self.n_samples)
-        self._x[:] = x
-        self._trigger()
-        for sparse, out in zip(self._sparse, self.outputs):
-            if sparse is not None and sparse[3]:
-                raw, cols, rows, nnz = sparse
-                out[:, cols, rows] = raw.reshape(self.n_samples, nnz)
-        return self.outputs
+        else:
+            self._x[:] = x
+            self._trigger()
+        return self._buffers.views(self.n_samples)
 
 
 #: a block of samples of :class:`BlockEvaluator` holds at most about this many bytes of outputs (two
