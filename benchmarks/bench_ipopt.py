@@ -95,7 +95,7 @@ def child(case, way):
         w, stats = np.array(solution["x"]).reshape(-1), solver.stats()
         status, iterations = stats["return_status"], stats["iter_count"]
     else:
-        w, status, iterations = structured.solve(start, nlp.lower, nlp.upper, options, args.iterations)
+        w, status, iterations, _ = structured.solve(start, nlp.lower, nlp.upper, options, args.iterations)
     seconds = time.perf_counter() - clock
     after = problem.evaluate(problem.scale(np.clip(w[: nlp.n_design], 0.0, 1.0)))
     print(json.dumps({"seconds": seconds, "build": built, "status": status, "iterations": int(iterations),

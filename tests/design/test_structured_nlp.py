@@ -74,7 +74,7 @@ def test_working_set_ends_at_a_solution_of_the_full_nlp():
 
     structured._solver = counting
     options = {"print_time": False, "ipopt.print_level": 0, "ipopt.sb": "yes", "ipopt.tol": 1e-8}
-    w, status, iterations = structured.solve(w0, nlp.lower, nlp.upper, options, 200)
+    w, status, iterations, _ = structured.solve(w0, nlp.lower, nlp.upper, options, 200)
     assert status == "Solve_Succeeded"
     assert max(seen) < nlp.n_rows / 2          # IPOPT never had most of the rows
     assert np.min(structured.row_values(w)) > -1e-7
@@ -123,3 +123,40 @@ def test_starts_that_ipopts_limit_left_infeasible_are_continued_before_giving_up
     best = min((record for record in solution.starts if record.feasible), key=lambda record: record.objective)
     assert "polished after 10 iterations" in best.status
     assert problem.evaluate(solution.x).max_violation <= 1e-6
+
+
+def test_scaled_row_multipliers_invert_the_nlp_mapping():
+    """DesignProblem.scaled_row_multipliers spreads the NLP rows' multipliers over the solver's scaled rows
+    (a row of no sample evenly over the samples) so that nlp_row_multipliers gives them back."""
+    problem = _coils()
+    nlp = problem.build()
+    n_scaled = problem.workspace.size * len(problem.model.constraint_blocks)
+    assert not all(block.per_sample for block in problem.model.constraint_blocks)    # some rows of no sample
+    nu = np.random.default_rng(5).random(nlp.n_rows)
+    # the constraint rows come first (those of a sample, then those of none), the objective's own rows after
+    n_constraint_rows = problem.nlp_row_multipliers(np.ones(n_scaled), nlp.n_rows).nonzero()[0].size
+    nu[n_constraint_rows:] = 0.0
+    scaled = problem.scaled_row_multipliers(nu, 0)
+    assert scaled.shape == (n_scaled,) and np.all(scaled >= 0)
+    assert np.allclose(problem.nlp_row_multipliers(scaled, nlp.n_rows), nu, rtol=1e-12, atol=0)
+
+
+def test_a_resolve_from_a_nearby_problems_multipliers_starts_warm():
+    """The coil demo solved, then one wire fixed at a standard size (as wire rounding does): solved from
+    the continuous design with its IPOPT multipliers, the fixed-wire problem reaches the optimum the cold
+    solve from the same design reaches, in less than half the iterations."""
+    from springbalance.design.solvers import solve_problem
+    from springbalance.design.standard_wire import _fixed_wire_problem
+
+    problem = _coils()
+    solution = solve_problem(problem, starts=1, seed=0, workers=1)
+    assert solution.multipliers is not None and solution.multipliers.shape == (problem.build().n_rows,)
+    wire = problem.variables.names.index("shoulder_spring.wire_diameter")
+    trial = _fixed_wire_problem(problem, {"shoulder_spring": 0.0028}, solution.x)     # below 3.0 mm: moves the optimum
+    cold = solve_problem(trial, starts=1, workers=1)
+    warm = solve_problem(trial, starts=1, workers=1, multipliers=solution.multipliers)
+    assert solution.x[wire] > 0.0029
+    assert warm.starts[0].iterations < 0.5 * cold.starts[0].iterations
+    cold_value, warm_value = (trial.objective_value(trial.evaluate(s.x)) for s in (cold, warm))
+    assert trial.evaluate(warm.x).max_violation <= 1e-6
+    assert warm_value == pytest.approx(cold_value, rel=1e-6)

@@ -353,6 +353,22 @@ class DesignProblem:
             raise ValueError(f"{n_rows} NLP rows, fewer than the {n_rows - objective_rows} rows of the multipliers")
         return np.concatenate(parts + [np.zeros(objective_rows), linear])
 
+    def scaled_row_multipliers(self, nlp: np.ndarray, n_linear: int) -> np.ndarray:
+        """The inverse of :meth:`nlp_row_multipliers`: multipliers of the solver's scaled rows (N·n_c
+        sample rows, sample by sample, then ``n_linear`` linear rows) from those of the NLP's rows
+        (≥ 0). A row that does not depend on the sample is shared evenly by the samples."""
+        blocks = self.model.constraint_blocks
+        n = self.workspace.size
+        nlp = np.asarray(nlp, dtype=float)
+        scale = np.array([b.scale for b in blocks] or [1.0])
+        varying = [block.offset for block in blocks if block.per_sample]
+        constant = [block.offset for block in blocks if not block.per_sample]
+        per_sample = np.zeros((n, len(blocks)))
+        per_sample[:, varying] = nlp[: n * len(varying)].reshape(n, len(varying))
+        per_sample[:, constant] = nlp[n * len(varying): n * len(varying) + len(constant)] / n
+        linear = nlp[nlp.size - n_linear:] if n_linear else np.zeros(0)
+        return np.concatenate([(per_sample * scale[: len(blocks)]).reshape(-1), linear])
+
     def solve(self, starts: int = 8, seed: int = 0, method: str = "auto", progress: bool | None = None,
               max_iterations: int = 100, tolerance: float = 1e-8, polish_iterations: int | None = None,
               standard_wire: bool = True, workers: int | None = None):

@@ -75,6 +75,8 @@ class StartRecord:
     iterations: int
     seconds: float
     tiebreak: float = float("nan")  # second criterion of a lexicographic objective (NaN otherwise)
+    #: IPOPT's multipliers of the NLP rows at ``x`` (CasADi's sign, ≤ 0) when IPOPT ended the start, else None
+    multipliers: np.ndarray | None = None
 
     @property
     def feasible(self) -> bool:
@@ -97,6 +99,8 @@ class Solution:
         method: the solver method asked for (``auto``, ``least_squares`` or ``ipopt``).
         seed: the seed of the start points.
         status: the solver status of the chosen start.
+        multipliers: IPOPT's multipliers of the NLP rows at ``x`` when IPOPT ended the chosen start (else
+            None): a solve of a nearby problem with the same rows may start from them (``solve_problem``).
     """
 
     x: np.ndarray
@@ -104,6 +108,7 @@ class Solution:
     method: str
     seed: int
     status: str
+    multipliers: np.ndarray | None = None
 
 
 def start_points(problem, starts: int, seed: int, initial=None) -> np.ndarray:
@@ -269,7 +274,7 @@ class _StartRunner:
 
 
 def solve_problem(problem, starts=8, seed=0, method="auto", progress=None, max_iterations=100, tolerance=1e-8,
-                  polish_iterations=None, *, initial=None, workers=None):
+                  polish_iterations=None, *, initial=None, multipliers=None, workers=None):
     """Run every start and return the best feasible design (see :meth:`DesignProblem.solve`).
 
     Screen, then polish: every start runs with ``max_iterations``; up to three feasible starts
@@ -278,6 +283,13 @@ def solve_problem(problem, starts=8, seed=0, method="auto", progress=None, max_i
     Starts that stall far from the best cost only their budget, and the chosen design still
     converges. When no start is feasible, up to three that the limit stopped (the least violated)
     continue first.
+
+    ``initial``: the first start (physical units; default the problem's initial guess).
+    ``multipliers``: IPOPT's multipliers of the NLP rows at ``initial`` (CasADi's sign, as
+    :attr:`Solution.multipliers`), from a solve of a nearby problem with the same rows (a variable
+    fixed, a bound moved): the first start then skips least squares and IPOPT starts there warm, the
+    re-solve of a perturbed NLP from the old primal-dual point. Ignored by ``least_squares`` and when
+    the row count differs.
 
     ``workers``: processes that run the starts at once (the result does not depend on it); default
     :func:`default_workers` (``os.cpu_count()``), used when a start is expected to last
@@ -295,8 +307,9 @@ def solve_problem(problem, starts=8, seed=0, method="auto", progress=None, max_i
     # The linear algebra here is small (n ≈ 30 columns): BLAS threads only contend with each
     # other and with the evaluation, badly so on a loaded machine, so use one.
     with threadpool_limits(limits=1, user_api="blas"):
-        runner = _StartRunner(_MultiStartSolver(problem, method, max_iterations, tolerance),
-                              *_pool_workers(problem, workers, starts))
+        solver = _MultiStartSolver(problem, method, max_iterations, tolerance)
+        solver.first_multipliers = None if multipliers is None else np.asarray(multipliers, dtype=float)
+        runner = _StartRunner(solver, *_pool_workers(problem, workers, starts))
         try:
             return _solve(problem, runner, starts, seed, method, progress, max_iterations, polish_iterations, initial)
         finally:
@@ -352,7 +365,7 @@ def _solve(problem, runner, starts, seed, method, progress, max_iterations, poli
         _polish(runner, problem, records, candidates, polish,
                 lambda new, old: new.feasible and new.objective <= old.objective, len(points), best.x)
         best = _best([r for r in records if r.feasible], problem)
-    return Solution(best.x, records, method, seed, best.status)
+    return Solution(best.x, records, method, seed, best.status, best.multipliers)
 
 
 def _stopped_by_budget(record: StartRecord) -> bool:
@@ -401,6 +414,7 @@ class _MultiStartSolver:
         self._ls = None
         self._ipopt = None
         self._first = None  # the IPOPT of a lexicographic objective's first phase
+        self.first_multipliers = None  # IPOPT's row multipliers at the first start (solve_problem's `multipliers`)
 
     def prepare(self) -> None:
         """Build what every start needs (the compiled least-squares residual, the NLP when every start
@@ -417,27 +431,47 @@ class _MultiStartSolver:
         problem = self.problem
         clock = time.perf_counter()
         z, status, iterations, multipliers = np.array(z0, dtype=float), "evaluated", 0, None
+        lam_g, warm = None, None
         if problem.variables.size:
             if self.method in ("auto", "least_squares"):
-                z, status, iterations, multipliers = self._least_squares(z, prepare)
+                warm = self._warm_multipliers() if index == 0 and prepare else None
+                # a nearby problem's primal-dual solution: the augmented Lagrangian starts from its multipliers
+                z, status, iterations, multipliers = self._least_squares(
+                    z, prepare and warm is None, warm, None if warm is None else max(10, self.max_iterations // 10))
             # IPOPT follows when asked for, for an objective without least-squares structure, or for a
             # constraint that least squares left violated (only then is the design evaluated here)
             needs_nlp, evaluation = self.method == "ipopt" or (self.method == "auto" and not problem.objective.least_squares), None
+            # a warm start's short least-squares run that did not converge: IPOPT finishes it (second order)
+            needs_nlp = needs_nlp or (self.method == "auto" and warm is not None and "iteration limit" in status)
             if not needs_nlp and self.method == "auto" and (problem.model.n_constraints or problem.linear_matrix()[1].size):
                 evaluation = problem.evaluate(problem.scale(z))
                 needs_nlp = max(evaluation.max_violation, problem.linear_violation(evaluation.x)) > FEASIBILITY_TOLERANCE
             if needs_nlp:
                 evaluation = evaluation if evaluation is not None else problem.evaluate(problem.scale(z))
-                z, status, more = self._ipopt_solve(z, evaluation, multipliers if problem.objective.least_squares else None)
+                z, status, more, lam_g = self._ipopt_solve(
+                    z, evaluation, multipliers=multipliers if problem.objective.least_squares else None)
                 iterations += more
         evaluation = problem.evaluate(problem.scale(z))
         tiebreak = problem.objective.tiebreak(evaluation.tau * problem.weights, evaluation.potential, problem.path_steps)
         violation = max(evaluation.max_violation, problem.linear_violation(evaluation.x))
         return StartRecord(index, np.asarray(z0), evaluation.x, problem.objective_value(evaluation),
-                           violation, status, iterations, time.perf_counter() - clock, tiebreak)
+                           violation, status, iterations, time.perf_counter() - clock, tiebreak, lam_g)
+
+    def _warm_multipliers(self) -> np.ndarray | None:
+        """The augmented Lagrangian's multipliers ``λ = ν/2`` (scaled rows) from ``first_multipliers`` (IPOPT's,
+        of the NLP rows), when the first start may begin with them: a least-squares objective with
+        constraint rows, and an NLP of as many rows as there are multipliers; else None."""
+        warm, problem = self.first_multipliers, self.problem
+        if warm is None or not problem.objective.least_squares or not self._residuals().n_constraint_rows:
+            return None
+        self._ipopt_solvers()
+        if warm.size != self._ipopt.nlp.n_rows:
+            return None
+        n_linear = self._residuals().n_constraint_rows - problem.workspace.size * len(problem.model.constraint_blocks)
+        return 0.5 * problem.scaled_row_multipliers(-warm, n_linear)
 
     # ------------------------------------------------------------------ least squares
-    def _least_squares(self, z0, prepare=True):
+    def _least_squares(self, z0, prepare=True, multipliers=None, budget=None):
         """Bounded Gauss–Newton (SciPy TRF) on the residuals; practical constraints by an
         augmented Lagrangian whose penalty rows ``max(0, λ - μ c)/√μ`` join the residuals.
 
@@ -449,13 +483,13 @@ class _MultiStartSolver:
         z = np.clip(z0, 0.0, 1.0)
         if prepare:
             z = self._fit_linear_variables(z)
-        multipliers = np.zeros(ls.n_constraint_rows)
+        multipliers = np.zeros(ls.n_constraint_rows) if multipliers is None else np.asarray(multipliers, dtype=float)
         penalty, iterations, status = 10.0, 0, "least_squares: not run"
         previous_violation = np.inf
         for _ in range(12 if ls.n_constraint_rows else 1):
             if ls.n_constraint_rows:
                 ls.set_penalty(multipliers, penalty)
-            z, used, status = self._trust_region(ls, z)
+            z, used, status = self._trust_region(ls, z, budget)
             iterations += used
             if not ls.n_constraint_rows:
                 break
@@ -480,7 +514,7 @@ class _MultiStartSolver:
             self._ls = problem.least_squares_cache
         return self._ls
 
-    def _trust_region(self, ls, z):
+    def _trust_region(self, ls, z, budget=None):
         """SciPy's bounded trust-region-reflective least squares on the *compressed* residual.
 
         With ``JᵀJ = V Λ Vᵀ`` and ``R = Λ^½ Vᵀ``, ``q = Λ^-½ Vᵀ Jᵀ r`` (directions with
@@ -512,7 +546,7 @@ class _MultiStartSolver:
 
         result = least_squares(lambda zz: compressed(zz)[0], z, jac=lambda zz: compressed(zz)[1], bounds=(0.0, 1.0),
                                method="trf", x_scale="jac", ftol=self.tolerance, xtol=1e-10, gtol=1e-10,
-                               max_nfev=self.max_iterations)
+                               max_nfev=self.max_iterations if budget is None else budget)
         return np.clip(result.x, 0.0, 1.0), int(result.nfev), f"least_squares: {_STATUS.get(result.status, result.message)}"
 
     def _fit_linear_variables(self, z):
@@ -583,35 +617,38 @@ class _MultiStartSolver:
                 self._first = self._nlpsol(first_phase)
             self._ipopt = self._nlpsol()
 
-    def _ipopt_solve(self, z, evaluation, multipliers=None):
-        """IPOPT from ``z``; ``multipliers``: the least-squares estimates of the constraint rows'
-        multipliers when the objective is the least-squares cost itself (IPOPT then starts warm)."""
+    def _ipopt_solve(self, z, evaluation, multipliers=None, lam_g=None):
+        """IPOPT from ``z``; returns ``(z, status, iterations, lam_g)``, ``lam_g``: IPOPT's multipliers of the
+        NLP rows at ``z`` (None for a lexicographic objective, whose last NLP has its phase's bounds).
+
+        IPOPT starts warm from ``multipliers``, the least-squares estimates of the constraint rows'
+        multipliers when the objective is the least-squares cost itself, or from ``lam_g``, multipliers
+        of the NLP rows (CasADi's sign)."""
         problem = self.problem
         self._ipopt_solvers()
         first_phase = problem.objective.first_phase
         if first_phase is None:
-            return self._ipopt_run(self._ipopt, z, evaluation, multipliers=multipliers)
+            return self._ipopt_run(self._ipopt, z, evaluation, multipliers=multipliers, lam_g=lam_g)
         # lexicographic: the first phase's optimum T*, then the objective's own NLP with its
         # epigraph variables bounded by T*·(1 + slack)
-        z1, status1, iterations1 = self._ipopt_run(self._first, z, evaluation)
+        z1, status1, iterations1, _ = self._ipopt_run(self._first, z, evaluation)
         first = problem.evaluate(problem.scale(z1))
         weighted = first.tau * problem.weights
         bound = problem.objective.phase_two_bound(first_phase.value(weighted, first.potential, problem.path_steps),
                                                   problem.torque_scale)
         upper = self._ipopt.nlp.upper.copy()
         upper[self._ipopt.nlp.n_design:] = bound
-        z2, status2, iterations2 = self._ipopt_run(self._ipopt, z1, first, upper=upper)
+        z2, status2, iterations2, _ = self._ipopt_run(self._ipopt, z1, first, upper=upper)
         second = problem.evaluate(problem.scale(z2))
         value = problem.objective.value(second.tau * problem.weights, second.potential, problem.path_steps)
         kept = (second.max_violation <= max(FEASIBILITY_TOLERANCE, first.max_violation)
                 and value <= (bound + EPIGRAPH_TOLERANCE) * problem.torque_scale)
         status = f"{status1}, then {status2.removeprefix('ipopt: ')}{'' if kept else ' (not kept)'}"
-        return (z2 if kept else z1), status, iterations1 + iterations2
+        return (z2 if kept else z1), status, iterations1 + iterations2, None
 
-    def _ipopt_run(self, ipopt, z, evaluation, upper=None, multipliers=None):
+    def _ipopt_run(self, ipopt, z, evaluation, upper=None, multipliers=None, lam_g=None):
         problem, nlp = self.problem, ipopt.nlp
         start = z
-        lam_g = None
         if multipliers is not None:   # CasADi's sign: a row held at its lower bound has λ ≤ 0
             lam_g = -problem.nlp_row_multipliers(multipliers, nlp.n_rows)
         if nlp.size > nlp.n_design:
@@ -619,9 +656,9 @@ class _MultiStartSolver:
             if upper is not None:
                 extra = np.minimum(extra, upper[nlp.n_design:])
             start = np.concatenate([z, extra])
-        x, status, iterations = ipopt.solve(start, nlp.lower, nlp.upper if upper is None else upper, self.max_iterations,
-                                            lam_g)
-        return np.clip(x[: nlp.n_design], 0.0, 1.0), f"ipopt: {status}", iterations
+        x, status, iterations, lam_g = ipopt.solve(start, nlp.lower, nlp.upper if upper is None else upper,
+                                                   self.max_iterations, lam_g)
+        return np.clip(x[: nlp.n_design], 0.0, 1.0), f"ipopt: {status}", iterations, lam_g
 
 
 class _StructuredIpopt:
@@ -652,7 +689,7 @@ class _PlainIpopt:
         solution = solver(x0=start, lbx=lower, ubx=upper, lbg=0.0, ubg=np.inf, **arguments)
         stats = solver.stats()
         return (np.array(solution["x"]).reshape(-1), str(stats.get("return_status", "unknown")),
-                int(stats.get("iter_count", 0)))
+                int(stats.get("iter_count", 0)), np.array(solution["lam_g"]).reshape(-1))
 
 
 class _LeastSquaresResiduals:

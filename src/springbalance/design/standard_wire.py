@@ -4,7 +4,8 @@ The solver treats the wire diameter ``d`` [m] of a coil as continuous. A spring 
 in preferred sizes (:data:`~springbalance.springs.sizing.PREFERRED_WIRE_DIAMETERS`, within the
 material's range). :func:`round_wires` takes the continuous optimum and, one coil after the other,
 fixes its ``d`` to the preferred size just below and just above, re-optimises every other
-variable from the current design (one start, warm), and keeps the better feasible one. It reports
+variable from the current design (one start, warm: IPOPT from the current design and its
+multipliers when IPOPT found it), and keeps the better feasible one. It reports
 what the rounding cost: the objective before and after, and each spring's ``d``.
 """
 
@@ -84,7 +85,7 @@ def round_wires(problem: DesignProblem, solution: Solution, **solve_options) -> 
     continuous = problem.objective_value(problem.evaluate(x))
     fixed: dict[str, float] = {}
     rounding = WireRounding(continuous, continuous, {})
-    best_solution = solution
+    best_solution, multipliers = solution, solution.multipliers
     for spring in coils_with_free_wire(problem):
         name = f"{spring.name}.{WIRE}"
         if name not in names:                  # a per-scenario wire: one value per scenario, left continuous
@@ -96,8 +97,8 @@ def round_wires(problem: DesignProblem, solution: Solution, **solve_options) -> 
         best = None
         for candidate in candidates:
             trial = _fixed_wire_problem(problem, {**fixed, spring.name: candidate}, x)
-            try:
-                found = solve_problem(trial, starts=1, **solve_options)
+            try:   # warm: the current design's multipliers (the NLP's rows do not depend on which variables are free)
+                found = solve_problem(trial, starts=1, multipliers=multipliers, **solve_options)
             except SolverError:
                 continue
             full = _expand(problem, trial, found.x, {**fixed, spring.name: candidate})
@@ -110,11 +111,13 @@ def round_wires(problem: DesignProblem, solution: Solution, **solve_options) -> 
                 "no standard wire size lies within its bounds")
             continue
         objective, candidate, x, found = best
+        multipliers = found.multipliers
         fixed[spring.name] = candidate
         rounding.wires[spring.name] = (float(value), candidate)
         rounding.objective = objective
         best_solution = Solution(x, solution.starts, solution.method, solution.seed,
-                                 f"{solution.status}; wire of {', '.join(fixed)} at standard sizes ({found.status})")
+                                 f"{solution.status}; wire of {', '.join(fixed)} at standard sizes ({found.status})",
+                                 multipliers)
     return best_solution, rounding
 
 

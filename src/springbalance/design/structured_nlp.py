@@ -218,12 +218,13 @@ class StructuredNlp:
         return x, cost, constraints, {"grad_f": grad_f, "jac_g": jac_g, "hess_lag": hess_lag}
 
     def solve(self, start: np.ndarray, lower: np.ndarray, upper: np.ndarray, options: dict,
-              max_iterations: int, lam_g: np.ndarray | None = None) -> tuple[np.ndarray, str, int]:
+              max_iterations: int, lam_g: np.ndarray | None = None) -> tuple[np.ndarray, str, int, np.ndarray]:
         """IPOPT from ``start`` (design and extra variables) within the bounds, rows ≥ 0, on a working set
-        grown until no other row is violated. Returns ``(x, IPOPT's status, iterations)``; the
-        iterations of all rounds share ``max_iterations``. ``lam_g``: estimates of every row's
-        multiplier (CasADi's sign, ≤ 0): the first round then starts warm, and the rows they hold join
-        the working set."""
+        grown until no other row is violated. Returns ``(x, IPOPT's status, iterations, lam_g)``: the
+        iterations of all rounds share ``max_iterations``; ``lam_g`` are every row's multipliers at ``x``
+        (CasADi's sign, ≤ 0; 0 for the rows outside the working set). ``lam_g`` (argument): estimates of
+        every row's multiplier: the first round then starts warm, and the rows they hold join the
+        working set."""
         x = np.clip(np.asarray(start, dtype=float), lower, upper)
         values = self.row_values(x)
         keep = max(WORKING_ROWS, ROWS_PER_VARIABLE * self.nlp.size)
@@ -270,7 +271,7 @@ class StructuredNlp:
             added = violated.copy()
             added[_closest(values, active | violated, keep // 2)] = True
             active |= added
-        return x, status, iterations
+        return x, status, iterations, multipliers[1]
 
 
 def warm_start_options() -> dict:
