@@ -142,21 +142,55 @@ def test_scaled_row_multipliers_invert_the_nlp_mapping():
 
 
 def test_a_resolve_from_a_nearby_problems_multipliers_starts_warm():
-    """The coil demo solved, then one wire fixed at a standard size (as wire rounding does): solved from
-    the continuous design with its IPOPT multipliers, the fixed-wire problem reaches the optimum the cold
-    solve from the same design reaches, in less than half the iterations."""
+    """The coil demo solved, then one wire held at a standard size (as wire rounding does): solved from
+    the continuous design with its IPOPT multipliers, the problem with the wire held reaches the optimum
+    the cold solve from the same design reaches, in less than half the iterations, and the wire stays put."""
     from springbalance.design.solvers import solve_problem
-    from springbalance.design.standard_wire import _fixed_wire_problem
 
     problem = _coils()
     solution = solve_problem(problem, starts=1, seed=0, workers=1)
     assert solution.multipliers is not None and solution.multipliers.shape == (problem.build().n_rows,)
-    wire = problem.variables.names.index("shoulder_spring.wire_diameter")
-    trial = _fixed_wire_problem(problem, {"shoulder_spring": 0.0028}, solution.x)     # below 3.0 mm: moves the optimum
-    cold = solve_problem(trial, starts=1, workers=1)
-    warm = solve_problem(trial, starts=1, workers=1, multipliers=solution.multipliers)
+    name = "shoulder_spring.wire_diameter"
+    wire = problem.variables.names.index(name)
     assert solution.x[wire] > 0.0029
+    start = solution.x.copy()
+    start[wire] = 0.0028                                  # below 3.0 mm: moves the optimum
+    options = {"starts": 1, "workers": 1, "initial": start, "fixed": [name]}
+    cold = solve_problem(problem, **options)
+    warm = solve_problem(problem, multipliers=solution.multipliers, **options)
     assert warm.starts[0].iterations < 0.5 * cold.starts[0].iterations
-    cold_value, warm_value = (trial.objective_value(trial.evaluate(s.x)) for s in (cold, warm))
-    assert trial.evaluate(warm.x).max_violation <= 1e-6
+    for found in (cold, warm):
+        assert found.x[wire] == pytest.approx(0.0028, rel=1e-12)
+        assert problem.evaluate(found.x).max_violation <= 1e-6
+    cold_value, warm_value = (problem.objective_value(problem.evaluate(found.x)) for found in (cold, warm))
     assert warm_value == pytest.approx(cold_value, rel=1e-6)
+    assert warm_value > problem.objective_value(problem.evaluate(solution.x))   # the held wire costs something
+
+
+def test_fixed_names_a_design_variable():
+    from springbalance.design.solvers import solve_problem
+    from springbalance.errors import InputError
+
+    with pytest.raises(InputError, match="'shoulder_spring.coils' is not a design variable"):
+        solve_problem(_coils(), starts=1, fixed=["shoulder_spring.coils"])
+
+
+@pytest.mark.parametrize("objective", ["rms", "peak"])
+def test_every_start_keeps_the_fixed_variables(objective):
+    """Held variables keep their value in every start (Sobol ones too) and through every phase: a linear
+    one (the stiffness, which the start's linear fit would move) and a nonlinear one (an anchor)."""
+    from springbalance.design.solvers import solve_problem
+
+    problem = _planar(objective)
+    names = problem.variables.names
+    held = {"shoulder.stiffness": 1234.5, "elbow.b.x": -0.1}
+    start = problem.variables.start.copy()
+    for name, value in held.items():
+        start[names.index(name)] = value
+    solution = solve_problem(problem, starts=3, seed=1, workers=1, initial=start, fixed=list(held))
+    for record in solution.starts:
+        for name, value in held.items():
+            assert record.x[names.index(name)] == pytest.approx(value, rel=1e-9)
+    free = solve_problem(problem, starts=3, seed=1, workers=1)
+    value = lambda found: problem.objective_value(problem.evaluate(found.x))  # noqa: E731
+    assert value(free) < value(solution)                                       # holding them costs something

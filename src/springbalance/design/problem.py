@@ -204,6 +204,7 @@ class DesignProblem:
         self.potential_scale = float(np.std(kinematics.potential)) or 1.0    # [J]
         self._evaluator = None
         self.least_squares_cache = None   # the solvers' compiled residuals, kept across solves
+        self.nlp_cache: dict = {}         # the solvers' NLPs (per objective phase and linear rows), kept across solves
         #: rows ``G x + h ≥ 0`` affine in the design variables (clearance and mounting cuts), or None
         self.linear_rows: LinearRows | None = None
         if clearance is not None and not isinstance(clearance, Clearance):

@@ -111,9 +111,10 @@ class Solution:
     multipliers: np.ndarray | None = None
 
 
-def start_points(problem, starts: int, seed: int, initial=None) -> np.ndarray:
+def start_points(problem, starts: int, seed: int, initial=None, fixed=None) -> np.ndarray:
     """Scaled start points: ``initial`` (physical units) or the problem's initial guess, then
-    scrambled Sobol points in [0, 1]^n."""
+    scrambled Sobol points in [0, 1]^n; the variables of the boolean mask ``fixed`` keep their first
+    value in every point."""
     n = problem.variables.size
     guess = problem.variables.start if initial is None else initial
     first = np.clip(problem.unscale(np.asarray(guess, dtype=float)), 0.0, 1.0)
@@ -121,7 +122,10 @@ def start_points(problem, starts: int, seed: int, initial=None) -> np.ndarray:
         return first[None, :]
     sobol = sobol_engine(n, np.random.default_rng(seed))
     others = sobol.random(1 << int(np.ceil(np.log2(starts - 1)))) if starts > 2 else sobol.random(1)
-    return np.vstack([first, others[: starts - 1]])
+    points = np.vstack([first, others[: starts - 1]])
+    if fixed is not None:
+        points[:, fixed] = first[fixed]
+    return points
 
 
 # ---------------------------------------------------------------------- worker processes
@@ -274,7 +278,7 @@ class _StartRunner:
 
 
 def solve_problem(problem, starts=8, seed=0, method="auto", progress=None, max_iterations=100, tolerance=1e-8,
-                  polish_iterations=None, *, initial=None, multipliers=None, workers=None):
+                  polish_iterations=None, *, initial=None, multipliers=None, fixed=None, workers=None):
     """Run every start and return the best feasible design (see :meth:`DesignProblem.solve`).
 
     Screen, then polish: every start runs with ``max_iterations``; up to three feasible starts
@@ -284,7 +288,9 @@ def solve_problem(problem, starts=8, seed=0, method="auto", progress=None, max_i
     converges. When no start is feasible, up to three that the limit stopped (the least violated)
     continue first.
 
-    ``initial``: the first start (physical units; default the problem's initial guess).
+    ``initial``: the first start (physical units; default the problem's initial guess). ``fixed``: names
+    of design variables held at their value in ``initial`` (their bounds collapse to it), so that a
+    problem with some variables pinned (a wire at a standard size) is solved without building another.
     ``multipliers``: IPOPT's multipliers of the NLP rows at ``initial`` (CasADi's sign, as
     :attr:`Solution.multipliers`), from a solve of a nearby problem with the same rows (a variable
     fixed, a bound moved): the first start then skips least squares and IPOPT starts there warm, the
@@ -307,7 +313,7 @@ def solve_problem(problem, starts=8, seed=0, method="auto", progress=None, max_i
     # The linear algebra here is small (n ≈ 30 columns): BLAS threads only contend with each
     # other and with the evaluation, badly so on a loaded machine, so use one.
     with threadpool_limits(limits=1, user_api="blas"):
-        solver = _MultiStartSolver(problem, method, max_iterations, tolerance)
+        solver = _MultiStartSolver(problem, method, max_iterations, tolerance, _fixed_mask(problem, fixed))
         solver.first_multipliers = None if multipliers is None else np.asarray(multipliers, dtype=float)
         runner = _StartRunner(solver, *_pool_workers(problem, workers, starts))
         try:
@@ -316,8 +322,19 @@ def solve_problem(problem, starts=8, seed=0, method="auto", progress=None, max_i
             runner.close()
 
 
+def _fixed_mask(problem, names) -> np.ndarray:
+    """The boolean mask of the design variables ``names`` (InputError for a name that is not one)."""
+    mask = np.zeros(problem.variables.size, dtype=bool)
+    known = {name: index for index, name in enumerate(problem.variables.names)}
+    for name in names or ():
+        if name not in known:
+            raise InputError(f"fixed: {name!r} is not a design variable of this problem")
+        mask[known[name]] = True
+    return mask
+
+
 def _solve(problem, runner, starts, seed, method, progress, max_iterations, polish_iterations, initial=None):
-    points = start_points(problem, starts, seed, initial)
+    points = start_points(problem, starts, seed, initial, runner.solver.fixed)
     if progress is None:
         progress = len(points) > 1 and sys.stderr.isatty()
     bar = None
@@ -406,8 +423,10 @@ def _best(records: list, problem) -> StartRecord:
 
 
 class _MultiStartSolver:
-    def __init__(self, problem, method, max_iterations, tolerance):
+    def __init__(self, problem, method, max_iterations, tolerance, fixed=None):
         self.problem = problem
+        #: variables held at their start value (bounds collapsed): least squares leaves their columns out
+        self.fixed = np.zeros(problem.variables.size, dtype=bool) if fixed is None else np.asarray(fixed, dtype=bool)
         self.method = method
         self.max_iterations = max_iterations
         self.tolerance = tolerance
@@ -432,7 +451,7 @@ class _MultiStartSolver:
         clock = time.perf_counter()
         z, status, iterations, multipliers = np.array(z0, dtype=float), "evaluated", 0, None
         lam_g, warm = None, None
-        if problem.variables.size:
+        if not self.fixed.all():
             if self.method in ("auto", "least_squares"):
                 warm = self._warm_multipliers() if index == 0 and prepare else None
                 # a nearby problem's primal-dual solution: the augmented Lagrangian starts from its multipliers
@@ -527,11 +546,15 @@ class _MultiStartSolver:
         from scipy.optimize import least_squares  # imported when first used: SciPy's optimize costs 0.2 s at start-up
 
         cache = {}
+        free = ~self.fixed
+        full = z.copy()
 
         def compressed(zz):
             key = zz.tobytes()
             if key not in cache:
-                gram, projected, squares = ls.normal_equations(zz)   # summed over blocks of samples
+                full[free] = zz
+                gram, projected, squares = ls.normal_equations(full)   # summed over blocks of samples
+                gram, projected = gram[np.ix_(free, free)], projected[free]
                 eigenvalues, vectors = np.linalg.eigh(gram)
                 keep = eigenvalues > 1e-13 * max(float(eigenvalues[-1]), 1e-300)
                 root = np.sqrt(eigenvalues[keep])
@@ -544,10 +567,11 @@ class _MultiStartSolver:
                 cache[key] = (reduced, jacobian)
             return cache[key]
 
-        result = least_squares(lambda zz: compressed(zz)[0], z, jac=lambda zz: compressed(zz)[1], bounds=(0.0, 1.0),
-                               method="trf", x_scale="jac", ftol=self.tolerance, xtol=1e-10, gtol=1e-10,
-                               max_nfev=self.max_iterations if budget is None else budget)
-        return np.clip(result.x, 0.0, 1.0), int(result.nfev), f"least_squares: {_STATUS.get(result.status, result.message)}"
+        result = least_squares(lambda zz: compressed(zz)[0], z[free], jac=lambda zz: compressed(zz)[1],
+                               bounds=(0.0, 1.0), method="trf", x_scale="jac", ftol=self.tolerance, xtol=1e-10,
+                               gtol=1e-10, max_nfev=self.max_iterations if budget is None else budget)
+        full[free] = np.clip(result.x, 0.0, 1.0)
+        return full, int(result.nfev), f"least_squares: {_STATUS.get(result.status, result.message)}"
 
     def _fit_linear_variables(self, z):
         """Replace the start's stiffnesses and initial tensions by their bounded linear least-squares
@@ -558,7 +582,7 @@ class _MultiStartSolver:
         from scipy.optimize import lsq_linear
 
         z = self._feasible_free_lengths(z)
-        linear = self.problem.model.linear_indices
+        linear = [index for index in self.problem.model.linear_indices if not self.fixed[index]]
         if not linear:
             return z
         r, columns = self._ls.linear_columns(z, linear)
@@ -586,7 +610,7 @@ class _MultiStartSolver:
         z = z.copy()
         for column, spring in enumerate(problem.springs):
             index = names.get(f"{spring.name}.free_length")
-            if index is None:
+            if index is None or self.fixed[index]:
                 continue
             lengths = evaluation.lengths[:, column]
             spring_low, spring_high = spring.free_length_interval(lengths)
@@ -604,10 +628,17 @@ class _MultiStartSolver:
         options = {"print_time": False, "ipopt.print_level": 0, "ipopt.sb": "yes",
                    "ipopt.tol": min(self.tolerance, 1e-8), "ipopt.acceptable_tol": 1e-8,
                    "ipopt.mu_strategy": "adaptive"}
-        try:
-            return _StructuredIpopt(StructuredNlp(self.problem, objective), options)
-        except NotStructured:
-            return _PlainIpopt(self.problem.build(objective), options)
+        problem = self.problem
+        key = (None if objective is None else objective.name, id(problem.linear_rows))
+        cached = problem.nlp_cache.get(key)
+        if cached is None or cached[0] is not problem.linear_rows:   # (the rows of its key, kept alive)
+            try:
+                nlp = StructuredNlp(problem, objective)
+            except NotStructured:
+                nlp = problem.build(objective)
+            cached = problem.nlp_cache[key] = (problem.linear_rows, nlp)
+        nlp = cached[1]
+        return _StructuredIpopt(nlp, options) if isinstance(nlp, StructuredNlp) else _PlainIpopt(nlp, options)
 
     def _ipopt_solvers(self) -> None:
         """Build the NLP solvers once: the objective's, and a lexicographic objective's first phase."""
@@ -656,8 +687,9 @@ class _MultiStartSolver:
             if upper is not None:
                 extra = np.minimum(extra, upper[nlp.n_design:])
             start = np.concatenate([z, extra])
-        x, status, iterations, lam_g = ipopt.solve(start, nlp.lower, nlp.upper if upper is None else upper,
-                                                   self.max_iterations, lam_g)
+        lower, upper = nlp.lower.copy(), (nlp.upper if upper is None else upper).copy()
+        lower[: nlp.n_design][self.fixed] = upper[: nlp.n_design][self.fixed] = z[self.fixed]
+        x, status, iterations, lam_g = ipopt.solve(start, lower, upper, self.max_iterations, lam_g)
         return np.clip(x[: nlp.n_design], 0.0, 1.0), f"ipopt: {status}", iterations, lam_g
 
 

@@ -4,14 +4,13 @@ The solver treats the wire diameter ``d`` [m] of a coil as continuous. A spring 
 in preferred sizes (:data:`~springbalance.springs.sizing.PREFERRED_WIRE_DIAMETERS`, within the
 material's range). :func:`round_wires` takes the continuous optimum and, one coil after the other,
 fixes its ``d`` to the preferred size just below and just above, re-optimises every other
-variable from the current design (one start, warm: IPOPT from the current design and its
-multipliers when IPOPT found it), and keeps the better feasible one. It reports
+variable from the current design (one start of the same problem with the rounded wires held, warm
+from the current design's multipliers when IPOPT found it), and keeps the better feasible one. It reports
 what the rounding cost: the objective before and after, and each spring's ``d``.
 """
 
 from __future__ import annotations
 
-import copy
 import dataclasses
 from typing import TYPE_CHECKING
 
@@ -83,7 +82,7 @@ def round_wires(problem: DesignProblem, solution: Solution, **solve_options) -> 
     names = problem.variables.names
     x = np.array(solution.x, dtype=float)
     continuous = problem.objective_value(problem.evaluate(x))
-    fixed: dict[str, float] = {}
+    fixed: dict[str, float] = {}               # variable name → standard wire [m]
     rounding = WireRounding(continuous, continuous, {})
     best_solution, multipliers = solution, solution.multipliers
     for spring in coils_with_free_wire(problem):
@@ -96,15 +95,19 @@ def round_wires(problem: DesignProblem, solution: Solution, **solve_options) -> 
         candidates = standard_neighbours(value, float(free.lower), float(free.upper))
         best = None
         for candidate in candidates:
-            trial = _fixed_wire_problem(problem, {**fixed, spring.name: candidate}, x)
-            try:   # warm: the current design's multipliers (the NLP's rows do not depend on which variables are free)
-                found = solve_problem(trial, starts=1, multipliers=multipliers, **solve_options)
+            wires = {**fixed, name: candidate}
+            start = x.copy()
+            start[[names.index(key) for key in wires]] = list(wires.values())
+            try:   # the same problem with these wires held, warm from the current design and its multipliers
+                found = solve_problem(problem, starts=1, initial=start, multipliers=multipliers, fixed=list(wires),
+                                      **solve_options)
             except SolverError:
                 continue
-            full = _expand(problem, trial, found.x, {**fixed, spring.name: candidate})
-            objective = problem.objective_value(problem.evaluate(full))
+            design = np.array(found.x, dtype=float)
+            design[[names.index(key) for key in wires]] = list(wires.values())   # exactly the standard sizes
+            objective = problem.objective_value(problem.evaluate(design))
             if best is None or objective < best[0]:
-                best = (objective, candidate, full, found)
+                best = (objective, candidate, design, found)
         if best is None:
             rounding.unrounded[spring.name] = (
                 "no standard wire within its bounds gives a feasible design" if candidates else
@@ -112,34 +115,10 @@ def round_wires(problem: DesignProblem, solution: Solution, **solve_options) -> 
             continue
         objective, candidate, x, found = best
         multipliers = found.multipliers
-        fixed[spring.name] = candidate
+        fixed[name] = candidate
         rounding.wires[spring.name] = (float(value), candidate)
         rounding.objective = objective
         best_solution = Solution(x, solution.starts, solution.method, solution.seed,
-                                 f"{solution.status}; wire of {', '.join(fixed)} at standard sizes ({found.status})",
-                                 multipliers)
+                                 f"{solution.status}; wire of {', '.join(key.removesuffix('.' + WIRE) for key in fixed)} "
+                                 f"at standard sizes ({found.status})", multipliers)
     return best_solution, rounding
-
-
-def _fixed_wire_problem(problem: DesignProblem, wires: dict[str, float], x: np.ndarray) -> DesignProblem:
-    """``problem`` with the given springs' wires fixed, its first guess at ``x`` (the other variables)."""
-    springs = []
-    for spring in problem.springs:
-        if spring.name in wires:
-            spring = copy.copy(spring)
-            spring.parameters = {**spring.parameters, WIRE: float(wires[spring.name])}
-        springs.append(spring)
-    trial = problem.with_springs(springs)
-    start = dict(zip(problem.variables.names, x))
-    variables = trial.variables
-    for index, name in enumerate(variables.names):
-        if name in start:
-            variables.start[index] = float(np.clip(start[name], variables.lower[index], variables.upper[index]))
-    return trial
-
-
-def _expand(problem: DesignProblem, trial: DesignProblem, x_trial: np.ndarray, wires: dict[str, float]) -> np.ndarray:
-    """The design vector of ``problem`` from that of ``trial`` (whose fixed wires are ``wires``)."""
-    values = dict(zip(trial.variables.names, x_trial))
-    values.update({f"{name}.{WIRE}": wire for name, wire in wires.items()})
-    return np.array([values[name] for name in problem.variables.names], dtype=float)
