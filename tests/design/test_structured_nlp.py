@@ -194,3 +194,20 @@ def test_every_start_keeps_the_fixed_variables(objective):
     free = solve_problem(problem, starts=3, seed=1, workers=1)
     value = lambda found: problem.objective_value(problem.evaluate(found.x))  # noqa: E731
     assert value(free) < value(solution)                                       # holding them costs something
+
+
+def test_a_start_continued_with_its_multipliers_picks_up_where_ipopt_stopped():
+    """A polish run continues a start from its design *and* the multipliers IPOPT stopped with: from a
+    converged peak design it is done in a few iterations, where a start from the design alone (IPOPT's
+    default barrier, multipliers guessed) walks the whole central path again."""
+    from springbalance.design.solvers import _MultiStartSolver, start_points
+
+    problem = _planar("peak")
+    solver = _MultiStartSolver(problem, "auto", 200, 1e-8)
+    first = solver.run(0, start_points(problem, 1, 0)[0])
+    assert "Solve_Succeeded" in first.status and first.multipliers is not None
+    z = problem.unscale(first.x)
+    continued = solver.run(0, z, False, first.multipliers)
+    again = solver.run(0, z, False)
+    assert continued.iterations <= 0.25 * again.iterations
+    assert continued.objective == pytest.approx(first.objective, rel=1e-8)

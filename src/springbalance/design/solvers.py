@@ -28,7 +28,9 @@ linear in (stiffness, initial tension) are set to their bounded linear least-squ
 optimum for the start's geometry (kept ≥ 10 % into their range so that no spring starts at
 ``k = 0``, where its anchors would have no gradient). Each start then runs with the
 iteration budget, and the starts within 25 % of the best that stopped on the budget are
-continued with a larger one ("screen, then polish"). The best feasible start wins; for a
+continued with a larger one ("screen, then polish"), from where they stopped: a start IPOPT
+stopped goes on from its last iterate and multipliers (:meth:`_MultiStartSolver._warm`, which also
+starts a re-solve of a nearby problem, ``solve_problem(multipliers=...)``). The best feasible start wins; for a
 lexicographic objective, the one with the lowest tiebreak among those within ``slack`` of the best value.
 
 Starts are independent: with ``workers`` > 1 the starts (and then the polish runs) go to a pool of
@@ -194,14 +196,14 @@ def _mark_worker() -> None:
     use_one_thread()
 
 
-def _run_in_worker(index, z0, prepare, max_iterations):
+def _run_in_worker(index, z0, prepare, multipliers, max_iterations):
     solver = _WORKER_SOLVER
     solver.max_iterations = max_iterations
-    return solver.run(index, z0, prepare=prepare)
+    return solver.run(index, z0, prepare, multipliers)
 
 
 class _StartRunner:
-    """Runs starts ``(index, z0, prepare)`` with a solver, in order: here, or on a pool of
+    """Runs starts ``(index, z0, prepare, multipliers)`` with a solver, in order: here, or on a pool of
     ``workers`` processes forked from this one (opened when first needed, closed by :meth:`close`).
 
     Unless ``asked``, the pool must pay for itself: it opens at once when a start is expected to
@@ -229,16 +231,14 @@ class _StartRunner:
         from concurrent.futures import as_completed
 
         executor = self._pool()
-        futures = [executor.submit(_run_in_worker, index, z0, prepare, self.solver.max_iterations)
-                   for index, z0, prepare in tasks]
+        futures = [executor.submit(_run_in_worker, *task, self.solver.max_iterations) for task in tasks]
         for future in as_completed(futures):
             if done is not None:
                 done(future.result())
         return records + [future.result() for future in futures]
 
     def _here(self, task, done):
-        index, z0, prepare = task
-        record = self.solver.run(index, z0, prepare=prepare)
+        record = self.solver.run(*task)
         if done is not None:
             done(record)
         return record
@@ -314,10 +314,10 @@ def solve_problem(problem, starts=8, seed=0, method="auto", progress=None, max_i
     # other and with the evaluation, badly so on a loaded machine, so use one.
     with threadpool_limits(limits=1, user_api="blas"):
         solver = _MultiStartSolver(problem, method, max_iterations, tolerance, _fixed_mask(problem, fixed))
-        solver.first_multipliers = None if multipliers is None else np.asarray(multipliers, dtype=float)
         runner = _StartRunner(solver, *_pool_workers(problem, workers, starts))
         try:
-            return _solve(problem, runner, starts, seed, method, progress, max_iterations, polish_iterations, initial)
+            return _solve(problem, runner, starts, seed, method, progress, max_iterations, polish_iterations, initial,
+                          multipliers)
         finally:
             runner.close()
 
@@ -333,7 +333,8 @@ def _fixed_mask(problem, names) -> np.ndarray:
     return mask
 
 
-def _solve(problem, runner, starts, seed, method, progress, max_iterations, polish_iterations, initial=None):
+def _solve(problem, runner, starts, seed, method, progress, max_iterations, polish_iterations, initial=None,
+           multipliers=None):
     points = start_points(problem, starts, seed, initial, runner.solver.fixed)
     if progress is None:
         progress = len(points) > 1 and sys.stderr.isatty()
@@ -352,7 +353,8 @@ def _solve(problem, runner, starts, seed, method, progress, max_iterations, poli
             bar.update()
 
     try:
-        records = runner.run([(index, points[index], True) for index in range(len(points))], done)
+        records = runner.run([(index, points[index], True, multipliers if index == 0 else None)
+                              for index in range(len(points))], done)
     except KeyboardInterrupt:
         if bar is not None:
             bar.close()
@@ -397,7 +399,9 @@ def _polish(runner, problem, records, candidates, iterations, better, total, bes
         return
     runner.solver.max_iterations = iterations
     try:
-        continued = runner.run([(record.index, problem.unscale(record.x), False) for record in candidates])
+        # from where each stopped: its design, and IPOPT's multipliers when IPOPT stopped it
+        continued = runner.run([(record.index, problem.unscale(record.x), False, record.multipliers)
+                                for record in candidates])
     except KeyboardInterrupt:
         raise Interrupted(f"interrupted while polishing: all {total} starts had finished",
                           problem=problem, starts=records, total=total, best_x=best_x) from None
@@ -433,7 +437,6 @@ class _MultiStartSolver:
         self._ls = None
         self._ipopt = None
         self._first = None  # the IPOPT of a lexicographic objective's first phase
-        self.first_multipliers = None  # IPOPT's row multipliers at the first start (solve_problem's `multipliers`)
 
     def prepare(self) -> None:
         """Build what every start needs (the compiled least-squares residual, the NLP when every start
@@ -446,48 +449,73 @@ class _MultiStartSolver:
             self._ipopt_solvers()
 
     # ------------------------------------------------------------------ one start
-    def run(self, index: int, z0: np.ndarray, prepare: bool = True) -> StartRecord:
+    def run(self, index: int, z0: np.ndarray, prepare: bool = True, nlp_multipliers: np.ndarray | None = None) -> StartRecord:
+        """One start from ``z0`` (scaled); ``prepare``: fit the linear variables and free lengths first.
+        ``nlp_multipliers``: IPOPT's multipliers of the NLP rows at ``z0`` (those of a nearby problem's
+        solution, or those IPOPT stopped this start with): the start then goes on from that primal-dual
+        point (:meth:`_warm`)."""
         problem = self.problem
         clock = time.perf_counter()
-        z, status, iterations, multipliers = np.array(z0, dtype=float), "evaluated", 0, None
-        lam_g, warm = None, None
+        z, status, iterations, lam_g = np.array(z0, dtype=float), "evaluated", 0, None
         if not self.fixed.all():
-            if self.method in ("auto", "least_squares"):
-                warm = self._warm_multipliers() if index == 0 and prepare else None
-                # a nearby problem's primal-dual solution: the augmented Lagrangian starts from its multipliers
-                z, status, iterations, multipliers = self._least_squares(
-                    z, prepare and warm is None, warm, None if warm is None else max(10, self.max_iterations // 10))
-            # IPOPT follows when asked for, for an objective without least-squares structure, or for a
-            # constraint that least squares left violated (only then is the design evaluated here)
-            needs_nlp, evaluation = self.method == "ipopt" or (self.method == "auto" and not problem.objective.least_squares), None
-            # a warm start's short least-squares run that did not converge: IPOPT finishes it (second order)
-            needs_nlp = needs_nlp or (self.method == "auto" and warm is not None and "iteration limit" in status)
-            if not needs_nlp and self.method == "auto" and (problem.model.n_constraints or problem.linear_matrix()[1].size):
-                evaluation = problem.evaluate(problem.scale(z))
-                needs_nlp = max(evaluation.max_violation, problem.linear_violation(evaluation.x)) > FEASIBILITY_TOLERANCE
-            if needs_nlp:
-                evaluation = evaluation if evaluation is not None else problem.evaluate(problem.scale(z))
-                z, status, more, lam_g = self._ipopt_solve(
-                    z, evaluation, multipliers=multipliers if problem.objective.least_squares else None)
-                iterations += more
+            z, status, iterations, lam_g = (self._warm(z, nlp_multipliers) if self._matches(nlp_multipliers)
+                                            else self._cold(z, prepare))
         evaluation = problem.evaluate(problem.scale(z))
         tiebreak = problem.objective.tiebreak(evaluation.tau * problem.weights, evaluation.potential, problem.path_steps)
         violation = max(evaluation.max_violation, problem.linear_violation(evaluation.x))
         return StartRecord(index, np.asarray(z0), evaluation.x, problem.objective_value(evaluation),
                            violation, status, iterations, time.perf_counter() - clock, tiebreak, lam_g)
 
-    def _warm_multipliers(self) -> np.ndarray | None:
-        """The augmented Lagrangian's multipliers ``λ = ν/2`` (scaled rows) from ``first_multipliers`` (IPOPT's,
-        of the NLP rows), when the first start may begin with them: a least-squares objective with
-        constraint rows, and an NLP of as many rows as there are multipliers; else None."""
-        warm, problem = self.first_multipliers, self.problem
-        if warm is None or not problem.objective.least_squares or not self._residuals().n_constraint_rows:
-            return None
-        self._ipopt_solvers()
-        if warm.size != self._ipopt.nlp.n_rows:
-            return None
+    def _cold(self, z, prepare):
+        """Least squares first (``auto``, ``least_squares``), then IPOPT when asked for, for an objective
+        without least-squares structure, or for a constraint that least squares left violated.
+        Returns ``(z, status, iterations, lam_g)`` (``lam_g``: IPOPT's row multipliers, None without IPOPT)."""
+        problem = self.problem
+        status, iterations, multipliers = "evaluated", 0, None
+        if self.method in ("auto", "least_squares"):
+            z, status, iterations, multipliers = self._least_squares(z, prepare)
+        needs_nlp, evaluation = self.method == "ipopt" or (self.method == "auto" and not problem.objective.least_squares), None
+        if not needs_nlp and self.method == "auto" and (problem.model.n_constraints or problem.linear_matrix()[1].size):
+            evaluation = problem.evaluate(problem.scale(z))   # (only then is the design evaluated here)
+            needs_nlp = max(evaluation.max_violation, problem.linear_violation(evaluation.x)) > FEASIBILITY_TOLERANCE
+        if not needs_nlp:
+            return z, status, iterations, None
+        evaluation = evaluation if evaluation is not None else problem.evaluate(problem.scale(z))
+        z, status, more, lam_g = self._ipopt_solve(z, evaluation,
+                                                   multipliers=multipliers if problem.objective.least_squares else None)
+        return z, status, iterations + more, lam_g
+
+    def _warm(self, z, lam_g):
+        """The start from a primal-dual point: ``z`` with IPOPT's multipliers ``lam_g`` of the NLP rows.
+
+        IPOPT goes on from it, warm, when it alone minimises the objective. A least-squares objective
+        (``auto``) first takes a short augmented-Lagrangian run from ``λ = ν/2`` (the multipliers on the
+        scaled rows) for a tenth of the budget: where the residual can vanish, Gauss–Newton reaches
+        round-off in it; where least squares only crawls along a flat valley, IPOPT finishes, warm from
+        where it stopped."""
+        problem = self.problem
+        if self.method == "ipopt" or not problem.objective.least_squares:
+            return self._ipopt_solve(z, problem.evaluate(problem.scale(z)), lam_g=lam_g)
         n_linear = self._residuals().n_constraint_rows - problem.workspace.size * len(problem.model.constraint_blocks)
-        return 0.5 * problem.scaled_row_multipliers(-warm, n_linear)
+        start = 0.5 * problem.scaled_row_multipliers(-lam_g, n_linear)
+        z, status, iterations, multipliers = self._least_squares(z, False, start, max(10, self.max_iterations // 10))
+        evaluation = problem.evaluate(problem.scale(z))
+        if ("iteration limit" not in status
+                and max(evaluation.max_violation, problem.linear_violation(evaluation.x)) <= FEASIBILITY_TOLERANCE):
+            return z, status, iterations, None
+        z, status, more, lam_g = self._ipopt_solve(z, evaluation, multipliers=multipliers)
+        return z, status, iterations + more, lam_g
+
+    def _matches(self, lam_g) -> bool:
+        """Whether a start may begin from IPOPT's multipliers ``lam_g``: a method that runs IPOPT, a
+        one-phase objective, constraint rows when least squares comes first, and an NLP of as many rows."""
+        problem = self.problem
+        if lam_g is None or self.method == "least_squares" or problem.objective.first_phase is not None:
+            return False
+        if problem.objective.least_squares and self.method == "auto" and not self._residuals().n_constraint_rows:
+            return False
+        self._ipopt_solvers()
+        return np.size(lam_g) == self._ipopt.nlp.n_rows
 
     # ------------------------------------------------------------------ least squares
     def _least_squares(self, z0, prepare=True, multipliers=None, budget=None):
