@@ -639,10 +639,6 @@ def fit_to_arm(problem: DesignProblem, solution: Solution, **solve_options) -> t
     planes = mount_planes(problem, np.asarray(problem.variables.start, dtype=float)) if problem.mounts else {}
     rounds, converged, closest, mounts = 0, False, {}, {}
     limit = clearance.rounds if clearance is not None else 12
-    if solve_options.get("method", "auto") == "auto" and problem.objective.least_squares:
-        # the rows are affine: the augmented Lagrangian of least squares handles them; an infeasible
-        # round goes on from its least violating iterate rather than to IPOPT's slower exact Hessian
-        solve_options = {**solve_options, "method": "least_squares"}
     while True:
         mounts = _mount_errors(problem, x, geometry) if problem.mounts else {}
         mounted = all(error <= MOUNT_ACCEPT for error in mounts.values())

@@ -293,8 +293,8 @@ def solve_problem(problem, starts=8, seed=0, method="auto", progress=None, max_i
     problem with some variables pinned (a wire at a standard size) is solved without building another.
     ``multipliers``: IPOPT's multipliers of the NLP rows at ``initial`` (CasADi's sign, as
     :attr:`Solution.multipliers`), from a solve of a nearby problem with the same rows (a variable
-    fixed, a bound moved): the first start then skips least squares and IPOPT starts there warm, the
-    re-solve of a perturbed NLP from the old primal-dual point. Ignored by ``least_squares`` and when
+    held, a bound moved): the first start then goes on from that primal-dual point
+    (:meth:`_MultiStartSolver._warm`) instead of starting over. Ignored by ``least_squares`` and when
     the row count differs.
 
     ``workers``: processes that run the starts at once (the result does not depend on it); default
