@@ -7,7 +7,8 @@ problem, where every coil is the ideal law of its kind with the same anchors, th
 picks the wire ``d`` (preferred sizes within its bounds) and index ``C`` whose coil has the
 twin's rate and comes closest to its free length (extension: ``d (n + 1) + 2 (D − d)``),
 within the index range and the envelope, with the initial tension clipped into the band that
-can be wound at that index. The result is a design vector of the real problem (anchors from
+can be wound at that index. The twin is solved to a relative cost change of
+:data:`TWIN_TOLERANCE` only. The result is a design vector of the real problem (anchors from
 the twin) for the solver's first start; the rules themselves are the solver's job.
 """
 
@@ -29,6 +30,11 @@ if TYPE_CHECKING:
     from springbalance.design.problem import DesignProblem
 
 
+#: the twin's least squares stop when a step lowers its cost by less than this fraction (a first guess
+#: need not be converged further: winding each coil for its law changes the cost far more)
+TWIN_TOLERANCE = 1e-4
+
+
 def coil_springs(problem: DesignProblem) -> list:
     """The helical coil springs of ``problem`` that have free variables."""
     return [spring for spring in problem.springs if hasattr(spring, "spec_sheet")
@@ -43,7 +49,9 @@ def coil_start(problem: DesignProblem, **solve_options) -> np.ndarray | None:
     twins = [_twin(spring) if spring in coils else spring for spring in problem.springs]
     twin = problem.with_springs(twins, no_joint_worse=False)
     try:
-        found = solve_problem(twin, **solve_options)
+        # only a first guess: winding the coils moves the design far more than this fraction of its cost
+        tolerance = max(solve_options.get("tolerance", 0.0), TWIN_TOLERANCE)
+        found = solve_problem(twin, **{**solve_options, "tolerance": tolerance})
     except SolverError:
         return None
     twin_values = dict(zip(twin.variables.names, found.x))
