@@ -574,15 +574,19 @@ class _MultiStartSolver:
         from scipy.optimize import least_squares  # imported when first used: SciPy's optimize costs 0.2 s at start-up
 
         cache = {}
+        held = self.fixed.any()
         free = ~self.fixed
         full = z.copy()
 
         def compressed(zz):
             key = zz.tobytes()
             if key not in cache:
-                full[free] = zz
-                gram, projected, squares = ls.normal_equations(full)   # summed over blocks of samples
-                gram, projected = gram[np.ix_(free, free)], projected[free]
+                if held:   # the held variables' columns left out
+                    full[free] = zz
+                    gram, projected, squares = ls.normal_equations(full)   # summed over blocks of samples
+                    gram, projected = gram[np.ix_(free, free)], projected[free]
+                else:
+                    gram, projected, squares = ls.normal_equations(zz)   # summed over blocks of samples
                 eigenvalues, vectors = np.linalg.eigh(gram)
                 keep = eigenvalues > 1e-13 * max(float(eigenvalues[-1]), 1e-300)
                 root = np.sqrt(eigenvalues[keep])
