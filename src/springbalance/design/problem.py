@@ -204,7 +204,7 @@ class DesignProblem:
         self.potential_scale = float(np.std(kinematics.potential)) or 1.0    # [J]
         self._evaluator = None
         self.least_squares_cache = None   # the solvers' compiled residuals, kept across solves
-        self.nlp_cache: dict = {}         # the solvers' NLPs (per objective phase and linear rows), kept across solves
+        self.nlp_cache: dict = {}         # the solvers' NLPs (per objective phase, for its linear rows), kept across solves
         #: rows ``G x + h ≥ 0`` affine in the design variables (clearance and mounting cuts), or None
         self.linear_rows: LinearRows | None = None
         if clearance is not None and not isinstance(clearance, Clearance):
@@ -341,13 +341,10 @@ class DesignProblem:
         the sample enters the NLP once and takes the sum over the samples; the objective's own rows
         (epigraphs) get 0. ``n_rows``: the NLP's row count.
         """
-        blocks = self.model.constraint_blocks
-        n = self.workspace.size
+        n, scale, varying, constant = self._row_layout()
         scaled = np.asarray(scaled, dtype=float)
-        per_sample = scaled[: n * len(blocks)].reshape(n, len(blocks)) / np.array([b.scale for b in blocks] or [1.0])
-        varying = [block.offset for block in blocks if block.per_sample]
-        constant = [block.offset for block in blocks if not block.per_sample]
-        linear = scaled[n * len(blocks):]
+        per_sample = scaled[: n * scale.size].reshape(n, scale.size) / scale
+        linear = scaled[n * scale.size:]
         parts = [per_sample[:, varying].reshape(-1), per_sample[:, constant].sum(axis=0)]
         objective_rows = n_rows - sum(part.size for part in parts) - linear.size
         if objective_rows < 0:
@@ -358,17 +355,21 @@ class DesignProblem:
         """The inverse of :meth:`nlp_row_multipliers`: multipliers of the solver's scaled rows (N·n_c
         sample rows, sample by sample, then ``n_linear`` linear rows) from those of the NLP's rows
         (≥ 0). A row that does not depend on the sample is shared evenly by the samples."""
-        blocks = self.model.constraint_blocks
-        n = self.workspace.size
+        n, scale, varying, constant = self._row_layout()
         nlp = np.asarray(nlp, dtype=float)
-        scale = np.array([b.scale for b in blocks] or [1.0])
-        varying = [block.offset for block in blocks if block.per_sample]
-        constant = [block.offset for block in blocks if not block.per_sample]
-        per_sample = np.zeros((n, len(blocks)))
+        per_sample = np.zeros((n, scale.size))
         per_sample[:, varying] = nlp[: n * len(varying)].reshape(n, len(varying))
         per_sample[:, constant] = nlp[n * len(varying): n * len(varying) + len(constant)] / n
         linear = nlp[nlp.size - n_linear:] if n_linear else np.zeros(0)
-        return np.concatenate([(per_sample * scale[: len(blocks)]).reshape(-1), linear])
+        return np.concatenate([(per_sample * scale).reshape(-1), linear])
+
+    def _row_layout(self) -> tuple[int, np.ndarray, list, list]:
+        """``(N, scales, varying, constant)`` of the constraint blocks: the samples, each block's row scale,
+        and the blocks whose row depends on the sample and those whose row does not."""
+        blocks = self.model.constraint_blocks
+        return (self.workspace.size, np.array([block.scale for block in blocks]),
+                [block.offset for block in blocks if block.per_sample],
+                [block.offset for block in blocks if not block.per_sample])
 
     def solve(self, starts: int = 8, seed: int = 0, method: str = "auto", progress: bool | None = None,
               max_iterations: int = 100, tolerance: float = 1e-8, polish_iterations: int | None = None,

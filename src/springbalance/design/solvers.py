@@ -462,7 +462,7 @@ class _MultiStartSolver:
                                             else self._cold(z, prepare))
         evaluation = problem.evaluate(problem.scale(z))
         tiebreak = problem.objective.tiebreak(evaluation.tau * problem.weights, evaluation.potential, problem.path_steps)
-        violation = max(evaluation.max_violation, problem.linear_violation(evaluation.x))
+        violation = self._violation(evaluation)
         return StartRecord(index, np.asarray(z0), evaluation.x, problem.objective_value(evaluation),
                            violation, status, iterations, time.perf_counter() - clock, tiebreak, lam_g)
 
@@ -477,7 +477,7 @@ class _MultiStartSolver:
         needs_nlp, evaluation = self.method == "ipopt" or (self.method == "auto" and not problem.objective.least_squares), None
         if not needs_nlp and self.method == "auto" and (problem.model.n_constraints or problem.linear_matrix()[1].size):
             evaluation = problem.evaluate(problem.scale(z))   # (only then is the design evaluated here)
-            needs_nlp = max(evaluation.max_violation, problem.linear_violation(evaluation.x)) > FEASIBILITY_TOLERANCE
+            needs_nlp = self._violation(evaluation) > FEASIBILITY_TOLERANCE
         if not needs_nlp:
             return z, status, iterations, None
         evaluation = evaluation if evaluation is not None else problem.evaluate(problem.scale(z))
@@ -496,15 +496,18 @@ class _MultiStartSolver:
         problem = self.problem
         if self.method == "ipopt" or not problem.objective.least_squares:
             return self._ipopt_solve(z, problem.evaluate(problem.scale(z)), lam_g=lam_g)
-        n_linear = self._residuals().n_constraint_rows - problem.workspace.size * len(problem.model.constraint_blocks)
-        start = 0.5 * problem.scaled_row_multipliers(-lam_g, n_linear)
+        ls = self._residuals()
+        start = 0.5 * problem.scaled_row_multipliers(-lam_g, ls.n_constraint_rows - ls.n_sample_rows)
         z, status, iterations, multipliers = self._least_squares(z, False, start, max(10, self.max_iterations // 10))
         evaluation = problem.evaluate(problem.scale(z))
-        if ("iteration limit" not in status
-                and max(evaluation.max_violation, problem.linear_violation(evaluation.x)) <= FEASIBILITY_TOLERANCE):
+        if "iteration limit" not in status and self._violation(evaluation) <= FEASIBILITY_TOLERANCE:
             return z, status, iterations, None
         z, status, more, lam_g = self._ipopt_solve(z, evaluation, multipliers=multipliers)
         return z, status, iterations + more, lam_g
+
+    def _violation(self, evaluation) -> float:
+        """The largest violation of a constraint row or a linear row [m or N] of an evaluated design."""
+        return max(evaluation.max_violation, self.problem.linear_violation(evaluation.x))
 
     def _matches(self, lam_g) -> bool:
         """Whether a start may begin from IPOPT's multipliers ``lam_g``: a method that runs IPOPT, a
@@ -661,9 +664,9 @@ class _MultiStartSolver:
                    "ipopt.tol": min(self.tolerance, 1e-8), "ipopt.acceptable_tol": 1e-8,
                    "ipopt.mu_strategy": "adaptive"}
         problem = self.problem
-        key = (None if objective is None else objective.name, id(problem.linear_rows))
+        key = None if objective is None else objective.name
         cached = problem.nlp_cache.get(key)
-        if cached is None or cached[0] is not problem.linear_rows:   # (the rows of its key, kept alive)
+        if cached is None or cached[0] is not problem.linear_rows:   # new linear rows: a new NLP replaces it
             try:
                 nlp = StructuredNlp(problem, objective)
             except NotStructured:

@@ -96,15 +96,16 @@ def round_wires(problem: DesignProblem, solution: Solution, **solve_options) -> 
         best = None
         for candidate in candidates:
             wires = {**fixed, name: candidate}
+            held = [names.index(key) for key in wires]
             start = x.copy()
-            start[[names.index(key) for key in wires]] = list(wires.values())
+            start[held] = list(wires.values())
             try:   # the same problem with these wires held, warm from the current design and its multipliers
                 found = solve_problem(problem, starts=1, initial=start, multipliers=multipliers, fixed=list(wires),
                                       **solve_options)
             except SolverError:
                 continue
             design = np.array(found.x, dtype=float)
-            design[[names.index(key) for key in wires]] = list(wires.values())   # exactly the standard sizes
+            design[held] = list(wires.values())   # exactly the standard sizes
             objective = problem.objective_value(problem.evaluate(design))
             if best is None or objective < best[0]:
                 best = (objective, candidate, design, found)

@@ -112,13 +112,14 @@ class StructuredNlp:
 
         # the outputs k of a sample on which ∂²L/∂Y² has its (diagonal) entries; None when it is not diagonal
         self._curved = _diagonal_curvature(ca.vertcat(nlp.cost, nlp.rows), self._outputs, m)
+        self._curved_list = [] if self._curved is None else self._curved.tolist()
 
         # per sample, compiled: y_s, then y_s with J_sᵀ, then the Hessian of ȳ_sᵀ y_s (+ J_kᵀ diag(d) J_k)
         z, data, (tau, potential, _, _, rows) = problem.scaled_sample()
         weights = ca.SX.sym("ybar", m)
         y = ca.vertcat(tau, potential, rows)
         hessian, _ = ca.hessian(ca.dot(weights, y), z)
-        curved = [] if self._curved is None else self._curved.tolist()
+        curved = self._curved_list
         curvature = ca.SX.sym("d", len(curved))
         if curved:
             jacobian = ca.jacobian(y[curved], z)
@@ -175,7 +176,7 @@ class StructuredNlp:
         # otherwise the Gauss–Newton-like term is Jᵀ (∂²L/∂Y²) J, n forward directions through ȳ
         linear = not ca.depends_on(ybar, local)
         diagonal = not linear and self._curved is not None
-        curved = [] if self._curved is None else self._curved.tolist()
+        curved = self._curved_list
         if linear or diagonal:
             curvature = (ca.reshape(ca.jtimes(ybar, local, ca.DM.ones(m * count)), m, count)[curved, :] if diagonal
                          else ca.MX(len(curved), count))
