@@ -211,3 +211,36 @@ def test_a_start_continued_with_its_multipliers_picks_up_where_ipopt_stopped():
     again = solver.run(0, z, False)
     assert continued.iterations <= 0.25 * again.iterations
     assert continued.objective == pytest.approx(first.objective, rel=1e-8)
+
+
+def test_several_given_starts_come_first_with_their_own_held_values():
+    """``initial`` with one row per start: those rows are the first starts (each keeps its own value of a
+    held variable), the Sobol points follow and hold the first row's value."""
+    from springbalance.design.solvers import solve_problem, start_points
+
+    problem = _planar("rms")
+    names = problem.variables.names
+    held = names.index("shoulder.stiffness")
+    given = np.repeat(np.asarray(problem.variables.start, dtype=float)[None, :], 2, axis=0)
+    given[:, held] = [800.0, 1600.0]
+    mask = np.zeros(problem.variables.size, dtype=bool)
+    mask[held] = True
+    points = start_points(problem, 5, 1, given, mask)
+    assert points.shape == (5, problem.variables.size)
+    np.testing.assert_allclose(problem.scale(points[:2]), given, rtol=1e-12)
+    np.testing.assert_allclose(problem.scale(points[2:])[:, held], 800.0, rtol=1e-12)
+    solution = solve_problem(problem, starts=3, seed=1, workers=1, initial=given, fixed=["shoulder.stiffness"])
+    assert [record.x[held] for record in solution.starts] == pytest.approx([800.0, 1600.0, 800.0], rel=1e-9)
+
+
+@pytest.mark.parametrize("rows, columns", [(None, 3), (1, 7), (0, 0), (3, 0)], ids=["short", "narrow", "no-rows",
+                                                                                   "more-rows-than-starts"])
+def test_initial_of_the_wrong_shape_is_refused(rows, columns):
+    from springbalance.design.solvers import solve_problem
+    from springbalance.errors import InputError
+
+    problem = _planar("rms")
+    n = problem.variables.size
+    bad = np.zeros(columns or n) if rows is None else np.zeros((rows, columns or n))
+    with pytest.raises(InputError, match=rf"initial must hold {n} design variables.*starts=2.*shape"):
+        solve_problem(problem, starts=2, initial=bad)

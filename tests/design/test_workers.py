@@ -149,3 +149,25 @@ def test_config_and_command_line_workers(tmp_path, capsys):
         designs.append(json.loads(out.read_text()))
     capsys.readouterr()
     assert designs[0]["design"] == designs[1]["design"]
+
+
+def test_wire_rounding_candidates_on_two_workers_equal_the_sequential_run(monkeypatch):
+    """Each coil's two standard wires are re-solved at once, as two starts of one solve on the pool: the
+    rounded design is the same, bit for bit, as with one worker."""
+    record = yaml.safe_load((ROOT / "examples" / "two_link.yaml").read_text())
+    record["workspace"]["n"] = 48
+    problem = config_from_dict(record, ROOT / "examples").problem
+    pooled_with_held_wires = []
+    original = solvers._StartRunner._pool
+
+    def spy(self):
+        pooled_with_held_wires.append(bool(self.solver.fixed.any()))
+        return original(self)
+
+    monkeypatch.setattr(solvers._StartRunner, "_pool", spy)
+    results = [problem.solve(starts=2, seed=0, workers=workers, progress=False) for workers in (1, 2)]
+    assert any(pooled_with_held_wires)   # the rounding solves did run on the pool
+    roundings = [result.wire_rounding for result in results]
+    assert roundings[0].wires and not roundings[0].unrounded
+    assert roundings[0].to_dict() == roundings[1].to_dict()
+    assert np.array_equal(results[0].x, results[1].x)

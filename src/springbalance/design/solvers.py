@@ -114,26 +114,28 @@ class Solution:
 
 
 def start_points(problem, starts: int, seed: int, initial=None, fixed=None) -> np.ndarray:
-    """Scaled start points: ``initial`` (physical units) or the problem's initial guess, then
-    scrambled Sobol points in [0, 1]^n; the variables of the boolean mask ``fixed`` keep their first
-    value in every point."""
+    """Scaled start points: ``initial`` (physical units; one point, or one per row of a 2-D array)
+    or the problem's initial guess, then scrambled Sobol points in [0, 1]^n up to ``starts`` points
+    in all; the variables of the boolean mask ``fixed`` keep their value of the first point in every
+    Sobol point (and each given point its own)."""
     n = problem.variables.size
     guess = problem.variables.start if initial is None else initial
-    first = np.clip(problem.unscale(np.asarray(guess, dtype=float)), 0.0, 1.0)
-    if starts <= 1 or n == 0:
-        return first[None, :]
+    given = np.clip(problem.unscale(np.atleast_2d(np.asarray(guess, dtype=float))), 0.0, 1.0)
+    count = max(int(starts) - given.shape[0], 0)
+    if count == 0 or n == 0:
+        return given
     sobol = sobol_engine(n, np.random.default_rng(seed))
-    others = sobol.random(1 << int(np.ceil(np.log2(starts - 1)))) if starts > 2 else sobol.random(1)
-    points = np.vstack([first, others[: starts - 1]])
+    others = sobol.random(1 << int(np.ceil(np.log2(count)))) if count > 1 else sobol.random(1)
+    points = np.vstack([given, others[:count]])
     if fixed is not None:
-        points[:, fixed] = first[fixed]
+        points[given.shape[0]:, fixed] = given[0, fixed]
     return points
 
 
 # ---------------------------------------------------------------------- worker processes
 WORKERS_ENV = "SPRINGBALANCE_WORKERS"
 #: by default, starts go to the pool only when one start is expected to take longer than this [s]
-#: (a pool's start-up, forking and collecting, costs 50-100 ms)
+#: (a pool's start-up, forking and collecting, costs 10-20 ms for the demo's process, more for a larger one)
 POOL_MIN_SECONDS = 0.1
 _DEFAULT_WORKERS: contextvars.ContextVar = contextvars.ContextVar("springbalance_workers", default=None)
 _WORKER_SOLVER = None  # the solver a forked worker runs its starts with (set before the fork)
@@ -207,7 +209,7 @@ class _StartRunner:
     ``workers`` processes forked from this one (opened when first needed, closed by :meth:`close`).
 
     Unless ``asked``, the pool must pay for itself: it opens at once when a start is expected to
-    last :data:`POOL_MIN_SECONDS` (IPOPT certain, or one residual evaluation × the iteration budget);
+    last :data:`POOL_MIN_SECONDS` (IPOPT certain or likely, or one residual evaluation × the iteration budget);
     otherwise the first start runs here, and the pool opens for the others only if it took that long.
     Either way each start computes the same numbers.
     """
@@ -221,7 +223,7 @@ class _StartRunner:
         tasks, records = list(tasks), []
         if self.workers > 1 and len(tasks) > 1 and self._executor is None and not self.asked:
             self.asked = True  # decided once, for the polish runs too
-            if not self._worth_a_pool():
+            if not self._worth_a_pool(tasks):
                 clock = time.perf_counter()
                 records.append(self._here(tasks.pop(0), done))
                 if time.perf_counter() - clock < POOL_MIN_SECONDS:
@@ -243,11 +245,15 @@ class _StartRunner:
             done(record)
         return record
 
-    def _worth_a_pool(self) -> bool:
-        """Whether one start is expected to last :data:`POOL_MIN_SECONDS`: IPOPT runs for sure, or one
-        evaluation of the compiled residual times the iteration budget is that long."""
+    def _worth_a_pool(self, tasks) -> bool:
+        """Whether one start is expected to last :data:`POOL_MIN_SECONDS`: IPOPT runs for sure, or
+        most likely (the starts go on from IPOPT's multipliers, :meth:`_MultiStartSolver._warm`: least
+        squares alone rarely finishes such a start in its short run), or one evaluation of the compiled
+        residual times the iteration budget is that long."""
         solver, problem = self.solver, self.solver.problem
         if solver.method == "ipopt" or not problem.objective.least_squares:
+            return True
+        if any(solver._matches(task[3]) for task in tasks):
             return True
         if not problem.variables.size:
             return False
@@ -288,12 +294,13 @@ def solve_problem(problem, starts=8, seed=0, method="auto", progress=None, max_i
     converges. When no start is feasible, up to three that the limit stopped (the least violated)
     continue first.
 
-    ``initial``: the first start (physical units; default the problem's initial guess). ``fixed``: names
-    of design variables held at their value in ``initial`` (their bounds collapse to it), so that a
-    problem with some variables pinned (a wire at a standard size) is solved without building another.
-    ``multipliers``: IPOPT's multipliers of the NLP rows at ``initial`` (CasADi's sign, as
-    :attr:`Solution.multipliers`), from a solve of a nearby problem with the same rows (a variable
-    held, a bound moved): the first start then goes on from that primal-dual point
+    ``initial``: the first start (physical units; default the problem's initial guess), or the first
+    starts, one per row of a 2-D array (at most ``starts`` rows). ``fixed``: names of design variables
+    held at their value in each given start (their bounds collapse to it), so that a problem with some
+    variables pinned (a wire at a standard size) is solved without building another; the Sobol starts
+    hold them at the first one's. ``multipliers``: IPOPT's multipliers of the NLP rows at ``initial``
+    (CasADi's sign, as :attr:`Solution.multipliers`), from a solve of a nearby problem with the same
+    rows (a variable held, a bound moved): each given start then goes on from that primal-dual point
     (:meth:`_MultiStartSolver._warm`) instead of starting over. Ignored by ``least_squares`` and when
     the row count differs.
 
@@ -307,6 +314,11 @@ def solve_problem(problem, starts=8, seed=0, method="auto", progress=None, max_i
     starts = int(starts)
     if starts < 1:
         raise InputError(f"starts must be ≥ 1, got {starts}")
+    if initial is not None:
+        shape = np.shape(initial)
+        if len(shape) not in (1, 2) or shape[-1] != problem.variables.size or (len(shape) == 2 and not 1 <= shape[0] <= starts):
+            raise InputError(f"initial must hold {problem.variables.size} design variables, one start or up to "
+                             f"starts={starts} rows of them; got an array of shape {shape}")
     if method == "least_squares" and not problem.objective.least_squares:
         raise InputError(f"method 'least_squares' cannot minimise objective {problem.objective.name!r}; "
                          "use 'ipopt' or 'auto'")
@@ -353,7 +365,8 @@ def _solve(problem, runner, starts, seed, method, progress, max_iterations, poli
             bar.update()
 
     try:
-        records = runner.run([(index, points[index], True, multipliers if index == 0 else None)
+        given = 1 if initial is None else np.atleast_2d(initial).shape[0]
+        records = runner.run([(index, points[index], True, multipliers if index < given else None)
                               for index in range(len(points))], done)
     except KeyboardInterrupt:
         if bar is not None:

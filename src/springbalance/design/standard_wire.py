@@ -4,9 +4,10 @@ The solver treats the wire diameter ``d`` [m] of a coil as continuous. A spring 
 in preferred sizes (:data:`~springbalance.springs.sizing.PREFERRED_WIRE_DIAMETERS`, within the
 material's range). :func:`round_wires` takes the continuous optimum and, one coil after the other,
 fixes its ``d`` to the preferred size just below and just above, re-optimises every other
-variable from the current design (one start of the same problem with the rounded wires held, warm
-from the current design's multipliers when IPOPT found it), and keeps the better feasible one. It reports
-what the rounding cost: the objective before and after, and each spring's ``d``.
+variable from the current design, and keeps the better feasible one. The two candidates are two
+starts of one solve of the same problem with the rounded wires held, each warm from the current
+design's multipliers when IPOPT found it, so that they run at once on the pool's workers. It
+reports what the rounding cost: the objective before and after, and each spring's ``d``.
 """
 
 from __future__ import annotations
@@ -93,22 +94,7 @@ def round_wires(problem: DesignProblem, solution: Solution, **solve_options) -> 
         free = spring.parameters[WIRE]
         value = x[names.index(name)]
         candidates = standard_neighbours(value, float(free.lower), float(free.upper))
-        best = None
-        for candidate in candidates:
-            wires = {**fixed, name: candidate}
-            held = [names.index(key) for key in wires]
-            start = x.copy()
-            start[held] = list(wires.values())
-            try:   # the same problem with these wires held, warm from the current design and its multipliers
-                found = solve_problem(problem, starts=1, initial=start, multipliers=multipliers, fixed=list(wires),
-                                      **solve_options)
-            except SolverError:
-                continue
-            design = np.array(found.x, dtype=float)
-            design[held] = list(wires.values())   # exactly the standard sizes
-            objective = problem.objective_value(problem.evaluate(design))
-            if best is None or objective < best[0]:
-                best = (objective, candidate, design, found)
+        best = _best_candidate(problem, x, multipliers, fixed, name, candidates, solve_options)
         if best is None:
             rounding.unrounded[spring.name] = (
                 "no standard wire within its bounds gives a feasible design" if candidates else
@@ -123,3 +109,31 @@ def round_wires(problem: DesignProblem, solution: Solution, **solve_options) -> 
                                  f"{solution.status}; wire of {', '.join(key.removesuffix('.' + WIRE) for key in fixed)} "
                                  f"at standard sizes ({found.status})", multipliers)
     return best_solution, rounding
+
+
+def _best_candidate(problem, x, multipliers, fixed, name, candidates, solve_options):
+    """``(objective, candidate, design, record)`` of the best feasible re-solve with wire ``name`` at one
+    of ``candidates`` (and the wires of ``fixed`` held), or None. The candidates are starts of one solve
+    of the same problem (at once on the pool's workers), each warm from ``x`` and ``multipliers``."""
+    if not candidates:
+        return None
+    names = problem.variables.names
+    held = [names.index(key) for key in fixed] + [names.index(name)]
+    starts = np.repeat(x[None, :], len(candidates), axis=0)
+    starts[:, held[:-1]] = list(fixed.values())
+    starts[:, held[-1]] = candidates
+    try:   # the same problem with these wires held, warm from the current design and its multipliers
+        found = solve_problem(problem, starts=len(candidates), initial=starts, multipliers=multipliers,
+                              fixed=[*fixed, name], **solve_options)
+    except SolverError:
+        return None
+    best = None
+    for record in found.starts:
+        if not record.feasible:
+            continue
+        design = np.array(record.x, dtype=float)
+        design[held] = starts[record.index, held]   # exactly the standard sizes
+        objective = problem.objective_value(problem.evaluate(design))
+        if best is None or objective < best[0]:
+            best = (objective, candidates[record.index], design, record)
+    return best
