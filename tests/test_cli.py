@@ -223,3 +223,23 @@ def test_console_script_error_is_one_line_without_traceback(tmp_path):
     assert "Traceback" not in completed.stderr
     assert completed.stdout == ""
     assert not out.exists()
+
+
+def test_console_script_exits_at_once_with_its_output_complete(tmp_path):
+    """The console script ends with os._exit after main(): its output is flushed and complete, the exit
+    handlers ran, and the status is main()'s."""
+    script = Path(sys.executable).with_name("springbalance")
+    config = write_config(tmp_path)
+    out = tmp_path / "design.json"
+    completed = subprocess.run([str(script), "design", str(config), "--out", str(out)],
+                               capture_output=True, text=True, timeout=300)
+    assert completed.returncode == 0, completed.stderr
+    assert completed.stdout.rstrip().endswith(f"design saved to {out}")
+    assert json.loads(out.read_text())["design"]
+    probe = ("import atexit, sys\nfrom springbalance import cli\n"
+             "atexit.register(lambda: print('exit handler ran', flush=True))\n"
+             "sys.argv = ['springbalance', 'robots']\ncli.run()\nprint('not reached')")
+    completed = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=120)
+    assert completed.returncode == 0, completed.stderr
+    assert "ur5" in completed.stdout and completed.stdout.rstrip().endswith("exit handler ran")
+    assert "not reached" not in completed.stdout

@@ -1,8 +1,6 @@
 """``python -m springbalance``: the same command as ``springbalance``."""
 
-import sys
-
-from springbalance.cli import main
+from springbalance.cli import run
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run()
