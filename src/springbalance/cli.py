@@ -57,7 +57,8 @@ def run() -> None:
     objects, SciPy's modules: 0.1-0.2 s after a design) for memory that the operating system takes
     back anyway, so, as mypy does, the process ends with ``os._exit`` once the output is flushed and
     the exit handlers (``atexit``: a live viewer's server) have run. Every file was closed by the
-    command itself (``design`` writes its output atomically)."""
+    command itself (``design`` writes its output atomically), and no thread is left at work: the
+    threads still alive (idle workers of a thread pool) end with the process."""
     status = main()
     try:
         sys.stdout.flush()
