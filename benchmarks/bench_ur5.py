@@ -24,7 +24,8 @@ the residual of the first four compiled to C by the same code path (design/compi
 The least-squares solvers share the budget (--baseline-iterations evaluations, 1,000 by default: with
 100, as DesignProblem.solve's screening, neither SciPy variant came within 0.5 % of the best on most
 starts, so their ratios were only lower bounds and the goal against finite differences undecided; with
-1,000 they get there on 3 of 4 starts and every verdict is decided) and the tolerances of DesignProblem.solve. For each start and solver the table gives the time, the rms reached and the time
+1,000 they get there on 3 of 4 starts and every verdict is decided) and the tolerances of
+DesignProblem.solve. For each start and solver the table gives the time, the rms reached and the time
 to come within 0.5 % of the best rms any solver reached from that start ("—": never). The summary
 gives springbalance's speed-up over each baseline in time to come within 0.5 % (median over starts;
 a baseline that never got there counts with its whole run time, which makes the figure a lower

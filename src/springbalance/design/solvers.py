@@ -469,11 +469,12 @@ class _MultiStartSolver:
         point (:meth:`_warm`)."""
         problem = self.problem
         clock = time.perf_counter()
-        z, status, iterations, lam_g = np.array(z0, dtype=float), "evaluated", 0, None
+        z, status, iterations, lam_g, evaluation = np.array(z0, dtype=float), "evaluated", 0, None, None
         if not self.fixed.all():
-            z, status, iterations, lam_g = (self._warm(z, nlp_multipliers) if self._matches(nlp_multipliers)
-                                            else self._cold(z, prepare))
-        evaluation = problem.evaluate(problem.scale(z))
+            z, status, iterations, lam_g, evaluation = (self._warm(z, nlp_multipliers) if self._matches(nlp_multipliers)
+                                                        else self._cold(z, prepare))
+        if evaluation is None:
+            evaluation = problem.evaluate(problem.scale(z))
         tiebreak = problem.objective.tiebreak(evaluation.tau * problem.weights, evaluation.potential, problem.path_steps)
         violation = self._violation(evaluation)
         return StartRecord(index, np.asarray(z0), evaluation.x, problem.objective_value(evaluation),
@@ -482,7 +483,8 @@ class _MultiStartSolver:
     def _cold(self, z, prepare):
         """Least squares first (``auto``, ``least_squares``), then IPOPT when asked for, for an objective
         without least-squares structure, or for a constraint that least squares left violated.
-        Returns ``(z, status, iterations, lam_g)`` (``lam_g``: IPOPT's row multipliers, None without IPOPT)."""
+        Returns ``(z, status, iterations, lam_g, evaluation)`` (``lam_g``: IPOPT's row multipliers, None
+        without IPOPT; ``evaluation``: the design ``z`` evaluated, when it was on the way, else None)."""
         problem = self.problem
         status, iterations, multipliers = "evaluated", 0, None
         if self.method in ("auto", "least_squares"):
@@ -492,11 +494,11 @@ class _MultiStartSolver:
             evaluation = problem.evaluate(problem.scale(z))   # (only then is the design evaluated here)
             needs_nlp = self._violation(evaluation) > FEASIBILITY_TOLERANCE
         if not needs_nlp:
-            return z, status, iterations, None
+            return z, status, iterations, None, evaluation
         evaluation = evaluation if evaluation is not None else problem.evaluate(problem.scale(z))
         z, status, more, lam_g = self._ipopt_solve(z, evaluation,
                                                    multipliers=multipliers if problem.objective.least_squares else None)
-        return z, status, iterations + more, lam_g
+        return z, status, iterations + more, lam_g, None
 
     def _warm(self, z, lam_g):
         """The start from a primal-dual point: ``z`` with IPOPT's multipliers ``lam_g`` of the NLP rows.
@@ -505,18 +507,18 @@ class _MultiStartSolver:
         (``auto``) first takes a short augmented-Lagrangian run from ``λ = ν/2`` (the multipliers on the
         scaled rows) for a tenth of the budget: where the residual can vanish, Gauss–Newton reaches
         round-off in it; where least squares only crawls along a flat valley, IPOPT finishes, warm from
-        where it stopped."""
+        where it stopped. Returns what :meth:`_cold` returns."""
         problem = self.problem
         if self.method == "ipopt" or not problem.objective.least_squares:
-            return self._ipopt_solve(z, problem.evaluate(problem.scale(z)), lam_g=lam_g)
+            return *self._ipopt_solve(z, problem.evaluate(problem.scale(z)), lam_g=lam_g), None
         ls = self._residuals()
         start = 0.5 * problem.scaled_row_multipliers(-lam_g, ls.n_constraint_rows - ls.n_sample_rows)
         z, status, iterations, multipliers = self._least_squares(z, False, start, max(10, self.max_iterations // 10))
         evaluation = problem.evaluate(problem.scale(z))
         if "iteration limit" not in status and self._violation(evaluation) <= FEASIBILITY_TOLERANCE:
-            return z, status, iterations, None
+            return z, status, iterations, None, evaluation
         z, status, more, lam_g = self._ipopt_solve(z, evaluation, multipliers=multipliers)
-        return z, status, iterations + more, lam_g
+        return z, status, iterations + more, lam_g, None
 
     def _violation(self, evaluation) -> float:
         """The largest violation of a constraint row or a linear row [m or N] of an evaluated design."""
