@@ -452,12 +452,13 @@ class _MultiStartSolver:
         self._first = None  # the IPOPT of a lexicographic objective's first phase
 
     def prepare(self) -> None:
-        """Build what every start needs (the compiled least-squares residual, the NLP when every start
-        goes to IPOPT), before workers fork. An NLP that only a violated constraint calls for is built
-        by the start that needs it."""
+        """Build what every start needs (the compiled least-squares residual and SciPy's least squares,
+        the NLP when every start goes to IPOPT), before workers fork. An NLP that only a violated
+        constraint calls for is built by the start that needs it."""
         problem = self.problem
         if self.method in ("auto", "least_squares") and problem.variables.size:
             self._residuals()
+            import scipy.optimize  # noqa: F401  (0.25 s: imported here once, not by every worker on its own)
         if problem.variables.size and (self.method == "ipopt" or not problem.objective.least_squares):
             self._ipopt_solvers()
 
