@@ -15,7 +15,9 @@ Prints, each figure measured in this run (the machine may be shared: compare the
      flags (-O3 -march=native -ffp-contract=off) beside the former JIT flags (-O2);
   4. `springbalance design examples/two_link.yaml --out d.json` end to end, from an empty cache,
      then --cli-runs times from the warm cache, their median (--skip-cli leaves it out); with a
-     bytecode cache filled by a discarded run beforehand, as in 1.
+     bytecode cache filled by a discarded run beforehand, as in 1. Alternately with each warm run,
+     the same design in one process, timed from importing the CLI to its end, without and with
+     `scipy.optimize` imported before the clock: the share of SciPy's import in the demo.
 
 Run: .venv/bin/python benchmarks/bench_startup.py [--samples 4096] [--imports 7] [--skip-cli] [--cli-runs 5]
 (make bench-startup; about 3 minutes with the CLI part)
@@ -142,6 +144,19 @@ print(f"residual + Jacobian at {args.samples} samples: {1e3 * new:.2f} ms with t
       "best of 15×10, alternated)")
 
 # ---------------------------------------------------------------- 4. the CLI end to end
+IN_PROCESS = textwrap.dedent("""
+    import sys, time
+    if {scipy_first}:
+        import scipy.optimize   # before the clock: what the demo takes without SciPy's import
+    clock = time.perf_counter()
+    sys.argv = ["springbalance", *{argv!r}]
+    from springbalance import cli
+    try:
+        cli.main()
+    except SystemExit:
+        pass
+    print(time.perf_counter() - clock)
+""")
 if not args.skip_cli:
     with tempfile.TemporaryDirectory(prefix="springbalance-bench-cache-") as cache, \
             tempfile.TemporaryDirectory(prefix="springbalance-bench-out-") as out, \
@@ -152,7 +167,17 @@ if not args.skip_cli:
         run(command, with_bytecode(bytecode, SPRINGBALANCE_CACHE_DIR=fill), replace=True)   # fills the bytecode only
         environment = with_bytecode(bytecode, SPRINGBALANCE_CACHE_DIR=cache)
         cold_cli = run(command, environment, replace=True)[0]
-        warm_cli = [run(command, environment, replace=True)[0] for _ in range(args.cli_runs)]
+        warm_cli, in_process = [], {False: [], True: []}
+        for _ in range(args.cli_runs):   # alternately: the console script, then in one process without and with SciPy
+            warm_cli.append(run(command, environment, replace=True)[0])
+            for scipy_first in (False, True):
+                output = run([PYTHON, "-c", IN_PROCESS.format(scipy_first=scipy_first, argv=command[1:])], environment,
+                             replace=True)[1]
+                in_process[scipy_first].append(float(output.strip().splitlines()[-1]))
     print(f"springbalance design examples/two_link.yaml --out d.json: {cold_cli:.2f} s from an empty cache, "
           f"{statistics.median(warm_cli):.2f} s from the warm cache (median of {args.cli_runs} runs; "
           f"fastest {min(warm_cli):.2f} s, slowest {max(warm_cli):.2f} s)")
+    plain, scipy_before = statistics.median(in_process[False]), statistics.median(in_process[True])
+    print(f"  the same in one process, from importing the CLI to its end: {plain:.2f} s; with scipy.optimize imported "
+          f"before the clock: {scipy_before:.2f} s (SciPy's optimize, which least squares needs, is {plain - scipy_before:.2f} s "
+          f"of the demo; medians of {args.cli_runs}, alternated)")
