@@ -1,4 +1,4 @@
-"""Published cases of REFERENCE_CASES.md: the project's figures beside the published ones.
+"""Published cases of docs/reference_cases.md: the project's figures beside the published ones.
 
 Each case is built through the public API, as in the tests (tests/test_reference_*.py assert
 the tolerances); this script only prints. Run: .venv/bin/python benchmarks/bench_reference_cases.py

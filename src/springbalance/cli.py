@@ -153,7 +153,7 @@ def build_parser() -> argparse.ArgumentParser:
                              "number of cores); the design does not depend on it")
     design.add_argument("--stock", metavar="CATALOGUE.csv",
                         help="then pick each extension and compression spring from this stock catalogue (CSV, "
-                             "columns in README 'Stock springs') and re-optimise the anchors")
+                             "columns: docs/guides/coils-and-stock.md) and re-optimise the anchors")
     design.add_argument("--quiet", "-q", action="store_true", help="print nothing on success, no progress bar")
     design.add_argument("--partial", action="store_true",
                         help="on Ctrl-C, save the best design of the starts that had finished at --out")

@@ -1,8 +1,8 @@
-"""Published cases of REFERENCE_CASES.md, built through the public API.
+"""Published cases of docs/reference_cases.md, built through the public API.
 
 Each test prints the project's figure beside the published one (``pytest -s`` shows the
 lines). Expected values are the published numbers with the tolerances of
-REFERENCE_CASES.md, plus closed-form physics of each single-link case:
+docs/reference_cases.md, plus closed-form physics of each single-link case:
 
 - R1 (urdf/single_link_r1.urdf, joint angle = paper's phi from the upward vertical):
   gravity holding torque ``-m1 g s1 sin(phi)``; spring from ``B = (0, Y_B)`` to the link

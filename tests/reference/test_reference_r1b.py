@@ -1,4 +1,4 @@
-"""R1b of REFERENCE_CASES.md: Arakelian & Ghazaryan (2007), rotating link balanced by a
+"""R1b of docs/reference_cases.md: Arakelian & Ghazaryan (2007), rotating link balanced by a
 zero-free-length spring that carries its own mass, coupled to its stiffness (docs/model.md §5).
 
 urdf/single_link_r1.urdf: the joint angle is the paper's phi, measured from the upward

@@ -1,4 +1,4 @@
-"""R3 of REFERENCE_CASES.md (Quaglia & Yin 2015) and the single-link zero-free-length condition.
+"""R3 of docs/reference_cases.md (Quaglia & Yin 2015) and the single-link zero-free-length condition.
 
 urdf/quaglia_yin_r3.urdf is link 1 of the paper's robot with the load the parallelogram
 transmits to it: joint angle = the paper's theta1 from the horizontal, gravity holding

@@ -1,4 +1,4 @@
-"""R4 of REFERENCE_CASES.md: the self-regulating 1-DOF balancer of Franchetti, Boschetti & Lenzo (2021).
+"""R4 of docs/reference_cases.md: the self-regulating 1-DOF balancer of Franchetti, Boschetti & Lenzo (2021).
 
 urdf/self_regulating_link.urdf: link m = 3 kg, centre of mass at c = 0.2 m along the link-frame
 x axis; zero-free-length spring k = 981 N/m from the world point (0, 0, a = 0.1 m) above the

@@ -1,4 +1,4 @@
-"""Routed springs (docs/model.md §3.10): a spring on one body pulling a cable over pulleys.
+"""Routed springs (docs/model.md §3.9): a spring on one body pulling a cable over pulleys.
 
 The checks are independent of the library's own path model where they can be:
 
@@ -295,7 +295,7 @@ GOOD_PATH = ("[{body: link1, point: [-0.35, 0, 0]}, {body: link1, point: [0.04, 
 
 
 def test_example_config_designs_saves_reports_and_draws(tmp_path, capsys):
-    config = ROOT / "examples" / "routed_link.yaml"      # the README's routed spring
+    config = ROOT / "examples" / "routed_link.yaml"      # the routed spring of docs/guides/routed-springs.md
     out = tmp_path / "design.json"
     assert main(["design", str(config), "--out", str(out), "--starts", "2"]) == 0
     text = capsys.readouterr().out

@@ -22,7 +22,7 @@ The result is a :class:`StockSelection`: the final design and what the choice co
 objective of the continuous design against the stock design, and every candidate tried).
 
 The parts are :class:`StockPart` records; :func:`springbalance.io.catalogue.read_catalogue`
-reads them from a CSV file (README "Stock springs").
+reads them from a CSV file (docs/guides/coils-and-stock.md, "Stock springs").
 """
 
 from __future__ import annotations

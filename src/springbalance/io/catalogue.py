@@ -1,4 +1,4 @@
-r"""Stock spring catalogues: CSV files of coil springs one can buy (README "Stock springs").
+r"""Stock spring catalogues: CSV files of coil springs one can buy (docs/guides/coils-and-stock.md, "Stock springs").
 
 Format: UTF-8 CSV in SI units, one header row naming the columns (in any order; other columns
 are ignored), then one part per row. Blank lines and lines starting with ``#`` are skipped.

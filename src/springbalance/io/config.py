@@ -1,9 +1,9 @@
 """Configuration files (YAML or JSON) → a :class:`~springbalance.design.problem.DesignProblem` + solve options.
 
 A config file is one mapping with the sections ``mechanism``, ``workspace``, ``springs``
-(required) and ``objective``, ``weights``, ``solve``, ``scenarios``, ``no_joint_worse``, ``clearance`` (optional); README.md ("Config
-reference") documents every key, and :mod:`springbalance.io.schema` holds the schema (pydantic
-models, whose JSON Schema ``springbalance schema`` prints). A config is read in three steps:
+(required) and ``objective``, ``weights``, ``solve``, ``scenarios``, ``no_joint_worse``, ``clearance``
+(optional); docs/guides/config.md documents every key, and :mod:`springbalance.io.schema` holds the
+schema (pydantic models, whose JSON Schema ``springbalance schema`` prints). A config is read in three steps:
 
 1. the file is parsed (:mod:`springbalance.io.yaml_loader`: ``1e4`` is a number, a quoted
    ``"2e3"`` a string, a key given twice an error) and every number must be finite;
@@ -186,7 +186,7 @@ def mechanism_from_dict(record, base_dir: str | Path = ".", where: str = "mechan
 
 
 def workspace_from_dict(mechanism: Mechanism, record, base_dir: str | Path = ".", where: str = "workspace") -> Workspace:
-    """Build a :class:`Workspace` of ``mechanism`` from a ``workspace`` mapping (see README).
+    """Build a :class:`Workspace` of ``mechanism`` from a ``workspace`` mapping (see docs/guides/config.md).
 
     Keys: ``kind`` (grid | sobol | random | sweep | array, default sobol), ``n``, ``seed``,
     ``degrees``, ``ranges`` [rad or m; degrees if ``degrees``], ``couplings``, ``joint`` (sweep),
