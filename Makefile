@@ -6,7 +6,7 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 DOCS_STAMP := $(VENV)/.docs-installed
 
-.PHONY: bytecode demo test bench bench-buildable bench-clearance bench-explore bench-startup bench-workers bench-memory bench-evaluation bench-ipopt clean chromium demo-check docs
+.PHONY: bytecode demo test test-fast bench bench-buildable bench-clearance bench-explore bench-startup bench-workers bench-memory bench-evaluation bench-ipopt clean chromium demo-check docs
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -25,10 +25,16 @@ demo: bytecode
 	$(BIN)/springbalance design examples/two_link.yaml --out design.json
 	$(BIN)/springbalance evaluate design.json
 
-# lint-imports checks that data flows one way through the subpackages (pyproject.toml [tool.importlinter])
+# lint-imports checks that data flows one way through the subpackages (pyproject.toml [tool.importlinter]).
+# `make test` runs every test (CI calls it); `make test-fast` leaves out the tests marked `slow` (whole
+# studies, notebooks, the browser, the documentation's Python examples, anything over ~5 s).
 test: $(STAMP) chromium
 	$(BIN)/lint-imports --no-cache
 	$(BIN)/python -m pytest -q
+
+test-fast: $(STAMP)
+	$(BIN)/lint-imports --no-cache
+	$(BIN)/python -m pytest -q -m "not slow"
 
 # Headless Chromium renders scene.html in the browser test of tests/viz/test_viz.py and in
 # `make demo-check`. It is installed here (Debian package `chromium`) when it is missing

@@ -22,6 +22,8 @@ from springbalance.results.result import DesignResult
 
 ROOT = Path(__file__).resolve().parents[1]
 
+pytestmark = pytest.mark.slow   # a real Ctrl-C to a solving process, after 6 s of its CPU time
+
 
 def _config(tmp_path) -> Path:
     path = tmp_path / "slow.yaml"

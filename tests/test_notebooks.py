@@ -40,6 +40,7 @@ def workspace(tmp_path_factory):
     return folder / "notebooks"
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=[path.stem for path in NOTEBOOKS])
 def test_notebook_runs_top_to_bottom(path, workspace):
     copy = workspace / path.name

@@ -23,6 +23,8 @@ from springbalance.cli import main
 from springbalance.explore import load_study, make_client
 from springbalance.results.result import DesignResult
 
+pytestmark = pytest.mark.slow   # every test here runs a whole study
+
 ROOT = Path(__file__).resolve().parents[2]
 THREE_LINK = ROOT / "examples" / "explore_three_link.yaml"
 EXACT = 1e-6

@@ -269,6 +269,7 @@ def _require_chromium():
                     "run `make demo-check` where it is")
 
 
+@pytest.mark.slow
 def test_scene_renders_in_headless_chromium(design, tmp_path):
     _require_chromium()
     # the report's scene (animation playing): the arm's blue and the springs' colours are on screen
@@ -291,6 +292,7 @@ def test_scene_renders_in_headless_chromium(design, tmp_path):
     assert abs(forearm - shoulder) > 2 * 14
 
 
+@pytest.mark.slow
 def test_chromium_census_finds_nothing_on_an_empty_scene(tmp_path):
     """Negative control: the page around the scene (background, grid, controls, legend) counts as
     neither arm nor spring. (meshcat's coordinate axes would, in red, green and blue: the scene
@@ -366,6 +368,7 @@ def _outside_address() -> str | None:
     return None if address.startswith("127.") else address
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads listening sockets from /proc")
 def test_view_serves_on_loopback_only_and_stops_cleanly_on_ctrl_c(design_file):
     port = _free_port()
@@ -408,6 +411,7 @@ def _state(pid: int) -> str:
         return "zombie"
 
 
+@pytest.mark.slow
 def test_view_on_a_busy_port_fails_in_one_line(design_file):
     with socket.socket() as busy:
         busy.bind(("127.0.0.1", 0))
@@ -692,6 +696,7 @@ def test_legend_pushing_part_only_for_a_spring_that_pushes():
     assert "(negative: pushing)" in lowering.legend_html() and re.search(r">-\d", lowering.legend_html())
 
 
+@pytest.mark.slow
 def test_magenta_spring_renders_in_headless_chromium(tmp_path):
     _require_chromium()
     path = _elbow_path([120])                                 # link2 passes through the spring
