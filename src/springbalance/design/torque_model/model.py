@@ -30,7 +30,7 @@ class TorqueModel:
     """
 
     def __init__(self, mechanism: Mechanism, springs: list[Spring], scenarios: Sequence[str] = (),
-                 per_scenario: Sequence[str] = (), joint_limits: np.ndarray | None = None):
+                 per_scenario: Sequence[str] = (), joint_limits: np.ndarray | None = None) -> None:
         self.mechanism = mechanism
         self.springs = springs
         self.variables = DesignVariables()
@@ -39,19 +39,7 @@ class TorqueModel:
         self.joints = _spring_joints(mechanism, springs)
         self._ground = _ground_placements(mechanism, springs)
 
-        # Design variables: every free anchor coordinate and every Free parameter.
-        variable_slots = []  # (spring, end, region, index list)
-        for spring in springs:
-            for end, anchor in spring.anchors.items():
-                region = anchor.region()
-                indices = [self.variables.add(f"{spring.name}.{end}.{label}", "m" if len(region.labels) != 1 or label != "s" else "1",
-                                              lo, hi, s0)
-                           for label, lo, hi, s0 in zip(region.labels, region.lower, region.upper, region.start)]
-                variable_slots.append((spring, end, region, indices))
-            for key, value in spring.parameters.items():
-                if isinstance(value, Free) and value.upper > value.lower:
-                    self.variables.add(f"{spring.name}.{key}", spring.parameter_units[key],
-                                       float(value.lower), float(value.upper), float(value.start))
+        variable_slots = self._declare_variables()
         self._index = {name: i for i, name in enumerate(self.variables.names)}
         self.base_variables = self.variables
         self.scenarios = list(scenarios)
@@ -64,45 +52,8 @@ class TorqueModel:
         self.data_size = nv + 1 + len(self.joints) + len(self.bodies) * (12 + 6 * nv) + len(self.scenarios)
         data = ca.SX.sym("data", self.data_size)
         local = self._local_symbols(x, data[self.data_size - len(self.scenarios):]) if self.scenarios else x
-        gravity_torque, gravity_potential = data[:nv], data[nv]
-        coordinates = {joint: data[nv + 1 + slot] for slot, joint in enumerate(self.joints)}
-        body_data = {}
-        offset = nv + 1 + len(self.joints)
-        for body in self.bodies:
-            t = data[offset:offset + 3]
-            R = ca.reshape(data[offset + 3:offset + 12], 3, 3).T
-            J = ca.reshape(data[offset + 12:offset + 12 + 6 * nv], nv, 6).T
-            body_data[body] = (t, R, J)
-            offset += 12 + 6 * nv
-        context = SampleContext(nv, mechanism.gravity, body_data, self._ground, coordinates,
-                                {joint: mechanism.joint(joint).index_v for joint in self.joints})
-
-        tau, potential = gravity_torque, gravity_potential
-        states, forces, constraint_rows = [], [], []
-        self.constraint_blocks: list[ConstraintBlock] = []
-        points = {}
-        for spring, end, region, indices in variable_slots:
-            point = ca.DM(region.offset) + (ca.mtimes(ca.DM(region.basis), local[indices]) if indices else 0)
-            points[(spring.name, end)] = point
-        for spring in springs:
-            parameters = self.parameter_values(spring, local)
-            own_points = {end: points[(spring.name, end)] for end in spring.anchors}
-            share = spring.contribution(context, parameters, own_points)
-            tau = tau + share.torque
-            potential = potential + share.potential
-            states.append(share.state)
-            forces.append(share.force)
-            for constraint in spring.constraints():
-                parts = getattr(constraint, "parts", None)
-                rows = (constraint.rows(share.state, share.force, parameters, share.extra)
-                        if getattr(constraint, "uses_extra", False) else constraint.rows(share.state, share.force, parameters))
-                if parts is None:
-                    parts, rows = ((constraint.name, constraint.unit, constraint.scale),), [rows]
-                for (name, unit, scale), row in zip(parts, rows):
-                    row = ca.SX(row)
-                    self.constraint_blocks.append(ConstraintBlock(spring.name, name, unit, len(constraint_rows),
-                                                                  float(scale), bool(ca.depends_on(row, data))))
-                    constraint_rows.append(row)
+        context = self._sample_context(data)
+        tau, potential, states, forces, constraint_rows = self._spring_outputs(context, data, local, variable_slots)
 
         if joint_limits is not None:
             selectors = data[self.data_size - len(self.scenarios):] if self.scenarios else None
@@ -113,6 +64,77 @@ class TorqueModel:
         outputs = [tau, potential, ca.vertcat(*states), ca.vertcat(*forces), ca.vertcat(*constraint_rows)]
         self.sample = ca.Function("sample", [x, data], outputs, ["x", "data"], ["tau", "V", "L", "F", "C"])
         self._x = x
+
+    def _declare_variables(self) -> list[tuple]:
+        """Add the design variables: every free anchor coordinate [m] (or arc parameter [1]) and every
+        :class:`~springbalance.springs.params.Free` parameter. Returns the anchors' slots
+        ``(spring, end, region, indices of its coordinates)``."""
+        variable_slots = []  # (spring, end, region, index list)
+        for spring in self.springs:
+            for end, anchor in spring.anchors.items():
+                region = anchor.region()
+                indices = [self.variables.add(f"{spring.name}.{end}.{label}", "m" if len(region.labels) != 1 or label != "s" else "1",
+                                              lo, hi, s0)
+                           for label, lo, hi, s0 in zip(region.labels, region.lower, region.upper, region.start)]
+                variable_slots.append((spring, end, region, indices))
+            for key, value in spring.parameters.items():
+                if isinstance(value, Free) and value.upper > value.lower:
+                    self.variables.add(f"{spring.name}.{key}", spring.parameter_units[key],
+                                       float(value.lower), float(value.upper), float(value.start))
+        return variable_slots
+
+    def _sample_context(self, data: ca.SX) -> SampleContext:
+        """What the springs see of the sample data column ``data``: the spring joints' coordinates and
+        each moving body's ``(t, R, J)``."""
+        mechanism, nv = self.mechanism, self.mechanism.nv
+        coordinates = {joint: data[nv + 1 + slot] for slot, joint in enumerate(self.joints)}
+        body_data = {}
+        offset = nv + 1 + len(self.joints)
+        for body in self.bodies:
+            t = data[offset:offset + 3]
+            R = ca.reshape(data[offset + 3:offset + 12], 3, 3).T
+            J = ca.reshape(data[offset + 12:offset + 12 + 6 * nv], nv, 6).T
+            body_data[body] = (t, R, J)
+            offset += 12 + 6 * nv
+        return SampleContext(nv, mechanism.gravity, body_data, self._ground, coordinates,
+                             {joint: mechanism.joint(joint).index_v for joint in self.joints})
+
+    def _spring_outputs(self, context: SampleContext, data: ca.SX, local: ca.SX, variable_slots: list[tuple]) -> tuple:
+        r"""``(tau, V, states, forces, constraint rows)`` of one sample: :math:`\tau = g + \sum_s \tau_s`
+        [N·m or N], :math:`V = V_g + \sum_s V_s` [J], each spring's state and force, and the rows of its
+        practical constraints (their :class:`ConstraintBlock` recorded in :attr:`constraint_blocks`)."""
+        nv = self.mechanism.nv
+        tau, potential = data[:nv], data[nv]
+        states, forces, constraint_rows = [], [], []
+        self.constraint_blocks: list[ConstraintBlock] = []
+        points = {}
+        for spring, end, region, indices in variable_slots:
+            point = ca.DM(region.offset) + (ca.mtimes(ca.DM(region.basis), local[indices]) if indices else 0)
+            points[(spring.name, end)] = point
+        for spring in self.springs:
+            parameters = self.parameter_values(spring, local)
+            own_points = {end: points[(spring.name, end)] for end in spring.anchors}
+            share = spring.contribution(context, parameters, own_points)
+            tau = tau + share.torque
+            potential = potential + share.potential
+            states.append(share.state)
+            forces.append(share.force)
+            self._add_constraint_rows(spring, share, parameters, data, constraint_rows)
+        return tau, potential, states, forces, constraint_rows
+
+    def _add_constraint_rows(self, spring: Spring, share, parameters: dict, data: ca.SX, constraint_rows: list) -> None:
+        """Append the rows (≥ 0 when feasible) of ``spring``'s practical constraints to ``constraint_rows``."""
+        for constraint in spring.constraints():
+            parts = getattr(constraint, "parts", None)
+            rows = (constraint.rows(share.state, share.force, parameters, share.extra)
+                    if getattr(constraint, "uses_extra", False) else constraint.rows(share.state, share.force, parameters))
+            if parts is None:
+                parts, rows = ((constraint.name, constraint.unit, constraint.scale),), [rows]
+            for (name, unit, scale), row in zip(parts, rows):
+                row = ca.SX(row)
+                self.constraint_blocks.append(ConstraintBlock(spring.name, name, unit, len(constraint_rows),
+                                                              float(scale), bool(ca.depends_on(row, data))))
+                constraint_rows.append(row)
 
     def _add_joint_limits(self, limits: np.ndarray, tau, selectors, constraint_rows: list) -> None:
         r"""Rows :math:`(P_j^2 - \tau_j^2)/P_j \ge 0`, i.e. :math:`|\tau_j| \le P_j`, for every joint
