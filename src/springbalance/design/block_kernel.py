@@ -265,7 +265,7 @@ class _BlockKernel:
         return np.array(np.broadcast_to(values, (self.n_x,)))
 
 
-def block_kernel(function: ca.Function, n_samples: int | None = None):
+def block_kernel(function: ca.Function, n_samples: int | None = None) -> _BlockKernel | None:
     """The block kernel of a function from :func:`compiled` (built when first asked for), or None:
     for another function, or fewer than :data:`KERNEL_MIN_SAMPLES` samples."""
     source = getattr(function, SOURCE_ATTRIBUTE, None)

@@ -6,6 +6,7 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 
+from springbalance.design.solvers.records import Problem
 from springbalance.design.torque_model.compilation import compiled
 from springbalance.design.torque_model.evaluators import BlockEvaluator
 
@@ -35,7 +36,7 @@ class _LeastSquaresResiduals:
     that are exactly zero are left out.
     """
 
-    def __init__(self, problem, block: int | None = None):
+    def __init__(self, problem: Problem, block: int | None = None) -> None:
         self.problem = problem
         self.variance = problem.objective.name == "pe_variance"
         model = problem.model
@@ -67,7 +68,8 @@ class _LeastSquaresResiduals:
         self._normal_key, self._normal = None, None      # (z, penalty, multipliers) → (JᵀJ, Jᵀr, rᵀr)
         self._full_z, self._full = None, None            # z → full outputs (residuals_and_jacobian)
 
-    def set_penalty(self, multipliers, penalty: float) -> None:
+    def set_penalty(self, multipliers: np.ndarray | None, penalty: float) -> None:
+        """Penalty rows ``max(0, λ - μ c)/√μ`` with ``λ = multipliers``, ``μ = penalty`` from now on (None: none)."""
         self.multipliers, self.penalty = multipliers, penalty
 
     def _linear(self):
@@ -101,7 +103,7 @@ class _LeastSquaresResiduals:
             yield start, stop, outputs
         self._rows_z, self._rows = z, rows_all
 
-    def constraint_rows(self, z) -> np.ndarray:
+    def constraint_rows(self, z: np.ndarray) -> np.ndarray:
         """Scaled constraint rows (N·n_c, then the linear rows), ≥ 0 when feasible."""
         if self._rows_z is None or not np.array_equal(z, self._rows_z):
             for _ in self._blocks(z):
@@ -109,7 +111,7 @@ class _LeastSquaresResiduals:
         matrix, offset = self._linear()
         return np.concatenate([self._rows, matrix @ z + offset])
 
-    def normal_equations(self, z) -> tuple[np.ndarray, np.ndarray, float]:
+    def normal_equations(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
         """``(JᵀJ, Jᵀr, rᵀr)`` of the residual (with the penalty rows when a penalty is set) at ``z``,
         summed block by block."""
         key = (np.array(z, dtype=float).tobytes(), self.penalty,
@@ -158,7 +160,7 @@ class _LeastSquaresResiduals:
             squares += float(penalty_r @ penalty_r)
         return gram, projected, squares
 
-    def linear_columns(self, z, columns) -> tuple[np.ndarray, np.ndarray]:
+    def linear_columns(self, z: np.ndarray, columns: list[int]) -> tuple[np.ndarray, np.ndarray]:
         """The objective residual ``r`` (no penalty rows) and the columns ``columns`` of its Jacobian at ``z``."""
         if self.variance:
             r, J = self._objective_rows(z)
@@ -204,7 +206,7 @@ class _LeastSquaresResiduals:
             J = (J.reshape(blocks, -1, n_x) - J.reshape(blocks, -1, n_x).mean(axis=1, keepdims=True)).reshape(-1, n_x)
         return r, J
 
-    def residuals_and_jacobian(self, z):
+    def residuals_and_jacobian(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The full residual ``r`` and Jacobian ``J`` (with the penalty rows when a penalty is set)."""
         r, J = self._objective_rows(z)
         if self.multipliers is None:

@@ -16,12 +16,13 @@ class SampleContext:
     ``gravity`` → the gravity vector (3) [m/s²].
     """
 
-    def __init__(self, nv: int, gravity: np.ndarray, bodies: dict, ground: dict, coordinates: dict, joint_index: dict):
+    def __init__(self, nv: int, gravity: np.ndarray, bodies: dict, ground: dict, coordinates: dict,
+                 joint_index: dict) -> None:
         self.nv = nv
         self.gravity = ca.DM(np.asarray(gravity, dtype=float).reshape(3, 1))
         self._bodies, self._ground, self._coordinates, self._joint_index = bodies, ground, coordinates, joint_index
 
-    def point(self, body: str, local) -> "PointKinematics":
+    def point(self, body: str, local: ca.SX | ca.DM) -> PointKinematics:
         if body in self._bodies:
             t, R, J = self._bodies[body]
             lever = ca.mtimes(R, local)                  # R p, world-aligned [m]
@@ -29,7 +30,7 @@ class SampleContext:
         t0, R0 = self._ground[body]
         return PointKinematics(ca.DM(t0) + ca.mtimes(ca.DM(R0), local), None, None, self.nv)
 
-    def coordinate(self, joint: str):
+    def coordinate(self, joint: str) -> ca.SX:
         return self._coordinates[joint]
 
     def direction(self, joint: str) -> ca.DM:
@@ -44,10 +45,10 @@ class SampleContext:
 class PointKinematics:
     """A body-fixed point at one sample: world ``position`` and the map ``f -> J_p^T f``."""
 
-    def __init__(self, position, lever, jacobian, nv: int):
+    def __init__(self, position: ca.SX, lever: ca.SX | None, jacobian: ca.SX | None, nv: int) -> None:
         self.position, self._lever, self._jacobian, self._nv = position, lever, jacobian, nv
 
-    def generalized(self, force):
+    def generalized(self, force: ca.SX) -> ca.SX:
         """``J_p^T f`` (nv): the joint torques of a force ``f`` [N] applied at the point (0 on the ground)."""
         if self._jacobian is None:
             return ca.DM.zeros(self._nv, 1)

@@ -93,7 +93,7 @@ class SampleEvaluator:
         if self._kernel is None:
             self._buffer.set_arg(1, memoryview(self._data))
 
-    def __call__(self, x) -> list[np.ndarray]:
+    def __call__(self, x: np.ndarray) -> list[np.ndarray]:
         if self._kernel is not None:
             data = np.ascontiguousarray(self._data)
             self._kernel(self._kernel.shared_input(x), data.ctypes.data, self.n_samples, self._buffers.addresses)
@@ -155,7 +155,7 @@ class BlockEvaluator:
             self._buffers.append(_Outputs(self.function, self.block))
         return self._buffers[index]
 
-    def blocks(self, x):
+    def blocks(self, x: np.ndarray) -> Iterator[tuple[int, int, list[np.ndarray]]]:
         """``(start, stop, outputs)`` of each block of samples, in order."""
         spans = [(start, min(start + self.block, self.n_samples)) for start in range(0, self.n_samples, self.block)]
         if self._kernel is None:
@@ -176,7 +176,7 @@ class BlockEvaluator:
     def _evaluate(self, x: np.ndarray, start: int, stop: int, slot: _Outputs) -> None:
         self._kernel(x, self._data.ctypes.data + 8 * start * self._rows, stop - start, slot.addresses)
 
-    def _pipelined(self, x: np.ndarray, spans):
+    def _pipelined(self, x: np.ndarray, spans: list[tuple[int, int]]) -> Iterator[tuple[int, int, list[np.ndarray]]]:
         """The blocks with a helper thread one block ahead (two buffers; each reply is the helper's
         error or None)."""
         slots = (self._slot(0), self._slot(1))
@@ -210,7 +210,7 @@ class BlockEvaluator:
             requests.put(None)
             thread.join()
 
-    def evaluate(self, x) -> list[np.ndarray]:
+    def evaluate(self, x: np.ndarray) -> list[np.ndarray]:
         """Every output for all samples, ``(N, cols, rows)`` arrays as :class:`SampleEvaluator`'s (new arrays)."""
         full = None
         for start, stop, outputs in self.blocks(x):

@@ -13,6 +13,7 @@ import pinocchio as pin
 from springbalance.design.torque_model.context import SampleContext
 from springbalance.design.torque_model.variables import ConstraintBlock, DesignVariables
 from springbalance.errors import InputError
+from springbalance.model.kinematics import StackedKinematics, WorkspaceKinematics
 from springbalance.model.mechanism import Mechanism
 from springbalance.springs.laws import Spring
 from springbalance.springs.params import Free
@@ -208,7 +209,7 @@ class TorqueModel:
         return max(len(self.scenarios), 1)
 
     # ---------------------------------------------------------------- design vector
-    def parameter_values(self, spring: Spring, x):
+    def parameter_values(self, spring: Spring, x: ca.SX | np.ndarray) -> dict:
         """Map of the spring's parameters to numbers or entries of the base vector ``x``."""
         values = {}
         for key, value in spring.parameters.items():
@@ -241,7 +242,7 @@ class TorqueModel:
         return {key: float(value) for key, value in self.parameter_values(spring, x).items()}
 
     # ---------------------------------------------------------------- numeric data
-    def data_matrix(self, kinematics) -> np.ndarray:
+    def data_matrix(self, kinematics: WorkspaceKinematics | StackedKinematics) -> np.ndarray:
         """Sample data columns (data_size × N, Fortran order) from a workspace's numeric cache."""
         kinematics.prepare(self.bodies)
         n = kinematics.gravity_torque.shape[0]
@@ -275,7 +276,7 @@ class TorqueModel:
         """``sample`` evaluated on ``n`` data columns (serial map: a loop in C)."""
         return self.sample.map(n, "serial")
 
-    def evaluate(self, x, data: np.ndarray) -> dict[str, np.ndarray]:
+    def evaluate(self, x: np.ndarray, data: np.ndarray) -> dict[str, np.ndarray]:
         """Numeric outputs over the samples: tau (N×nv), V (N), L (N×n_s), F (N×n_s), C (N×n_c)."""
         n = data.shape[1]
         tau, potential, lengths, tensions, rows = self.mapped(n)(np.asarray(x, dtype=float), data)
