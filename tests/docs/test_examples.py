@@ -8,7 +8,8 @@
   (read by the config loader: duplicate keys are errors).
 - A Python block runs in a fresh interpreter whose working folder holds links to the
   repository's ``urdf``, ``examples``, ``docs`` and ``notebooks`` (so the examples' relative
-  paths work and the files they write land in a temporary folder). A block marked
+  paths work and the files they write land in a temporary folder); a deprecated springbalance
+  call in it is an error. A block marked
   ``<!-- no-run: reason -->`` (one that opens a browser, or a deliberately failing example) is
   only compiled, and the reason must be given. Running the blocks takes a while (each starts an
   interpreter and solves), so those tests are ``slow``; the markers and the syntax are checked
@@ -118,7 +119,7 @@ def test_python_example_runs(block: Block, tmp_path: Path):
     for name in LINKED:
         (tmp_path / name).symlink_to(ROOT / name, target_is_directory=True)
     env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT / "src"), os.environ.get("PYTHONPATH", "")]),
-           "MPLBACKEND": "Agg"}
+           "MPLBACKEND": "Agg", "PYTHONWARNINGS": "error::DeprecationWarning:__main__"}  # no deprecated API
     process = subprocess.run([sys.executable, "-c", block.code], cwd=tmp_path, env=env, capture_output=True,
                              text=True, timeout=TIMEOUT)
     assert process.returncode == 0, f"{block.id} failed:\n{process.stderr[-4000:]}"
