@@ -22,15 +22,14 @@ contains the mesh, so a clearance measured to it is conservative.
 from __future__ import annotations
 
 import dataclasses
-from typing import TYPE_CHECKING, Sequence
+from typing import Sequence
 
 import numpy as np
 import pinocchio as pin
 
 from springbalance.errors import InputError
-
-if TYPE_CHECKING:
-    from springbalance.model.mechanism import Mechanism
+from springbalance.model import robots
+from springbalance.model.mechanism import Mechanism, _quiet_native_stderr
 
 #: Capsule radius [m] of a spring without a helical spec sheet when none is given.
 DEFAULT_RADIUS = 0.01
@@ -55,9 +54,6 @@ def collision_geometry(mechanism: Mechanism) -> pin.GeometryModel:
         InputError: the mechanism has no URDF (a bare Pinocchio model), the geometry
             cannot be loaded, or the URDF has no collision geometry.
     """
-    from springbalance.model import robots
-    from springbalance.model.mechanism import _quiet_native_stderr
-
     source = mechanism.source
     kind = source.get("kind")
     if kind not in ("urdf", "robot", "urdf_string"):
