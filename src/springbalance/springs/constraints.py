@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import dataclasses
 
-from springbalance.springs.sizing import Helical
+from springbalance.springs.helical_option import Helical
 
 
 @dataclasses.dataclass(frozen=True)

@@ -16,19 +16,12 @@ import annotated_types
 import numpy as np
 
 from springbalance.errors import InputError
-from springbalance.springs.sizing import coil_mass, material_named
+from springbalance.springs.helical_formulas import coil_mass
+from springbalance.springs.materials import material_named
 
 #: The pydantic record of a coil mass in the config schema, by forward reference (resolved by the
 #: schema, so that the spring laws load without pydantic): :class:`springbalance.springs.options.CoilMassRecord`.
 COIL_MASS_RECORD = typing.ForwardRef("CoilMassRecord", module="springbalance.springs.options")
-
-
-def __getattr__(name: str):
-    if name == "CoilMassRecord":  # where it was defined before springbalance.springs.options
-        from springbalance.springs.options import CoilMassRecord
-
-        return CoilMassRecord
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 #: the type of the ``mass`` option in the config schema: kilograms, or a coil.

@@ -45,7 +45,7 @@ from springbalance.springs import constraints as practical
 from springbalance.springs.mass import CoilMass, MassOption, mass_from_record
 from springbalance.springs.params import Anchor, Free, Pulley
 from springbalance.springs.routing import path_length
-from springbalance.springs.sizing import helical_from_dict
+from springbalance.springs.helical_option import helical_from_dict
 
 #: spring ``type`` name in configs and saved designs -> class. Every subclass of :class:`Spring`
 #: that sets ``kind`` adds itself; :mod:`springbalance.springs.laws` imports every law module.

@@ -20,7 +20,8 @@ import numpy as np
 from springbalance.errors import InputError
 from springbalance.springs.laws.base import PositiveNumber, TwoPointSpring
 from springbalance.springs.params import Anchor, Free
-from springbalance.springs.sizing import bergstrasser_factor, material_named
+from springbalance.springs.helical_formulas import bergstrasser_factor
+from springbalance.springs.materials import material_named
 
 MPA = 1e6
 #: fraction of each allowable stress that the optimisation keeps in reserve [1]: the rules hold at the

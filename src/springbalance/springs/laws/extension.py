@@ -10,7 +10,7 @@ from springbalance.errors import InputError
 from springbalance.springs import constraints as practical
 from springbalance.springs.laws.base import HelicalSpringMixin, StretchRatio, TwoPointSpring, _positive_option
 from springbalance.springs.params import Anchor
-from springbalance.springs.sizing import HELICAL_OPTION
+from springbalance.springs.helical_option import HELICAL_OPTION
 
 
 class ExtensionSpring(HelicalSpringMixin, TwoPointSpring):

@@ -15,11 +15,11 @@ The rules of a buildable coil are constraints of the optimisation, at every work
 - body stress :math:`K_B\,8 F D/(\pi d^3) \le f_{body} S_{ut}(d)` (Bergsträsser factor
   :math:`K_B = (4C + 2)/(4C - 3)`, :math:`S_{ut} = A/d^m`, ``f_body`` 45 % for carbon steel);
 - hook bending at section A and torsion at section B within 75 % and 40 % of :math:`S_{ut}`
-  (:func:`~springbalance.springs.sizing.hook_bending_stress`, :func:`~springbalance.springs.sizing.hook_torsion_stress`);
+  (:func:`~springbalance.springs.helical_formulas.hook_bending_stress`, :func:`~springbalance.springs.helical_formulas.hook_torsion_stress`);
 - index :math:`C = D/d` within ``index_range`` (default 4–12); outer diameter :math:`D + d` within
   ``max_outer_diameter`` when given;
 - initial tension within the band that can be wound at that index
-  (:func:`~springbalance.springs.sizing.initial_stress_band`);
+  (:func:`~springbalance.springs.helical_formulas.initial_stress_band`);
 - ``L ≥ l_0`` (the coil never goes slack, ``keep_tension``).
 """
 
@@ -31,7 +31,7 @@ import numpy as np
 
 from springbalance.springs.laws.coil import CHECK_TOLERANCE, MPA, HelicalCoilSpring
 from springbalance.springs.params import Anchor
-from springbalance.springs.sizing import hook_bending_stress, hook_torsion_stress, initial_stress_band
+from springbalance.springs.helical_formulas import hook_bending_stress, hook_torsion_stress, initial_stress_band
 
 
 class ExtensionCoilRules:
