@@ -8,7 +8,7 @@ in :data:`~springbalance.springs.laws.base.SPRING_TYPES`, and its class says whi
 from __future__ import annotations
 
 from springbalance.errors import InputError
-from springbalance.springs.laws.base import SPRING_TYPES, Spring
+from springbalance.springs.laws.spring import SPRING_TYPES, Spring
 from springbalance.springs.mass import mass_from_record
 from springbalance.springs.params import Pulley, anchor_from_dict, check_keys, path_from_dict, value_from_record
 from springbalance.springs.helical_option import helical_from_dict

@@ -8,7 +8,8 @@ import numpy as np
 
 from springbalance.errors import InputError
 from springbalance.springs import constraints as practical
-from springbalance.springs.laws.base import HelicalSpringMixin, PositiveNumber, TwoPointSpring, _positive_option
+from springbalance.springs.laws.spring import PositiveNumber, _positive_option
+from springbalance.springs.laws.two_point import HelicalSpringMixin, TwoPointSpring
 from springbalance.springs.params import Anchor
 from springbalance.springs.helical_option import HELICAL_OPTION
 

@@ -2,7 +2,7 @@ r"""Constant-force element (docs/model.md §3.5): a spool or a cylinder on a lar
 
 from __future__ import annotations
 
-from springbalance.springs.laws.base import TwoPointSpring
+from springbalance.springs.laws.two_point import TwoPointSpring
 
 
 class ConstantForceSpring(TwoPointSpring):

@@ -3,7 +3,8 @@ r"""Gas spring (docs/model.md §3.4): the compression law, no coil to size."""
 from __future__ import annotations
 
 from springbalance.errors import InputError
-from springbalance.springs.laws.base import PositiveNumber, TwoPointSpring
+from springbalance.springs.laws.spring import PositiveNumber
+from springbalance.springs.laws.two_point import TwoPointSpring
 from springbalance.springs.laws.compression import CompressionSpring
 from springbalance.springs.params import Anchor
 

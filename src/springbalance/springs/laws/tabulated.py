@@ -32,7 +32,7 @@ import annotated_types
 import numpy as np
 
 from springbalance.errors import InputError
-from springbalance.springs.laws.base import TwoPointSpring
+from springbalance.springs.laws.two_point import TwoPointSpring
 from springbalance.springs.params import Anchor
 
 #: the type of the ``table`` option in the config schema: at least two [length m, force N] rows.

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from springbalance.errors import InputError
 from springbalance.springs import constraints as practical
-from springbalance.springs.laws.base import Contribution, PositiveNumber, Spring, _positive_option
+from springbalance.springs.laws.spring import Contribution, PositiveNumber, Spring, _positive_option
 
 
 class TorsionalSpring(Spring):

@@ -2,7 +2,7 @@ r"""Zero-free-length spring (docs/model.md §3.2): the law of exact balance."""
 
 from __future__ import annotations
 
-from springbalance.springs.laws.base import TwoPointSpring
+from springbalance.springs.laws.two_point import TwoPointSpring
 
 
 class ZeroFreeLengthSpring(TwoPointSpring):
