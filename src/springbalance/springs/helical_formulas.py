@@ -21,16 +21,15 @@ Every quantity is in SI units (m, N, Pa, kg).
 from __future__ import annotations
 
 import math
-from typing import Any, Callable, Union
+from typing import Any, Callable
 
 import casadi as ca
 import numpy as np
 
+from springbalance.springs.values import Value
+
 MPA = 1e6   # [Pa]
 MM = 1e-3   # [m]
-
-#: a number, a numpy array or a CasADi expression (every relation here takes and gives any of them)
-Value = Union[float, np.ndarray, ca.SX, ca.MX, ca.DM]
 
 
 # ---------------------------------------------------------------------- textbook relations

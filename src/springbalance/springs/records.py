@@ -7,6 +7,8 @@ in :data:`~springbalance.springs.laws.base.SPRING_TYPES`, and its class says whi
 
 from __future__ import annotations
 
+from typing import Any
+
 from springbalance.errors import InputError
 from springbalance.springs.laws.spring import SPRING_TYPES, Spring
 from springbalance.springs.mass import mass_from_record
@@ -61,7 +63,7 @@ def ideal_law_hint(cls: type[Spring], record: dict) -> str | None:
             f"({', '.join(ideal.parameter_units)})")
 
 
-def spring_from_dict(record, where: str = "spring", **routing) -> Spring:
+def spring_from_dict(record: dict[str, Any], where: str = "spring", **routing: Any) -> Spring:
     """Build a spring from its record (as in configs and saved designs).
 
     Two-point springs: ``{name?, type, a: anchor, b: anchor, <parameters>, <options>}``;

@@ -20,13 +20,36 @@ from __future__ import annotations
 
 import abc
 import dataclasses
-from typing import Annotated, ClassVar
+from typing import TYPE_CHECKING, Annotated, Any, ClassVar, Protocol
 
 import annotated_types
 import numpy as np
 
 from springbalance.errors import InputError
 from springbalance.springs.params import Anchor, Free
+
+if TYPE_CHECKING:
+    from springbalance.model.mechanism import Mechanism
+
+
+class Sample(Protocol):
+    """The per-sample state a law's :meth:`Spring.contribution` reads (built by
+    :class:`~springbalance.design.torque_model.TorqueModel`)."""
+
+    gravity: Any  #: the gravity vector [m/s²]
+
+    def point(self, body: str, point: Any) -> Any:
+        """World position [m] of a point of ``body`` (body frame, [m]) and its ``J_p^T f`` product."""
+
+    def coordinate(self, joint: str) -> Any:
+        """The joint's coordinate [rad or m]."""
+
+    def direction(self, joint: str) -> Any:
+        """The unit torque vector ``e_i`` of the joint (nv)."""
+
+    def zero(self) -> Any:
+        """An nv zero vector."""
+
 
 #: spring ``type`` name in configs and saved designs -> class. Every subclass of :class:`Spring`
 #: that sets ``kind`` adds itself; :mod:`springbalance.springs.laws` imports every law module.
@@ -97,7 +120,7 @@ class Spring(abc.ABC):
         """The key of this law in :data:`SPRING_TYPES`: its ``kind``, or ``"<kind>:ideal"`` for an idealised law."""
         return f"{cls.kind}:ideal" if cls.ideal else cls.kind
 
-    def __init_subclass__(cls, **kwargs):
+    def __init_subclass__(cls, **kwargs: Any) -> None:
         """Register every law that names its ``kind`` in :data:`SPRING_TYPES` (the registry)."""
         super().__init_subclass__(**kwargs)
         cls.option_keys = tuple(cls.option_types)
@@ -109,7 +132,7 @@ class Spring(abc.ABC):
                                 f"and {cls.__module__}.{cls.__qualname__}")
             SPRING_TYPES[key] = cls
 
-    def __init__(self, name: str | None = None, **parameters):
+    def __init__(self, name: str | None = None, **parameters: Any):
         self.name = name
         unknown = set(parameters) - set(self.parameter_units)
         if unknown:
@@ -138,11 +161,11 @@ class Spring(abc.ABC):
         """Joints whose coordinate the element needs."""
         return ()
 
-    def check(self, mechanism) -> None:
+    def check(self, mechanism: Mechanism) -> None:
         """Raise :class:`~springbalance.errors.InputError` when the element does not fit ``mechanism``."""
 
     @abc.abstractmethod
-    def contribution(self, sample, parameters: dict, points: dict) -> Contribution:
+    def contribution(self, sample: Sample, parameters: dict, points: dict) -> Contribution:
         """Torque, potential, state and generalised force at one sample.
 
         ``parameters`` maps parameter names to numbers or CasADi symbols; ``points`` maps each

@@ -34,17 +34,21 @@ tension [N] for two-point springs, joint angle [rad] and torque [N·m] for torsi
 from __future__ import annotations
 
 import abc
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar, Sequence
 
 import numpy as np
 
 from springbalance.errors import InputError
 from springbalance.springs import constraints as practical
 from springbalance.springs.helical_option import helical_from_dict
-from springbalance.springs.laws.spring import Contribution, PositiveNumber, Spring, _positive_option
-from springbalance.springs.mass import CoilMass, MassOption, mass_from_record
-from springbalance.springs.params import Anchor, Free, Pulley
+from springbalance.springs.laws.spring import Contribution, PositiveNumber, Sample, Spring, _positive_option
+from springbalance.springs.mass import CoilMass, FixedMass, MassOption, mass_from_record
+from springbalance.springs.params import Anchor, Pulley
 from springbalance.springs.routing import path_length
+from springbalance.springs.values import Parameters, Value
+
+if TYPE_CHECKING:
+    from springbalance.model.mechanism import Mechanism
 
 
 class TwoPointSpring(Spring):
@@ -68,8 +72,9 @@ class TwoPointSpring(Spring):
                     "min_length": PositiveNumber | None, "mass": MassOption | None, "part_number": str | None}
 
     def __init__(self, a: Anchor, b: Anchor, name: str | None = None, *, max_force: float | None = None,
-                 max_length: float | None = None, min_length: float | None = None, mass=None,
-                 part_number: str | None = None, via=(), **parameters):
+                 max_length: float | None = None, min_length: float | None = None,
+                 mass: float | dict | CoilMass | FixedMass | None = None, part_number: str | None = None,
+                 via: Sequence[Pulley] = (), **parameters: Any):
         if not isinstance(a, Anchor) or not isinstance(b, Anchor):
             raise InputError(f"spring {name or ''!s}: ends must be Anchor objects, got {a!r} and {b!r}")
         self.a, self.b = a, b
@@ -97,25 +102,25 @@ class TwoPointSpring(Spring):
 
     # ---------------------------------------------------------------- the law
     @abc.abstractmethod
-    def tension(self, length, parameters):
+    def tension(self, length: Value, parameters: Parameters) -> Value:
         """Tension ``F(L)`` [N], positive when the spring pulls its ends together."""
 
     @abc.abstractmethod
-    def potential(self, length, parameters):
+    def potential(self, length: Value, parameters: Parameters) -> Value:
         """Stored energy ``V_s(L)`` [J]."""
 
-    def tension_per_length(self, length, parameters):
+    def tension_per_length(self, length: Value, parameters: Parameters) -> Value:
         """``F(L) / L`` [N/m]; the force on end b is ``-(F/L) d`` with ``d = x_b - x_a``."""
         return self.tension(length, parameters) / length
 
     # ---------------------------------------------------------------- mass
     @property
-    def mass(self):
+    def mass(self) -> CoilMass | FixedMass | None:
         """``None``, :class:`FixedMass` or :class:`CoilMass`."""
         return self._mass
 
     @mass.setter
-    def mass(self, value) -> None:
+    def mass(self, value: float | dict | CoilMass | FixedMass | None) -> None:
         self._mass = mass_from_record(value, f"{self._label()}: mass")
         coupled = isinstance(self._mass, CoilMass)
         if coupled:
@@ -129,11 +134,11 @@ class TwoPointSpring(Spring):
         """Whether the spring's own mass is part of the model (see :meth:`spring_mass`)."""
         return self._mass is not None
 
-    def spring_mass(self, parameters):
+    def spring_mass(self, parameters: Parameters) -> Value:
         """``m_s`` [kg] for the given parameter values (0 without a mass)."""
         return 0.0 if self._mass is None else self._mass.value(parameters)
 
-    def free_length_interval(self, lengths) -> tuple[float, float]:
+    def free_length_interval(self, lengths: np.ndarray) -> tuple[float, float]:
         """Free lengths ``(low, high)`` [m] for which this spring's own length constraints hold at
         the given sample lengths [m] (for a solver's start; ``(-inf, inf)`` when none apply)."""
         return -np.inf, np.inf
@@ -159,7 +164,7 @@ class TwoPointSpring(Spring):
         """Pulley radius [m] at every point of the path (0 at the ends and at guide points)."""
         return (0.0, *(pulley.radius for pulley in self.via), 0.0)
 
-    def check(self, mechanism) -> None:
+    def check(self, mechanism: Mechanism) -> None:
         a, b = self.a, self.b
         for anchor in (a, b):
             mechanism.is_ground(anchor.body)  # raises InputError naming an unknown body
@@ -182,7 +187,7 @@ class TwoPointSpring(Spring):
             where = f"body {a.body!r}" if a.body == b.body else f"the ground ({a.body!r}, {b.body!r})"
             raise InputError(f"spring {self.name!r}: both ends are on {where}; it cannot act on the mechanism")
 
-    def contribution(self, sample, parameters, points) -> Contribution:
+    def contribution(self, sample: Sample, parameters: Parameters, points: dict) -> Contribution:
         if self.routed:
             return self._routed_contribution(sample, parameters, points)
         end_a, end_b = sample.point(self.a.body, points["a"]), sample.point(self.b.body, points["b"])
