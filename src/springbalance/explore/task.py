@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, Any
 from springbalance.design.torque_model import one_thread
 from springbalance.errors import SolverError, SpringBalanceError
 from springbalance.io.config import config_from_dict
+from springbalance.pipeline import solve
 
 if TYPE_CHECKING:
     from springbalance.results.result import DesignResult
@@ -61,7 +62,7 @@ def solve_task(payload: dict[str, Any]) -> dict[str, Any]:
         config = config_from_dict(payload["record"], payload["base_dir"], f"task {payload['id']}")
         # one process and one thread per task: the study spreads tasks over the cores, not the starts of one task
         with one_thread():
-            result = config.solve(starts=payload["starts"], seed=payload["seed"], progress=False, workers=1)
+            result = solve(config, starts=payload["starts"], seed=payload["seed"], progress=False, workers=1)
     except (SolverError, SpringBalanceError) as error:
         return {**row, "status": "failed", "error": str(error).splitlines()[0], "exact": False, "design": None,
                 "seconds": time.perf_counter() - clock}
