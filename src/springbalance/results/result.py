@@ -34,7 +34,7 @@ if TYPE_CHECKING:
 
     from springbalance.design.problem import Evaluation
     from springbalance.design.solvers import StartRecord
-    from springbalance.io.export import ExportReport
+    from springbalance.export.common import ExportReport
     from springbalance.results.clearance import ClearanceReport
     from springbalance.results.flags import Flag
     from springbalance.springs.laws import Spring
@@ -305,14 +305,14 @@ class DesignResult:
         """Write the URDF with a massless link at every spring anchor and the spring records (and
         ``<stem>.springs.json``); returns an :class:`~springbalance.io.export.ExportReport` whose
         ``warnings`` list the springs MuJoCo cannot express exactly. See :func:`springbalance.io.urdf.export_urdf`."""
-        from springbalance.io.urdf import export_urdf
+        from springbalance.export.urdf import export_urdf
 
         return export_urdf(self, path, resolve_packages=resolve_packages)
 
     def to_mjcf(self, path: str | Path) -> ExportReport:
         """Write the balanced arm as a MuJoCo model (a tendon per spring); returns an
         :class:`~springbalance.io.export.ExportReport`. See :func:`springbalance.io.mjcf.export_mjcf`."""
-        from springbalance.io.mjcf import export_mjcf
+        from springbalance.export.mjcf import export_mjcf
 
         return export_mjcf(self, path)
 
