@@ -16,7 +16,6 @@ from typing import Any
 from springbalance.errors import InputError
 from springbalance.export import urdf
 from springbalance.export.common import GROUND
-from springbalance.export.urdf import URDF_NAMESPACE, root_link
 from springbalance.springs.laws import Spring
 from springbalance.springs.records import spring_from_dict
 
@@ -48,9 +47,9 @@ def springs_from_urdf(path: str | Path) -> list[Spring]:
     except (OSError, etree.XMLSyntaxError) as error:
         raise InputError(f"URDF {str(path)!r} could not be read: {error}") from None
     joints = {joint.find("child").get("link"): joint for joint in root.findall("joint")}
-    base = root_link(root)
+    base = urdf.root_link(root)
     springs = []
-    for element in root.iter(f"{{{URDF_NAMESPACE}}}spring"):
+    for element in root.iter(f"{{{urdf.URDF_NAMESPACE}}}spring"):
         record = json.loads(element.text)
         routed = record.get("type") == "routed" and isinstance(record.get("path"), list)
         if routed:   # the path's points are the ends a, via1 …, b
