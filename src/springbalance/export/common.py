@@ -12,6 +12,7 @@ import dataclasses
 from collections.abc import Iterable
 from pathlib import Path
 
+from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.errors import InputError
 from springbalance.model.mechanism import Mechanism
 

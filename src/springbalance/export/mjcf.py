@@ -38,13 +38,21 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
+from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.errors import InputError
-from springbalance.export.common import (GROUND, ExportReport, anchor_link_name, law_warnings, number,
-                                         resolve_package, source_urdf, vector)
+from springbalance.export.common import (
+    GROUND,
+    ExportReport,
+    anchor_link_name,
+    law_warnings,
+    number,
+    resolve_package,
+    source_urdf,
+    vector,
+)
 from springbalance.files import write_text_atomic
 from springbalance.model import robots
 

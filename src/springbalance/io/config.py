@@ -64,6 +64,8 @@ from springbalance.io.sections import (
 from springbalance.io.yaml_loader import MAX_BYTES, DuplicateKeyError, LimitError, load_json, load_yaml
 from springbalance.model.mechanism import Mechanism
 from springbalance.model.workspace import Workspace
+from springbalance.pipeline.run import solve
+from springbalance.results.result import DesignResult
 from springbalance.springs.laws import Spring
 
 __all__ = ["CASE_KEYS", "COUPLING_KEYS", "MECHANISM_KEYS", "PAYLOAD_KEYS", "PAYLOAD_RANGE_KEYS", "REQUIRED_SECTIONS",
@@ -101,10 +103,10 @@ class Config:
     problem: DesignProblem
     solve_options: dict
 
-    def solve(self, **overrides: Any) -> Any:
-        """Solve the problem with the config's options, overridden by ``overrides``."""
-        options = {**self.solve_options, **{k: v for k, v in overrides.items() if v is not None}}
-        return self.problem.solve(**options)
+    def solve(self, **overrides: Any) -> DesignResult:
+        """:func:`springbalance.solve` of this config: its ``solve`` options, overridden by the ``overrides``
+        that are not None."""
+        return solve(self, **overrides)
 
 
 # ---------------------------------------------------------------------- entry points
