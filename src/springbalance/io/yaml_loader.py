@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import json
 import re
+from typing import Any
 
 import yaml
 
@@ -54,7 +55,7 @@ class DuplicateKeyError(yaml.YAMLError):
         line, first_line: 1-based lines of the repeat and of the first occurrence (None in JSON).
     """
 
-    def __init__(self, key, path: str = "", line: int | None = None, first_line: int | None = None):
+    def __init__(self, key: Any, path: str = "", line: int | None = None, first_line: int | None = None) -> None:
         self.key, self.path, self.line, self.first_line = key, path, line, first_line
         where = f" at line {line} (first at line {first_line})" if line is not None else ""
         super().__init__(f"duplicate key {key!r}{where}")
@@ -70,7 +71,7 @@ class ConfigLoader(yaml.SafeLoader):
     yaml_implicit_resolvers = {first: [(tag, regexp) for tag, regexp in resolvers if tag not in (FLOAT_TAG, BOOL_TAG)]
                                for first, resolvers in yaml.SafeLoader.yaml_implicit_resolvers.items()}
 
-    def compose_node(self, parent, index):
+    def compose_node(self, parent: yaml.Node | None, index: Any) -> yaml.Node | None:
         depth = getattr(self, "_depth", 0)
         if depth > MAX_DEPTH:
             mark = self.peek_event().start_mark
@@ -81,7 +82,7 @@ class ConfigLoader(yaml.SafeLoader):
         finally:
             self._depth = depth
 
-    def get_single_data(self):
+    def get_single_data(self) -> Any:
         node = self.get_single_node()
         if node is None:
             return None
@@ -140,13 +141,13 @@ def _expanded_size(node, sizes: dict, open_nodes: set) -> int:
     return size
 
 
-def load_yaml(text: str):
+def load_yaml(text: str) -> Any:
     """Parse YAML ``text`` with :class:`ConfigLoader` (raises :class:`yaml.YAMLError`, :class:`LimitError`
     past the bounds)."""
     return yaml.load(text, Loader=ConfigLoader)  # noqa: S506 (a SafeLoader subclass)
 
 
-def load_json(text: str):
+def load_json(text: str) -> Any:
     """Parse JSON ``text``; an object that repeats a key raises :class:`DuplicateKeyError`, a document
     nested deeper than :data:`MAX_DEPTH` :class:`LimitError`."""
     try:
