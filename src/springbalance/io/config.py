@@ -61,7 +61,7 @@ from springbalance.io.sections import (
     weights_from_record,
     workspace_from_record,
 )
-from springbalance.io.yaml_loader import MAX_BYTES, DuplicateKeyError, LimitError, load_json, load_yaml
+from springbalance.loaders import MAX_BYTES, DuplicateKeyError, LimitError, load_json, load_yaml
 from springbalance.model.mechanism import Mechanism
 from springbalance.model.workspace import Workspace
 from springbalance.pipeline.run import solve
