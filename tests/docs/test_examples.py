@@ -29,7 +29,7 @@ import pytest
 
 from springbalance.explore.study import Study
 from springbalance.io.config import config_from_dict
-from springbalance.io.yaml_loader import load_yaml
+from springbalance.loaders import load_yaml
 
 ROOT = Path(__file__).resolve().parents[2]
 SOURCES = [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]
