@@ -310,7 +310,7 @@ for name in SOLVERS[1:]:
 # ---------------------------------------------------------------- part 2: multi-start with tension constraints
 constrained = sb.DesignProblem(mechanism, workspace, springs(keep_tension=True))
 clock = time.perf_counter()
-result = constrained.solve(starts=args.starts, seed=0, progress=False)
+result = sb.solve(constrained, starts=args.starts, seed=0, progress=False)
 total = time.perf_counter() - clock
 times = [start.seconds for start in result.starts]
 print(f"\nmulti-start with L ≥ l0: {args.starts} starts in {total:.2f} s; per start median {np.median(times):.2f} s, "

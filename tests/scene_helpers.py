@@ -35,7 +35,7 @@ def two_link_design(n: int = 7) -> sb.DesignResult:
                            name="forearm", stiffness=20.0, free_length=0.05, keep_tension=False),
     ]
     problem = sb.DesignProblem(mechanism, workspace, springs, objective="rms")
-    return problem.result(np.array(problem.variables.start))
+    return sb.DesignResult(problem, np.array(problem.variables.start))
 
 
 def ur5_design(n: int = 16) -> sb.DesignResult:
@@ -49,4 +49,4 @@ def ur5_design(n: int = 16) -> sb.DesignResult:
                                 sb.Anchor("forearm_link", (0.1, 0.0, 0.02)), name="s2", stiffness=800.0),
     ]
     problem = sb.DesignProblem(mechanism, workspace, springs, objective="rms")
-    return problem.result(np.array(problem.variables.start))
+    return sb.DesignResult(problem, np.array(problem.variables.start))

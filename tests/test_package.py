@@ -78,7 +78,7 @@ from springbalance.springs.params import Anchor
 mechanism = Mechanism.from_robot("ur5")
 spring = ZeroFreeLengthSpring(Anchor("universe", [0, 0, 0.5]), Anchor("forearm_link", [0.1, 0, 0]), "s", stiffness=100)
 problem = DesignProblem(mechanism, Workspace.sobol(mechanism, 8, seed=1), [spring])
-print(type(problem.result(np.zeros(problem.variables.size))).__qualname__)
+print(type(sb.DesignResult(problem, np.zeros(problem.variables.size))).__qualname__)
 """
     run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
     assert run.returncode == 0, run.stderr
