@@ -21,16 +21,18 @@ from __future__ import annotations
 
 import dataclasses
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Sequence
+from typing import TYPE_CHECKING, Any, Iterable, Sequence
 
 import numpy as np
 import numpy.typing as npt
 
-from springbalance.errors import InputError
+from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.design.problem import DesignProblem
 from springbalance.design.scenarios import Payload, Scenario
 from springbalance.design.solvers import refine
-from springbalance.results.result import DesignResult
+from springbalance.errors import InputError
+from springbalance.results.plots import new_figure, save_figure
+from springbalance.springs.laws import Spring
 from springbalance.springs.records import spring_from_dict
 
 if TYPE_CHECKING:
@@ -58,6 +60,7 @@ class PayloadRow:
     balanced: bool
 
     def to_dict(self) -> dict[str, Any]:
+        """The row as JSON-friendly data."""
         return {"mass": self.mass, "variables": self.variables,
                 "anchors": {key: list(point) for key, point in self.anchors.items()},
                 "peak": self.peak, "rms": self.rms, "balanced": self.balanced}
@@ -76,6 +79,7 @@ class PayloadRange:
     max_payload: float
 
     def table(self) -> str:
+        """The rows as text: payload [kg], adjustable anchor points [m], peak and RMS residual [N·m]."""
         anchors = list(self.rows[0].anchors) if self.rows else []
         header = f"  {'payload [kg]':>12s}" + "".join(f"{name + ' [m]':>28s}" for name in anchors) + \
                  f"{'peak [N·m]':>13s}{'rms [N·m]':>12s}  balanced"
@@ -90,15 +94,9 @@ class PayloadRange:
     def plot(self, path: str | Path | None = None) -> Figure:
         """matplotlib figure: adjustable anchor coordinates and peak residual against the payload
         (also saved as PNG and SVG when ``path`` is given)."""
-        from matplotlib.backends.backend_agg import FigureCanvasAgg
-        from matplotlib.figure import Figure
-
-        from springbalance.results.plots import save_figure
-
         rows = sorted(self.rows, key=lambda row: row.mass)
         masses = np.array([row.mass for row in rows])
-        figure = Figure(figsize=(8.4, 3.2), layout="constrained")
-        FigureCanvasAgg(figure)
+        figure = new_figure(figsize=(8.4, 3.2), layout="constrained")
         anchor_axes, residual_axes = figure.add_subplot(1, 2, 1), figure.add_subplot(1, 2, 2)
         styles = ("-", "--", ":", "-.")
         for index, name in enumerate(rows[0].anchors if rows else []):
@@ -129,6 +127,7 @@ class PayloadRange:
         return figure
 
     def to_dict(self) -> dict[str, Any]:
+        """The study as JSON-friendly data."""
         return {"body": self.body, "point": list(self.point), "max_residual": self.max_residual,
                 "max_payload": self.max_payload, "rows": [row.to_dict() for row in self.rows]}
 
@@ -144,6 +143,7 @@ class PayloadSweep:
     rms: np.ndarray
 
     def table(self) -> str:
+        """The sweep as text: payload [kg], peak and RMS residual [N·m]."""
         lines = [f"Residual torque against the payload at {list(self.point)} m of {self.body!r} (design fixed)",
                  f"  {'payload [kg]':>12s}{'peak [N·m]':>13s}{'rms [N·m]':>12s}"]
         lines += [f"  {m:12.4g}{p:13.4g}{r:12.4g}" for m, p, r in zip(self.masses, self.peak, self.rms)]
@@ -151,13 +151,7 @@ class PayloadSweep:
 
     def plot(self, path: str | Path | None = None, label: str = "fixed design") -> Figure:
         """matplotlib figure: peak and RMS residual against the payload (PNG + SVG at ``path``)."""
-        from matplotlib.backends.backend_agg import FigureCanvasAgg
-        from matplotlib.figure import Figure
-
-        from springbalance.results.plots import save_figure
-
-        figure = Figure(figsize=(4.6, 3.2), layout="constrained")
-        FigureCanvasAgg(figure)
+        figure = new_figure(figsize=(4.6, 3.2), layout="constrained")
         axes = figure.add_subplot()
         axes.plot(self.masses, self.peak, color=RESIDUAL_COLOR, marker="o", markersize=3, linewidth=2,
                   label=f"{label}: peak")
@@ -171,18 +165,19 @@ class PayloadSweep:
         return figure
 
     def to_dict(self) -> dict[str, Any]:
+        """The sweep as JSON-friendly data."""
         return {"body": self.body, "point": list(self.point), "masses": self.masses.tolist(),
                 "peak": self.peak.tolist(), "rms": self.rms.tolist()}
 
 
 # ---------------------------------------------------------------------- studies
-def payload_range(result: DesignResult, body: str, point: Sequence[float] = (0.0, 0.0, 0.0),
+def payload_range(result: EvaluatedDesign, body: str, point: Sequence[float] = (0.0, 0.0, 0.0),
                   max_residual: float | None = None, masses: npt.ArrayLike | None = None,
                   rounds: int = 3, points: int = 9, starts: int = 1) -> PayloadRange:
     """Largest payload an adjustable design can balance, and its anchor against the payload.
 
     Args:
-        result: a :class:`~springbalance.results.result.DesignResult` whose problem has per-scenario
+        result: a design (:class:`~springbalance.design.evaluated.EvaluatedDesign`) whose problem has per-scenario
             variables; its shared variables (the spring) are kept, the per-scenario ones
             (within their bounds: the travel of the anchor) are re-fitted per payload by
             minimising that payload's RMS residual.
@@ -201,23 +196,53 @@ def payload_range(result: DesignResult, body: str, point: Sequence[float] = (0.0
     point = _checked_point(problem, body, point)
     masses = None if masses is None else _checked_masses(masses)
     springs = _adjustable_springs(problem, result.x)
+    max_residual = _checked_max_residual(problem, max_residual)
+    solves = _PayloadSolves(problem, springs, body, point, max_residual, starts)
+    max_payload = _largest_payload(solves, masses, rounds, points)
+    if masses is None:
+        top = max_payload if np.isfinite(max_payload) else max(solves.solved)
+        masses = np.linspace(0.0, 1.25 * top if top > 0 else 1.0, 9)
+    solves.sweep(masses)
+    rows = [solves.solved[float(m)] for m in masses]
+    return PayloadRange(body, point, max_residual, rows, max_payload)
+
+
+def _checked_max_residual(problem: DesignProblem, max_residual: float | None) -> float:
+    """The peak residual [N·m] up to which a payload counts as balanced; default 1e-6 × the bare
+    mechanism's peak gravity torque (exact balance)."""
     if max_residual is None:
         max_residual = 1e-6 * float(np.max(np.abs(problem.base_workspace.kinematics().gravity_torque)))
     elif isinstance(max_residual, bool) or not isinstance(max_residual, (int, float, np.integer, np.floating)) \
             or not (np.isfinite(max_residual) and max_residual > 0):
         raise InputError(f"max residual must be a finite number > 0 [N·m], got {max_residual!r}")
-    max_residual = float(max_residual)
-    solved: dict[float, PayloadRow] = {}
+    return float(max_residual)
 
-    def sweep(candidates):
-        new = [float(m) for m in candidates if float(m) not in solved]
+
+class _PayloadSolves:
+    """The payloads solved so far (mass [kg] → :class:`PayloadRow`); :meth:`sweep` solves the new ones at once."""
+
+    def __init__(self, problem: DesignProblem, springs: list[Spring], body: str, point: tuple[float, ...],
+                 max_residual: float, starts: int) -> None:
+        self.problem, self.springs, self.body, self.point = problem, springs, body, point
+        self.max_residual, self.starts = max_residual, starts
+        self.solved: dict[float, PayloadRow] = {}
+
+    def sweep(self, candidates: Iterable[float]) -> None:
+        """Solve the masses [kg] of ``candidates`` not solved yet (one stacked problem)."""
+        new = [float(m) for m in candidates if float(m) not in self.solved]
         if new:
-            for row in _solve_payloads(problem, springs, body, point, new, max_residual, starts):
-                solved[row.mass] = row
+            for row in _solve_payloads(self.problem, self.springs, self.body, self.point, new, self.max_residual,
+                                       self.starts):
+                self.solved[row.mass] = row
 
+
+def _largest_payload(solves: _PayloadSolves, masses: np.ndarray | None, rounds: int, points: int) -> float:
+    """The largest balanced payload [kg]: bracketed by a geometric sweep, narrowed by ``rounds`` sweeps of
+    ``points`` masses, and past the end of the travel extrapolated along the residual's straight line."""
+    solved = solves.solved
     # bracket [balanced, unbalanced] with one sweep of 0 and geometric masses up to 4^9 × the scale
     scale = max(float(np.max(masses)) if masses is not None and len(masses) else 0.0, 1.0)
-    sweep([0.0] + [scale * 4.0**i for i in range(10)])
+    solves.sweep([0.0] + [scale * 4.0**i for i in range(10)])
     low, high = 0.0, None
     for mass in sorted(solved):
         if not solved[mass].balanced:
@@ -225,34 +250,28 @@ def payload_range(result: DesignResult, body: str, point: Sequence[float] = (0.0
             break
         low = mass
     if not solved[0.0].balanced:
-        max_payload = 0.0
-    elif high is None:
-        max_payload = float("inf")
-    else:
-        for _ in range(int(rounds)):
-            grid = np.linspace(low, high, int(points) + 2)[1:-1]
-            sweep(grid)
-            for mass in np.concatenate([[low], grid, [high]]):
-                if solved[float(mass)].balanced:
-                    low = float(mass)
-                else:
-                    high = float(mass)
-                    break
-        # past the end of the travel the residual grows along a straight line: extrapolate it to the limit
-        above = sorted(m for m, row in solved.items() if not row.balanced)[:2]
-        max_payload = high
-        if len(above) == 2 and solved[above[1]].peak > solved[above[0]].peak:
-            (m0, m1), (r0, r1) = above, (solved[above[0]].peak, solved[above[1]].peak)
-            max_payload = float(np.clip(m0 + (max_residual - r0) * (m1 - m0) / (r1 - r0), low, high))
-    if masses is None:
-        top = max_payload if np.isfinite(max_payload) else max(solved)
-        masses = np.linspace(0.0, 1.25 * top if top > 0 else 1.0, 9)
-    sweep(masses)
-    rows = [solved[float(m)] for m in masses]
-    return PayloadRange(body, point, max_residual, rows, max_payload)
+        return 0.0
+    if high is None:
+        return float("inf")
+    for _ in range(int(rounds)):
+        grid = np.linspace(low, high, int(points) + 2)[1:-1]
+        solves.sweep(grid)
+        for mass in np.concatenate([[low], grid, [high]]):
+            if solved[float(mass)].balanced:
+                low = float(mass)
+            else:
+                high = float(mass)
+                break
+    # past the end of the travel the residual grows along a straight line: extrapolate it to the limit
+    above = sorted(m for m, row in solved.items() if not row.balanced)[:2]
+    max_payload = high
+    if len(above) == 2 and solved[above[1]].peak > solved[above[0]].peak:
+        (m0, m1), (r0, r1) = above, (solved[above[0]].peak, solved[above[1]].peak)
+        max_payload = float(np.clip(m0 + (solves.max_residual - r0) * (m1 - m0) / (r1 - r0), low, high))
+    return max_payload
 
 
-def residual_vs_payload(result: DesignResult, body: str, masses: npt.ArrayLike,
+def residual_vs_payload(result: EvaluatedDesign, body: str, masses: npt.ArrayLike,
                         point: Sequence[float] = (0.0, 0.0, 0.0), scenario: int = 0) -> PayloadSweep:
     """Peak and RMS residual torque [N·m] of a fixed design (its values in ``scenario``) with each payload."""
     problem = result.problem
@@ -266,7 +285,7 @@ def residual_vs_payload(result: DesignResult, body: str, masses: npt.ArrayLike,
 
 
 # ---------------------------------------------------------------------- helpers
-def _checked_masses(masses) -> np.ndarray:
+def _checked_masses(masses: npt.ArrayLike) -> np.ndarray:
     """``masses`` [kg] as a 1-D array of finite numbers in [0, MAX_MASS]; InputError naming the first bad one."""
     try:
         values = np.asarray(masses, dtype=float).reshape(-1)
@@ -280,7 +299,7 @@ def _checked_masses(masses) -> np.ndarray:
     return values
 
 
-def _checked_point(problem, body: str, point) -> tuple[float, ...]:
+def _checked_point(problem: DesignProblem, body: str, point: Sequence[float]) -> tuple[float, ...]:
     """The payload ``point`` [m] of ``body``: three finite numbers within MAX_DISTANCE of the body's origin."""
     problem.mechanism.frame_id(body)  # an unknown body is named
     try:
@@ -295,19 +314,19 @@ def _checked_point(problem, body: str, point) -> tuple[float, ...]:
     return tuple(values.tolist())
 
 
-def _scenarios(body, point, masses):
+def _scenarios(body: str, point: tuple[float, ...], masses: Iterable[float]) -> list[Scenario]:
     return [Scenario(f"payload {i}: {m:g} kg", [Payload(body, float(m), point)] if m > 0 else [])
             for i, m in enumerate(masses)]
 
 
-def _per_block(problem, tau, blocks):
+def _per_block(problem: DesignProblem, tau: np.ndarray, blocks: int) -> tuple[np.ndarray, np.ndarray]:
     weighted = np.abs(tau * problem.weights)
     parts = np.split(weighted, blocks, axis=0)
     return (np.array([float(np.max(part)) for part in parts]),
             np.array([float(np.sqrt(np.mean(part**2))) for part in parts]))
 
 
-def _adjustable_springs(problem, x):
+def _adjustable_springs(problem: DesignProblem, x: np.ndarray) -> list[Spring]:
     """The springs with every shared variable fixed at its value in ``x``; per-scenario ones stay free."""
     model = problem.model
     adjustable = {model.base_variables.names[i] for i in model.per_scenario}
@@ -325,12 +344,13 @@ def _adjustable_springs(problem, x):
     return springs
 
 
-def _solve_payloads(problem, springs, body, point, masses, max_residual, starts):
+def _solve_payloads(problem: DesignProblem, springs: list[Spring], body: str, point: tuple[float, ...],
+                    masses: list[float], max_residual: float, starts: int) -> list[PayloadRow]:
     stacked = DesignProblem(problem.mechanism, problem.base_workspace, springs, objective="rms",
                             weights=problem.weights_by_name(), scenarios=_scenarios(body, point, masses),
                             per_scenario=problem.per_scenario)
     solution = stacked.solve(starts=starts, progress=False, max_iterations=200, tolerance=1e-12)
-    solution = DesignResult(stacked, refine(stacked, solution.x), method=solution.method, status=solution.status)
+    solution = EvaluatedDesign(stacked, refine(stacked, solution.x), method=solution.method, status=solution.status)
     peak, rms = _per_block(stacked, solution.evaluation.tau, len(masses))
     model = stacked.model
     names = [model.base_variables.names[i] for i in model.per_scenario]
