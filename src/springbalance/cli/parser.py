@@ -6,8 +6,19 @@ from __future__ import annotations
 import argparse
 
 from springbalance._version import __version__
-from springbalance.cli import (clearance, design, evaluate, explore, export, inspect, payload_range, report, robots,
-                               schema, view)
+from springbalance.cli import (
+    clearance,
+    design,
+    evaluate,
+    explore,
+    export,
+    inspect,
+    payload_range,
+    report,
+    robots,
+    schema,
+    view,
+)
 from springbalance.cli.arguments import MEMORY_HELP
 from springbalance.cli.formatting import PROG
 

@@ -9,7 +9,12 @@ from pathlib import Path
 import numpy as np
 
 from springbalance.errors import InputError
-from springbalance.results.payload import payload_range, residual_vs_payload
+from springbalance.results.payload import (
+    PayloadRange,
+    PayloadSweep,
+    payload_range,
+    residual_vs_payload,
+)
 from springbalance.results.result import DesignResult
 
 
@@ -38,6 +43,7 @@ def handle(args: argparse.Namespace) -> int:
     result = DesignResult.load(args.design)
     if args.body not in result.problem.mechanism.body_names:
         raise InputError(f"--body: unknown body {args.body!r}; bodies: {', '.join(result.problem.mechanism.body_names)}")
+    study: PayloadRange | PayloadSweep
     if result.problem.model.per_scenario:
         study = payload_range(result, args.body, args.point, max_residual=args.max_residual, masses=args.masses)
     else:
