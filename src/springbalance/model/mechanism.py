@@ -250,13 +250,26 @@ class Mechanism:
         joint into the body of its moving joint; they are split back per link here, and
         rounded to 1e-12 to hide the round-off of that split.
         """
+        bodies = self._summary_bodies()
+        masses = [body["mass"] for body in bodies]
+        return {
+            "name": self.name,
+            "source": {key: value for key, value in self.source.items() if key != "text"},
+            "gravity": [float(value) for value in self.gravity],
+            "dofs": self.nv,
+            "total_mass": _clean(sum(masses)),
+            "moving_mass": _clean(sum(body["mass"] for body in bodies if not body["ground"])),
+            "ground": [body["name"] for body in bodies if body["ground"]],
+            "bodies": bodies,
+            "joints": self._summary_joints(),
+        }
+
+    def _summary_bodies(self) -> list[dict[str, Any]]:
+        """The ``bodies`` records of :meth:`summary`: per body, its own mass [kg] and centre of mass [m] (the
+        links welded by fixed joints split back out of their Pinocchio body), parent joint and moving joint."""
         model = self.model
         frames = model.frames
         fixed_inertias = self._fixed_link_inertias()
-        dofs = {joint.name: joint for joint in self.joints}
-        mimics = dict(zip((int(i) for i in model.mimicking_joints), (int(i) for i in model.mimicked_joints)))
-        q = pin.neutral(model)
-
         bodies = []
         for name, frame_id in self._frame_ids.items():
             frame = frames[frame_id]
@@ -286,7 +299,11 @@ class Mechanism:
                 "moved_by": None if ground else model.names[frame.parentJoint],
                 "ground": ground,
             })
+        return bodies
 
+    def _summary_joints(self) -> list[dict[str, Any]]:
+        """The ``joints`` records of :meth:`summary`, one per URDF joint in tree order (fixed joints included)."""
+        frames = self.model.frames
         children = {frames[frame_id].parentFrame: name for name, frame_id in self._frame_ids.items() if frame_id}
         joints = []
         for frame_id, frame in enumerate(frames):
@@ -298,42 +315,39 @@ class Mechanism:
                 "unit": None, "mimic": None,
             }
             if frame.type == pin.FrameType.JOINT:
-                joint_id = frame.parentJoint
-                joint_model = model.joints[joint_id]
-                data = joint_model.createData()
-                joint_model.calc(data, q)
-                subspace = np.asarray(data.S, dtype=float).ravel()
-                if joint_id in mimics:
-                    mimic = joint_model.extract()
-                    scaling = float(mimic.scaling)
-                    record["mimic"] = {"joint": model.names[mimics[joint_id]], "multiplier": scaling,
-                                       "offset": float(mimic.offset)}
-                    if scaling:
-                        subspace = subspace / scaling  # a mimic joint's motion subspace is scaled
-                angular = np.linalg.norm(subspace[3:]) > np.linalg.norm(subspace[:3])
-                axis = subspace[3:] if angular else subspace[:3]
-                norm = np.linalg.norm(axis)
-                record["axis"] = [_clean(value / norm) for value in axis] if norm > 0 else None
-                if frame.name in dofs:
-                    dof = dofs[frame.name]
-                    record.update(type=dof.kind, dof=True, lower=float(dof.lower), upper=float(dof.upper),
-                                  unit=dof.unit)
-                else:
-                    record.update(type="revolute" if angular else "prismatic")
+                record.update(self._summary_moving_joint(frame))
             joints.append(record)
+        return joints
 
-        masses = [body["mass"] for body in bodies]
-        return {
-            "name": self.name,
-            "source": {key: value for key, value in self.source.items() if key != "text"},
-            "gravity": [float(value) for value in self.gravity],
-            "dofs": self.nv,
-            "total_mass": _clean(sum(masses)),
-            "moving_mass": _clean(sum(body["mass"] for body in bodies if not body["ground"])),
-            "ground": [body["name"] for body in bodies if body["ground"]],
-            "bodies": bodies,
-            "joints": joints,
-        }
+    def _summary_moving_joint(self, frame: pin.Frame) -> dict[str, Any]:
+        """The entries of a moving joint's :meth:`summary` record: unit axis in the joint frame, type, range
+        [rad or m] of a degree of freedom, mimic coupling."""
+        model = self.model
+        mimics = dict(zip((int(i) for i in model.mimicking_joints), (int(i) for i in model.mimicked_joints)))
+        dofs = {joint.name: joint for joint in self.joints}
+        record: dict[str, Any] = {}
+        joint_id = frame.parentJoint
+        joint_model = model.joints[joint_id]
+        data = joint_model.createData()
+        joint_model.calc(data, pin.neutral(model))
+        subspace = np.asarray(data.S, dtype=float).ravel()
+        if joint_id in mimics:
+            mimic = joint_model.extract()
+            scaling = float(mimic.scaling)
+            record["mimic"] = {"joint": model.names[mimics[joint_id]], "multiplier": scaling,
+                               "offset": float(mimic.offset)}
+            if scaling:
+                subspace = subspace / scaling  # a mimic joint's motion subspace is scaled
+        angular = np.linalg.norm(subspace[3:]) > np.linalg.norm(subspace[:3])
+        axis = subspace[3:] if angular else subspace[:3]
+        norm = np.linalg.norm(axis)
+        record["axis"] = [_clean(value / norm) for value in axis] if norm > 0 else None
+        if frame.name in dofs:
+            dof = dofs[frame.name]
+            record.update(type=dof.kind, dof=True, lower=float(dof.lower), upper=float(dof.upper), unit=dof.unit)
+        else:
+            record.update(type="revolute" if angular else "prismatic")
+        return record
 
     def _fixed_link_inertias(self) -> dict[int, list[pin.Inertia]]:
         """Per Pinocchio joint, the inertias (in the joint frame) of the links welded to it by fixed joints."""
