@@ -25,8 +25,9 @@ from springbalance.viz import browser
 from springbalance.viz import arm, colors, helix
 from springbalance.viz.recorder import SceneRecorder
 from springbalance.viz import scene as viz
+from springbalance.viz.meshcat_import import import_meshcat
 
-meshcat = viz.meshcat   # imported by viz, which silences its import-time deprecation warning
+meshcat = import_meshcat()   # silences meshcat's import-time deprecation warning
 from meshcat.servers.tree import walk  # noqa: E402
 from scene_helpers import LINK1_RGB, URDF, two_link_design, ur5_design
 

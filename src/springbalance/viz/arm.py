@@ -2,26 +2,29 @@
 
 from __future__ import annotations
 
+import contextlib
+import os
+import sys
 import warnings
+from typing import Iterator
 
 import numpy as np
 import pinocchio as pin
 
+from springbalance.model import robots
+from springbalance.model.mechanism import Mechanism
 from springbalance.viz.helix import spring_rotation
 
 #: Colour of the stick figure drawn for a mechanism without visual geometry (RGBA).
 STICK_COLOR = (0.2, 0.3, 0.8, 1.0)
 
 
-def visual_geometry(mechanism):
+def visual_geometry(mechanism: Mechanism) -> pin.GeometryModel | None:
     """Pinocchio visual ``GeometryModel`` of the mechanism's URDF, or None when there is none.
 
     ``package://`` paths resolve against the URDF's folder, its parents and the
     example-robot-data share folder.
     """
-    from springbalance.model import robots
-    from springbalance.model.mechanism import _quiet_native_stderr
-
     source = mechanism.source
     directories = robots.mesh_directories(source)
     try:
@@ -38,7 +41,7 @@ def visual_geometry(mechanism):
     return None
 
 
-def stick_figure(model) -> "pin.GeometryModel":
+def stick_figure(model: pin.Model) -> pin.GeometryModel:
     """Visual geometry for a model without any: a sphere at each joint, rods from each joint
     to its children, its body frames and its centre of mass."""
     import coal
@@ -70,3 +73,24 @@ def stick_figure(model) -> "pin.GeometryModel":
         if frame.type == pin.FrameType.BODY and frame.parentJoint > 0:
             rod(f"frame_{index}_{frame.name}", frame.parentJoint, np.zeros(3), frame.placement.translation)
     return geometry
+
+
+@contextlib.contextmanager
+def _quiet_native_stderr() -> Iterator[None]:
+    """Silence what the C++ URDF parser prints on file descriptor 2 (its error is re-raised).
+
+    A copy of :func:`springbalance.model.mechanism`'s private helper, until the model layer makes it public.
+    """
+    try:
+        sys.stderr.flush()
+        saved = os.dup(2)
+    except (OSError, ValueError):
+        yield
+        return
+    try:
+        with open(os.devnull, "w") as devnull:
+            os.dup2(devnull.fileno(), 2)
+            yield
+    finally:
+        os.dup2(saved, 2)
+        os.close(saved)

@@ -28,6 +28,8 @@ from pathlib import Path
 
 import numpy as np
 
+from springbalance.viz.colors import ColorScale
+
 CANDIDATES = ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable")
 #: Window size of the screenshots [px].
 WINDOW = (900, 700)
@@ -147,8 +149,6 @@ def colour_census(image: str | Path, arm_colours, spring_colours, exclude=(LEGEN
 
 def scale_colours(count: int = 41) -> list[tuple[float, float, float]]:
     """Colours of the whole tension scale, compression included (what a spring can look like)."""
-    from springbalance.viz.colors import ColorScale
-
     scale = ColorScale(1.0)
     return [scale.rgb(value) for value in np.linspace(-1.0, 1.0, count)]
 
