@@ -47,7 +47,7 @@ def test_spring_rotation_maps_the_axis_onto_the_spring():
     np.testing.assert_allclose(rotation[:, 2], [0, 0, 1], atol=1e-12)
 
 
-# ---------------------------------------------------------------------- colours, regions, paths
+# ---------------------------------------------------------------------- colour scale
 def test_colour_scale_is_warm_for_tension_and_green_for_compression():
     scale = colors.ColorScale(200.0)
     assert scale.rgb(0.0) == colors.TENSION_STOPS[0][1]
