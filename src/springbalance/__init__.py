@@ -25,10 +25,12 @@ if TYPE_CHECKING:  # the real imports, for type checkers and IDEs
     from springbalance.design import exact
     from springbalance.design.clearance import Clearance
     from springbalance.design.objectives import OBJECTIVES
+    from springbalance.design.evaluated import EvaluatedDesign
     from springbalance.design.problem import DesignProblem, Evaluation
     from springbalance.design.scenarios import Payload, Scenario, payload_scenarios
     from springbalance.model.mechanism import GROUND, Joint, Mechanism
     from springbalance.model.workspace import Coupling, Workspace
+    from springbalance.pipeline import solve
     from springbalance.results.payload import PayloadRange, PayloadSweep, payload_range, residual_vs_payload
     from springbalance.results.result import DesignResult
     from springbalance.springs import constraints
@@ -42,12 +44,12 @@ if TYPE_CHECKING:  # the real imports, for type checkers and IDEs
 
 __all__ = [
     "Anchor", "Clearance", "CoilMass", "CompressionSpring", "ConfigError", "ConstantForceSpring", "Coupling", "DesignProblem",
-    "DesignResult", "Evaluation", "ExtensionSpring", "Free", "GROUND", "GasSpring", "Helical", "HelicalCompressionSpring", "HelicalDesign",
+    "DesignResult", "EvaluatedDesign", "Evaluation", "ExtensionSpring", "Free", "GROUND", "GasSpring", "Helical", "HelicalCompressionSpring", "HelicalDesign",
     "HelicalExtensionSpring",
     "InputError", "Joint", "MATERIALS", "Material", "Mechanism", "OBJECTIVES", "Payload", "PayloadRange",
     "PayloadSweep", "Plane", "Pulley", "Scenario", "Segment", "SolverError",
     "Spring", "SpringBalanceError", "TorsionalSpring", "TwoPointSpring", "Workspace", "ZeroFreeLengthSpring",
-    "__version__", "constraints", "exact", "payload_range", "payload_scenarios", "residual_vs_payload",
+    "__version__", "constraints", "exact", "payload_range", "payload_scenarios", "residual_vs_payload", "solve",
     "size_helical_spring",
 ]
 
@@ -57,10 +59,12 @@ _SOURCES = {
     "springbalance.design": {"exact": None},
     "springbalance.design.clearance": ("Clearance",),
     "springbalance.design.objectives": ("OBJECTIVES",),
+    "springbalance.design.evaluated": ("EvaluatedDesign",),
     "springbalance.design.problem": ("DesignProblem", "Evaluation"),
     "springbalance.design.scenarios": ("Payload", "Scenario", "payload_scenarios"),
     "springbalance.model.mechanism": ("GROUND", "Joint", "Mechanism"),
     "springbalance.model.workspace": ("Coupling", "Workspace"),
+    "springbalance.pipeline": ("solve",),
     "springbalance.results.payload": ("PayloadRange", "PayloadSweep", "payload_range", "residual_vs_payload"),
     "springbalance.results.result": ("DesignResult",),
     "springbalance.springs": {"constraints": None},
@@ -75,7 +79,7 @@ _SOURCES = {
 _LAZY = {name: module for module, names in _SOURCES.items() for name in names}
 #: The subpackages and modules reachable as attributes (``sb.springs.spring_from_dict``), as when
 #: the package imported them all.
-_SUBMODULES = ("cli", "design", "errors", "explore", "files", "io", "model", "results", "springs", "viz")
+_SUBMODULES = ("cli", "design", "errors", "explore", "files", "io", "model", "pipeline", "results", "springs", "viz")
 
 
 def __getattr__(name: str):

@@ -335,6 +335,7 @@ def _explore(args) -> int:
 
 def _design(args) -> int:
     from springbalance.io.config import load_config
+    from springbalance.pipeline import solve
 
     out = Path(args.out)
     _check_output(out)
@@ -347,19 +348,10 @@ def _design(args) -> int:
     progress = False if args.quiet else None
     overrides = {"starts": args.starts, "seed": args.seed, "method": args.method, "workers": args.workers}
     try:
-        result = config.solve(**overrides, progress=progress)
+        result = solve(config, **overrides, progress=progress, stock=parts)
     except Interrupted as stop:
         return _interrupted(stop, out, args.partial)
-    selection = None
-    if parts is not None:
-        from springbalance.design.stock import select_stock
-
-        given = {"starts": 8, **config.solve_options, **{key: value for key, value in overrides.items() if value is not None}}
-        options = {key: given[key] for key in ("seed", "method", "max_iterations", "tolerance", "workers") if key in given}
-        # each candidate part: the warm start at the continuous anchors plus one Sobol start
-        options["starts"] = min(int(given["starts"]), 2)
-        selection = select_stock(config.problem, result, parts, **options)
-        result = selection.result
+    selection = result.stock
     _save_design(result, out, selection, args.stock)
     if not args.quiet:
         print(result.table())
@@ -375,6 +367,8 @@ MAX_STARTS_SHOWN = 8
 
 def _interrupted(stop, out: Path, partial: bool) -> int:
     """Ctrl-C during ``design``: say which starts had finished; with ``--partial`` save the best so far."""
+    from springbalance.results.result import DesignResult
+
     shown = [f"{record.index} ({record.objective:.4g}{'' if record.feasible else ', infeasible'})"
              for record in stop.starts[:MAX_STARTS_SHOWN]]
     more = len(stop.starts) - len(shown)
@@ -384,8 +378,8 @@ def _interrupted(stop, out: Path, partial: bool) -> int:
         best = min(feasible, key=lambda record: record.objective)
         finished += f"; best objective {best.objective:.6g} (start {best.index})"
     if partial and stop.best_x is not None:
-        result = stop.problem.result(stop.best_x, starts=stop.starts, method="interrupted", seed=None,
-                                     status=f"{stop} (the best design so far, saved with --partial)")
+        result = DesignResult(stop.problem, stop.best_x, starts=stop.starts, method="interrupted", seed=None,
+                              status=f"{stop} (the best design so far, saved with --partial)")
         _save_design(result, out)
         saved = f"; the best design so far is saved to {out}"
     elif partial:

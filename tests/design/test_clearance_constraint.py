@@ -18,7 +18,7 @@ import pytest
 
 import springbalance as sb
 from springbalance.cli import main
-from springbalance.design.clearance import fit_to_arm
+from springbalance.design.clearance_fit import fit_to_arm
 from springbalance.design.solvers import Solution
 
 URDF = Path(__file__).resolve().parents[2] / "urdf"
@@ -66,7 +66,7 @@ def test_clearance_fitted_from_a_design_through_link2_keeps_the_margin_at_10x_th
     problem = sb.DesignProblem(arm, workspace, springs(0.1), clearance=sb.Clearance(margin=margin, check_samples=CHECK))
     start = np.array([in_plane.variables.get(name, 0.0) for name in problem.variables.names])
     assert problem.result(start).clearance(samples=DENSE).row("s1").distance < 0    # the same design, through link2
-    solution, fit = fit_to_arm(problem, Solution(start, [], "auto", 0, "given"), method="auto", max_iterations=100,
+    solution, fit, _ = fit_to_arm(problem, Solution(start, [], "auto", 0, "given"), method="auto", max_iterations=100,
                                tolerance=1e-8, polish_iterations=None)
     result = problem.result(solution.x, fit=fit)
     assert fit.converged and fit.rounds >= 1 and fit.rows > 0
@@ -86,7 +86,7 @@ def test_the_search_between_samples_clears_a_design_fitted_on_16_poses(arm, work
     margin = 0.005
     problem = sb.DesignProblem(arm, workspace, springs(0.1), clearance=sb.Clearance(margin=margin, check_samples=16))
     start = np.array([in_plane.variables.get(name, 0.0) for name in problem.variables.names])
-    solution, fit = fit_to_arm(problem, Solution(start, [], "auto", 0, "given"), method="auto", max_iterations=100,
+    solution, fit, _ = fit_to_arm(problem, Solution(start, [], "auto", 0, "given"), method="auto", max_iterations=100,
                                tolerance=1e-8, polish_iterations=None)
     assert fit.converged
     report = problem.result(solution.x, fit=fit).clearance(samples=DENSE)

@@ -12,7 +12,8 @@ import yaml
 
 import springbalance as sb
 from springbalance.cli import main
-from springbalance.design.stock import StockPart, part_distance, part_spring, select_stock, warm_started
+from springbalance.design.stock import StockPart, part_distance, part_spring, warm_started
+from springbalance.pipeline.stock import select_stock
 from springbalance.io.catalogue import read_catalogue
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -220,3 +220,56 @@ def objective_named(name: str | Objective) -> Objective:
     if name not in OBJECTIVES:
         raise InputError(f"unknown objective {name!r}; valid: {', '.join(OBJECTIVES)}")
     return OBJECTIVES[name]()
+
+
+class ScenarioAggregate(Objective):
+    r"""An objective over S scenario blocks of the samples: the worst block, :math:`\max_s f_s`, or
+    (``worst=False``) the mean :math:`\frac1S \sum_s f_s` (used for ``pe_variance``, whose potential
+    has its own constant in each scenario).
+
+    In the NLP the worst case is an epigraph variable ``t`` with :math:`t \ge f_s` (each block's
+    scaled cost), minimise ``t``; it is solved by IPOPT. The mean keeps least-squares structure.
+    """
+
+    def __init__(self, inner: Objective, blocks: int, worst: bool = True):
+        if inner.needs_path:
+            raise InputError(f"objective {inner.name!r} cannot be aggregated per scenario; use aggregate 'sum'")
+        self.inner, self.blocks, self.worst = inner, int(blocks), bool(worst)
+        self.name, self.unit = inner.name, inner.unit
+        self.least_squares = inner.least_squares and not self.worst
+
+    def _split(self, values, axis):
+        return np.split(np.asarray(values), self.blocks, axis=axis)
+
+    def value(self, weighted_tau, potential, path):
+        values = [self.inner.value(tau, v, None) for tau, v in zip(self._split(weighted_tau, 0),
+                                                                   self._split(potential, 0))]
+        return float(max(values) if self.worst else np.mean(values))
+
+    def nlp(self, weighted_tau, potential, path, torque_scale, potential_scale):
+        n = weighted_tau.shape[1] // self.blocks
+        pieces = [self.inner.nlp(weighted_tau[:, s * n:(s + 1) * n], potential[:, s * n:(s + 1) * n], None,
+                                 torque_scale, potential_scale) for s in range(self.blocks)]
+        costs = [piece.cost for piece in pieces]
+        if not self.worst:
+            return NlpPieces(None, None, None, None, sum(costs) / self.blocks, None)
+        t = ca.MX.sym("worst")
+        # an inner epigraph (joint_peaks) keeps its own variables and rows, one set per block
+        inner = [piece for piece in pieces if piece.variables is not None]
+        rows = ca.vertcat(*[piece.rows for piece in inner], *[t - cost for cost in costs])
+        variables = ca.vertcat(*[piece.variables for piece in inner], t)
+        lower = np.concatenate([*[piece.lower for piece in inner], [0.0]])
+        upper = np.concatenate([*[piece.upper for piece in inner], [np.inf]])
+
+        def start(tau):
+            blocks = self._split(tau, 0)
+            if self.inner.name == "rms":
+                worst = max(float(np.mean(block**2)) for block in blocks) / torque_scale**2
+            elif self.inner.name == "joint_peaks":
+                worst = max(self.inner.value(block, None, None) for block in blocks) / torque_scale
+            else:
+                worst = 1.0
+            inner_starts = [piece.start(block) for piece, block in zip(pieces, blocks) if piece.variables is not None]
+            return np.concatenate([*inner_starts, [worst]])
+
+        return NlpPieces(variables, lower, upper, start, t, rows)

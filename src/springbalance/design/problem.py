@@ -22,47 +22,31 @@ from __future__ import annotations
 
 import copy
 import dataclasses
-import importlib
-from typing import Mapping, Sequence
+import warnings
+from typing import Any, Mapping, Sequence
 
 import casadi as ca
 import numpy as np
 
-from springbalance.errors import InputError, Interrupted
+from springbalance.design.block_kernel import KERNEL_MIN_SAMPLES
+from springbalance.design.bounds import check_cable
+from springbalance.design.clearance import Clearance, LinearRows
+from springbalance.design.mounts import check_mounts, resolve_mounts
+from springbalance.design.objectives import Objective, ScenarioAggregate, objective_named
+from springbalance.design.scenarios import Scenario, ScenarioWorkspace, check_scenarios
+from springbalance.design.torque_model import BlockEvaluator, TorqueModel, compiled
+from springbalance.errors import InputError
 from springbalance.model import budget
 from springbalance.model.mechanism import Mechanism
-from springbalance.design.bounds import check_cable
-from springbalance.design.objectives import NlpPieces, Objective, objective_named
-from springbalance.design.scenarios import Scenario, ScenarioWorkspace, check_scenarios
-from springbalance.design.clearance import (Clearance, LinearRows, check_mounts, fit_from_starts, mount_rows,
-                                           resolve_mounts)
-from springbalance.design.coil_start import coil_springs, coil_start
-from springbalance.design.solvers import solve_problem, workers_default
-from springbalance.design.standard_wire import coils_with_free_wire, round_wires
+from springbalance.model.workspace import Workspace
 from springbalance.springs.laws import Spring
 from springbalance.springs.records import spring_from_dict
-from springbalance.design.block_kernel import KERNEL_MIN_SAMPLES
-from springbalance.design.torque_model import BlockEvaluator, TorqueModel, compiled
-from springbalance.model.workspace import Workspace
 
 AGGREGATES = ("sum", "worst")
 #: ``no_joint_worse``: a joint's unbalanced peak counts as at least this fraction of the largest
 #: joint's (of the joints with a weight > 0), so that a joint gravity does not load gets a tiny
 #: positive limit rather than the impossible ``|tau| ≤ 0``.
 JOINT_LIMIT_FLOOR = 1e-6
-
-#: What :meth:`DesignProblem.solve` and :meth:`DesignProblem.result` wrap a design vector in:
-#: :class:`springbalance.results.result.DesignResult`, which registers itself here when the
-#: results layer is imported (:meth:`DesignProblem.result` imports it by name when nothing has yet).
-#: The design layer thus hands its solution up without a static import of the layers above it.
-_RESULT_TYPE = None
-
-
-def register_result_type(result_type) -> None:
-    """Make :meth:`DesignProblem.result` return ``result_type(problem, x, **info)``."""
-    global _RESULT_TYPE
-    _RESULT_TYPE = result_type
-
 
 @dataclasses.dataclass
 class Evaluation:
@@ -202,16 +186,16 @@ class DesignProblem:
         gravity = kinematics.gravity_torque * self.weights
         self.torque_scale = float(np.sqrt(np.mean(gravity**2))) or 1.0       # S [N·m]
         self.potential_scale = float(np.std(kinematics.potential)) or 1.0    # [J]
-        self._evaluator = None
-        self.least_squares_cache = None   # the solvers' compiled residuals, kept across solves
-        self.nlp_cache: dict = {}         # the solvers' NLPs (per objective phase, for its linear rows), kept across solves
+        # what the evaluation and the solvers compile, kept across solves and shared with the copies
+        # that carry other linear rows (:meth:`with_linear_rows`): it depends on the samples only
+        self._compiled = _Compiled()
         #: rows ``G x + h ≥ 0`` affine in the design variables (clearance and mounting cuts), or None
         self.linear_rows: LinearRows | None = None
         if clearance is not None and not isinstance(clearance, Clearance):
             raise InputError(f"clearance must be a springbalance.Clearance, got {type(clearance).__name__}")
         self.clearance = clearance
         self._check_springs()
-        self.mounts = check_mounts(self)
+        self.mounts = check_mounts(mechanism, self.springs)
 
     # ---------------------------------------------------------------- variables
     @property
@@ -247,14 +231,41 @@ class DesignProblem:
         if x.shape != (self.variables.size,):
             raise InputError(f"design vector has {x.size} entries, problem has {self.variables.size}: "
                              f"{', '.join(self.variables.names)}")
-        if self._evaluator is None:   # block by block: no work arrays for all samples at once
+        cache = self._compiled
+        if cache.evaluator is None:   # block by block: no work arrays for all samples at once
             # compiled (and its block kernel) for large workspaces, where the virtual machine takes seconds
             sample = compiled(self.model.sample) if self.workspace.size >= KERNEL_MIN_SAMPLES else self.model.sample
-            self._evaluator = BlockEvaluator(sample, self.data)
-        tau, potential, lengths, tensions, rows = self._evaluator.evaluate(x)
+            cache.evaluator = BlockEvaluator(sample, self.data)
+        tau, potential, lengths, tensions, rows = cache.evaluator.evaluate(x)
         n = self.workspace.size
         return Evaluation(x, tau.reshape(n, -1), potential.reshape(n), lengths.reshape(n, -1),
                           tensions.reshape(n, -1), rows.reshape(n, -1))
+
+    def with_linear_rows(self, rows: LinearRows | None) -> DesignProblem:
+        """This problem with other :attr:`linear_rows` (this one is not changed). The copy shares the
+        data and the compiled evaluation and residuals: only the rows differ."""
+        problem = copy.copy(self)
+        problem.linear_rows = rows
+        return problem
+
+    @property
+    def least_squares_cache(self) -> Any:
+        """The solvers' compiled least-squares residuals of these samples (None before the first solve),
+        bound to this problem (and so to its linear rows)."""
+        cached = self._compiled.least_squares
+        if cached is not None and cached.problem is not self:
+            cached = copy.copy(cached)   # the same compiled functions, read with this problem's rows
+            cached.problem = self
+        return cached
+
+    @least_squares_cache.setter
+    def least_squares_cache(self, residuals: Any) -> None:
+        self._compiled.least_squares = residuals
+
+    @property
+    def nlp_cache(self) -> dict:
+        """The solvers' NLPs, per objective phase, each with the linear rows it was built for."""
+        return self._compiled.nlps
 
     def linear_matrix(self) -> tuple[np.ndarray, np.ndarray]:
         """The :attr:`linear_rows` over this problem's design vector: ``(G, h)`` with rows ``G x + h ≥ 0`` [m]
@@ -371,75 +382,31 @@ class DesignProblem:
                 [block.offset for block in blocks if block.per_sample],
                 [block.offset for block in blocks if not block.per_sample])
 
+    # ---------------------------------------------------------------- deprecated (removed in 0.3)
     def solve(self, starts: int = 8, seed: int = 0, method: str = "auto", progress: bool | None = None,
               max_iterations: int = 100, tolerance: float = 1e-8, polish_iterations: int | None = None,
-              standard_wire: bool = True, workers: int | None = None):
-        """Multi-start solve; returns the best feasible :class:`~springbalance.results.result.DesignResult`.
+              standard_wire: bool = True, workers: int | None = None) -> Any:
+        """Deprecated: ``springbalance.solve(problem, ...)`` (same options, same design)."""
+        from springbalance.pipeline.run import solve  # deprecated shim: the one upward import, listed in pyproject
 
-        Args:
-            starts: number of starts: the user's initial guess, then scrambled Sobol points of the bounds.
-            seed: seed of the start points (the result is deterministic given it).
-            method: ``"auto"`` (least squares where the objective has that structure, IPOPT
-                where it does not or where constraints bind), ``"least_squares"`` or ``"ipopt"``.
-            progress: show a progress bar (default: when more than one start and stderr is a terminal).
-            max_iterations: iteration limit per start and phase (the screening budget).
-            polish_iterations: further iterations for the best starts when they stopped on the
-                limit, and for the least violated ones when no start is feasible (default
-                4 × max_iterations; 0 disables).
-            tolerance: least squares stop when a step lowers the cost by less than this fraction
-                (a flat valley); IPOPT's own tolerance is min(tolerance, 1e-8).
-            standard_wire: round every helical spring's free wire diameter to the preferred
-                series and re-optimise the rest (:mod:`~springbalance.design.standard_wire`);
-                the result's ``wire_rounding`` says what it cost.
-            workers: processes that run the starts (and polish runs) at once; the design does not
-                depend on it. Default: ``$SPRINGBALANCE_WORKERS``, else ``os.cpu_count()`` (1 for a
-                small problem, where a pool would cost more than it saves).
-        """
-        with workers_default(workers):
-            return self._solve(starts, seed, method, progress, max_iterations, tolerance, polish_iterations,
-                               standard_wire)
+        _deprecated("DesignProblem.solve(...)", "springbalance.solve(problem, ...)")
+        return solve(self, starts=starts, seed=seed, method=method, progress=progress, max_iterations=max_iterations,
+                     tolerance=tolerance, polish_iterations=polish_iterations, standard_wire=standard_wire,
+                     workers=workers)
 
-    def _solve(self, starts, seed, method, progress, max_iterations, tolerance, polish_iterations, standard_wire):
-        if isinstance(starts, (int, np.integer)) and not isinstance(starts, bool) and starts > 0:
-            budget.require(budget.FLOAT * 4 * int(starts) * max(self.variables.size, 1),
-                           f"{starts} starts of {self.variables.size} design variables")
-        # helical coils start from the ideal twin's optimum, wound into a coil (design/coil_start.py)
-        try:
-            initial = coil_start(self, starts=starts, seed=seed, method=method, max_iterations=max_iterations,
-                                 tolerance=tolerance) if coil_springs(self) else None
-        except Interrupted:   # the ideal twin's starts are not designs of this problem
-            raise Interrupted("interrupted while finding the coils' first guess: no start of the design had "
-                              f"finished (0 of {starts})", problem=self, total=starts) from None
-        options = {"method": method, "max_iterations": max_iterations, "tolerance": tolerance,
-                   "polish_iterations": polish_iterations}
-        fitting = self.clearance is not None or self.mounts
-        if self.mounts:   # mounted anchors start on their surface planes, linearised at the first guess
-            self.linear_rows = mount_rows(self, self.variables.start)
-        solution = solve_problem(self, starts=starts, seed=seed, progress=progress, initial=initial, **options)
-        info = {}
-        try:
-            if fitting:
-                solution, info["fit"] = fit_from_starts(self, solution, **options)
-            if standard_wire and coils_with_free_wire(self):
-                solution, rounding = round_wires(self, solution, method=method, max_iterations=max_iterations,
-                                                 tolerance=tolerance, polish_iterations=polish_iterations)
-                info["wire_rounding"] = rounding
-        except Interrupted:   # after the multi-start: its best design (or the last fitted one) is the best so far
-            phase = "fitting the springs to the arm" if fitting and "fit" not in info else "rounding the wires"
-            raise Interrupted(f"interrupted while {phase}: all {len(solution.starts)} starts had finished",
-                              problem=self, starts=solution.starts, total=len(solution.starts),
-                              best_x=solution.x) from None
-        return self.result(solution.x, starts=solution.starts, method=solution.method, seed=solution.seed,
-                           status=solution.status, **info)
+    def result(self, x: np.ndarray, **info: Any) -> Any:
+        """Deprecated: ``springbalance.DesignResult(problem, x, **info)`` (no optimisation)."""
+        from springbalance.results.result import DesignResult  # deprecated shim, listed in pyproject
 
-    def result(self, x, **info):
-        """A :class:`~springbalance.results.result.DesignResult` for a given design vector (no optimisation).
+        _deprecated("DesignProblem.result(x)", "springbalance.DesignResult(problem, x)")
+        return DesignResult(self, np.asarray(x, dtype=float), **info)
 
-        ``info``: ``starts``, ``method``, ``seed`` and ``status`` of the solve that found ``x``.
-        """
-        if _RESULT_TYPE is None:   # the results layer registers its type when imported (it sits above this one)
-            importlib.import_module("springbalance.results.result")
-        return _RESULT_TYPE(self, np.asarray(x, dtype=float), **info)
+    def scenario_results(self, x: np.ndarray) -> list:
+        """Deprecated: ``DesignResult(problem, x).scenario_results()``."""
+        from springbalance.results.result import DesignResult  # deprecated shim, listed in pyproject
+
+        _deprecated("DesignProblem.scenario_results(x)", "DesignResult(problem, x).scenario_results()")
+        return DesignResult(self, np.asarray(x, dtype=float)).scenario_results()
 
     # ---------------------------------------------------------------- scenarios
     def scenario_springs(self, x, scenario: int = 0) -> list[Spring]:
@@ -466,15 +433,6 @@ class DesignProblem:
             objective = self.objective.inner if isinstance(self.objective, ScenarioAggregate) else self.objective
         return DesignProblem(mechanism, workspace, list(springs if springs is not None else self.springs),
                              objective=objective, weights=self.weights_by_name(), no_joint_worse=self.no_joint_worse)
-
-    def scenario_results(self, x) -> list:
-        """Per scenario, a :class:`~springbalance.results.result.DesignResult` of design ``x`` fixed in that scenario
-        (on the base workspace, with that scenario's masses)."""
-        results = []
-        for index in range(len(self.scenarios)):
-            problem = self.scenario_problem(index, self.scenario_springs(x, index))
-            results.append(problem.result(np.zeros(0), status=f"scenario {self.scenarios[index].name}"))
-        return results
 
     def scenarios_record(self) -> dict:
         """The problem's options beyond objective and weights, for a saved design:
@@ -527,9 +485,8 @@ class DesignProblem:
         options = {"objective": objective, "weights": self.weights_by_name(), "scenarios": self.scenarios or None,
                    "per_scenario": self.per_scenario, "aggregate": self.aggregate,
                    "no_joint_worse": self.no_joint_worse, "clearance": self.clearance, **changes}
-        problem = type(self)(self.mechanism, self.base_workspace, list(springs), **options)
-        problem.linear_rows = self.linear_rows
-        return problem
+        return type(self)(self.mechanism, self.base_workspace, list(springs), **options).with_linear_rows(
+            self.linear_rows)
 
     def weights_by_name(self) -> dict[str, float]:
         return {joint.name: float(w) for joint, w in zip(self.mechanism.joints, self.weights)}
@@ -556,57 +513,14 @@ class DesignProblem:
                 f"variables={self.variables.size}, objective={self.objective.name!r})")
 
 
-class ScenarioAggregate(Objective):
-    r"""An objective over S scenario blocks of the samples: the worst block, :math:`\max_s f_s`, or
-    (``worst=False``) the mean :math:`\frac1S \sum_s f_s` (used for ``pe_variance``, whose potential
-    has its own constant in each scenario).
+@dataclasses.dataclass
+class _Compiled:
+    """What a problem compiles once for its samples: the block evaluator, the least-squares residuals and
+    the NLPs (by objective phase, with the linear rows each was built for)."""
 
-    In the NLP the worst case is an epigraph variable ``t`` with :math:`t \ge f_s` (each block's
-    scaled cost), minimise ``t``; it is solved by IPOPT. The mean keeps least-squares structure.
-    """
-
-    def __init__(self, inner: Objective, blocks: int, worst: bool = True):
-        if inner.needs_path:
-            raise InputError(f"objective {inner.name!r} cannot be aggregated per scenario; use aggregate 'sum'")
-        self.inner, self.blocks, self.worst = inner, int(blocks), bool(worst)
-        self.name, self.unit = inner.name, inner.unit
-        self.least_squares = inner.least_squares and not self.worst
-
-    def _split(self, values, axis):
-        return np.split(np.asarray(values), self.blocks, axis=axis)
-
-    def value(self, weighted_tau, potential, path):
-        values = [self.inner.value(tau, v, None) for tau, v in zip(self._split(weighted_tau, 0),
-                                                                   self._split(potential, 0))]
-        return float(max(values) if self.worst else np.mean(values))
-
-    def nlp(self, weighted_tau, potential, path, torque_scale, potential_scale):
-        n = weighted_tau.shape[1] // self.blocks
-        pieces = [self.inner.nlp(weighted_tau[:, s * n:(s + 1) * n], potential[:, s * n:(s + 1) * n], None,
-                                 torque_scale, potential_scale) for s in range(self.blocks)]
-        costs = [piece.cost for piece in pieces]
-        if not self.worst:
-            return NlpPieces(None, None, None, None, sum(costs) / self.blocks, None)
-        t = ca.MX.sym("worst")
-        # an inner epigraph (joint_peaks) keeps its own variables and rows, one set per block
-        inner = [piece for piece in pieces if piece.variables is not None]
-        rows = ca.vertcat(*[piece.rows for piece in inner], *[t - cost for cost in costs])
-        variables = ca.vertcat(*[piece.variables for piece in inner], t)
-        lower = np.concatenate([*[piece.lower for piece in inner], [0.0]])
-        upper = np.concatenate([*[piece.upper for piece in inner], [np.inf]])
-
-        def start(tau):
-            blocks = self._split(tau, 0)
-            if self.inner.name == "rms":
-                worst = max(float(np.mean(block**2)) for block in blocks) / torque_scale**2
-            elif self.inner.name == "joint_peaks":
-                worst = max(self.inner.value(block, None, None) for block in blocks) / torque_scale
-            else:
-                worst = 1.0
-            inner_starts = [piece.start(block) for piece, block in zip(pieces, blocks) if piece.variables is not None]
-            return np.concatenate([*inner_starts, [worst]])
-
-        return NlpPieces(variables, lower, upper, start, t, rows)
+    evaluator: BlockEvaluator | None = None
+    least_squares: Any = None
+    nlps: dict = dataclasses.field(default_factory=dict)
 
 
 def _named_springs(springs: Sequence[Spring]) -> list[Spring]:
@@ -650,3 +564,8 @@ def _weights(mechanism: Mechanism, weights) -> np.ndarray:
     if not np.any(vector > 0):
         raise InputError("every joint weight is zero; nothing to balance")
     return vector
+
+
+def _deprecated(old: str, new: str) -> None:
+    warnings.warn(f"{old} is deprecated and will be removed in springbalance 0.3; use {new}", DeprecationWarning,
+                  stacklevel=3)

@@ -29,12 +29,12 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from typing import Any, Sequence
+from typing import Any
 
 import numpy as np
 
-from springbalance.errors import InputError, SolverError
-from springbalance.design.problem import DesignProblem, ScenarioAggregate
+from springbalance.errors import InputError
+from springbalance.design.problem import DesignProblem
 from springbalance.springs.laws import Spring, TwoPointSpring
 from springbalance.springs.laws.helical_compression import HelicalCompressionSpring
 from springbalance.springs.laws.helical_extension import HelicalExtensionSpring
@@ -300,90 +300,6 @@ class StockSelection:
                 "choices": [choice.to_dict() for choice in self.choices], "notes": list(self.notes)}
 
 
-# ---------------------------------------------------------------------- the selection
-def select_stock(problem: DesignProblem, continuous: np.ndarray | object, parts: Sequence[StockPart], *, candidates: int = CANDIDATES,
-                 starts: int = 2, seed: int = 0, method: str = "auto", max_iterations: int = 100,
-                 tolerance: float = 1e-8, workers: int | None = None) -> StockSelection:
-    """Replace each extension and compression spring of a continuous design by a catalogue part.
-
-    Args:
-        problem: the continuous design problem.
-        continuous: its optimum: a design vector or a result with an ``x`` (a ``DesignResult``).
-        parts: the catalogue (:class:`StockPart`, e.g. from :func:`springbalance.io.catalogue.read_catalogue`).
-        candidates: parts tried per spring (the nearest by :func:`part_distance`).
-        starts: starts of the solve of each candidate (:meth:`DesignProblem.solve`); its first
-            start is the warm start at the current optimum.
-        seed: seed of those starts.
-        method: solver method of those solves.
-        max_iterations: iteration budget of each start.
-        tolerance: stopping tolerance of the least squares.
-        workers: processes that run the starts of each solve at once (:meth:`DesignProblem.solve`).
-
-    Returns a :class:`StockSelection`. Raises :class:`SolverError` naming the spring when none of
-    its candidates (or no part of its type) gives a feasible design, :class:`InputError` when the
-    problem has no spring a part can replace or the catalogue is empty.
-    """
-    x = np.asarray(getattr(continuous, "x", continuous), dtype=float)
-    if x.shape != (problem.variables.size,):
-        raise InputError(f"the continuous design has {x.size} values, the problem {problem.variables.size}")
-    parts = list(parts)
-    if not parts:
-        raise InputError("the stock catalogue holds no parts")
-    if int(candidates) < 1:
-        raise InputError(f"candidates must be ≥ 1, got {candidates}")
-    names = [spring.name for spring in problem.springs
-             if stock_kind(spring) is not None and spring.part_number is None]
-    if not names:
-        raise InputError("no spring to take from the catalogue: stock parts replace extension and compression "
-                         "springs without a part_number; this design has "
-                         + ", ".join(f"{spring.name} ({spring.kind})" for spring in problem.springs))
-    objective = _inner_objective(problem)
-    continuous_value = problem.objective_value(problem.evaluate(x))
-    solve_options = {"starts": int(starts), "seed": int(seed), "method": method, "progress": False,
-                     "max_iterations": int(max_iterations), "tolerance": float(tolerance), "workers": workers}
-    current, current_x = problem, x
-    choices, notes = [], []
-    for name in names:
-        column = [spring.name for spring in current.springs].index(name)
-        spring = current.springs[column]
-        kind = stock_kind(spring)
-        evaluation = current.evaluate(current_x)
-        values = current.model.spring_values(spring, current_x)
-        lengths, forces = evaluation.lengths[:, column], evaluation.tensions[:, column]
-        same_kind = [part for part in parts if part.kind == kind]
-        if not same_kind:
-            raise SolverError(f"no stock part fits spring {name!r}: the catalogue holds no {kind} springs")
-        ranked = sorted(((part_distance(part, lengths, forces), part) for part in same_kind),
-                        key=lambda pair: pair[0])[:int(candidates)]
-        warm = warm_started(current, current_x)
-        trials, best = [], None
-        for distance, part in ranked:
-            springs = [part_spring(part, s) if s.name == name else s for s in warm]
-            trial_problem, dropped = _like(current, springs, objective)
-            try:
-                result = trial_problem.solve(**solve_options)
-            except SolverError as error:
-                trials.append(StockTrial(part, distance, None, " ".join(str(error).split())))
-                continue
-            value = trial_problem.objective_value(result.evaluation)
-            trials.append(StockTrial(part, distance, value, result.status))
-            if best is None or value < best[0]:
-                best = (value, part, trial_problem, result, dropped)
-        if best is None:
-            tried = "; ".join(f"{trial.part.part_number}: {trial.status}" for trial in trials)
-            raise SolverError(f"no stock part fits spring {name!r}: none of the {len(trials)} {kind} parts nearest its "
-                              f"design (tension {np.min(forces):.4g} … {np.max(forces):.4g} N over "
-                              f"{np.min(lengths):.4g} … {np.max(lengths):.4g} m) gives a feasible design ({tried})")
-        value, part, current, current_result, dropped = best
-        current_x = current_result.x
-        notes += [f"per-scenario variable {entry!r} is fixed by the stock part of {name!r}" for entry in dropped]
-        designed = {**values, "min_length": float(np.min(lengths)), "max_length": float(np.max(lengths)),
-                    "min_force": float(np.min(forces)), "max_force": float(np.max(forces))}
-        choices.append(StockChoice(name, kind, designed, part, value, trials))
-    return StockSelection(current_result, problem.objective.name, problem.objective.unit, continuous_value,
-                          choices[-1].objective, choices, notes)
-
-
 def warm_started(problem: DesignProblem, x) -> list[Spring]:
     """The problem's springs with every free variable's ``init`` at its value in design ``x``
     (the first scenario's value for a per-scenario variable): the same bounds, a warm start."""
@@ -411,30 +327,3 @@ def warm_started(problem: DesignProblem, x) -> list[Spring]:
                 record[end]["plane"]["init"] = np.clip(coordinates, region.lower, region.upper).tolist()
         springs.append(spring_from_dict(record, f"spring {spring.name!r}"))
     return springs
-
-
-def _inner_objective(problem: DesignProblem):
-    """The objective to hand a new problem (a scenario aggregate is rebuilt from its inner objective)."""
-    return problem.objective.inner if isinstance(problem.objective, ScenarioAggregate) else problem.objective
-
-
-def _like(problem: DesignProblem, springs: list[Spring], objective) -> tuple[DesignProblem, list[str]]:
-    """A problem like ``problem`` with other springs; per-scenario entries that no longer name a
-    variable (a parameter the stock part fixed) are dropped and returned."""
-    keep, dropped = [], []
-    variables = _variable_names(springs)
-    for entry in problem.per_scenario:
-        matches = any(name == entry or name.startswith(entry + ".") for name in variables)
-        (keep if matches else dropped).append(entry)
-    return problem.with_springs(springs, objective=objective, per_scenario=keep, no_joint_worse=False), dropped
-
-
-def _variable_names(springs: list[Spring]) -> list[str]:
-    """The design variable names of ``springs`` (as :class:`TorqueModel` names them)."""
-    names = []
-    for spring in springs:
-        for end, anchor in spring.anchors.items():
-            names += [f"{spring.name}.{end}.{label}" for label in anchor.region().labels]
-        names += [f"{spring.name}.{key}" for key, value in spring.parameters.items()
-                  if isinstance(value, Free) and value.upper > value.lower]
-    return names

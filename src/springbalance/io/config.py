@@ -30,6 +30,7 @@ import csv
 import dataclasses
 import math
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import yaml
@@ -43,6 +44,8 @@ from springbalance.model.mechanism import Mechanism
 from springbalance.design.clearance import Clearance
 from springbalance.design.bounds import check_bounds
 from springbalance.design.problem import DesignProblem
+from springbalance.pipeline.run import solve
+from springbalance.results.result import DesignResult
 from springbalance.springs.laws import Spring
 from springbalance.springs.records import spring_from_dict
 from springbalance.model.workspace import Coupling, Workspace
@@ -83,10 +86,10 @@ class Config:
     problem: DesignProblem
     solve_options: dict
 
-    def solve(self, **overrides):
-        """Solve the problem with the config's options, overridden by ``overrides``."""
-        options = {**self.solve_options, **{k: v for k, v in overrides.items() if v is not None}}
-        return self.problem.solve(**options)
+    def solve(self, **overrides: Any) -> DesignResult:
+        """:func:`springbalance.solve` of this config: its ``solve`` options, overridden by the ``overrides``
+        that are not None."""
+        return solve(self, **overrides)
 
 
 # ---------------------------------------------------------------------- entry points

@@ -30,13 +30,13 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import pinocchio as pin
 
+from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.errors import InputError
 from springbalance.model.collision import DEFAULT_RADIUS, CollisionScene, capsule_radius, collision_geometry
 from springbalance.model.workspace import Workspace
 
 if TYPE_CHECKING:
     from springbalance.model.mechanism import Mechanism
-    from springbalance.results.result import DesignResult
 
 
 @dataclasses.dataclass(frozen=True)
@@ -156,7 +156,7 @@ class ClearanceReport:
         return "\n".join(self.lines())
 
 
-def clearance(result: DesignResult, radius: float | None = None, samples: int | None = None,
+def clearance(result: EvaluatedDesign, radius: float | None = None, samples: int | None = None,
               margin: float | None = None, geometry: pin.GeometryModel | None = None) -> ClearanceReport:
     """Smallest distance from each spring of ``result`` to the arm's collision geometry.
 

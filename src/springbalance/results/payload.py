@@ -30,12 +30,11 @@ from springbalance.errors import InputError
 from springbalance.design.problem import DesignProblem
 from springbalance.design.scenarios import Payload, Scenario
 from springbalance.design.solvers import refine
+from springbalance.results.result import DesignResult
 from springbalance.springs.records import spring_from_dict
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
-
-    from springbalance.results.result import DesignResult
 
 #: the largest payload mass taken [kg] and the farthest payload point from its body's origin [m]:
 #: beyond these a number is a typo, not a payload
@@ -331,7 +330,7 @@ def _solve_payloads(problem, springs, body, point, masses, max_residual, starts)
                             weights=problem.weights_by_name(), scenarios=_scenarios(body, point, masses),
                             per_scenario=problem.per_scenario)
     solution = stacked.solve(starts=starts, progress=False, max_iterations=200, tolerance=1e-12)
-    solution = stacked.result(refine(stacked, solution.x), method=solution.method, status=solution.status)
+    solution = DesignResult(stacked, refine(stacked, solution.x), method=solution.method, status=solution.status)
     peak, rms = _per_block(stacked, solution.evaluation.tau, len(masses))
     model = stacked.model
     names = [model.base_variables.names[i] for i in model.per_scenario]

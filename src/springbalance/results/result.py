@@ -1,269 +1,68 @@
-"""The result of a design: values with names, residual torque, metrics, save/load.
+"""The result of a design: its numbers (:class:`~springbalance.design.evaluated.EvaluatedDesign`), its
+file, and one-line conveniences for its views.
 
-A :class:`DesignResult` is the one source of truth for a design's numbers: the design
-vector ``x`` of its problem. Reports, the CLI and exports read from it. Metrics compare
-the balanced mechanism with the unbalanced one (gravity only) on the same workspace:
-peak and RMS of each joint's torque and the percentage reduction, and every objective of
-docs/model.md §6 before and after, whichever one was optimised.
+A :class:`DesignResult` is the one source of truth for a design's numbers: the design vector ``x`` of its
+problem. Reports, the CLI and exports read from it. Metrics compare the balanced mechanism with the
+unbalanced one (gravity only) on the same workspace: peak and RMS of each joint's torque and the
+percentage reduction, and every objective of docs/model.md §6 before and after, whichever one was optimised.
 """
 
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Iterable
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import numpy.typing as npt
 
-from springbalance.errors import InputError
-from springbalance.files import write_json_atomic
-from springbalance.results.design_file import FORMAT, check_design_mechanism, check_design_record, read_design_record
-from springbalance.model.mechanism import Mechanism
-from springbalance.design.objectives import OBJECTIVES
-from springbalance.design.problem import DesignProblem, register_result_type
-from springbalance.design.standard_wire import WireRounding
 from springbalance.design.bounds import check_magnitudes
 from springbalance.design.clearance import FitRecord
-from springbalance.springs.sizing import size_helical_spring
-from springbalance.springs.mass import CoilMass
-from springbalance.springs.records import spring_from_dict
+from springbalance.design.evaluated import EvaluatedDesign
+from springbalance.design.objectives import OBJECTIVES
+from springbalance.design.problem import DesignProblem
+from springbalance.errors import InputError
+from springbalance.files import write_json_atomic
+from springbalance.io.export import ExportReport
+from springbalance.io.mjcf import export_mjcf
+from springbalance.io.urdf import export_urdf
+from springbalance.model.mechanism import Mechanism
 from springbalance.model.workspace import Workspace
+from springbalance.results.clearance import ClearanceReport, clearance
+from springbalance.results.design_file import FORMAT, check_design_mechanism, check_design_record, read_design_record
+from springbalance.results.flags import Flag, flags
+from springbalance.results.html_report import write_report
+from springbalance.results.plots import plot_torques
+from springbalance.results.report import result_table
+from springbalance.springs.records import spring_from_dict
+from springbalance.viz.live import LiveScene
+from springbalance.viz.scene import StaticScene, show
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-    from springbalance.design.problem import Evaluation
-    from springbalance.design.solvers import StartRecord
-    from springbalance.io.export import ExportReport
-    from springbalance.results.clearance import ClearanceReport
-    from springbalance.results.flags import Flag
-    from springbalance.springs.laws import Spring
-    from springbalance.springs.sizing import HelicalDesign, Material
-    from springbalance.viz.live import LiveScene
-    from springbalance.viz.scene import StaticScene
 
+class DesignResult(EvaluatedDesign):
+    """A design evaluated on its problem's workspace (:class:`~springbalance.design.evaluated.EvaluatedDesign`,
+    the numbers) with one-line conveniences for its views and its file.
 
-
-class DesignResult:
-    """A design (spring parameter values) evaluated on its problem's workspace.
-
-    Attributes:
-        problem: the :class:`~springbalance.design.problem.DesignProblem`.
-        x: design vector in physical units (names in ``problem.variables.names``).
-        starts: per-start records of the multi-start (empty when not optimised).
-        status: the solver status of the chosen start.
+    :func:`springbalance.solve` returns one. The views are functions of the numbers
+    (:func:`~springbalance.results.report.result_table`, :func:`~springbalance.results.flags.flags`,
+    :func:`~springbalance.results.html_report.write_report`, :func:`~springbalance.results.plots.plot_torques`,
+    :func:`~springbalance.results.clearance.clearance`, :func:`~springbalance.viz.scene.show`, the exports);
+    each method below calls one of them.
     """
-
-    def __init__(self, problem: DesignProblem, x: npt.ArrayLike, starts: Iterable[StartRecord] = (),
-                 method: str = "evaluate", seed: int | None = None, status: str = "evaluated",
-                 wire_rounding: WireRounding | None = None, fit: FitRecord | None = None) -> None:
-        self.problem = problem
-        self.x = np.asarray(x, dtype=float)
-        self.starts = list(starts)
-        self.method, self.seed, self.status = method, seed, status
-        #: what rounding the coils' wires to standard sizes cost (None when nothing was rounded)
-        self.wire_rounding = wire_rounding
-        #: what fitting the springs to the arm (clearance, mounting) did and cost (None when not asked for)
-        self.fit = fit
-        self.evaluation = problem.evaluate(self.x)
-
-    # ---------------------------------------------------------------- values
-    @property
-    def variables(self) -> dict[str, float]:
-        """Design variable name → value (physical units)."""
-        return dict(zip(self.problem.variables.names, self.x.tolist()))
-
-    @property
-    def springs(self) -> list[dict[str, Any]]:
-        """Per spring: name, type, where it acts and its values.
-
-        Two-point springs give their anchors ``a`` and ``b`` (body and body-frame point [m]);
-        torsional springs their ``joint``. Then every parameter value (SI units), and for a
-        spring that carries mass its ``mass`` [kg] (and, when the mass is coupled to the rate
-        through the coil, the ``wire_diameter`` [m] that gives that rate).
-        """
-        model = self.problem.model
-        records = []
-        for column, spring in enumerate(self.problem.springs):
-            record = {"name": spring.name, "type": spring.kind}
-            if spring.ideal is not None:
-                record["ideal"] = bool(spring.ideal)
-            for end, anchor, radius in zip(spring.anchors, spring.anchors.values(), getattr(spring, "radii", ())
-                                           or [0.0] * len(spring.anchors)):
-                record[end] = {"body": anchor.body, "point": model.anchor_point(spring, end, self.x).tolist()}
-                if radius > 0:
-                    record[end]["pulley"] = {"radius": radius}
-            for joint in spring.joints:
-                record["joint"] = joint
-            values = model.spring_values(spring, self.x)
-            record.update(values)
-            if getattr(spring, "part_number", None) is not None:
-                record["part_number"] = spring.part_number
-            sheet = getattr(spring, "spec_sheet", None)
-            if sheet is not None:
-                # a coil: the law's values it gives, and its data sheet with the buildable verdict
-                record.update({key: value for key, value in spring.derived_values(values).items() if key not in record})
-                record["helical"] = sheet(values, self.evaluation.lengths[:, column], self.evaluation.tensions[:, column])
-            mass = getattr(spring, "mass", None)
-            if mass is not None:
-                record["mass"] = float(spring.spring_mass(values))                     # [kg]
-                if isinstance(mass, CoilMass):
-                    record["wire_diameter"] = float(mass.wire_diameter(values["stiffness"]))  # [m]
-            records.append(record)
-        return records
-
-    def spring(self, name: str) -> dict[str, Any]:
-        """Values of the spring called ``name``."""
-        for record in self.springs:
-            if record["name"] == name:
-                return record
-        raise InputError(f"unknown spring {name!r}; springs: {', '.join(s.name for s in self.problem.springs)}")
-
-    def fixed_springs(self) -> list[Spring]:
-        """The springs with every free parameter and anchor fixed at this design's values."""
-        records = []
-        for spring, values in zip(self.problem.springs, self.springs):
-            record = spring.to_dict()
-            parameters = {key: values[key] for key in spring.parameter_units}
-            points = [values[end] for end in spring.anchors]
-            if record.get("type") == "routed":
-                record.update(path=points, cable_length=parameters.pop("cable_length"),
-                              spring={**record["spring"], **parameters})
-            else:
-                record.update(parameters)
-                record.update({end: {"body": point["body"], "point": point["point"]}
-                               for end, point in zip(spring.anchors, points)})
-            records.append(spring_from_dict(record))
-        return records
-
-    def helical_sizing(self, material: Material | str | None = None) -> dict[str, HelicalDesign]:
-        """Helical springs that realise this design (:func:`springbalance.springs.sizing.size_helical_spring`).
-
-        Sizes every spring with a ``helical`` option (with its material), or, when ``material``
-        is given, every extension and compression spring (not gas springs) with that material.
-        Inputs per spring: its rate ``k``, free length ``l0``, the longest and shortest length
-        and the largest force magnitude over the workspace. Returns spring name →
-        :class:`~springbalance.springs.sizing.HelicalDesign` (``feasible`` False with the reasons when no
-        helical spring can do it).
-        """
-        designs = {}
-        for column, spring in enumerate(self.problem.springs):
-            option = getattr(spring, "helical", None)
-            kind = getattr(spring, "helical_kind", None)
-            if kind is None or (option is None and material is None) or hasattr(spring, "spec_sheet"):
-                continue   # not a coil, nothing asked, or a coil already (its spec sheet says it all)
-            values = self.problem.model.spring_values(spring, self.x)
-            lengths, forces = self.evaluation.lengths[:, column], self.evaluation.tensions[:, column]
-            chosen = material if material is not None else option.material
-            if values["stiffness"] <= 0:
-                continue
-            designs[spring.name] = size_helical_spring(
-                values["stiffness"], values["free_length"], float(np.max(lengths)), float(np.max(np.abs(forces))),
-                material=chosen, kind=kind, min_length=float(np.min(lengths)))
-        return designs
-
-    # ---------------------------------------------------------------- torques
-    def residual_torque(self, joint_values: npt.ArrayLike | None = None, degrees: bool = False) -> np.ndarray:
-        """Actuator torque ``tau(q)`` with the springs (N×nv) [N·m or N].
-
-        ``joint_values``: N×nv joint coordinates (or one row); default: the workspace.
-        """
-        if joint_values is None:
-            return self.evaluation.tau.copy()
-        return self.evaluate_on(Workspace.from_array(self.problem.mechanism, joint_values, degrees=degrees)).tau
-
-    def evaluate_on(self, workspace: Workspace) -> Evaluation:
-        """Evaluation of this design on another workspace of the same mechanism."""
-        problem = DesignProblem(self.problem.mechanism, workspace, self.fixed_springs(),
-                                objective="rms", weights=self._weights_by_name())
-        return problem.evaluate(np.zeros(0))
-
-    def on_workspace(self, workspace: Workspace) -> DesignResult:
-        """This design re-evaluated on ``workspace`` (same objective when the workspace allows it)."""
-        objective = self.problem.objective.name
-        if OBJECTIVES[objective].needs_path and not workspace.ordered:
-            objective = "rms"
-        problem = DesignProblem(self.problem.mechanism, workspace, self.fixed_springs(), objective=objective,
-                                weights=self._weights_by_name())
-        return DesignResult(problem, np.zeros(0), method="evaluate", status="evaluated")
-
-    def _weights_by_name(self) -> dict[str, float]:
-        return {joint.name: float(w) for joint, w in zip(self.problem.mechanism.joints, self.problem.weights)}
-
-    # ---------------------------------------------------------------- metrics
-    def metrics(self) -> dict[str, Any]:
-        """Per-joint peak/RMS before and after, reduction %, and every objective before and after."""
-        problem = self.problem
-        kinematics = problem.workspace.kinematics()
-        before_tau, after_tau = kinematics.gravity_torque, self.evaluation.tau
-        joints = []
-        # a joint that gravity does not load (|g| at round-off level) has no meaningful reduction
-        negligible = 1e-9 * max(float(np.max(np.abs(before_tau))), 1e-300)
-        for joint in problem.mechanism.joints:
-            j = joint.index_v
-            peak_before, peak_after = float(np.max(np.abs(before_tau[:, j]))), float(np.max(np.abs(after_tau[:, j])))
-            rms_before = float(np.sqrt(np.mean(before_tau[:, j] ** 2)))
-            rms_after = float(np.sqrt(np.mean(after_tau[:, j] ** 2)))
-            joints.append({"joint": joint.name, "unit": joint.torque_unit,
-                           "peak_before": peak_before, "peak_after": peak_after,
-                           "peak_reduction_percent": _reduction(peak_before, peak_after, negligible),
-                           "rms_before": rms_before, "rms_after": rms_after,
-                           "rms_reduction_percent": _reduction(rms_before, rms_after, negligible)})
-        objectives = {}
-        for name, cls in OBJECTIVES.items():
-            objective = cls()
-            before = objective.value(before_tau * problem.weights, kinematics.potential, problem.path_steps)
-            after = objective.value(after_tau * problem.weights, self.evaluation.potential, problem.path_steps)
-            objectives[name] = {"before": before, "after": after, "unit": objective.unit,
-                                "reduction_percent": _reduction(before, after)}
-        return {"joints": joints, "objectives": objectives, "optimised": problem.objective.name,
-                "max_violation": self.evaluation.max_violation, "samples": problem.workspace.size}
-
-    def exact_balance(self, tolerance: float = 1e-9) -> dict[str, Any]:
-        """Whether the design balances exactly: residual torque zero to solver precision.
-
-        With scenarios, ``potential_spread`` is the largest spread within one scenario and
-        ``scenario_potentials`` the mean potential of each.
-        ``relative_residual``: largest ``|tau|`` over the samples and the joints with a weight
-        above 0 (the joints the design is asked to balance), divided by the largest unbalanced
-        ``|g|`` of those joints [1]; ``exact``: ``relative_residual ≤ tolerance``; ``potential``: the
-        mean total potential ``V_g + Σ V_s`` [J] (constant when exact); ``potential_spread``: its
-        max − min over the samples [J].
-        """
-        balanced = self.problem.weights > 0  # joints with weight 0 are not asked to be balanced
-        unbalanced = float(np.max(np.abs(self.problem.workspace.kinematics().gravity_torque[:, balanced])))  # [N·m]
-        residual = float(np.max(np.abs(self.evaluation.tau[:, balanced])))                                   # [N·m]
-        relative = residual / unbalanced if unbalanced > 0 else float("nan")
-        # one block of samples per scenario: each load case has its own constant potential
-        potential = self.evaluation.potential.reshape(self.problem.model.n_scenarios, -1)       # [J]
-        return {"exact": bool(relative <= tolerance), "relative_residual": relative, "residual": residual,
-                "potential": float(np.mean(potential)), "potential_spread": float(np.max(np.ptp(potential, axis=1))),
-                "scenario_potentials": np.mean(potential, axis=1).tolist()}
-
-    def spread(self) -> dict[str, Any]:
-        """Objective values across multi-start starts: best, median, worst, feasible count."""
-        values = np.array([record.objective for record in self.starts if record.feasible])
-        if values.size == 0:
-            return {"starts": len(self.starts), "feasible": 0}
-        return {"starts": len(self.starts), "feasible": int(values.size), "best": float(values.min()),
-                "median": float(np.median(values)), "worst": float(values.max())}
 
     def warnings(self) -> list[Flag]:
         """What a report should point out: variables at a bound, joints made worse, springs that
         leave their law, ideal coil springs no helical spring can realise. See
         :func:`springbalance.results.flags.flags` for the kinds."""
-        from springbalance.results.flags import flags
-
         return flags(self)
 
     def table(self) -> str:
         """Plain-text report: springs, per-joint torques before/after, objectives."""
-        from springbalance.results.report import result_table
-
         return result_table(self)
 
     # ---------------------------------------------------------------- seeing the design
-    # (viz, plots and html_report sit downstream of the result: imported only when called)
     def show(self, joint_values: npt.ArrayLike | None = None, static: bool = False,
              **options: Any) -> LiveScene | StaticScene:
         """Draw the design in Meshcat: the arm, its springs as helices coloured by tension, animated.
@@ -274,46 +73,34 @@ class DesignResult:
         ``joint_values`` (N×nv) is the animation path; default a sweep of each joint.
         See :func:`springbalance.viz.scene.show` for the options.
         """
-        from springbalance.viz.scene import show
-
         return show(self, joint_values, static=static, **options)
 
     def plot_torques(self, path: str | Path | None = None, points: int = 121) -> Figure:
         """matplotlib figure of each joint's torque along a sweep of that joint, before and after;
         ``path``: also save it as PNG and SVG. See :func:`springbalance.results.plots.plot_torques`."""
-        from springbalance.results.plots import plot_torques
-
         return plot_torques(self, points=points, path=path)
 
     def report(self, folder: str | Path, scene: bool = True, **scene_options: Any) -> Path:
         """Write ``report.html``, ``scene.html`` and the torque plots into ``folder``; returns
         the report's path. See :func:`springbalance.results.html_report.write_report`."""
-        from springbalance.results.html_report import write_report
-
         return write_report(self, folder, scene=scene, **scene_options)
 
     def clearance(self, radius: float | None = None, samples: int | None = None,
                   margin: float | None = None) -> ClearanceReport:
         """Smallest distance from each spring (a capsule) to the arm's URDF collision geometry, a
         check of the finished design; see :func:`springbalance.results.clearance.clearance`."""
-        from springbalance.results.clearance import clearance
-
         return clearance(self, radius=radius, samples=samples, margin=margin)
 
-    # ---------------------------------------------------------------- export (downstream, imported when called)
+    # ---------------------------------------------------------------- export
     def to_urdf(self, path: str | Path, resolve_packages: bool = False) -> ExportReport:
         """Write the URDF with a massless link at every spring anchor and the spring records (and
         ``<stem>.springs.json``); returns an :class:`~springbalance.io.export.ExportReport` whose
         ``warnings`` list the springs MuJoCo cannot express exactly. See :func:`springbalance.io.urdf.export_urdf`."""
-        from springbalance.io.urdf import export_urdf
-
         return export_urdf(self, path, resolve_packages=resolve_packages)
 
     def to_mjcf(self, path: str | Path) -> ExportReport:
         """Write the balanced arm as a MuJoCo model (a tendon per spring); returns an
         :class:`~springbalance.io.export.ExportReport`. See :func:`springbalance.io.mjcf.export_mjcf`."""
-        from springbalance.io.mjcf import export_mjcf
-
         return export_mjcf(self, path)
 
     # ---------------------------------------------------------------- persistence
@@ -327,7 +114,7 @@ class DesignResult:
             "workspace": {"description": workspace.description, "ordered": workspace.ordered,
                           "joint_values": workspace.joint_values.tolist()},
             "objective": problem.objective.name,
-            "weights": self._weights_by_name(),
+            "weights": self.problem.weights_by_name(),
             "springs": [spring.to_dict() for spring in problem.springs],
             "variables": self.variables,
             "design": self.springs,
@@ -388,13 +175,3 @@ class DesignResult:
 
     def __repr__(self) -> str:
         return f"DesignResult({self.problem!r}, status={self.status!r})"
-
-
-register_result_type(DesignResult)
-
-
-def _reduction(before: float, after: float, negligible: float = 0.0) -> float:
-    """Percentage reduction; NaN when there was nothing to reduce (``before ≤ negligible``)."""
-    if not np.isfinite(before) or before <= negligible:
-        return float("nan")
-    return 100.0 * (before - after) / before

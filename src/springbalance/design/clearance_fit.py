@@ -1,0 +1,298 @@
+"""The loop that fits the springs to the arm: check, cut, solve again (see :mod:`springbalance.design.clearance`).
+
+:func:`fit_to_arm` starts from the multi-start's optimum and returns the fitted solution, its
+:class:`~springbalance.design.clearance.FitRecord` and the problem with the final linear rows (a copy:
+the problem it is given is not changed).
+"""
+
+from __future__ import annotations
+
+import time
+from typing import Any
+
+import numpy as np
+
+from springbalance.design.clearance import Clearance, FitRecord
+from springbalance.design.clearance_rows import _ends_of, _mount_errors, _radius, _rows, mount_planes
+from springbalance.design.mounts import MOUNT_ACCEPT
+from springbalance.design.problem import DesignProblem
+from springbalance.design.solvers import Solution, solve_problem
+from springbalance.errors import SolverError
+from springbalance.model.collision import DEFAULT_RADIUS, CollisionScene, Contact, capsule_contact, collision_geometry
+from springbalance.model.workspace import Workspace
+
+#: Most poses per spring and object (and round) that join the watched set.
+WORST_PER_PAIR = 4
+#: Closest sampled poses per spring and object (a quarter of the joint box apart) from which
+#: :meth:`_Checker.descend` searches.
+DESCENTS_PER_PAIR = 2
+#: A pair is searched when its closest sampled pose is within this distance [m] of the margin.
+DESCENT_BAND = 0.02
+#: Most distance evaluations of one descent.
+DESCENT_EVALUATIONS = 150
+
+
+
+
+class _Checker:
+    """Distances of every two-point spring to the arm (and to each other) at a set of poses.
+
+    Pose sets: 0 is the check set, 1 the 4× denser one, 2 the poses found by :meth:`descend`
+    (local minima of a distance over the workspace's joint box, kept for the later rounds).
+    """
+
+    def __init__(self, problem: DesignProblem, clearance: Clearance):
+        self.problem, self.clearance = problem, clearance
+        mechanism = problem.mechanism
+        self.scene = CollisionScene(mechanism, convex=True)
+        base = problem.base_workspace
+        self.bounds = [(float(np.min(base.joint_values[:, joint.index_v])),
+                        float(np.max(base.joint_values[:, joint.index_v]))) for joint in mechanism.joints]
+        ranges = {joint.name: list(bound) for joint, bound in zip(mechanism.joints, self.bounds)}
+        n = clearance.check_samples
+        self.joint_sets = [Workspace.sobol(mechanism, n=n, ranges=ranges, seed=0).joint_values,
+                           Workspace.sobol(mechanism, n=4 * n, ranges=ranges, seed=1).joint_values]
+        self.pose_sets = [mechanism.configurations(values) for values in self.joint_sets] + [[]]
+        self.joint_sets.append([])
+        self.springs = [spring for spring in problem.springs if getattr(spring, "ends", ()) == ("a", "b")]
+        self.by_name = {spring.name: spring for spring in self.springs}
+        self.checked = {spring.name: self.scene.indices_except([spring.anchors[e].body for e in _ends_of(spring)])
+                        for spring in self.springs}
+        self.frame_ids = {spring.name: tuple(mechanism.frame_id(spring.anchors[e].body) for e in _ends_of(spring))
+                          for spring in self.springs}
+
+    def _frames(self, spring):
+        return tuple((np.array(self.scene.frame(f).rotation), np.array(self.scene.frame(f).translation))
+                     for f in self.frame_ids[spring.name])
+
+    def _ends(self, spring, frames, x, scenario):
+        return [rotation @ self.problem.model.anchor_point(spring, end, x, scenario) + translation
+                for end, (rotation, translation) in zip(_ends_of(spring), frames)]
+
+    def _radii(self, x: np.ndarray) -> dict[str, float]:
+        default = self.clearance.radius or DEFAULT_RADIUS
+        return {s.name: _radius(self.problem, s, x, default) for s in self.springs}
+
+    def _pairs(self):
+        """Every pair checked: ``(kind, spring, object index or other spring, scenario)``."""
+        for scenario in range(self.problem.model.n_scenarios):
+            for spring in self.springs:
+                for index in self.checked[spring.name]:
+                    yield ("object", spring.name, index, scenario)
+            if self.clearance.between_springs:
+                for i, first in enumerate(self.springs):
+                    for second in self.springs[i + 1:]:
+                        yield ("spring", first.name, second.name, scenario)
+
+    def _contact(self, pair, x: np.ndarray, radius: dict) -> tuple[Contact, tuple, tuple | None]:
+        """Contact of ``pair`` at the placed pose, with the frames of its spring (and of the other spring)."""
+        kind, first, second, scenario = pair
+        spring = self.by_name[first]
+        frames = self._frames(spring)
+        ends = self._ends(spring, frames, x, scenario)
+        if kind == "object":
+            return self.scene.capsule_distance(*ends, radius[first], second), frames, None
+        other = self.by_name[second]
+        other_frames = self._frames(other)
+        contact = capsule_contact(*ends, radius[first], *self._ends(other, other_frames, x, scenario), radius[second])
+        return contact, frames, other_frames
+
+    def measure(self, x: np.ndarray, pose_set: int):
+        """Distances [m] of every pair at the poses of ``pose_set``.
+
+        Returns ``(below, closest, nearest)``: ``below`` maps a key ``(*pair, pose_set, sample)``
+        to its distance for every contact closer than the margin; ``closest`` maps a spring's name
+        to its smallest distance; ``nearest`` maps a pair to its :data:`DESCENTS_PER_PAIR` closest
+        ``(distance, pose_set, sample)``.
+        """
+        radius = self._radii(x)
+        pairs = list(self._pairs())
+        poses = self.pose_sets[pose_set]
+        distances = np.full((len(poses), len(pairs)), np.inf)
+        for sample, q in enumerate(poses):
+            self.scene.place(q)
+            for column, pair in enumerate(pairs):
+                distances[sample, column] = self._contact(pair, x, radius)[0].distance
+        below, closest, nearest = {}, {s.name: np.inf for s in self.springs}, {}
+        for column, pair in enumerate(pairs):
+            if not len(poses):
+                break
+            order = np.argsort(distances[:, column], kind="stable")
+            nearest[pair] = [(float(distances[s, column]), pose_set, int(s)) for s in self._apart(pose_set, order)]
+            names = (pair[1], pair[2]) if pair[0] == "spring" else (pair[1],)
+            for name in names:
+                closest[name] = min(closest[name], float(distances[order[0], column]))
+            for sample in np.flatnonzero(distances[:, column] < self.clearance.margin):
+                below[(*pair, pose_set, int(sample))] = float(distances[sample, column])
+        return below, closest, nearest
+
+    def _apart(self, pose_set: int, order) -> list[int]:
+        """Up to :data:`DESCENTS_PER_PAIR` samples, closest first, at least a quarter of the joint box
+        apart from each other (so the descents start in different basins)."""
+        values = np.asarray(self.joint_sets[pose_set], dtype=float)
+        span = np.array([high - low for low, high in self.bounds]) + 1e-12
+        chosen: list[int] = []
+        for sample in order:
+            if all(np.linalg.norm((values[sample] - values[other]) / span) > 0.25 for other in chosen):
+                chosen.append(int(sample))
+                if len(chosen) == DESCENTS_PER_PAIR:
+                    break
+        return chosen
+
+    def descend(self, x: np.ndarray, nearest: dict):
+        """Search the joint box for the closest approach of every pair that comes near.
+
+        From each of a pair's closest sampled poses within :data:`DESCENT_BAND` of the margin, a
+        bounded quasi-Newton descent (SciPy's L-BFGS-B, finite differences of 0.1 mrad) minimises
+        the pair's distance over the joint coordinates. Sampling alone misses the minima between
+        samples (in 6-D, thousands of poses are far apart); the descent finds them. A minimum below
+        the margin joins pose set 2 and is returned as ``below`` (as :meth:`measure` does).
+        """
+        from scipy.optimize import minimize
+
+        radius = self._radii(x)
+        mechanism = self.problem.mechanism
+        below, closest = {}, {s.name: np.inf for s in self.springs}
+
+        def distance(values, pair):
+            self.scene.place(mechanism.configurations(values)[0])
+            return self._contact(pair, x, radius)[0].distance
+
+        for pair, starts in nearest.items():
+            for start_distance, pose_set, sample in starts:
+                if start_distance > self.clearance.margin + DESCENT_BAND:
+                    continue
+                start = np.asarray(self.joint_sets[pose_set][sample], dtype=float)
+                found = minimize(distance, start, args=(pair,), method="L-BFGS-B", bounds=self.bounds,
+                                 options={"eps": 1e-4, "maxfun": DESCENT_EVALUATIONS})
+                value = float(distance(found.x, pair))
+                names = (pair[1], pair[2]) if pair[0] == "spring" else (pair[1],)
+                for name in names:
+                    closest[name] = min(closest[name], value)
+                if value < self.clearance.margin:
+                    self.joint_sets[2].append(np.array(found.x))
+                    self.pose_sets[2].append(mechanism.configurations(found.x)[0])
+                    below[(*pair, 2, len(self.pose_sets[2]) - 1)] = value
+        return below, closest
+
+    def cuts(self, x: np.ndarray, keys) -> tuple[list, list]:
+        """The cuts of the watched ``keys`` at design ``x``."""
+        clearance = self.clearance
+        radius = self._radii(x)
+        object_cuts, spring_cuts = [], []
+        for key in sorted(keys, key=lambda k: (k[4], k[5], k[:4])):
+            pair, pose_set, sample = key[:4], key[4], key[5]
+            kind, first, second, scenario = pair
+            self.scene.place(self.pose_sets[pose_set][sample])
+            contact, frames, other_frames = self._contact(pair, x, radius)
+            spring = self.by_name[first]
+            if kind == "object":
+                label = f"{first} clear of {self.scene.objects[second].name} (pose {pose_set}:{sample})"
+                object_cuts.append((label, spring, scenario, frames, contact, radius[first], clearance.target))
+            else:
+                spring_cuts.append((f"{first} clear of {second} (pose {pose_set}:{sample})",
+                                    (spring, frames, radius[first]), (self.by_name[second], other_frames,
+                                                                      radius[second]),
+                                    scenario, contact, clearance.target))
+        return object_cuts, spring_cuts
+
+
+def _worst(below: dict) -> list:
+    """Of the contacts below the margin, the :data:`WORST_PER_PAIR` closest per pair."""
+    groups: dict = {}
+    for key, distance in below.items():
+        groups.setdefault(key[:4], []).append((distance, key))
+    chosen = []
+    for items in groups.values():
+        chosen += [key for _, key in sorted(items)[:WORST_PER_PAIR]]
+    return chosen
+
+
+
+def fit_from_starts(problem: DesignProblem, solution: Solution,
+                    **solve_options: Any) -> tuple[Solution, FitRecord, DesignProblem]:
+    """:func:`fit_to_arm` from the :attr:`Clearance.starts` best feasible designs of the multi-start
+    (``solution.starts``, distinct, best first); keeps the converged fit of lowest objective (else the
+    first). Returns it with the problem that carries its rows."""
+    count = problem.clearance.starts if problem.clearance is not None else 1
+    records = sorted((record for record in solution.starts if record.feasible), key=lambda record: record.objective)
+    others = [record for record in records if not np.array_equal(record.x, solution.x)][:count - 1]
+    fits = []   # each from the problem as given (with the mounting rows of the multi-start, if any)
+    for x in [solution.x] + [record.x for record in others]:
+        start = Solution(np.array(x, dtype=float), solution.starts, solution.method, solution.seed, solution.status)
+        fits.append(fit_to_arm(problem, start, **solve_options))
+    converged = [fit for fit in fits if fit[1].converged] or fits[:1]
+    fitted, record, fitted_problem = min(converged, key=lambda fit: fit[1].objective)
+    record.starts = len(fits)
+    if len(fits) > 1:
+        record.rounds = sum(fit[1].rounds for fit in fits)
+        record.seconds = sum(fit[1].seconds for fit in fits)
+    return fitted, record, fitted_problem
+
+
+def fit_to_arm(problem: DesignProblem, solution: Solution,
+               **solve_options: Any) -> tuple[Solution, FitRecord, DesignProblem]:
+    """Enforce the problem's clearance and mountings from ``solution`` (see the module documentation).
+
+    ``solve_options`` go to :func:`~springbalance.design.solvers.solve_problem` (method, iterations).
+    Returns the fitted solution, its :class:`FitRecord` and the problem with the last round's rows
+    (``problem`` itself when no round ran).
+    """
+    clock = time.perf_counter()
+    clearance = problem.clearance
+    x = np.array(solution.x, dtype=float)
+    before = problem.objective_value(problem.evaluate(x))
+    checker = _Checker(problem, clearance) if clearance is not None else None
+    geometry = collision_geometry(problem.mechanism) if problem.mounts else None
+    watched: set = set()
+    planes = mount_planes(problem, np.asarray(problem.variables.start, dtype=float)) if problem.mounts else {}
+    rounds, converged, closest, mounts = 0, False, {}, {}
+    limit = clearance.rounds if clearance is not None else 12
+    while True:
+        mounts = _mount_errors(problem, x, geometry) if problem.mounts else {}
+        mounted = all(error <= MOUNT_ACCEPT for error in mounts.values())
+        new = []
+        if checker is not None:
+            below, closest, nearest = checker.measure(x, 0)
+            if checker.pose_sets[2]:
+                found, nearby, _ = checker.measure(x, 2)
+                below.update(found)
+                closest = {name: min(closest[name], nearby[name]) for name in closest}
+            if not below:
+                below, dense, nearest_dense = checker.measure(x, 1)
+                closest = {name: min(closest[name], dense[name]) for name in closest}
+                nearest = nearest_dense             # 4× denser: its closest poses are the better starts
+            if not below:
+                below, searched = checker.descend(x, nearest)
+                closest = {name: min(closest[name], searched[name]) for name in closest}
+            new = [key for key in _worst(below) if key not in watched]
+            converged = not below and mounted
+        else:
+            converged = mounted
+        if converged or rounds >= limit:
+            break
+        watched.update(new)
+        object_cuts, spring_cuts = checker.cuts(x, watched) if checker is not None else ([], [])
+        planes = mount_planes(problem, x, planes)
+        problem = problem.with_linear_rows(_rows(problem, x, object_cuts, spring_cuts, planes))
+        try:
+            solution = solve_problem(problem, starts=1, initial=x, progress=False, **solve_options)
+        except SolverError as error:
+            # the linearised rows could not all be met from here: go on from the least violating
+            # iterate (the next round rebuilds the rows there); the record says if it never clears
+            if not error.starts:
+                break
+            least = min(error.starts, key=lambda record: record.max_violation)
+            solution = Solution(least.x, solution.starts, solution.method, solution.seed,
+                                f"{solution.status}; a fitting round stopped infeasible ({least.status})")
+        x = np.array(solution.x, dtype=float)
+        rounds += 1
+    objective = problem.objective_value(problem.evaluate(x))
+    poses = sum(len(poses) for poses in checker.pose_sets) if checker is not None else 0
+    record = FitRecord(rounds, len(problem.linear_rows) if problem.linear_rows is not None else 0, bool(converged),
+                       float(before), float(objective), {k: float(v) for k, v in closest.items()},
+                       {k: float(v) for k, v in mounts.items()}, poses, time.perf_counter() - clock)
+    status = (f"{solution.status}; fitted to the arm in {rounds} round(s)"
+              + ("" if converged else " (NOT converged: see the clearance check)"))
+    return Solution(x, solution.starts, solution.method, solution.seed, status), record, problem
+

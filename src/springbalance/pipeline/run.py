@@ -1,0 +1,93 @@
+"""``springbalance.solve``: the one entry point from a problem (or a config) to a design.
+
+.. code-block:: python
+
+    result = sb.solve(problem, starts=8)            # a DesignProblem
+    result = sb.solve(load_config("arm.yaml"))      # or a Config: its ``solve:`` section gives the defaults
+
+The sequence is :data:`springbalance.pipeline.steps.STEPS` (first guess → mounting rows → multi-start
+→ fit to the arm → standard wires), then, with ``stock``, the choice of catalogue parts
+(:func:`springbalance.pipeline.stock.select_stock`). Each step takes the state the previous one made
+and gives the next; the problem passed in is never changed.
+"""
+
+from __future__ import annotations
+
+from typing import Sequence
+
+from springbalance.design.problem import DesignProblem
+from springbalance.design.stock import StockPart, StockSelection
+from springbalance.errors import InputError
+from springbalance.pipeline.sequence import run_steps
+from springbalance.pipeline.state import ConfiguredProblem, SolveOptions
+from springbalance.pipeline.stock import select_stock
+from springbalance.results.result import DesignResult
+
+#: starts of each stock candidate's solve: the warm start at the continuous design plus one Sobol start
+STOCK_STARTS = 2
+
+
+def solve(problem_or_config: DesignProblem | ConfiguredProblem, *, starts: int | None = None,
+          seed: int | None = None, method: str | None = None, progress: bool | None = None,
+          max_iterations: int | None = None, tolerance: float | None = None, polish_iterations: int | None = None,
+          standard_wire: bool | None = None, workers: int | None = None,
+          stock: Sequence[StockPart] | None = None) -> DesignResult:
+    """Design the springs: the best feasible design of a multi-start solve, as a :class:`DesignResult`.
+
+    Args:
+        problem_or_config: a :class:`~springbalance.design.problem.DesignProblem`, or a
+            :class:`~springbalance.io.config.Config`, whose ``solve`` section gives the defaults of the
+            options below (an option given here wins).
+        starts: number of starts: the user's initial guess, then scrambled Sobol points of the bounds (8).
+        seed: seed of the start points; the result is deterministic given it (0).
+        method: ``"auto"`` (least squares where the objective has that structure, IPOPT where it does not or
+            where constraints bind), ``"least_squares"`` or ``"ipopt"``.
+        progress: show a progress bar (default: when more than one start and stderr is a terminal).
+        max_iterations: iteration limit per start and phase, the screening budget (100).
+        tolerance: least squares stop when a step lowers the cost by less than this fraction (1e-8); IPOPT's
+            own tolerance is min(tolerance, 1e-8).
+        polish_iterations: further iterations for the best starts when they stopped on the limit, and for
+            the least violated ones when no start is feasible (default 4 × max_iterations; 0 disables).
+        standard_wire: round every helical spring's free wire diameter to the preferred series and
+            re-optimise the rest (True); the result's ``wire_rounding`` says what it cost.
+        workers: processes that run the starts (and polish runs) at once; the design does not depend on it.
+            Default: ``$SPRINGBALANCE_WORKERS``, else ``os.cpu_count()`` (1 for a small problem).
+        stock: a parts catalogue (:func:`springbalance.io.catalogue.read_catalogue`): each extension and
+            compression spring is then replaced by its nearest part and the rest re-optimised; the
+            result's ``stock`` is the :class:`~springbalance.pipeline.stock.StockSelection`.
+
+    Raises:
+        SolverError: no start gives a feasible design (or no stock part fits a spring).
+        Interrupted: Ctrl-C; it carries the starts that had finished and the best design so far.
+    """
+    problem, given = _problem_and_options(problem_or_config)
+    options = SolveOptions.merged(given, {"starts": starts, "seed": seed, "method": method, "progress": progress,
+                                          "max_iterations": max_iterations, "tolerance": tolerance,
+                                          "polish_iterations": polish_iterations, "standard_wire": standard_wire,
+                                          "workers": workers})
+    result = run_steps(problem, options)
+    if stock is None:
+        return result
+    selection = _select_stock(problem, result, stock, options)
+    stocked = selection.result
+    return DesignResult(stocked.problem, stocked.x, starts=stocked.starts, method=stocked.method, seed=stocked.seed,
+                        status=stocked.status, wire_rounding=stocked.wire_rounding, fit=stocked.fit, stock=selection)
+
+
+def _problem_and_options(source: DesignProblem | ConfiguredProblem) -> tuple[DesignProblem, dict]:
+    """The problem and the options its source gave (none for a bare problem)."""
+    if isinstance(source, DesignProblem):
+        return source, {}
+    problem = getattr(source, "problem", None)
+    if not isinstance(problem, DesignProblem):
+        raise InputError(f"springbalance.solve takes a DesignProblem or a Config, got {type(source).__name__}")
+    return problem, dict(getattr(source, "solve_options", None) or {})
+
+
+def _select_stock(problem: DesignProblem, result: DesignResult, parts: Sequence[StockPart],
+                  options: SolveOptions) -> StockSelection:
+    """Catalogue parts for the continuous design ``result``; each candidate part is solved from the warm
+    start at the continuous anchors plus one Sobol start."""
+    return select_stock(problem, result, parts, starts=min(options.starts, STOCK_STARTS), seed=options.seed,
+                        method=options.method, max_iterations=options.max_iterations, tolerance=options.tolerance,
+                        workers=options.workers)

@@ -1,0 +1,97 @@
+"""What flows through the solve pipeline: the options of a solve and the state between its steps.
+
+:class:`SolveOptions` are the keyword arguments of :func:`springbalance.solve` (the same for every
+step). :class:`SolveState` is what one step hands the next: the problem as the next step sees it
+(with the linear rows that mounting and clearance add), the first guess, the solution so far and the
+records of what each step did. A step is a function ``SolveState -> SolveState``; no step changes
+the problem it is given (:meth:`~springbalance.design.problem.DesignProblem.with_linear_rows` makes
+the next one).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Any, Mapping, Protocol
+
+import numpy as np
+
+from springbalance.design.clearance import FitRecord
+from springbalance.design.problem import DesignProblem
+from springbalance.design.solvers import Solution
+from springbalance.design.standard_wire import WireRounding
+from springbalance.errors import InputError
+
+
+class ConfiguredProblem(Protocol):
+    """A problem with the solve options its source gave (a :class:`springbalance.io.config.Config`)."""
+
+    problem: DesignProblem
+    solve_options: Mapping[str, Any]
+
+
+@dataclasses.dataclass(frozen=True)
+class SolveOptions:
+    """How to solve (see :func:`springbalance.solve` for each option).
+
+    Attributes:
+        starts: number of starts: the user's initial guess, then scrambled Sobol points of the bounds.
+        seed: seed of the start points (the result is deterministic given it).
+        method: ``"auto"``, ``"least_squares"`` or ``"ipopt"``.
+        progress: show a progress bar (None: when more than one start and stderr is a terminal).
+        max_iterations: iteration limit per start and phase (the screening budget).
+        tolerance: relative cost change at which least squares stop.
+        polish_iterations: further iterations for the best starts stopped by the limit (None: 4 × max_iterations).
+        standard_wire: round every coil's free wire diameter to the preferred series.
+        workers: processes that run the starts at once (None: ``$SPRINGBALANCE_WORKERS`` or the cores).
+    """
+
+    starts: int = 8
+    seed: int = 0
+    method: str = "auto"
+    progress: bool | None = None
+    max_iterations: int = 100
+    tolerance: float = 1e-8
+    polish_iterations: int | None = None
+    standard_wire: bool = True
+    workers: int | None = None
+
+    @classmethod
+    def merged(cls, given: Mapping[str, Any], overrides: Mapping[str, Any]) -> SolveOptions:
+        """The options of ``given`` (a config's ``solve`` section) overridden by the ``overrides`` that are
+        not None; the rest take the defaults above."""
+        names = {field.name for field in dataclasses.fields(cls)}
+        options = {**given, **{key: value for key, value in overrides.items() if value is not None}}
+        unknown = sorted(set(options) - names)
+        if unknown:
+            raise InputError(f"unknown solve option(s) {', '.join(map(repr, unknown))}; valid: {', '.join(sorted(names))}")
+        return cls(**options)
+
+    def solver_options(self) -> dict[str, Any]:
+        """The options every solve of the pipeline passes on: method, iteration limits, tolerance."""
+        return {"method": self.method, "max_iterations": self.max_iterations, "tolerance": self.tolerance,
+                "polish_iterations": self.polish_iterations}
+
+
+@dataclasses.dataclass(frozen=True)
+class SolveState:
+    """The state between two steps of the pipeline.
+
+    Attributes:
+        problem: the problem the next step solves (the caller's, or a copy with linear rows).
+        options: the solve's options.
+        initial: the first start (physical units), or None for the problem's own first guess.
+        solution: the best design so far (None before the multi-start).
+        fit: what fitting the springs to the arm did (None when not asked for).
+        wire_rounding: what rounding the coils' wires cost (None when nothing was rounded).
+    """
+
+    problem: DesignProblem
+    options: SolveOptions
+    initial: np.ndarray | None = None
+    solution: Solution | None = None
+    fit: FitRecord | None = None
+    wire_rounding: WireRounding | None = None
+
+    def but(self, **changes: Any) -> SolveState:
+        """This state with ``changes`` (a step's output)."""
+        return dataclasses.replace(self, **changes)

@@ -1,0 +1,99 @@
+"""The steps of a solve, in the order :func:`springbalance.solve` runs them (:data:`STEPS`).
+
+Each step is a function ``SolveState -> SolveState`` that does nothing when its part of the problem
+is absent:
+
+1. :func:`first_guess`: helical coils start from the ideal twin's optimum, wound into coils
+   (:mod:`springbalance.design.coil_start`);
+2. :func:`mount_rows`: anchors mounted ``on: collision`` start on their surface planes, linearised at
+   the first guess (:mod:`springbalance.design.clearance_rows`);
+3. :func:`multi_start`: every start, then the polish of the best (:mod:`springbalance.design.solvers`);
+4. :func:`fit_to_arm`: clearance from the links and mountings, by linearised rows refreshed until a
+   check finds no violation (:mod:`springbalance.design.clearance_fit`);
+5. :func:`round_wires`: every coil's free wire to the preferred series, the rest re-optimised
+   (:mod:`springbalance.design.standard_wire`).
+
+Stock selection, when asked for, follows on the finished design (:mod:`springbalance.pipeline.stock`).
+"""
+
+from __future__ import annotations
+
+from typing import Callable
+
+from springbalance.design import clearance_fit, clearance_rows, coil_start, standard_wire
+from springbalance.design.solvers import solve_problem
+from springbalance.errors import Interrupted
+from springbalance.pipeline.state import SolveState
+
+
+def first_guess(state: SolveState) -> SolveState:
+    """Coils: the first start from the ideal twin's optimum (None when the twin fails)."""
+    problem, options = state.problem, state.options
+    if not coil_start.coil_springs(problem):
+        return state
+    try:
+        initial = coil_start.coil_start(problem, starts=options.starts, seed=options.seed, method=options.method,
+                                        max_iterations=options.max_iterations, tolerance=options.tolerance)
+    except Interrupted:   # the ideal twin's starts are not designs of this problem
+        raise Interrupted("interrupted while finding the coils' first guess: no start of the design had "
+                          f"finished (0 of {options.starts})", problem=problem, total=options.starts) from None
+    return state.but(initial=initial)
+
+
+def mount_rows(state: SolveState) -> SolveState:
+    """Mounted anchors: the rows that hold them on their surfaces, linearised at the problem's first guess."""
+    problem = state.problem
+    if not problem.mounts:
+        return state
+    return state.but(problem=problem.with_linear_rows(clearance_rows.mount_rows(problem, problem.variables.start)))
+
+
+def multi_start(state: SolveState) -> SolveState:
+    """Every start, screened then polished; the best feasible design (SolverError when none is)."""
+    options = state.options
+    solution = solve_problem(state.problem, starts=options.starts, seed=options.seed, progress=options.progress,
+                             initial=state.initial, **options.solver_options())
+    return state.but(solution=solution)
+
+
+def fit_to_arm(state: SolveState) -> SolveState:
+    """Clearance and mountings: the fitted design and the problem with its final rows."""
+    problem = state.problem
+    if problem.clearance is None and not problem.mounts:
+        return state
+    with _interrupted_after_starts(state, "fitting the springs to the arm"):
+        solution, fit, problem = clearance_fit.fit_from_starts(problem, state.solution,
+                                                               **state.options.solver_options())
+    return state.but(problem=problem, solution=solution, fit=fit)
+
+
+def round_wires(state: SolveState) -> SolveState:
+    """Coils with a free wire: standard wire sizes, the rest re-optimised."""
+    if not state.options.standard_wire or not standard_wire.coils_with_free_wire(state.problem):
+        return state
+    with _interrupted_after_starts(state, "rounding the wires"):
+        solution, rounding = standard_wire.round_wires(state.problem, state.solution,
+                                                       **state.options.solver_options())
+    return state.but(solution=solution, wire_rounding=rounding)
+
+
+class _interrupted_after_starts:
+    """Ctrl-C after the multi-start: its best design (or the last fitted one) is the best so far."""
+
+    def __init__(self, state: SolveState, phase: str) -> None:
+        self.state, self.phase = state, phase
+
+    def __enter__(self) -> None:
+        return None
+
+    def __exit__(self, kind: type | None, error: BaseException | None, traceback: object) -> None:
+        if isinstance(error, Interrupted):
+            solution = self.state.solution
+            raise Interrupted(f"interrupted while {self.phase}: all {len(solution.starts)} starts had finished",
+                              problem=self.state.problem, starts=solution.starts, total=len(solution.starts),
+                              best_x=solution.x) from None
+
+
+#: The solve, step by step.
+STEPS: tuple[Callable[[SolveState], SolveState], ...] = (first_guess, mount_rows, multi_start, fit_to_arm,
+                                                          round_wires)
