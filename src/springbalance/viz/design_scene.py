@@ -44,6 +44,7 @@ import numpy as np
 import numpy.typing as npt
 import pinocchio as pin
 
+from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.errors import InputError
 from springbalance.model import sweeps
 from springbalance.model.workspace import Workspace
@@ -96,8 +97,9 @@ class DesignScene:
             target) and where it stands (world, [m]). The four are set by :meth:`draw`.
     """
 
-    def __init__(self, design, joint_values: npt.ArrayLike | None = None, frames_per_joint: int = 48,
-                 style: HelixStyle = HelixStyle(), fps: int = 30, margin: float | None = None) -> None:
+    def __init__(self, design: EvaluatedDesign, joint_values: npt.ArrayLike | None = None,
+                 frames_per_joint: int = 48, style: HelixStyle = HelixStyle(), fps: int = 30,
+                 margin: float | None = None) -> None:
         self.design = design
         mechanism = design.problem.mechanism
         self.mechanism = mechanism
@@ -132,7 +134,7 @@ class DesignScene:
         self.camera_position: np.ndarray | None = None
 
     @property
-    def result(self):
+    def result(self) -> EvaluatedDesign:
         """Deprecated alias of :attr:`design`."""
         warnings.warn("DesignScene.result is deprecated; use DesignScene.design", DeprecationWarning, stacklevel=2)
         return self.design

@@ -27,6 +27,7 @@ from typing import Any
 
 import numpy.typing as npt
 
+from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.files import write_text_atomic
 from springbalance.viz.camera import CAMERA_FILL, CAMERA_FOV, camera_distance
 from springbalance.viz.colors import CLEARANCE_COLOR, CLEARANCE_RGB, ColorScale
@@ -85,20 +86,20 @@ class StaticScene:
         return f"StaticScene({len(self.page)} characters)"
 
 
-def scene_html(design, joint_values: npt.ArrayLike | None = None, animate: bool = True, autoplay: bool = True,
-               legend: bool = True, **options: Any) -> str:
+def scene_html(design: EvaluatedDesign, joint_values: npt.ArrayLike | None = None, animate: bool = True,
+               autoplay: bool = True, legend: bool = True, **options: Any) -> str:
     """The self-contained HTML page of a design's scene (no server, no network); ``options`` go to
     :class:`DesignScene` (``frames_per_joint``, ``style``, ``fps``, ``margin`` [m])."""
     return DesignScene(design, joint_values, **options).html(animate=animate, autoplay=autoplay, legend=legend)
 
 
-def save_scene_html(design, path: str | Path, **options: Any) -> Path:
+def save_scene_html(design: EvaluatedDesign, path: str | Path, **options: Any) -> Path:
     """Write :func:`scene_html` to ``path`` (folders are created)."""
     return write_text_atomic(path, scene_html(design, **options))
 
 
-def show(design, joint_values: npt.ArrayLike | None = None, static: bool = False, open_browser: bool = False,
-         port: int | None = None, **options: Any) -> LiveScene | StaticScene:
+def show(design: EvaluatedDesign, joint_values: npt.ArrayLike | None = None, static: bool = False,
+         open_browser: bool = False, port: int | None = None, **options: Any) -> LiveScene | StaticScene:
     """Show a design in meshcat.
 
     ``static=True`` returns a :class:`StaticScene` (inline in Jupyter, no server). Otherwise

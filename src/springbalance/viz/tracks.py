@@ -15,6 +15,7 @@ import dataclasses
 
 import numpy as np
 
+from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.errors import InputError
 from springbalance.model.collision import CollisionScene, capsule_radius
 from springbalance.model.kinematics import WorkspaceKinematics
@@ -115,7 +116,7 @@ class SpringTrack:
 
 
 
-def spring_tracks(design, lengths: np.ndarray, tensions: np.ndarray, kinematics: WorkspaceKinematics,
+def spring_tracks(design: EvaluatedDesign, lengths: np.ndarray, tensions: np.ndarray, kinematics: WorkspaceKinematics,
                   style: HelixStyle) -> tuple[list[SpringTrack], dict[str, dict], list[int]]:
     """The track of each two-point spring of ``design`` along a path of poses.
 
