@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from springbalance.design.block_kernel import SOURCE_ATTRIBUTE, block_kernel, block_kernel_code
-from springbalance.design.solvers import _LeastSquaresResiduals
+from springbalance.design.solvers.residuals import _LeastSquaresResiduals
 from springbalance.design.torque_model import BlockEvaluator, compiler_available
 from springbalance.io.config import load_config
 

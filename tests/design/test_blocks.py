@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import springbalance as sb
-from springbalance.design.solvers import _LeastSquaresResiduals
+from springbalance.design.solvers.residuals import _LeastSquaresResiduals
 from springbalance.design.torque_model import BlockEvaluator, SampleEvaluator
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -18,7 +18,7 @@ SCRIPT = textwrap.dedent("""
     import json, sys
     import springbalance as sb
     from springbalance.design import compile_cache
-    from springbalance.design.solvers import _LeastSquaresResiduals
+    from springbalance.design.solvers.residuals import _LeastSquaresResiduals
     mechanism = sb.Mechanism.from_urdf("urdf/two_link_planar.urdf")
     spring = sb.ExtensionSpring(sb.Anchor("universe", sb.Free([-0.2, 0, 0], [0.2, 0, 0.3])),
                                 sb.Anchor("link2", sb.Free([0.0, 0, 0], [0.4, 0, 0])),

@@ -91,7 +91,7 @@ def test_least_squares_multipliers_map_onto_the_nlp_rows():
     """For any multipliers ν of the solver's scaled rows (N·n_c sample rows, sample by sample, then the
     linear rows), the NLP's rows with DesignProblem.nlp_row_multipliers(ν) pull on the design with the
     same force: J_scaledᵀ ν = J_nlpᵀ ν_nlp (the coil demo: per-sample rows and rows of no sample)."""
-    from springbalance.design.solvers import _LeastSquaresResiduals
+    from springbalance.design.solvers.residuals import _LeastSquaresResiduals
 
     problem = _coils()
     blocks = problem.model.constraint_blocks
@@ -200,7 +200,8 @@ def test_a_start_continued_with_its_multipliers_picks_up_where_ipopt_stopped():
     """A polish run continues a start from its design *and* the multipliers IPOPT stopped with: from a
     converged peak design it is done in a few iterations, where a start from the design alone (IPOPT's
     default barrier, multipliers guessed) walks the whole central path again."""
-    from springbalance.design.solvers import _MultiStartSolver, start_points
+    from springbalance.design.solvers import start_points
+    from springbalance.design.solvers.multistart import _MultiStartSolver
 
     problem = _planar("peak")
     solver = _MultiStartSolver(problem, "auto", 200, 1e-8)

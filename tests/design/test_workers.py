@@ -12,6 +12,7 @@ import yaml
 import springbalance as sb
 from springbalance.cli import main
 from springbalance.design import solvers
+from springbalance.design.solvers import multistart, pool
 from springbalance.design.solvers import solve_problem
 from springbalance.io.config import config_from_dict
 from config_helpers import SHOULDER_SPRING
@@ -67,14 +68,14 @@ def test_ipopt_starts_on_two_workers_equal_the_sequential_run(arm):
 def test_design_problem_solve_passes_workers_to_the_solves_it_makes(arm, monkeypatch):
     mechanism, workspace = arm
     seen = []
-    original = solvers._pool_workers
+    original = multistart._pool_workers
 
     def spy(problem, workers, tasks):
         chosen = original(problem, workers, tasks)
         seen.append(chosen)
         return chosen
 
-    monkeypatch.setattr(solvers, "_pool_workers", spy)
+    monkeypatch.setattr(multistart, "_pool_workers", spy)
     problem = sb.DesignProblem(mechanism, workspace, _springs())
     pooled = problem.solve(starts=3, seed=1, workers=2, max_iterations=20)
     assert seen and seen[0] == (2, True)
@@ -88,10 +89,10 @@ def test_the_default_number_of_workers(arm, monkeypatch):
     problem = sb.DesignProblem(mechanism, workspace, _springs())
     monkeypatch.setenv("SPRINGBALANCE_WORKERS", "3")
     assert solvers.default_workers() == 3
-    assert solvers._pool_workers(problem, None, tasks=8) == (3, False)   # the default, checked before use
-    assert solvers._pool_workers(problem, None, tasks=2) == (2, False)   # no more workers than starts
-    assert solvers._pool_workers(problem, 2, tasks=8) == (2, True)       # asked for
-    assert solvers._pool_workers(problem, 4, tasks=1) == (1, False)
+    assert pool._pool_workers(problem, None, tasks=8) == (3, False)   # the default, checked before use
+    assert pool._pool_workers(problem, None, tasks=2) == (2, False)   # no more workers than starts
+    assert pool._pool_workers(problem, 2, tasks=8) == (2, True)       # asked for
+    assert pool._pool_workers(problem, 4, tasks=1) == (1, False)
     monkeypatch.delenv("SPRINGBALANCE_WORKERS")
     assert solvers.default_workers() >= 1
     monkeypatch.setenv("SPRINGBALANCE_WORKERS", "0")
@@ -102,22 +103,22 @@ def test_the_default_number_of_workers(arm, monkeypatch):
 def test_by_default_a_pool_opens_only_when_a_start_is_long(arm, monkeypatch):
     mechanism, workspace = arm
     opened = []
-    original = solvers._StartRunner._pool
+    original = pool._StartRunner._pool
 
     def spy(self):
         opened.append(True)
         return original(self)
 
-    monkeypatch.setattr(solvers._StartRunner, "_pool", spy)
+    monkeypatch.setattr(pool._StartRunner, "_pool", spy)
     monkeypatch.setenv("SPRINGBALANCE_WORKERS", "2")
     # the rule, not this machine's speed: no start here lasts a minute (a loaded CI machine can make a
     # millisecond start take 0.1 s), so no pool opens
-    monkeypatch.setattr(solvers, "POOL_MIN_SECONDS", 60.0)
+    monkeypatch.setattr(pool, "POOL_MIN_SECONDS", 60.0)
     quick = sb.DesignProblem(mechanism, workspace, _springs(keep_tension=False))
     reference = solve_problem(quick, starts=4, progress=False, workers=1)
     _same(reference, solve_problem(quick, starts=4, progress=False))
     assert not opened
-    monkeypatch.setattr(solvers, "POOL_MIN_SECONDS", 0.0)                # every start is worth a pool
+    monkeypatch.setattr(pool, "POOL_MIN_SECONDS", 0.0)                # every start is worth a pool
     _same(reference, solve_problem(quick, starts=4, progress=False))
     assert opened
 
@@ -158,13 +159,13 @@ def test_wire_rounding_candidates_on_two_workers_equal_the_sequential_run(monkey
     record["workspace"]["n"] = 48
     problem = config_from_dict(record, ROOT / "examples").problem
     pooled_with_held_wires = []
-    original = solvers._StartRunner._pool
+    original = pool._StartRunner._pool
 
     def spy(self):
         pooled_with_held_wires.append(bool(self.solver.fixed.any()))
         return original(self)
 
-    monkeypatch.setattr(solvers._StartRunner, "_pool", spy)
+    monkeypatch.setattr(pool._StartRunner, "_pool", spy)
     results = [problem.solve(starts=2, seed=0, workers=workers, progress=False) for workers in (1, 2)]
     assert any(pooled_with_held_wires)   # the rounding solves did run on the pool
     roundings = [result.wire_rounding for result in results]

@@ -20,6 +20,8 @@ import ctypes
 import casadi as ca
 import numpy as np
 
+from springbalance.design.compile_cache import load_or_build
+
 #: samples a block kernel evaluates at once (a vector of 4 doubles: one AVX register; SSE2 uses two)
 KERNEL_LANES = 4
 #: the evaluators build a block kernel (a second, small compilation, cached like the first) for
@@ -221,8 +223,6 @@ def _compile_kernel(function: ca.Function) -> "_BlockKernel | None":
     """The block kernel of ``function``, compiled or loaded from the disk cache
     (:func:`~springbalance.design.compile_cache.load_or_build`); None when there is none (an operation
     it lacks, no compiler, a compiler without vector extensions)."""
-    from springbalance.design.compile_cache import load_or_build
-
     try:
         code = block_kernel_code(function)
     except Unsupported:
@@ -265,7 +265,7 @@ class _BlockKernel:
         return np.array(np.broadcast_to(values, (self.n_x,)))
 
 
-def block_kernel(function: ca.Function, n_samples: int | None = None):
+def block_kernel(function: ca.Function, n_samples: int | None = None) -> _BlockKernel | None:
     """The block kernel of a function from :func:`compiled` (built when first asked for), or None:
     for another function, or fewer than :data:`KERNEL_MIN_SAMPLES` samples."""
     source = getattr(function, SOURCE_ATTRIBUTE, None)

@@ -38,6 +38,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from typing import Callable
 
 import casadi as ca
 
@@ -149,7 +150,7 @@ def compile_function(function: ca.Function) -> ca.Function:
     return loaded
 
 
-def load_or_build(code: str, name: str, load):
+def load_or_build(code: str, name: str, load: Callable[[str], object]) -> object:
     """What ``load(library)`` makes of the shared library compiled from the C ``code`` (the file
     ``<name>-<key>`` of the cache folder): from the cache when it holds a library ``load`` can use
     (``load`` returns None for one it cannot, which is then built again), else compiled and stored.

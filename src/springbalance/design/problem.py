@@ -28,11 +28,14 @@ from typing import Any, Mapping, Sequence
 import casadi as ca
 import numpy as np
 
+from springbalance.design import row_multipliers
 from springbalance.design.block_kernel import KERNEL_MIN_SAMPLES
 from springbalance.design.bounds import check_cable
 from springbalance.design.clearance import Clearance, LinearRows
+from springbalance.design.evaluation import Evaluation, Nlp
 from springbalance.design.mounts import check_mounts, resolve_mounts
 from springbalance.design.objectives import Objective, ScenarioAggregate, objective_named
+from springbalance.design.problem_inputs import AGGREGATES, joint_limits, joint_weights, named_springs
 from springbalance.design.scenarios import Scenario, ScenarioWorkspace, check_scenarios
 from springbalance.design.torque_model import BlockEvaluator, TorqueModel, compiled
 from springbalance.errors import InputError
@@ -41,67 +44,6 @@ from springbalance.model.mechanism import Mechanism
 from springbalance.model.workspace import Workspace
 from springbalance.springs.laws import Spring
 from springbalance.springs.records import spring_from_dict
-
-AGGREGATES = ("sum", "worst")
-#: ``no_joint_worse``: a joint's unbalanced peak counts as at least this fraction of the largest
-#: joint's (of the joints with a weight > 0), so that a joint gravity does not load gets a tiny
-#: positive limit rather than the impossible ``|tau| ≤ 0``.
-JOINT_LIMIT_FLOOR = 1e-6
-
-@dataclasses.dataclass
-class Evaluation:
-    """Numeric state of a design over the workspace (physical units).
-
-    Attributes:
-        x: design vector.
-        tau: residual actuator torque N×nv [N·m or N].
-        potential: total potential ``V_g + Σ V_s`` per sample (N) [J].
-        lengths: spring states N×n_s: lengths [m] of two-point springs, joint angles [rad] of
-            torsional springs.
-        tensions: generalised spring forces N×n_s: tensions [N] (negative when pushing),
-            torques [N·m] of torsional springs.
-        constraint_rows: N×n_c, ``≥ 0`` when feasible.
-    """
-
-    x: np.ndarray
-    tau: np.ndarray
-    potential: np.ndarray
-    lengths: np.ndarray
-    tensions: np.ndarray
-    constraint_rows: np.ndarray
-
-    @property
-    def max_violation(self) -> float:
-        """Largest constraint violation (0 when feasible)."""
-        if self.constraint_rows.size == 0:
-            return 0.0
-        return float(max(0.0, -np.min(self.constraint_rows)))
-
-
-@dataclasses.dataclass
-class Nlp:
-    """The optimisation problem as the solvers see it (scaled).
-
-    ``z`` are the scaled design variables in [0, 1] followed by any epigraph variables of the
-    objective; ``cost`` and ``rows`` (≥ 0) are CasADi MX expressions of ``z``.
-    """
-
-    z: ca.MX
-    lower: np.ndarray
-    upper: np.ndarray
-    cost: ca.MX
-    rows: ca.MX
-    n_design: int
-    extra_start: object  # callable(weighted tau N×nv) -> starts of the extra variables
-
-    @property
-    def size(self) -> int:
-        return int(self.z.numel())
-
-    @property
-    def n_rows(self) -> int:
-        return int(self.rows.numel())
-
 
 class DesignProblem:
     """Choose spring parameters so that the actuators carry as little gravity torque as possible.
@@ -152,7 +94,7 @@ class DesignProblem:
         if self.scenarios:
             workspace = ScenarioWorkspace(workspace, self.scenarios)
         self.mechanism, self.workspace = mechanism, workspace
-        self.springs = resolve_mounts(mechanism, _named_springs(springs))
+        self.springs = resolve_mounts(mechanism, named_springs(springs))
         self.objective = objective_named(objective)
         if self.objective.needs_path and not workspace.ordered:
             raise InputError(f"objective {self.objective.name!r} needs an ordered workspace (grid, sweep or trajectory), "
@@ -165,12 +107,12 @@ class DesignProblem:
             # rms and peak over the stacked samples already are the sum of squares and the worst
             # case; a potential's constant differs per scenario, so its variance is taken per scenario
             self.objective = ScenarioAggregate(self.objective, len(self.scenarios), worst=aggregate == "worst")
-        self.weights = _weights(mechanism, weights)
+        self.weights = joint_weights(mechanism, weights)
         nv, nq, samples = mechanism.nv, mechanism.model.nq, workspace.size
         budget.require(budget.kinematics_bytes(samples, nv, nq), f"the gravity torques of {samples} samples")
         kinematics = workspace.kinematics()
         self.no_joint_worse = bool(no_joint_worse)
-        self.joint_limits = _joint_limits(kinematics.gravity_torque, self.weights, max(len(self.scenarios), 1))
+        self.joint_limits = joint_limits(kinematics.gravity_torque, self.weights, max(len(self.scenarios), 1))
         self.model = TorqueModel(mechanism, self.springs, [s.name for s in self.scenarios], self.per_scenario,
                                  joint_limits=self.joint_limits if self.no_joint_worse else None)
         model = self.model
@@ -344,43 +286,14 @@ class DesignProblem:
                    ca.vertcat(*all_rows) if all_rows else ca.MX(0, 1), self.variables.size, pieces.start)
 
     def nlp_row_multipliers(self, scaled: np.ndarray, n_rows: int) -> np.ndarray:
-        """Multipliers of the rows of :meth:`assemble` (≥ 0, for a cost in the least-squares scale) from
-        those of the solver's scaled rows ``c / scale``: ``scaled`` holds N·n_c sample rows (sample by
-        sample), then the linear rows.
-
-        The NLP's sample rows are unscaled, so ``ν = ν_scaled / scale``; a row that does not depend on
-        the sample enters the NLP once and takes the sum over the samples; the objective's own rows
-        (epigraphs) get 0. ``n_rows``: the NLP's row count.
-        """
-        n, scale, varying, constant = self._row_layout()
-        scaled = np.asarray(scaled, dtype=float)
-        per_sample = scaled[: n * scale.size].reshape(n, scale.size) / scale
-        linear = scaled[n * scale.size:]
-        parts = [per_sample[:, varying].reshape(-1), per_sample[:, constant].sum(axis=0)]
-        objective_rows = n_rows - sum(part.size for part in parts) - linear.size
-        if objective_rows < 0:
-            raise ValueError(f"{n_rows} NLP rows, fewer than the {n_rows - objective_rows} rows of the multipliers")
-        return np.concatenate(parts + [np.zeros(objective_rows), linear])
+        """Multipliers of the rows of :meth:`assemble` from those of the solver's scaled rows
+        (:func:`~springbalance.design.row_multipliers.nlp_row_multipliers`)."""
+        return row_multipliers.nlp_row_multipliers(self.model.constraint_blocks, self.workspace.size, scaled, n_rows)
 
     def scaled_row_multipliers(self, nlp: np.ndarray, n_linear: int) -> np.ndarray:
-        """The inverse of :meth:`nlp_row_multipliers`: multipliers of the solver's scaled rows (N·n_c
-        sample rows, sample by sample, then ``n_linear`` linear rows) from those of the NLP's rows
-        (≥ 0). A row that does not depend on the sample is shared evenly by the samples."""
-        n, scale, varying, constant = self._row_layout()
-        nlp = np.asarray(nlp, dtype=float)
-        per_sample = np.zeros((n, scale.size))
-        per_sample[:, varying] = nlp[: n * len(varying)].reshape(n, len(varying))
-        per_sample[:, constant] = nlp[n * len(varying): n * len(varying) + len(constant)] / n
-        linear = nlp[nlp.size - n_linear:] if n_linear else np.zeros(0)
-        return np.concatenate([(per_sample * scale).reshape(-1), linear])
-
-    def _row_layout(self) -> tuple[int, np.ndarray, list, list]:
-        """``(N, scales, varying, constant)`` of the constraint blocks: the samples, each block's row scale,
-        and the blocks whose row depends on the sample and those whose row does not."""
-        blocks = self.model.constraint_blocks
-        return (self.workspace.size, np.array([block.scale for block in blocks]),
-                [block.offset for block in blocks if block.per_sample],
-                [block.offset for block in blocks if not block.per_sample])
+        """The inverse of :meth:`nlp_row_multipliers`
+        (:func:`~springbalance.design.row_multipliers.scaled_row_multipliers`)."""
+        return row_multipliers.scaled_row_multipliers(self.model.constraint_blocks, self.workspace.size, nlp, n_linear)
 
     # ---------------------------------------------------------------- deprecated (removed in 0.3)
     def solve(self, starts: int = 8, seed: int = 0, method: str = "auto", progress: bool | None = None,
@@ -521,49 +434,6 @@ class _Compiled:
     evaluator: BlockEvaluator | None = None
     least_squares: Any = None
     nlps: dict = dataclasses.field(default_factory=dict)
-
-
-def _named_springs(springs: Sequence[Spring]) -> list[Spring]:
-    """The springs, unnamed ones copied and named ``s<position>`` (the caller's objects are not changed)."""
-    springs = list(springs)
-    if not springs:
-        raise InputError("a design problem needs at least one spring")
-    names = set()
-    for index, spring in enumerate(springs, start=1):
-        if not isinstance(spring, Spring):
-            raise InputError(f"spring #{index} is a {type(spring).__name__}, not a Spring")
-        if spring.name is None:
-            spring = copy.copy(spring)
-            spring.name = f"s{index}"
-            springs[index - 1] = spring
-        if spring.name in names:
-            raise InputError(f"two springs are called {spring.name!r}; spring names must be unique")
-        names.add(spring.name)
-    return springs
-
-
-def _joint_limits(gravity_torque: np.ndarray, weights: np.ndarray, blocks: int) -> np.ndarray:
-    """``no_joint_worse`` limits ``P_sj`` (blocks×nv) [N·m or N]: joint ``j``'s unbalanced peak
-    ``max_i |g_ij|`` over the samples of scenario block ``s``, at least :data:`JOINT_LIMIT_FLOOR` times
-    the block's largest one (of the weighted joints); NaN for the joints with weight 0 (no limit)."""
-    peaks = np.max(np.abs(gravity_torque.reshape(blocks, -1, gravity_torque.shape[1])), axis=1)
-    weighted = weights > 0
-    largest = np.max(peaks[:, weighted], axis=1, keepdims=True)
-    floor = JOINT_LIMIT_FLOOR * np.where(largest > 0, largest, 1.0)
-    return np.where(weighted[None, :], np.maximum(peaks, floor), np.nan)
-
-
-def _weights(mechanism: Mechanism, weights) -> np.ndarray:
-    vector = np.ones(mechanism.nv)
-    for name, value in (weights or {}).items():
-        joint = mechanism.joint(name)
-        value = float(value)
-        if not np.isfinite(value) or value < 0:
-            raise InputError(f"weight of joint {name!r} must be a finite number ≥ 0, got {value}")
-        vector[joint.index_v] = value
-    if not np.any(vector > 0):
-        raise InputError("every joint weight is zero; nothing to balance")
-    return vector
 
 
 def _deprecated(old: str, new: str) -> None:

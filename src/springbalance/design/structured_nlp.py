@@ -46,6 +46,8 @@ the set depend on (all of them for ``rms``, a few hundred for ``peak``).
 
 from __future__ import annotations
 
+from typing import Any
+
 import casadi as ca
 import numpy as np
 
@@ -84,7 +86,7 @@ class StructuredNlp:
             and ``rows`` are expressions of per-sample output symbols: solve with :meth:`solve`).
     """
 
-    def __init__(self, problem, objective=None):
+    def __init__(self, problem: Any, objective: Any = None) -> None:
         model = problem.model
         self.n_samples, nv, n_c = problem.workspace.size, problem.mechanism.nv, model.n_constraints
         self.n_design = n_x = problem.variables.size
@@ -145,7 +147,7 @@ class StructuredNlp:
         return ca.DM(ca.Sparsity.triplet(m * self.n_samples, positions.size, positions.tolist(),
                                          list(range(positions.size))), 1.0)
 
-    def row_values(self, x) -> np.ndarray:
+    def row_values(self, x: np.ndarray) -> np.ndarray:
         """Every row of the NLP at ``x`` (design and extra variables, scaled)."""
         return np.array(self._all_rows(x)).reshape(-1)
 
@@ -155,10 +157,10 @@ class StructuredNlp:
         options = {**options, **derivatives, "calc_lam_p": False, "no_nlp_grad": True}
         return ca.nlpsol("springbalance", "ipopt", {"x": x, "f": cost, "g": constraints}, options)
 
-    def callbacks(self, rows: np.ndarray) -> tuple:
-        """``(x, f, g, {"grad_f", "jac_g", "hess_lag"})`` of the NLP restricted to ``rows``: the variables,
-        cost and rows as MX expressions, and the three derivative functions with the signatures IPOPT's
-        interface expects (``nlp_grad_f``, ``nlp_jac_g``, ``nlp_hess_l``)."""
+    def _phi_functions(self, rows: np.ndarray) -> tuple:
+        """The NLP restricted to ``rows`` over the outputs of the samples it uses only: ``(samples, n_g, linear,
+        diagonal, phi, phi_gradient, phi_jacobian, phi_hessian)`` (``linear``: ``f`` and ``g`` linear in the
+        outputs; ``diagonal``: ``∂²L/∂Y²`` diagonal), the ``phi*`` functions of ``(Y_local, w)``."""
         nlp, n_x, m = self.nlp, self.n_design, self.n_outputs
         f, g = nlp.cost, nlp.rows[rows.tolist()] if rows.size < self.n_rows else nlp.rows
         used = ca.jacobian(ca.vertcat(f, g), self._outputs).sparsity().get_col()
@@ -191,6 +193,15 @@ class StructuredNlp:
                                                                     ca.gradient(f_local, nlp.z)])
         phi_jacobian = ca.Function("phi_jacobian", [local, nlp.z], [g_local, ca.jacobian(g_local, local),
                                                                     ca.jacobian(g_local, nlp.z)])
+        return samples, n_g, linear, diagonal, phi, phi_gradient, phi_jacobian, phi_hessian
+
+    def callbacks(self, rows: np.ndarray) -> tuple:
+        """``(x, f, g, {"grad_f", "jac_g", "hess_lag"})`` of the NLP restricted to ``rows``: the variables,
+        cost and rows as MX expressions, and the three derivative functions with the signatures IPOPT's
+        interface expects (``nlp_grad_f``, ``nlp_jac_g``, ``nlp_hess_l``)."""
+        nlp, n_x, m = self.nlp, self.n_design, self.n_outputs
+        samples, n_g, linear, diagonal, phi, phi_gradient, phi_jacobian, phi_hessian = self._phi_functions(rows)
+        count, curved = samples.size, self._curved_list
 
         # the oracle and its derivatives, as IPOPT's callbacks expect them
         x, p = ca.MX.sym("x", nlp.size), ca.MX.sym("p", 0)

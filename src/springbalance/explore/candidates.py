@@ -21,7 +21,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from springbalance.design.clearance import body_bounds
+from springbalance.design.mounts import body_bounds
 from springbalance.errors import InputError
 from springbalance.model.collision import collision_geometry
 from springbalance.model.mechanism import GROUND, Mechanism
