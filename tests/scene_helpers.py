@@ -50,7 +50,7 @@ def two_link_design(n: int = 7) -> sb.DesignResult:
                            name="forearm", stiffness=20.0, free_length=0.05, keep_tension=False),
     ]
     problem = sb.DesignProblem(mechanism, workspace, springs, objective="rms")
-    return problem.result(np.array(problem.variables.start))
+    return sb.DesignResult(problem, np.array(problem.variables.start))
 
 
 def ur5_design(n: int = 16) -> sb.DesignResult:
@@ -64,7 +64,7 @@ def ur5_design(n: int = 16) -> sb.DesignResult:
                                 sb.Anchor("forearm_link", (0.1, 0.0, 0.02)), name="s2", stiffness=800.0),
     ]
     problem = sb.DesignProblem(mechanism, workspace, springs, objective="rms")
-    return problem.result(np.array(problem.variables.start))
+    return sb.DesignResult(problem, np.array(problem.variables.start))
 
 
 # ---------------------------------------------------------------------- what the scene tests share
@@ -130,7 +130,7 @@ def fixed_design(urdf, springs, path, **options):
     """A design of fixed springs (no free variable) whose workspace is ``path`` (N×2) [rad]."""
     mechanism = sb.Mechanism.from_urdf(urdf)
     problem = sb.DesignProblem(mechanism, sb.Workspace.from_array(mechanism, path), springs, **options)
-    return problem.result(np.zeros(0))
+    return sb.DesignResult(problem, np.zeros(0))
 
 
 def crossing_spring():

@@ -134,7 +134,7 @@ def test_mechanism_without_visuals_is_drawn_as_a_stick_figure():
     workspace = sb.Workspace.grid(mechanism, 9)
     spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", (0, 0, 0.1)), sb.Anchor("link1", (0.2, 0, 0)),
                                      stiffness=122.5)
-    result = sb.DesignProblem(mechanism, workspace, [spring]).result(np.zeros(0))
+    result = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [spring]), np.zeros(0))
     page = viz.scene_html(result, frames_per_joint=8)
     figure = arm.stick_figure(mechanism.model)
     names = [g.name for g in figure.geometryObjects]

@@ -6,8 +6,10 @@ from __future__ import annotations
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
+import springbalance as sb
 from springbalance.errors import SpringBalanceError
 from springbalance.viz import meshcat_import
 from springbalance.viz import scene as viz
@@ -54,3 +56,17 @@ def test_scene_result_is_a_deprecated_alias_of_its_design():
     scene = viz.DesignScene(design, frames_per_joint=3)
     with pytest.warns(DeprecationWarning, match="DesignScene.design"):
         assert scene.result is design
+
+
+def test_a_scene_needs_only_the_numbers_of_a_design():
+    """viz is typed on EvaluatedDesign: a plain one (no DesignResult, nothing of springbalance.results)
+    draws the same scene as the DesignResult of the same problem and design vector."""
+    result = two_link_design(3)
+    plain = sb.EvaluatedDesign(result.problem, result.x)
+    assert not isinstance(plain, sb.DesignResult)
+    scenes = [viz.DesignScene(design, frames_per_joint=3) for design in (plain, result)]
+    for mine, theirs in zip(*(scene.springs for scene in scenes)):
+        np.testing.assert_array_equal(mine.starts, theirs.starts)
+        np.testing.assert_array_equal(mine.tensions, theirs.tensions)
+    assert scenes[0].legend_html() == scenes[1].legend_html()
+    assert viz.scene_html(plain, frames_per_joint=3, animate=False).lstrip().startswith("<!DOCTYPE html>")
