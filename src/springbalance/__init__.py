@@ -79,7 +79,7 @@ _SOURCES = {
 _LAZY = {name: module for module, names in _SOURCES.items() for name in names}
 #: The subpackages and modules reachable as attributes (``sb.springs.spring_from_dict``), as when
 #: the package imported them all.
-_SUBMODULES = ("cli", "design", "errors", "explore", "files", "io", "model", "pipeline", "results", "springs", "viz")
+_SUBMODULES = ("cli", "design", "errors", "explore", "export", "files", "io", "loaders", "model", "pipeline", "results", "springs", "viz")
 
 
 def __getattr__(name: str):

@@ -480,9 +480,9 @@ def _report(args) -> int:
 
 
 def _export(args) -> int:
-    from springbalance.io.export import law_warnings
-    from springbalance.io.mjcf import mjcf_string
-    from springbalance.io.urdf import sidecar_path, urdf_strings
+    from springbalance.export.common import law_warnings
+    from springbalance.export.mjcf import mjcf_string
+    from springbalance.export.urdf import sidecar_path, urdf_strings
     from springbalance.files import write_text_atomic
     from springbalance.results.result import DesignResult
 

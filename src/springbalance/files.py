@@ -41,8 +41,11 @@ def read_input_text(path: str | Path, what: str, error: type[Exception], encodin
                     max_bytes: int | None = None) -> str:
     """The text of the input file ``path`` (a config, URDF, catalogue, design); raises ``error`` (one line
     naming ``what``, e.g. "config file", and the path) when the file is missing, a directory, not text in
-    ``encoding``, unreadable (permission denied) or larger than ``max_bytes`` [bytes] (None: any size)."""
+    ``encoding``, unreadable (permission denied) or larger than ``max_bytes`` [bytes] (None: any size), and when
+    ``path`` holds a NUL byte (no file can have that name; the OS would raise ValueError)."""
     label = str(path)
+    if "\0" in label:
+        raise error(f"{what} {label!r} is not a valid path: it contains a NUL byte")
     try:
         if max_bytes is None:
             data = Path(path).read_bytes()

@@ -20,7 +20,7 @@ import pytest
 import yaml
 
 from springbalance.cli import main
-from springbalance.explore import load_study, make_client
+from springbalance.explore import load_study, make_client, solve_task
 from springbalance.results.result import DesignResult
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -79,8 +79,6 @@ def test_three_link_chain_exact_topology_found_and_unreachable_ones_listed(tmp_p
     unpruned.prune = False
     chain = next(task for task in unpruned._tasks({}) if set(task.labels) == {"universe→link1", "link1→link2",
                                                                                "link2→link3"})
-    from springbalance.explore.study import solve_task
-
     record = solve_task({"id": chain.id, "labels": list(chain.labels), "grid": {}, "record": chain.record,
                          "base_dir": str(THREE_LINK.parent), "starts": 2, "seed": 0})
     assert record["relative_residual"] > 1e-3

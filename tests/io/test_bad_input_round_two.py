@@ -24,7 +24,7 @@ import yaml
 from springbalance.cli import main
 from springbalance.errors import InputError
 from springbalance.io import config as config_io
-from springbalance.io.yaml_loader import MAX_BYTES, MAX_DEPTH, LimitError, load_json, load_yaml
+from springbalance.loaders import MAX_BYTES, MAX_DEPTH, LimitError, load_json, load_yaml
 from springbalance.model import budget
 from springbalance.model.mechanism import Mechanism
 from springbalance.model.robots import available_robots

@@ -274,7 +274,7 @@ def test_errors_are_input_errors_for_dict_configs():
 
 def test_yaml_booleans_are_those_of_yaml_1_2_so_an_anchor_key_on_stays_a_key():
     # YAML 1.1 (PyYAML's default) reads on/off/yes/no as booleans: `on: floor` would become {True: 'floor'}
-    from springbalance.io.yaml_loader import load_yaml
+    from springbalance.loaders import load_yaml
 
     record = load_yaml("a: {body: universe, on: floor}\nflags: [yes, no, off, true, false, True]\n")
     assert record["a"] == {"body": "universe", "on": "floor"}

@@ -24,8 +24,9 @@ import springbalance as sb
 from springbalance.model import robots
 from springbalance.cli import main
 from springbalance.io.config import load_config
-from springbalance.io.export import anchor_link_name
-from springbalance.io.urdf import sidecar_path, springs_from_urdf
+from springbalance.export.common import anchor_link_name
+from springbalance.export.urdf import sidecar_path
+from springbalance.io.urdf import springs_from_urdf
 from springbalance.design.problem import DesignProblem
 from springbalance.results.result import DesignResult
 

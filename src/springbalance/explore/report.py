@@ -14,12 +14,11 @@ from __future__ import annotations
 import html
 import io
 import json
-from typing import TYPE_CHECKING
+import warnings
+from pathlib import Path
+from typing import Any, Callable, Mapping
 
 from springbalance.files import write_text_atomic
-
-if TYPE_CHECKING:
-    from springbalance.explore.study import StudyResult
 
 
 def pareto_svg(records: list[dict]) -> str:
@@ -59,35 +58,40 @@ def pareto_svg(records: list[dict]) -> str:
     return text[text.index("<svg"):]
 
 
-def _rows(records: list[dict], columns: list[tuple[str, object]]) -> str:
+def _rows(records: list[dict], columns: list[tuple[str, Callable[[dict], Any]]]) -> str:
     head = "".join(f"<th>{html.escape(title)}</th>" for title, _ in columns)
     body = "".join("<tr>" + "".join(f"<td>{html.escape(str(cell(record)))}</td>" for _, cell in columns) + "</tr>"
                    for record in records)
     return f"<table><tr>{head}</tr>{body}</table>"
 
 
-def write_report(result: "StudyResult") -> None:
-    """Write ``report.html`` into the study folder."""
-    study = result.study
-    summary = study.summary()
-    solved = sorted((r for r in result.results.values() if r.get("status") == "solved"),
+def write_study_report(folder: str | Path, mechanism_name: str, summary: Mapping[str, Any], max_springs: int,
+                       results: Mapping[str, dict], dominated: list[dict], best: Mapping[int, dict]) -> None:
+    """Write ``report.html`` into the study ``folder``.
+
+    ``summary`` is the study's enumeration and pruning (``Study.summary()``: candidates, topology
+    and grid counts, unreachable and degenerate topologies), ``results`` every task's result by id,
+    ``dominated`` the topologies skipped because a subset balances exactly, ``best`` the best solved
+    task per spring count (``StudyResult.best()``).
+    """
+    solved = sorted((r for r in results.values() if r.get("status") == "solved"),
                     key=lambda r: (r["count"], r["relative_residual"]))
-    failed = [r for r in result.results.values() if r.get("status") != "solved"]
+    failed = [r for r in results.values() if r.get("status") != "solved"]
     grid = lambda r: json.dumps(r.get("grid", {}), sort_keys=True) if r.get("grid") else ""  # noqa: E731
     springs = lambda r: " + ".join(r.get("springs", []))  # noqa: E731
     parts = [
         "<!DOCTYPE html><html><head><meta charset='utf-8'><title>springbalance study</title>",
         "<style>body{font-family:sans-serif;margin:2em;max-width:70em}table{border-collapse:collapse;margin:1em 0}"
         "td,th{border:1px solid #ccc;padding:0.2em 0.6em;font-size:0.9em}th{background:#eee}</style></head><body>",
-        f"<h1>Spring topologies of {html.escape(study.mechanism.name)}</h1>",
-        f"<p>{len(study.candidates)} candidates, up to {study.max_springs} springs: {summary['topologies']} "
+        f"<h1>Spring topologies of {html.escape(mechanism_name)}</h1>",
+        f"<p>{len(summary['candidates'])} candidates, up to {max_springs} springs: {summary['topologies']} "
         f"topologies ({summary['orderings']} orderings of springs, counted once each) × {summary['grid_points']} "
         f"grid point(s). {html.escape(summary['reachability'])}: {len(summary['unreachable'])} proven unreachable, "
-        f"{len(summary['degenerate'])} degenerate; {len(result.dominated)} dominated by an exactly balancing subset; "
+        f"{len(summary['degenerate'])} degenerate; {len(dominated)} dominated by an exactly balancing subset; "
         f"{len(solved)} solved, {len(failed)} failed.</p>",
         pareto_svg(solved) if solved else "<p>No topology was solved.</p>",
         "<h2>Best design per spring count</h2>",
-        _rows([{**record, "file": f"best_{count}_springs.json"} for count, record in result.best().items()],
+        _rows([{**record, "file": f"best_{count}_springs.json"} for count, record in best.items()],
               [("springs", springs), ("grid", grid), ("residual / unbalanced", lambda r: f"{r['relative_residual']:.3g}"),
                ("exact", lambda r: "yes" if r["exact"] else ""), ("buildable", lambda r: "yes" if r["buildable"] else ""),
                ("design file", lambda r: r["file"])]),
@@ -102,9 +106,20 @@ def write_report(result: "StudyResult") -> None:
         _rows([{**item, "why": "proven unreachable: " + item["reason"]} for item in summary["unreachable"]]
               + [{**item, "why": "degenerate: " + item["reason"]} for item in summary["degenerate"]]
               + [{**item, "why": "dominated: " + " + ".join(item["because"]) + " balances exactly"}
-                 for item in result.dominated]
+                 for item in dominated]
               + [{**item, "why": "failed: " + item.get("error", "")} for item in failed],
               [("springs", springs), ("grid", grid), ("why", lambda r: r["why"])]),
         "</body></html>",
     ]
-    write_text_atomic(result.folder / "report.html", "\n".join(parts))
+    write_text_atomic(Path(folder) / "report.html", "\n".join(parts))
+
+
+def write_report(result: Any) -> None:
+    """Deprecated: write ``report.html`` of a ``StudyResult`` (use :func:`write_study_report`, or
+    ``StudyResult.write``)."""
+    warnings.warn("springbalance.explore.report.write_report(result) is deprecated; use "
+                  "write_study_report(folder, mechanism_name, summary, max_springs, results, dominated, best) "
+                  "or StudyResult.write()", DeprecationWarning, stacklevel=2)
+    study = result.study
+    write_study_report(result.folder, study.mechanism.name, study.summary(), study.max_springs, result.results,
+                       result.dominated, result.best())

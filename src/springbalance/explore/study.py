@@ -17,9 +17,9 @@ whose ``springs`` section is replaced by ``explore``::
                                    # for the best approximate design of each spring count)
 
 Each task is one topology at one grid point: a pure function of its record
-(:func:`solve_task`), so the same task gives the same result on any worker. Tasks run on
-**Dask distributed**: a ``LocalCluster`` with one worker process per core by default, or any
-cluster by its scheduler address. They are submitted by spring count, so that a topology whose
+(:func:`~springbalance.explore.task.solve_task`), so the same task gives the same result on any
+worker. Tasks run on **Dask distributed** (:mod:`springbalance.explore.execution`): a
+``LocalCluster`` with one worker process per core by default, or any cluster by its scheduler address. They are submitted by spring count, so that a topology whose
 subset already balances exactly is not solved (dominance, :mod:`springbalance.explore.topology`).
 
 **The study folder.** ``study.json`` holds the study's fingerprint (a hash of the config, without
@@ -41,52 +41,53 @@ import io
 import itertools
 import json
 import math
-import os
 import shutil
-import time
+import warnings
 from pathlib import Path
-from typing import Any, Callable, Sequence
+from typing import TYPE_CHECKING, Any, Callable, Sequence
 
-from springbalance.design.torque_model import one_thread
-from springbalance.errors import InputError, SolverError, SpringBalanceError
+from springbalance.errors import InputError
+from springbalance.explore import execution as _execution
+from springbalance.explore import task as _task
 from springbalance.explore.candidates import (DEFAULT_HALF_WIDTH, DEFAULT_MARGIN, Candidate, auto_candidates,
                                              candidates_from_records)
+from springbalance.explore.execution import execute, make_client, progress_bar  # noqa: F401  (make_client: see _MOVED)
+from springbalance.explore.report import write_study_report
+from springbalance.explore.task import Task
 from springbalance.explore.topology import Verdict, enumerate_topologies, reachability
 from springbalance.files import write_json_atomic, write_text_atomic
 from springbalance.io.config import config_from_dict, mechanism_from_dict, read_config_file
+from springbalance.model.mechanism import Mechanism
 
-#: a design balances exactly when its residual peak is below this fraction of the unbalanced peak
-EXACT = 1e-6
+if TYPE_CHECKING:
+    from distributed import Client
+
 #: keys of the ``explore`` section
 EXPLORE_KEYS = ("candidates", "span", "margin", "default_box", "max_springs", "spring", "starts", "seed", "grid",
                 "prune")
 #: the columns of ``results.csv``
 COLUMNS = ("id", "status", "springs", "count", "grid", "objective", "objective_value", "objective_before",
            "peak_residual", "relative_residual", "exact", "spring_mass", "buildable", "seconds", "error")
-#: seconds to wait for a scheduler given by address
-CONNECT_TIMEOUT = 10.0
+#: names that moved out of this module: where they live now (each still importable from here, with a
+#: DeprecationWarning, for one release). ``make_client`` (now :mod:`springbalance.explore.execution`) is
+#: still imported above without a warning while the command line imports it from here.
+_MOVED = {"EXACT": _task, "solve_task": _task, "CONNECT_TIMEOUT": _execution}
 
 
-@dataclasses.dataclass
-class Task:
-    """One topology at one grid point: ``record`` is the full design config given to :func:`solve_task`."""
-
-    id: str
-    topology: tuple[int, ...]
-    labels: tuple[str, ...]
-    grid: dict[str, Any]
-    record: dict[str, Any]
-
-    @property
-    def count(self) -> int:
-        return len(self.topology)
+def __getattr__(name: str) -> Any:
+    if name in _MOVED:
+        module = _MOVED[name]
+        warnings.warn(f"springbalance.explore.study.{name} moved to {module.__name__}.{name}", DeprecationWarning,
+                      stacklevel=2)
+        return getattr(module, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 @dataclasses.dataclass
 class Layout:
     """One mechanism's candidates, its topologies and the verdicts of its pruning."""
 
-    mechanism: Any
+    mechanism: Mechanism
     candidates: list[Candidate]
     note: str
     topologies: list[tuple[int, ...]]
@@ -165,7 +166,7 @@ class Study:
             config_from_dict(self.tasks[0].record, self.base_dir, f"{label} (task {self.tasks[0].id})")
 
     # ---------------------------------------------------------------- tasks
-    def _layout(self, mechanism_record) -> "Layout":
+    def _layout(self, mechanism_record: Any) -> Layout:
         """The candidates, topologies and pruning of one mechanism (a grid may sweep robots)."""
         key = json.dumps(mechanism_record, sort_keys=True, default=str)
         if key not in self._layouts:
@@ -241,8 +242,8 @@ class Study:
         results = Path(folder) / "results"
         return sum(1 for task in self.tasks if not (results / f"{task.id}.json").exists())
 
-    def run(self, folder: str | Path, client=None, force: bool = False, progress: bool = True,
-            on_result: Callable[[dict], None] | None = None) -> "StudyResult":
+    def run(self, folder: str | Path, client: Client | None = None, force: bool = False, progress: bool = True,
+            on_result: Callable[[dict], None] | None = None) -> StudyResult:
         """Solve every task not solved yet (see the module documentation); ``client`` is a Dask
         ``Client`` (None: one after another in this process)."""
         folder = Path(folder)
@@ -258,7 +259,7 @@ class Study:
                 done[path.stem] = record
         resumed = sum(1 for task in self.tasks if task.id in done)
         solved, dominated = [], []
-        bar = _progress(len(self.tasks) - resumed, progress)
+        bar = progress_bar(len(self.tasks) - resumed, progress)
         for count in range(1, self.max_springs + 1):
             level = []
             for task in self.tasks:
@@ -272,7 +273,7 @@ class Study:
                     bar.update(1)
                     continue
                 level.append(task)
-            for record in _execute(level, client, self.base_dir, self.starts, self.seed):
+            for record in execute(level, client, self.base_dir, self.starts, self.seed):
                 write_json_atomic(results_dir / f"{record['id']}.json", record)
                 done[record["id"]] = record
                 solved.append(record["id"])
@@ -321,81 +322,6 @@ def _csv(rows: Sequence[dict]) -> str:
     return stream.getvalue()
 
 
-class _NoBar:
-    def update(self, n: int = 1) -> None:
-        pass
-
-    def close(self) -> None:
-        pass
-
-
-def _progress(total: int, show: bool):
-    if not show or total <= 0:
-        return _NoBar()
-    from tqdm import tqdm
-
-    return tqdm(total=total, desc="topologies", unit="task", leave=False)
-
-
-def _payload(task: Task, base_dir: Path, starts: int, seed: int) -> dict[str, Any]:
-    return {"id": task.id, "labels": list(task.labels), "grid": task.grid, "record": task.record,
-            "base_dir": str(base_dir), "starts": starts, "seed": seed}
-
-
-def _execute(tasks: Sequence[Task], client, base_dir: Path, starts: int, seed: int):
-    """Yield each task's result as it finishes (in this process, or on the Dask cluster)."""
-    payloads = [_payload(task, base_dir, starts, seed) for task in tasks]
-    if client is None:
-        for payload in payloads:
-            yield solve_task(payload)
-        return
-    from dask.distributed import as_completed
-
-    futures = [client.submit(solve_task, payload, key=f"springbalance-{payload['id']}", pure=False)
-               for payload in payloads]
-    for future in as_completed(futures):
-        yield future.result()
-
-
-def solve_task(payload: dict[str, Any]) -> dict[str, Any]:
-    """Solve one task (a pure function of ``payload``): the multi-start of one topology at one grid point.
-
-    Returns the row of ``results.csv`` plus ``design``, the design's saved record (None when it failed).
-    """
-    clock = time.perf_counter()
-    row: dict[str, Any] = {"id": payload["id"], "springs": payload["labels"], "count": len(payload["labels"]),
-                           "grid": payload["grid"], "starts": payload["starts"], "seed": payload["seed"]}
-    try:
-        config = config_from_dict(payload["record"], payload["base_dir"], f"task {payload['id']}")
-        # one process and one thread per task: the study spreads tasks over the cores, not the starts of one task
-        with one_thread():
-            result = config.solve(starts=payload["starts"], seed=payload["seed"], progress=False, workers=1)
-    except (SolverError, SpringBalanceError) as error:
-        return {**row, "status": "failed", "error": str(error).splitlines()[0], "exact": False, "design": None,
-                "seconds": time.perf_counter() - clock}
-    except (ArithmeticError, ValueError, RuntimeError) as error:   # numerical trouble: this topology fails, not the study
-        return {**row, "status": "failed", "error": f"{type(error).__name__}: {str(error).splitlines()[0]}",
-                "exact": False, "design": None, "seconds": time.perf_counter() - clock}
-    metrics = result.metrics()
-    balance = result.exact_balance()
-    objective = metrics["optimised"]
-    masses = [record.get("mass") for record in result.springs]
-    sheets = [record["helical"]["buildable"] for record in result.springs if isinstance(record.get("helical"), dict)]
-    flags = [flag.kind for flag in result.warnings()]
-    # buildable: every spring is a coil whose spec sheet passes (an ideal law, such as a zero-free-length
-    # spring, says nothing about a part that could be wound)
-    buildable = (len(sheets) == len(result.springs) and all(sheets)
-                 and not any(kind in ("unbuildable", "unbuildable_ideal") for kind in flags))
-    return {**row, "status": "solved", "objective": objective,
-            "objective_value": metrics["objectives"][objective]["after"],
-            "objective_before": metrics["objectives"][objective]["before"],
-            "peak_residual": balance["residual"], "relative_residual": balance["relative_residual"],
-            "exact": bool(balance["relative_residual"] < EXACT),
-            "spring_mass": float(sum(masses)) if masses and all(m is not None for m in masses) else None,
-            "buildable": bool(buildable), "error": "", "design": result.to_dict(),
-            "seconds": time.perf_counter() - clock}
-
-
 @dataclasses.dataclass
 class StudyResult:
     """What a run of a study leaves: every task's result by id, and what was skipped."""
@@ -419,19 +345,19 @@ class StudyResult:
         return dict(sorted(best.items()))
 
     def exact(self) -> list[dict]:
+        """The results that balance exactly."""
         return [record for record in self.results.values() if record.get("exact")]
 
     def write(self) -> None:
         """``best_<k>_springs.json`` per spring count, the dominance in ``study.json``, and ``report.html``."""
-        from springbalance.explore.report import write_report
-
         for count, record in self.best().items():
             write_json_atomic(self.folder / f"best_{count}_springs.json", record["design"])
         marker = self.folder / "study.json"
         summary = json.loads(marker.read_text(encoding="utf-8"))
         summary["dominated"] = self.dominated
         write_json_atomic(marker, summary)
-        write_report(self)
+        write_study_report(self.folder, self.study.mechanism.name, self.study.summary(), self.study.max_springs,
+                           self.results, self.dominated, self.best())
 
 
 # ---------------------------------------------------------------------- entry points
@@ -440,24 +366,3 @@ def load_study(path: str | Path, max_springs: int | None = None) -> Study:
     path = Path(path)
     record = read_config_file(path)
     return Study(record, path.parent, str(path), max_springs=max_springs)
-
-
-def make_client(scheduler: str | None = None, workers: int | None = None, timeout: float = CONNECT_TIMEOUT):
-    """A Dask ``Client``: on the scheduler at ``scheduler`` (``tcp://host:port``), or on a new
-    ``LocalCluster`` of ``workers`` processes (default: one per core), one thread each."""
-    import logging
-
-    from dask.distributed import Client, LocalCluster
-
-    if scheduler is not None:
-        try:
-            return Client(scheduler, timeout=f"{timeout}s")
-        except (OSError, TimeoutError, ValueError) as error:
-            raise InputError(f"cannot reach the Dask scheduler at {scheduler!r} within {timeout:g} s "
-                             f"({type(error).__name__}: {str(error).splitlines()[0] if str(error) else 'no answer'})") \
-                from None
-    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
-        raise InputError(f"workers must be an integer ≥ 1, got {workers!r}")
-    cluster = LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1, processes=True,
-                           dashboard_address=":0", silence_logs=logging.ERROR)
-    return Client(cluster)

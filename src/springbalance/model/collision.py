@@ -28,9 +28,11 @@ import numpy as np
 import pinocchio as pin
 
 from springbalance.errors import InputError
+from springbalance.model import robots
+from springbalance.model.mechanism import Mechanism, _quiet_native_stderr
 
 if TYPE_CHECKING:
-    from springbalance.model.mechanism import Mechanism
+    import coal
 
 #: Capsule radius [m] of a spring without a helical spec sheet when none is given.
 DEFAULT_RADIUS = 0.01
@@ -55,9 +57,6 @@ def collision_geometry(mechanism: Mechanism) -> pin.GeometryModel:
         InputError: the mechanism has no URDF (a bare Pinocchio model), the geometry
             cannot be loaded, or the URDF has no collision geometry.
     """
-    from springbalance.model import robots
-    from springbalance.model.mechanism import _quiet_native_stderr
-
     source = mechanism.source
     kind = source.get("kind")
     if kind not in ("urdf", "robot", "urdf_string"):
@@ -82,7 +81,7 @@ def collision_geometry(mechanism: Mechanism) -> pin.GeometryModel:
     return geometry
 
 
-def capsule(start: np.ndarray, end: np.ndarray, radius: float):
+def capsule(start: np.ndarray, end: np.ndarray, radius: float) -> tuple[coal.CollisionGeometry, coal.Transform3s]:
     """coal capsule of ``radius`` [m] around the segment ``start``–``end`` (world, [m]) and its placement."""
     import coal
 
@@ -119,7 +118,7 @@ class Contact:
     normal: np.ndarray
 
 
-def hull(shape):
+def hull(shape: coal.CollisionGeometry) -> coal.CollisionGeometry:
     """``shape`` itself, or, for a mesh (BVH), its convex hull (qhull through coal).
 
     coal's ``buildConvexRepresentation`` only wraps the mesh's vertices and triangles as a
@@ -204,7 +203,8 @@ class CollisionScene:
                        np.array(result.getNearestPoint2()), -np.array(result.normal))
 
 
-def capsule_contact(start_1, end_1, radius_1, start_2, end_2, radius_2) -> Contact:
+def capsule_contact(start_1: np.ndarray, end_1: np.ndarray, radius_1: float, start_2: np.ndarray, end_2: np.ndarray,
+                    radius_2: float) -> Contact:
     """Signed distance between two capsules (world, [m]); ``normal`` points from capsule 2 to capsule 1,
     ``on_capsule`` lies on capsule 1 and ``on_object`` on capsule 2 (``index`` is -1)."""
     import coal
@@ -237,7 +237,8 @@ def body_objects(mechanism: Mechanism, geometry: pin.GeometryModel, body: str) -
     return [obj for obj in geometry.geometryObjects if mechanism.model.frames[obj.parentFrame].name == body]
 
 
-def surface_distance(mechanism: Mechanism, geometry: pin.GeometryModel, body: str, point: np.ndarray):
+def surface_distance(mechanism: Mechanism, geometry: pin.GeometryModel, body: str,
+                     point: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
     """Signed distance [m] from ``point`` (body frame, [m]) to the union of ``body``'s collision objects,
     the closest surface point (body frame) and the unit outward normal there (body frame).
 

@@ -15,9 +15,20 @@ Nothing here depends on the design; the optimiser reads these arrays as paramete
 from __future__ import annotations
 
 import dataclasses
+from typing import Iterable, Protocol, Sequence
 
 import numpy as np
 import pinocchio as pin
+
+from springbalance.model.mechanism import Mechanism
+
+
+class Samples(Protocol):
+    """What the kinematics read of a workspace (:class:`~springbalance.model.workspace.Workspace`):
+    its mechanism and its Pinocchio configurations (N×nq)."""
+
+    mechanism: Mechanism
+    configurations: np.ndarray
 
 
 @dataclasses.dataclass(frozen=True)
@@ -76,7 +87,7 @@ def gravity_and_potential(model: pin.Model, configurations: np.ndarray) -> tuple
 class WorkspaceKinematics:
     """Gravity, potential energy and body kinematics of a workspace, computed once."""
 
-    def __init__(self, workspace):
+    def __init__(self, workspace: Samples):
         self.workspace = workspace
         self.mechanism = workspace.mechanism
         model = self.mechanism.model
@@ -90,7 +101,7 @@ class WorkspaceKinematics:
             self.prepare([name])
         return self._bodies[name]
 
-    def prepare(self, names) -> None:
+    def prepare(self, names: Iterable[str]) -> None:
         """Compute placements and Jacobians of every body in ``names`` in one pass."""
         missing = [name for name in dict.fromkeys(names) if name not in self._bodies]
         if not missing:
@@ -126,7 +137,7 @@ class StackedKinematics:
         n_blocks: number of scenarios ``S``; ``block_size``: samples per scenario ``N``.
     """
 
-    def __init__(self, workspace, base: WorkspaceKinematics, mechanisms):
+    def __init__(self, workspace: Samples, base: WorkspaceKinematics, mechanisms: Sequence[Mechanism]):
         self.workspace = workspace
         self.mechanism = base.mechanism
         self.base = base
@@ -147,5 +158,6 @@ class StackedKinematics:
                                                 np.tile(single.jacobian, (self.n_blocks, 1, 1)))
         return self._bodies[name]
 
-    def prepare(self, names) -> None:
+    def prepare(self, names: Iterable[str]) -> None:
+        """Compute the base workspace's placements and Jacobians of ``names`` (repeated per scenario on use)."""
         self.base.prepare(names)

@@ -11,24 +11,39 @@ Joint coordinates are in rad (revolute, continuous) or m (prismatic).
 
 from __future__ import annotations
 
+from typing import Protocol
+
 import numpy as np
 
+from springbalance.model.mechanism import Joint, Mechanism
 from springbalance.model.workspace import Workspace
 
 
-def workspace_ranges(result) -> tuple[np.ndarray, np.ndarray]:
+class _Problem(Protocol):
+    mechanism: Mechanism
+    workspace: Workspace
+
+
+class Designed(Protocol):
+    """A design on its problem (a design result): what the sweeps read is ``problem.mechanism`` and
+    ``problem.workspace``."""
+
+    problem: _Problem
+
+
+def workspace_ranges(result: Designed) -> tuple[np.ndarray, np.ndarray]:
     """Lowest and highest value of every joint over the design's workspace samples (nv each)."""
     values = result.problem.workspace.joint_values
     return values.min(axis=0), values.max(axis=0)
 
 
-def moving_joints(result) -> list:
+def moving_joints(result: Designed) -> list[Joint]:
     """The joints whose workspace range has a non-zero width (a held joint is not swept)."""
     lower, upper = workspace_ranges(result)
     return [joint for joint in result.problem.mechanism.joints if upper[joint.index_v] > lower[joint.index_v]]
 
 
-def joint_sweep(result, joint: str, n: int = 121) -> Workspace:
+def joint_sweep(result: Designed, joint: str, n: int = 121) -> Workspace:
     """Ordered sweep of ``joint`` over its workspace range, the others at their range middles."""
     mechanism = result.problem.mechanism
     lower, upper = workspace_ranges(result)
@@ -36,7 +51,7 @@ def joint_sweep(result, joint: str, n: int = 121) -> Workspace:
     return Workspace.sweep(mechanism, joint, n=n, ranges=ranges)
 
 
-def animation_path(result, frames_per_joint: int = 48) -> np.ndarray:
+def animation_path(result: Designed, frames_per_joint: int = 48) -> np.ndarray:
     """Joint values (N×nv) of a closed path that sweeps each moving joint in turn.
 
     Each joint goes middle → upper → lower → middle of its workspace range in

@@ -32,11 +32,15 @@ import math
 import re
 import xml.etree.ElementTree as ElementTree
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from springbalance.errors import InputError
 from springbalance.files import read_input_text
+
+if TYPE_CHECKING:
+    import pinocchio as pin
 
 #: a number as the URDF parser reads it: decimal, optional sign, fraction and exponent
 NUMBER = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
@@ -105,7 +109,7 @@ def check_urdf(text: str, where: str, physics: bool = True) -> None:
         _check_joint(joint, f"{where}: joint {joint.get('name')!r}")
 
 
-def check_model(model, where: str) -> None:
+def check_model(model: pin.Model, where: str) -> None:
     """Physics checks of a ``pinocchio.Model`` (per joint body, limits of the degrees of freedom)."""
     for joint_id in range(1, model.njoints):
         inertia = model.inertias[joint_id]

@@ -14,18 +14,16 @@ from __future__ import annotations
 
 import dataclasses
 import re
-from typing import TYPE_CHECKING, Any, Mapping, Sequence
+from typing import Any, Mapping, Sequence
 
 import numpy as np
 import numpy.typing as npt
 
 from springbalance.errors import InputError
 from springbalance.model import budget
+from springbalance.model.kinematics import WorkspaceKinematics
 from springbalance.model.mechanism import Mechanism
 from springbalance.model.sobol import sobol_engine
-
-if TYPE_CHECKING:
-    from springbalance.model.kinematics import WorkspaceKinematics
 
 Range = tuple[float, float]
 #: the largest joint value a workspace takes [rad or m]: beyond it a number is a typo, and would overflow
@@ -220,8 +218,6 @@ class Workspace:
 
     def kinematics(self) -> WorkspaceKinematics:
         """The numeric cache of gravity torques, placements and Jacobians (computed once)."""
-        from springbalance.model.kinematics import WorkspaceKinematics
-
         if self._kinematics is None:
             model = self.mechanism.model
             budget.require(budget.kinematics_bytes(self.size, model.nv, model.nq),

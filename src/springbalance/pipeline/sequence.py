@@ -20,7 +20,7 @@ def run_steps(problem: DesignProblem, options: SolveOptions) -> DesignResult:
         state = SolveState(problem, options)
         for step in STEPS:
             state = step(state)
-    solution = state.solution
+    solution = state.solved
     return DesignResult(state.problem, solution.x, starts=solution.starts, method=solution.method,
                         seed=solution.seed, status=solution.status, wire_rounding=state.wire_rounding, fit=state.fit)
 

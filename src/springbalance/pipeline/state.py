@@ -92,6 +92,13 @@ class SolveState:
     fit: FitRecord | None = None
     wire_rounding: WireRounding | None = None
 
+    @property
+    def solved(self) -> Solution:
+        """The solution so far (the steps after the multi-start have one)."""
+        if self.solution is None:
+            raise RuntimeError("no solution yet: the multi-start step runs before this one")
+        return self.solution
+
     def but(self, **changes: Any) -> SolveState:
         """This state with ``changes`` (a step's output)."""
         return dataclasses.replace(self, **changes)

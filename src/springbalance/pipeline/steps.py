@@ -62,7 +62,7 @@ def fit_to_arm(state: SolveState) -> SolveState:
     if problem.clearance is None and not problem.mounts:
         return state
     with _interrupted_after_starts(state, "fitting the springs to the arm"):
-        solution, fit, problem = clearance_fit.fit_from_starts(problem, state.solution,
+        solution, fit, problem = clearance_fit.fit_from_starts(problem, state.solved,
                                                                **state.options.solver_options())
     return state.but(problem=problem, solution=solution, fit=fit)
 
@@ -72,7 +72,7 @@ def round_wires(state: SolveState) -> SolveState:
     if not state.options.standard_wire or not standard_wire.coils_with_free_wire(state.problem):
         return state
     with _interrupted_after_starts(state, "rounding the wires"):
-        solution, rounding = standard_wire.round_wires(state.problem, state.solution,
+        solution, rounding = standard_wire.round_wires(state.problem, state.solved,
                                                        **state.options.solver_options())
     return state.but(solution=solution, wire_rounding=rounding)
 
@@ -88,7 +88,7 @@ class _interrupted_after_starts:
 
     def __exit__(self, kind: type | None, error: BaseException | None, traceback: object) -> None:
         if isinstance(error, Interrupted):
-            solution = self.state.solution
+            solution = self.state.solved
             raise Interrupted(f"interrupted while {self.phase}: all {len(solution.starts)} starts had finished",
                               problem=self.state.problem, starts=solution.starts, total=len(solution.starts),
                               best_x=solution.x) from None

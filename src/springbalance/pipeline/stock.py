@@ -57,8 +57,8 @@ def select_stock(problem: DesignProblem, continuous: np.ndarray | object, parts:
                          + ", ".join(f"{spring.name} ({spring.kind})" for spring in problem.springs))
     objective = _inner_objective(problem)
     continuous_value = problem.objective_value(problem.evaluate(x))
-    solve_options = {"starts": int(starts), "seed": int(seed), "method": method, "progress": False,
-                     "max_iterations": int(max_iterations), "tolerance": float(tolerance), "workers": workers}
+    options = SolveOptions(starts=int(starts), seed=int(seed), method=method, progress=False,
+                           max_iterations=int(max_iterations), tolerance=float(tolerance), workers=workers)
     current, current_x = problem, x
     choices, notes = [], []
     for name in names:
@@ -79,7 +79,7 @@ def select_stock(problem: DesignProblem, continuous: np.ndarray | object, parts:
             springs = [part_spring(part, s) if s.name == name else s for s in warm]
             trial_problem, dropped = _like(current, springs, objective)
             try:
-                result = run_steps(trial_problem, SolveOptions(**solve_options))
+                result = run_steps(trial_problem, options)
             except SolverError as error:
                 trials.append(StockTrial(part, distance, None, " ".join(str(error).split())))
                 continue

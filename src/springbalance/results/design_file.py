@@ -24,7 +24,7 @@ from typing import Any
 
 from springbalance.errors import InputError
 from springbalance.files import read_input_text
-from springbalance.io.yaml_loader import DuplicateKeyError, LimitError, load_json
+from springbalance.loaders import DuplicateKeyError, LimitError, load_json
 from springbalance.model import budget
 
 FORMAT = "springbalance-design/1"

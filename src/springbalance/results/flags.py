@@ -30,7 +30,7 @@ from typing import Any
 import numpy as np
 
 from springbalance.errors import InputError
-from springbalance.io.export import law_warnings
+from springbalance.export.common import law_warnings
 from springbalance.springs import CompressionSpring, ExtensionSpring, GasSpring
 from springbalance.springs.sizing import size_helical_spring
 

@@ -21,10 +21,10 @@ from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.design.objectives import OBJECTIVES
 from springbalance.design.problem import DesignProblem
 from springbalance.errors import InputError
+from springbalance.export.common import ExportReport
+from springbalance.export.mjcf import export_mjcf
+from springbalance.export.urdf import export_urdf
 from springbalance.files import write_json_atomic
-from springbalance.io.export import ExportReport
-from springbalance.io.mjcf import export_mjcf
-from springbalance.io.urdf import export_urdf
 from springbalance.model.mechanism import Mechanism
 from springbalance.model.workspace import Workspace
 from springbalance.results.clearance import ClearanceReport, clearance

@@ -13,9 +13,12 @@ Bounds on stiffness and free length are variable bounds (:class:`~springbalance.
 
 from __future__ import annotations
 
+from typing import Any
+
 import dataclasses
 
-from springbalance.springs.sizing import Helical
+from springbalance.springs.helical_option import Helical
+from springbalance.springs.values import Parameters, Value
 
 
 @dataclasses.dataclass(frozen=True)
@@ -26,7 +29,7 @@ class StaysInTension:
     unit = "m"
     scale = 0.1  # [m] typical size of a violation, for the solver's scaling
 
-    def rows(self, length, force, parameters):
+    def rows(self, length: Value, force: Value, parameters: Parameters) -> Value | list[Value]:
         return length - parameters["free_length"]
 
 
@@ -39,7 +42,7 @@ class MaxStretch:
     unit = "m"
     scale = 0.1  # [m]
 
-    def rows(self, length, force, parameters):
+    def rows(self, length: Value, force: Value, parameters: Parameters) -> Value | list[Value]:
         return self.ratio * parameters["free_length"] - length
 
 
@@ -55,10 +58,10 @@ class MaxForce:
     unit = "N"
 
     @property
-    def scale(self):
+    def scale(self) -> float:
         return self.limit  # [N]
 
-    def rows(self, length, force, parameters):
+    def rows(self, length: Value, force: Value, parameters: Parameters) -> Value | list[Value]:
         return (self.limit * self.limit - force * force) / self.limit
 
 
@@ -71,10 +74,10 @@ class MaxLength:
     unit = "m"
 
     @property
-    def scale(self):
+    def scale(self) -> float:
         return self.limit  # [m]
 
-    def rows(self, length, force, parameters):
+    def rows(self, length: Value, force: Value, parameters: Parameters) -> Value | list[Value]:
         return self.limit - length
 
 
@@ -88,7 +91,7 @@ class FitsSegment:
     scale = 0.01  # [m]
     uses_extra = True
 
-    def rows(self, length, force, parameters, extra):
+    def rows(self, length: Value, force: Value, parameters: Parameters, extra: Any) -> Value | list[Value]:
         return extra["segment"] - length
 
 
@@ -101,10 +104,10 @@ class MinLength:
     unit = "m"
 
     @property
-    def scale(self):
+    def scale(self) -> float:
         return self.limit  # [m]
 
-    def rows(self, length, force, parameters):
+    def rows(self, length: Value, force: Value, parameters: Parameters) -> Value | list[Value]:
         return length - self.limit
 
 
@@ -116,7 +119,7 @@ class StaysCompressed:
     unit = "m"
     scale = 0.1  # [m]
 
-    def rows(self, length, force, parameters):
+    def rows(self, length: Value, force: Value, parameters: Parameters) -> Value | list[Value]:
         return parameters["free_length"] - length
 
 
@@ -129,7 +132,7 @@ class Stroke:
     unit = "m"
     scale = 0.1  # [m]
 
-    def rows(self, length, force, parameters):
+    def rows(self, length: Value, force: Value, parameters: Parameters) -> Value | list[Value]:
         return length - (parameters["free_length"] - self.stroke)
 
 
@@ -151,10 +154,10 @@ class MaxDeflection:
     unit = "rad"
 
     @property
-    def scale(self):
+    def scale(self) -> float:
         return self.limit  # [rad]
 
-    def rows(self, angle, torque, parameters):
+    def rows(self, angle: Value, torque: Value, parameters: Parameters) -> Value | list[Value]:
         deflection = angle - parameters["neutral_angle"]
         return (self.limit * self.limit - deflection * deflection) / self.limit
 
@@ -186,13 +189,13 @@ class HelicalSpringExists:
     kind: str  # "extension" or "compression"
 
     @property
-    def parts(self):
+    def parts(self) -> tuple[tuple[str, str, float], ...]:
         force_scale = self.helical.allowable_force(self.helical.material.diameter_range[1], self.kind) / 10  # [N]
         return (("helical_stress", "N", force_scale), ("helical_max_wire", "N", force_scale),
                 ("helical_coils", "m", 1e-3), ("helical_min_wire", "m", 1e-3),
                 ("helical_max_stiffness", "N/m", self.helical.max_stiffness))
 
-    def rows(self, length, force, parameters):
+    def rows(self, length: Value, force: Value, parameters: Parameters) -> Value | list[Value]:
         helical, kind = self.helical, self.kind
         stiffness = parameters["stiffness"]                                          # [N/m]
         room = parameters["free_length"] if kind == "extension" else length          # [m]

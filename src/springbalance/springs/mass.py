@@ -16,19 +16,13 @@ import annotated_types
 import numpy as np
 
 from springbalance.errors import InputError
-from springbalance.springs.sizing import coil_mass, material_named
+from springbalance.springs.helical_formulas import coil_mass
+from springbalance.springs.materials import material_named
+from springbalance.springs.values import Parameters, Value
 
 #: The pydantic record of a coil mass in the config schema, by forward reference (resolved by the
 #: schema, so that the spring laws load without pydantic): :class:`springbalance.springs.options.CoilMassRecord`.
 COIL_MASS_RECORD = typing.ForwardRef("CoilMassRecord", module="springbalance.springs.options")
-
-
-def __getattr__(name: str):
-    if name == "CoilMassRecord":  # where it was defined before springbalance.springs.options
-        from springbalance.springs.options import CoilMassRecord
-
-        return CoilMassRecord
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 #: the type of the ``mass`` option in the config schema: kilograms, or a coil.
@@ -72,12 +66,12 @@ class CoilMass:
 
     couples_stiffness = True
 
-    def value(self, parameters):
+    def value(self, parameters: Parameters) -> Value:
         """``m_s`` [kg] for the spring's parameter values (uses ``stiffness``)."""
         return coil_mass(parameters["stiffness"], self.coil_diameter, self.active_coils, self.wire_length,
                          self.shear_modulus, self.density)
 
-    def wire_diameter(self, stiffness):
+    def wire_diameter(self, stiffness: Value) -> Value:
         """``d = (8 D³ n k / G)^(1/4)`` [m]."""
         return (8 * self.coil_diameter**3 * self.active_coils * stiffness / self.shear_modulus) ** 0.25
 
@@ -104,7 +98,7 @@ class FixedMass:
             raise InputError(f"spring mass must be a number ≥ 0 [kg], got {mass!r}")
         self.mass = float(mass)
 
-    def value(self, parameters):
+    def value(self, parameters: Parameters) -> Value:
         return self.mass
 
     def to_dict(self) -> float:
@@ -117,7 +111,8 @@ class FixedMass:
 _COIL_MASS_KEYS = ("coil_diameter", "active_coils", "wire_length", "material", "shear_modulus", "density")
 
 
-def mass_from_record(value, where: str = "mass"):
+def mass_from_record(value: float | dict | CoilMass | FixedMass | None,
+                     where: str = "mass") -> CoilMass | FixedMass | None:
     """``m`` [kg] (fixed) or ``{coil_diameter, active_coils, wire_length?, material? | shear_modulus, density}``."""
     if value is None or isinstance(value, (FixedMass, CoilMass)):
         return value

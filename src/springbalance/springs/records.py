@@ -7,11 +7,13 @@ in :data:`~springbalance.springs.laws.base.SPRING_TYPES`, and its class says whi
 
 from __future__ import annotations
 
+from typing import Any
+
 from springbalance.errors import InputError
-from springbalance.springs.laws.base import SPRING_TYPES, Spring
+from springbalance.springs.laws.spring import SPRING_TYPES, Spring
 from springbalance.springs.mass import mass_from_record
 from springbalance.springs.params import Pulley, anchor_from_dict, check_keys, path_from_dict, value_from_record
-from springbalance.springs.sizing import helical_from_dict
+from springbalance.springs.helical_option import helical_from_dict
 
 
 #: the law of a record without ``type``
@@ -61,7 +63,7 @@ def ideal_law_hint(cls: type[Spring], record: dict) -> str | None:
             f"({', '.join(ideal.parameter_units)})")
 
 
-def spring_from_dict(record, where: str = "spring", **routing) -> Spring:
+def spring_from_dict(record: dict[str, Any], where: str = "spring", **routing: Any) -> Spring:
     """Build a spring from its record (as in configs and saved designs).
 
     Two-point springs: ``{name?, type, a: anchor, b: anchor, <parameters>, <options>}``;

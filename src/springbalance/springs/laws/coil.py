@@ -12,15 +12,18 @@ has no ``kind``: the laws are :mod:`~springbalance.springs.laws.helical_extensio
 from __future__ import annotations
 
 import math
-from typing import Annotated, ClassVar, Literal
+from typing import Annotated, Any, ClassVar, Literal, Sequence
 
 import annotated_types
 import numpy as np
 
 from springbalance.errors import InputError
-from springbalance.springs.laws.base import PositiveNumber, TwoPointSpring
+from springbalance.springs.laws.spring import PositiveNumber
+from springbalance.springs.laws.two_point import TwoPointSpring
 from springbalance.springs.params import Anchor, Free
-from springbalance.springs.sizing import bergstrasser_factor, material_named
+from springbalance.springs.helical_formulas import bergstrasser_factor
+from springbalance.springs.materials import material_named
+from springbalance.springs.values import Parameters, Value
 
 MPA = 1e6
 #: fraction of each allowable stress that the optimisation keeps in reserve [1]: the rules hold at the
@@ -50,8 +53,8 @@ class HelicalCoilSpring(TwoPointSpring):
     default_bounds: ClassVar[dict[str, tuple[float, float]]] = {"active_coils": (3.0, 200.0)}
 
     def __init__(self, a: Anchor, b: Anchor, name: str | None = None, *, material: str = "music_wire",
-                 max_outer_diameter: float | None = None, index_range=None, own_mass: bool = True,
-                 stress_reserve: float = STRESS_RESERVE, ideal: bool = False, **kwargs):
+                 max_outer_diameter: float | None = None, index_range: Sequence[float] | None = None, own_mass: bool = True,
+                 stress_reserve: float = STRESS_RESERVE, ideal: bool = False, **kwargs: Any):
         label = f"{type(self).__name__} {name or ''}".strip()
         if ideal:
             raise InputError(f"{label}: a helical spring is not ideal; write ideal: true on a spring without coil "
@@ -93,17 +96,17 @@ class HelicalCoilSpring(TwoPointSpring):
                              f"{self.material.diameter_range[1] * 1e3:g} mm")
 
     # ---------------------------------------------------------------- the coil
-    def rate(self, values):
+    def rate(self, values: dict) -> Value:
         """``k = G d⁴ / (8 D³ n)`` [N/m] (numbers or CasADi)."""
         d, D, n = values["wire_diameter"], values["mean_diameter"], values["active_coils"]
         return self.material.shear_modulus * d**4 / (8 * D**3 * n)
 
-    def coil_mass(self, values):
+    def coil_mass(self, values: dict) -> Value:
         """``ρ (π d²/4) π D (n + 2)`` [kg]."""
         d, D, n = values["wire_diameter"], values["mean_diameter"], values["active_coils"]
         return self.material.density * (math.pi * d**2 / 4) * math.pi * D * (n + 2)
 
-    def body_stress(self, force, values):
+    def body_stress(self, force: Value, values: dict) -> Value:
         """Bergsträsser-corrected shear stress ``K_B 8 |F| D / (π d³)`` [Pa] under force ``F`` [N]."""
         d, D = values["wire_diameter"], values["mean_diameter"]
         return bergstrasser_factor(D / d) * 8 * force * D / (math.pi * d**3)
@@ -114,7 +117,7 @@ class HelicalCoilSpring(TwoPointSpring):
         False for a stock part (``part_number``), which exists already: only the rules of its use apply."""
         return self.part_number is None
 
-    def common_rows(self, values) -> list:
+    def common_rows(self, values: dict) -> list:
         """Index within its range (a coil to be wound) and the outer diameter within the envelope (rows ≥ 0)."""
         index = values["mean_diameter"] / values["wire_diameter"]
         rows = [index - self.index_range[0], self.index_range[1] - index] if self.winds else []
@@ -133,16 +136,16 @@ class HelicalCoilSpring(TwoPointSpring):
     def carries_mass(self) -> bool:
         return self.own_mass
 
-    def spring_mass(self, parameters):
+    def spring_mass(self, parameters: Parameters) -> Value:
         return self.coil_mass(parameters) if self.own_mass else 0.0
 
     @property
-    def mass(self):
+    def mass(self) -> str | None:
         """``"coil"`` when the coil carries its own mass (computed from the geometry), else None."""
         return "coil" if self.own_mass else None
 
     @mass.setter
-    def mass(self, value) -> None:    # TwoPointSpring sets None: the mass follows from the coil instead
+    def mass(self, value: Any) -> None:    # TwoPointSpring sets None: the mass follows from the coil instead
         self._mass = None
 
     def options(self) -> dict:
@@ -154,7 +157,7 @@ class HelicalCoilSpring(TwoPointSpring):
         return record
 
     # ---------------------------------------------------------------- the data sheet
-    def common_sheet(self, values, largest: float) -> tuple[dict, list[str]]:
+    def common_sheet(self, values: dict, largest: float) -> tuple[dict, list[str]]:
         """The entries and failed rules every coil shares, at the largest force ``largest`` [N]."""
         d, D, n = float(values["wire_diameter"]), float(values["mean_diameter"]), float(values["active_coils"])
         index = D / d

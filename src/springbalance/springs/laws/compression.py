@@ -2,15 +2,18 @@ r"""Compression spring with preload (docs/model.md §3.3): pushes its ends apart
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 
 from springbalance.errors import InputError
 from springbalance.springs import constraints as practical
-from springbalance.springs.laws.base import HelicalSpringMixin, PositiveNumber, TwoPointSpring, _positive_option
+from springbalance.springs.laws.spring import PositiveNumber, _positive_option
+from springbalance.springs.laws.two_point import HelicalSpringMixin, TwoPointSpring
 from springbalance.springs.params import Anchor
-from springbalance.springs.sizing import HELICAL_OPTION
+from springbalance.springs.helical_option import HELICAL_OPTION
+from springbalance.springs.helical_option import Helical
+from springbalance.springs.values import Parameters, Value
 
 
 class CompressionSpring(HelicalSpringMixin, TwoPointSpring):
@@ -38,7 +41,7 @@ class CompressionSpring(HelicalSpringMixin, TwoPointSpring):
     helical_kind = "compression"
 
     def __init__(self, a: Anchor, b: Anchor, name: str | None = None, *, ideal: bool = True, stays_compressed: bool = True,
-                 stroke: float | None = None, helical=None, **kwargs):
+                 stroke: float | None = None, helical: Helical | dict | None = None, **kwargs: Any):
         if ideal is not True:
             raise InputError(f"{type(self).__name__} {name or ''}: this is the ideal law; a coil is "
                              f"Helical{type(self).__name__} (or type: compression without ideal: true)")
@@ -47,17 +50,17 @@ class CompressionSpring(HelicalSpringMixin, TwoPointSpring):
         self.stroke = _positive_option(self, "stroke", stroke)
         self._set_helical(helical)
 
-    def free_length_interval(self, lengths) -> tuple[float, float]:
+    def free_length_interval(self, lengths: np.ndarray) -> tuple[float, float]:
         """``max L ≤ l0`` (stays compressed) and ``l0 ≤ min L + stroke`` (stroke limit)."""
         low = float(np.max(lengths)) if self.stays_compressed else -np.inf
         high = float(np.min(lengths)) + self.stroke if self.stroke is not None else np.inf
         return low, high
 
-    def tension(self, length, parameters):
+    def tension(self, length: Value, parameters: Parameters) -> Value:
         compression = parameters["free_length"] - length                          # [m]
         return -(parameters["preload"] + parameters["stiffness"] * compression)  # [N], pushes
 
-    def potential(self, length, parameters):
+    def potential(self, length: Value, parameters: Parameters) -> Value:
         compression = parameters["free_length"] - length                          # [m]
         return compression * (parameters["preload"] + 0.5 * parameters["stiffness"] * compression)  # [J]
 
@@ -80,12 +83,12 @@ class CompressionSpring(HelicalSpringMixin, TwoPointSpring):
             record["helical"] = self.helical.to_dict()
         return record
 
-    def tendon_law(self, values, lengths):
+    def tendon_law(self, values: dict, lengths: np.ndarray) -> tuple[float, float, float]:
         """Exact: ``F = k (L - l0) - F0 = k L - (F0 + k l0)``."""
         k, l0, f0 = values["stiffness"], values["free_length"], values["preload"]
         return float(k), float(-f0 - k * l0), 0.0
 
-    def law_warnings(self, values, lengths, tolerance: float = 1e-6) -> list[str]:
+    def law_warnings(self, values: dict, lengths: np.ndarray, tolerance: float = 1e-6) -> list[str]:
         """Longer than ``l0`` a real spring loses contact (a gas spring stops); beyond its stroke it bottoms out."""
         warnings = []
         free, kind = values["free_length"], self.kind

@@ -2,7 +2,10 @@ r"""Constant-force element (docs/model.md §3.5): a spool or a cylinder on a lar
 
 from __future__ import annotations
 
-from springbalance.springs.laws.base import TwoPointSpring
+import numpy as np
+
+from springbalance.springs.laws.two_point import TwoPointSpring
+from springbalance.springs.values import Parameters, Value
 
 
 class ConstantForceSpring(TwoPointSpring):
@@ -19,12 +22,12 @@ class ConstantForceSpring(TwoPointSpring):
     parameter_units = {"force": "N"}
     linear_parameters = ("force",)
 
-    def tension(self, length, parameters):
+    def tension(self, length: Value, parameters: Parameters) -> Value:
         return parameters["force"] + 0 * length                       # [N]
 
-    def potential(self, length, parameters):
+    def potential(self, length: Value, parameters: Parameters) -> Value:
         return parameters["force"] * length                           # [N]·[m] = [J]
 
-    def tendon_law(self, values, lengths):
+    def tendon_law(self, values: dict, lengths: np.ndarray) -> tuple[float, float, float]:
         """Exact: ``F = F0`` (``k = 0``)."""
         return 0.0, float(values["force"]), 0.0

@@ -2,15 +2,18 @@ r"""Linear extension spring with initial tension (docs/model.md §3.1)."""
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 
 from springbalance.errors import InputError
 from springbalance.springs import constraints as practical
-from springbalance.springs.laws.base import HelicalSpringMixin, StretchRatio, TwoPointSpring, _positive_option
+from springbalance.springs.laws.spring import StretchRatio, _positive_option
+from springbalance.springs.laws.two_point import HelicalSpringMixin, TwoPointSpring
 from springbalance.springs.params import Anchor
-from springbalance.springs.sizing import HELICAL_OPTION
+from springbalance.springs.helical_option import HELICAL_OPTION
+from springbalance.springs.helical_option import Helical
+from springbalance.springs.values import Parameters, Value
 
 
 class ExtensionSpring(HelicalSpringMixin, TwoPointSpring):
@@ -38,7 +41,7 @@ class ExtensionSpring(HelicalSpringMixin, TwoPointSpring):
     helical_kind = "extension"
 
     def __init__(self, a: Anchor, b: Anchor, name: str | None = None, *, ideal: bool = True, keep_tension: bool = True,
-                 max_stretch: float | None = None, helical=None, **kwargs):
+                 max_stretch: float | None = None, helical: Helical | dict | None = None, **kwargs: Any):
         if ideal is not True:
             raise InputError(f"{type(self).__name__} {name or ''}: this is the ideal law; a coil is "
                              f"Helical{type(self).__name__} (or type: extension without ideal: true)")
@@ -49,17 +52,17 @@ class ExtensionSpring(HelicalSpringMixin, TwoPointSpring):
             raise InputError(f"spring {name or ''}: max_stretch is a ratio L/l0 and must exceed 1, got {max_stretch}")
         self._set_helical(helical)
 
-    def free_length_interval(self, lengths) -> tuple[float, float]:
+    def free_length_interval(self, lengths: np.ndarray) -> tuple[float, float]:
         """``max L / ρ ≤ l0`` (stretch limit) and ``l0 ≤ min L`` (stays in tension)."""
         low = float(np.max(lengths)) / self.max_stretch if self.max_stretch is not None else -np.inf
         high = float(np.min(lengths)) if self.keep_tension else np.inf
         return low, high
 
-    def tension(self, length, parameters):
+    def tension(self, length: Value, parameters: Parameters) -> Value:
         stretch = length - parameters["free_length"]                          # [m]
         return parameters["initial_tension"] + parameters["stiffness"] * stretch  # [N]
 
-    def potential(self, length, parameters):
+    def potential(self, length: Value, parameters: Parameters) -> Value:
         stretch = length - parameters["free_length"]                          # [m]
         return stretch * (parameters["initial_tension"] + 0.5 * parameters["stiffness"] * stretch)  # [J]
 
@@ -82,12 +85,12 @@ class ExtensionSpring(HelicalSpringMixin, TwoPointSpring):
             record["helical"] = self.helical.to_dict()
         return record
 
-    def tendon_law(self, values, lengths):
+    def tendon_law(self, values: dict, lengths: np.ndarray) -> tuple[float, float, float]:
         """Exact: ``F = k L + (F0 - k l0)``."""
         k, l0, f0 = values["stiffness"], values["free_length"], values["initial_tension"]
         return float(k), float(f0 - k * l0), 0.0
 
-    def law_warnings(self, values, lengths, tolerance: float = 1e-6) -> list[str]:
+    def law_warnings(self, values: dict, lengths: np.ndarray, tolerance: float = 1e-6) -> list[str]:
         """Below its free length a real extension spring goes slack (or solid); the linear law pushes."""
         warnings = []
         free = values["free_length"]

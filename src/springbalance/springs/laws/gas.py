@@ -2,8 +2,11 @@ r"""Gas spring (docs/model.md §3.4): the compression law, no coil to size."""
 
 from __future__ import annotations
 
+from typing import Any
+
 from springbalance.errors import InputError
-from springbalance.springs.laws.base import PositiveNumber, TwoPointSpring
+from springbalance.springs.laws.spring import PositiveNumber
+from springbalance.springs.laws.two_point import TwoPointSpring
 from springbalance.springs.laws.compression import CompressionSpring
 from springbalance.springs.params import Anchor
 
@@ -24,7 +27,7 @@ class GasSpring(CompressionSpring):
     option_types = {**TwoPointSpring.option_types, "stays_compressed": bool, "stroke": PositiveNumber | None}
     helical_kind = None  # not a coil: nothing to size
 
-    def __init__(self, a: Anchor, b: Anchor, name: str | None = None, **kwargs):
+    def __init__(self, a: Anchor, b: Anchor, name: str | None = None, **kwargs: Any):
         if kwargs.get("helical") is not None:
             raise InputError(f"GasSpring {name or ''}: a gas spring has no helical option")
         super().__init__(a, b, name, **kwargs)

@@ -19,10 +19,13 @@ plates (Shigley Eq. 10-13), unless ``guided`` (on a rod or in a tube); index and
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from springbalance.springs.laws.coil import CHECK_TOLERANCE, HelicalCoilSpring
 from springbalance.springs.params import Anchor
+from springbalance.springs.values import Parameters, Value
 
 #: end-condition constant α of squared-and-ground ends between flat parallel surfaces (Shigley Table 10-2)
 END_CONSTANT = 0.5
@@ -41,7 +44,7 @@ class CompressionCoilRules:
             parts.append(("buckling", "m", 0.01))
         self.parts = tuple(parts + spring.common_parts())
 
-    def rows(self, length, force, parameters):
+    def rows(self, length: Value, force: Value, parameters: Parameters) -> Value | list[Value]:
         spring, material = self.spring, self.spring.material
         d, D, n = parameters["wire_diameter"], parameters["mean_diameter"], parameters["active_coils"]
         free = parameters["free_length"]
@@ -81,18 +84,18 @@ class HelicalCompressionSpring(HelicalCoilSpring):
     default_bounds = {"active_coils": (3.0, 100.0), "free_length": (0.01, 1.0)}
 
     def __init__(self, a: Anchor, b: Anchor, name: str | None = None, *, stays_compressed: bool = True,
-                 guided: bool = False, **kwargs):
+                 guided: bool = False, **kwargs: Any):
         self.stays_compressed, self.guided = bool(stays_compressed), bool(guided)
         super().__init__(a, b, name, **kwargs)
 
-    def tension(self, length, parameters):
+    def tension(self, length: Value, parameters: Parameters) -> Value:
         return -self.rate(parameters) * (parameters["free_length"] - length)                 # [N], pushes
 
-    def potential(self, length, parameters):
+    def potential(self, length: Value, parameters: Parameters) -> Value:
         compression = parameters["free_length"] - length                                    # [m]
         return 0.5 * self.rate(parameters) * compression * compression                      # [J]
 
-    def derived_values(self, values) -> dict:
+    def derived_values(self, values: dict) -> dict:
         """The compression law of this coil: ``stiffness`` [N/m], ``free_length`` [m], ``preload`` 0 [N]."""
         return {"stiffness": float(self.rate(values)), "free_length": float(values["free_length"]), "preload": 0.0}
 
@@ -102,12 +105,12 @@ class HelicalCompressionSpring(HelicalCoilSpring):
     def options(self) -> dict:
         return {**super().options(), "stays_compressed": self.stays_compressed, "guided": self.guided}
 
-    def tendon_law(self, values, lengths):
+    def tendon_law(self, values: dict, lengths: np.ndarray) -> tuple[float, float, float]:
         """Exact: ``F = k L − k l0``."""
         law = self.derived_values(values)
         return law["stiffness"], -law["stiffness"] * law["free_length"], 0.0
 
-    def law_warnings(self, values, lengths, tolerance: float = 1e-6) -> list[str]:
+    def law_warnings(self, values: dict, lengths: np.ndarray, tolerance: float = 1e-6) -> list[str]:
         free = float(values["free_length"])
         longer = int(np.sum(lengths > free + tolerance))
         warnings = []
@@ -118,7 +121,7 @@ class HelicalCompressionSpring(HelicalCoilSpring):
                 "tendon spring keeps the linear law and pulls")
         return warnings + super().law_warnings(values, lengths, tolerance)
 
-    def spec_sheet(self, values, lengths, forces) -> dict:
+    def spec_sheet(self, values: dict, lengths: np.ndarray, forces: np.ndarray) -> dict:
         """The part's data sheet over the workspace and its buildable verdict, checked from the numbers."""
         lengths, forces = np.asarray(lengths, dtype=float), np.asarray(forces, dtype=float)
         largest = float(np.max(-forces)) if forces.size else 0.0                                # [N] push

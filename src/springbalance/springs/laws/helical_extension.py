@@ -15,15 +15,17 @@ The rules of a buildable coil are constraints of the optimisation, at every work
 - body stress :math:`K_B\,8 F D/(\pi d^3) \le f_{body} S_{ut}(d)` (Bergsträsser factor
   :math:`K_B = (4C + 2)/(4C - 3)`, :math:`S_{ut} = A/d^m`, ``f_body`` 45 % for carbon steel);
 - hook bending at section A and torsion at section B within 75 % and 40 % of :math:`S_{ut}`
-  (:func:`~springbalance.springs.sizing.hook_bending_stress`, :func:`~springbalance.springs.sizing.hook_torsion_stress`);
+  (:func:`~springbalance.springs.helical_formulas.hook_bending_stress`, :func:`~springbalance.springs.helical_formulas.hook_torsion_stress`);
 - index :math:`C = D/d` within ``index_range`` (default 4–12); outer diameter :math:`D + d` within
   ``max_outer_diameter`` when given;
 - initial tension within the band that can be wound at that index
-  (:func:`~springbalance.springs.sizing.initial_stress_band`);
+  (:func:`~springbalance.springs.helical_formulas.initial_stress_band`);
 - ``L ≥ l_0`` (the coil never goes slack, ``keep_tension``).
 """
 
 from __future__ import annotations
+
+from typing import Any
 
 import math
 
@@ -31,7 +33,8 @@ import numpy as np
 
 from springbalance.springs.laws.coil import CHECK_TOLERANCE, MPA, HelicalCoilSpring
 from springbalance.springs.params import Anchor
-from springbalance.springs.sizing import hook_bending_stress, hook_torsion_stress, initial_stress_band
+from springbalance.springs.helical_formulas import hook_bending_stress, hook_torsion_stress, initial_stress_band
+from springbalance.springs.values import Parameters, Value
 
 
 class ExtensionCoilRules:
@@ -48,7 +51,7 @@ class ExtensionCoilRules:
             parts += [("initial_tension_low", "MPa", 10.0), ("initial_tension_high", "MPa", 10.0)]
         self.parts = tuple(parts + spring.common_parts())
 
-    def rows(self, length, force, parameters):
+    def rows(self, length: Value, force: Value, parameters: Parameters) -> Value | list[Value]:
         spring, material = self.spring, self.spring.material
         d, D = parameters["wire_diameter"], parameters["mean_diameter"]
         strength = material.tensile_strength(d)                                          # S_ut [Pa]
@@ -90,24 +93,24 @@ class HelicalExtensionSpring(HelicalCoilSpring):
     end_type = "machine hooks"
     default_bounds = {"active_coils": (3.0, 200.0), "initial_tension": (0.0, 2000.0)}
 
-    def __init__(self, a: Anchor, b: Anchor, name: str | None = None, *, keep_tension: bool = True, **kwargs):
+    def __init__(self, a: Anchor, b: Anchor, name: str | None = None, *, keep_tension: bool = True, **kwargs: Any):
         self.keep_tension = bool(keep_tension)
         super().__init__(a, b, name, **kwargs)
 
-    def free_length(self, values):
+    def free_length(self, values: dict) -> Value:
         """``l0 = d (n + 1) + 2 (D − d)`` [m]: the closed body and two machine hooks."""
         d, D, n = values["wire_diameter"], values["mean_diameter"], values["active_coils"]
         return d * (n + 1) + 2 * (D - d)
 
-    def tension(self, length, parameters):
+    def tension(self, length: Value, parameters: Parameters) -> Value:
         stretch = length - self.free_length(parameters)                                           # [m]
         return parameters["initial_tension"] + self.rate(parameters) * stretch                     # [N]
 
-    def potential(self, length, parameters):
+    def potential(self, length: Value, parameters: Parameters) -> Value:
         stretch = length - self.free_length(parameters)                                           # [m]
         return stretch * (parameters["initial_tension"] + 0.5 * self.rate(parameters) * stretch)   # [J]
 
-    def derived_values(self, values) -> dict:
+    def derived_values(self, values: dict) -> dict:
         """The extension law of this coil: ``stiffness`` [N/m], ``free_length`` [m], ``initial_tension`` [N]."""
         return {"stiffness": float(self.rate(values)), "free_length": float(self.free_length(values)),
                 "initial_tension": float(values["initial_tension"])}
@@ -118,12 +121,12 @@ class HelicalExtensionSpring(HelicalCoilSpring):
     def options(self) -> dict:
         return {**super().options(), "keep_tension": self.keep_tension}
 
-    def tendon_law(self, values, lengths):
+    def tendon_law(self, values: dict, lengths: np.ndarray) -> tuple[float, float, float]:
         """Exact: ``F = k L + (F_i − k l0)``."""
         law = self.derived_values(values)
         return law["stiffness"], law["initial_tension"] - law["stiffness"] * law["free_length"], 0.0
 
-    def law_warnings(self, values, lengths, tolerance: float = 1e-6) -> list[str]:
+    def law_warnings(self, values: dict, lengths: np.ndarray, tolerance: float = 1e-6) -> list[str]:
         free = float(self.free_length(values))
         slack = int(np.sum(lengths < free - tolerance))
         warnings = []
@@ -134,7 +137,7 @@ class HelicalExtensionSpring(HelicalCoilSpring):
                 "spring keeps the linear law and pushes")
         return warnings + super().law_warnings(values, lengths, tolerance)
 
-    def spec_sheet(self, values, lengths, forces) -> dict:
+    def spec_sheet(self, values: dict, lengths: np.ndarray, forces: np.ndarray) -> dict:
         """The part's data sheet over the workspace and its buildable verdict, checked from the numbers.
 
         ``values``: the parameter values [SI]; ``lengths`` [m] and ``forces`` [N]: its length and

@@ -26,14 +26,15 @@ of the potential, piecewise smooth in the force.
 from __future__ import annotations
 
 import dataclasses
-from typing import Annotated
+from typing import Annotated, Any, Sequence
 
 import annotated_types
 import numpy as np
 
 from springbalance.errors import InputError
-from springbalance.springs.laws.base import TwoPointSpring
+from springbalance.springs.laws.two_point import TwoPointSpring
 from springbalance.springs.params import Anchor
+from springbalance.springs.values import Parameters, Value
 
 #: the type of the ``table`` option in the config schema: at least two [length m, force N] rows.
 TableOption = Annotated[list[Annotated[list[float], annotated_types.Len(2, 2)]], annotated_types.MinLen(2)]
@@ -54,7 +55,7 @@ class StaysInTable:
     unit = "m"
     parts = (("in_table_low", "m", 0.1), ("in_table_high", "m", 0.1))
 
-    def rows(self, length, force, parameters):
+    def rows(self, length: Value, force: Value, parameters: Parameters) -> Value | list[Value]:
         x = length - parameters["shift"]                       # [m]
         return [x - self.low, self.high - x]
 
@@ -83,8 +84,8 @@ class TabulatedSpring(TwoPointSpring):
     option_types = {**TwoPointSpring.option_types, "table": TableOption, "stays_in_table": bool}
     required_options = ("table",)
 
-    def __init__(self, a: Anchor, b: Anchor, name: str | None = None, *, table=None, stays_in_table: bool = True,
-                 **kwargs):
+    def __init__(self, a: Anchor, b: Anchor, name: str | None = None, *, table: Sequence[Sequence[float]] | None = None,
+                 stays_in_table: bool = True, **kwargs: Any):
         super().__init__(a, b, name, **kwargs)
         self.table = _checked_table(table, self._label())
         self.stays_in_table = bool(stays_in_table)
@@ -105,11 +106,11 @@ class TabulatedSpring(TwoPointSpring):
             energy = energy + 0.5 * change * past * past
         return force, energy
 
-    def tension(self, length, parameters):
+    def tension(self, length: Value, parameters: Parameters) -> Value:
         force, _ = self._curve(length - parameters["shift"])
         return parameters["scale"] * force                                      # [N]
 
-    def potential(self, length, parameters):
+    def potential(self, length: Value, parameters: Parameters) -> Value:
         _, energy = self._curve(length - parameters["shift"])
         return parameters["scale"] * energy                                     # [J]
 
@@ -125,7 +126,7 @@ class TabulatedSpring(TwoPointSpring):
         record["stays_in_table"] = self.stays_in_table
         return record
 
-    def tendon_law(self, values, lengths):
+    def tendon_law(self, values: dict, lengths: np.ndarray) -> tuple[float, float, float]:
         """A straight table is exact: ``F = σ s_0 L + σ (f_0 - s_0 (x_0 + δ))``; a curve gets its best line."""
         if np.all(np.abs(self.slope_changes) <= 1e-12 * np.max(np.abs(self.slopes), initial=1.0)):
             scale, shift = values["scale"], values["shift"]
@@ -133,7 +134,7 @@ class TabulatedSpring(TwoPointSpring):
             return float(scale * s0), float(scale * (f0 - s0 * (x0 + shift))), 0.0
         return super().tendon_law(values, lengths)
 
-    def law_warnings(self, values, lengths, tolerance: float = 1e-6) -> list[str]:
+    def law_warnings(self, values: dict, lengths: np.ndarray, tolerance: float = 1e-6) -> list[str]:
         """Outside its table a real part is unknown (or at its stop); the law continues linearly."""
         warnings = []
         x = np.asarray(lengths) - values["shift"]

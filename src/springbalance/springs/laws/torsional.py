@@ -2,9 +2,15 @@ r"""Torsional spring on a revolute joint (docs/model.md §3.6)."""
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
+
 from springbalance.errors import InputError
 from springbalance.springs import constraints as practical
-from springbalance.springs.laws.base import Contribution, PositiveNumber, Spring, _positive_option
+from springbalance.springs.laws.spring import Contribution, PositiveNumber, Sample, Spring, _positive_option
+from springbalance.springs.values import Parameters, Value
+
+if TYPE_CHECKING:
+    from springbalance.model.mechanism import Mechanism
 
 
 class TorsionalSpring(Spring):
@@ -30,7 +36,7 @@ class TorsionalSpring(Spring):
     force_quantity = ("torque", "N·m")
 
     def __init__(self, joint: str, name: str | None = None, *, max_torque: float | None = None,
-                 max_deflection: float | None = None, **parameters):
+                 max_deflection: float | None = None, **parameters: Any):
         if not isinstance(joint, str) or not joint:
             raise InputError(f"TorsionalSpring {name or ''}: joint must be a joint name, got {joint!r}")
         self.joint = joint
@@ -42,7 +48,7 @@ class TorsionalSpring(Spring):
     def joints(self) -> tuple[str, ...]:
         return (self.joint,)
 
-    def check(self, mechanism) -> None:
+    def check(self, mechanism: Mechanism) -> None:
         try:
             joint = mechanism.joint(self.joint)
         except InputError as error:
@@ -51,16 +57,16 @@ class TorsionalSpring(Spring):
             raise InputError(f"torsional spring {self.name!r}: joint {self.joint!r} is prismatic; "
                              "a torsional spring needs a revolute or continuous joint")
 
-    def torque(self, angle, parameters):
+    def torque(self, angle: Value, parameters: Parameters) -> Value:
         """Spring torque ``k (q - q0) + τ0`` [N·m] at joint angle ``q`` [rad]."""
         return parameters["stiffness"] * (angle - parameters["neutral_angle"]) + parameters["preload"]
 
-    def potential(self, angle, parameters):
+    def potential(self, angle: Value, parameters: Parameters) -> Value:
         """Stored energy ``k (q - q0)²/2 + τ0 (q - q0)`` [J]."""
         deflection = angle - parameters["neutral_angle"]                      # [rad]
         return deflection * (parameters["preload"] + 0.5 * parameters["stiffness"] * deflection)  # [J]
 
-    def contribution(self, sample, parameters, points) -> Contribution:
+    def contribution(self, sample: Sample, parameters: Parameters, points: dict) -> Contribution:
         angle = sample.coordinate(self.joint)                                 # q_i [rad]
         torque = self.torque(angle, parameters)                               # [N·m]
         return Contribution(sample.direction(self.joint) * torque, self.potential(angle, parameters), angle, torque)

@@ -2,7 +2,10 @@ r"""Zero-free-length spring (docs/model.md §3.2): the law of exact balance."""
 
 from __future__ import annotations
 
-from springbalance.springs.laws.base import TwoPointSpring
+import numpy as np
+
+from springbalance.springs.laws.two_point import TwoPointSpring
+from springbalance.springs.values import Parameters, Value
 
 
 class ZeroFreeLengthSpring(TwoPointSpring):
@@ -16,19 +19,19 @@ class ZeroFreeLengthSpring(TwoPointSpring):
     nonnegative = ("stiffness",)
     linear_parameters = ("stiffness",)
 
-    def tension(self, length, parameters):
+    def tension(self, length: Value, parameters: Parameters) -> Value:
         return parameters["stiffness"] * length                       # [N/m]·[m] = [N]
 
-    def potential(self, length, parameters):
+    def potential(self, length: Value, parameters: Parameters) -> Value:
         return 0.5 * parameters["stiffness"] * length * length        # [N/m]·[m²] = [J]
 
-    def potential_of_square(self, square, parameters):
+    def potential_of_square(self, square: Value, parameters: Parameters) -> Value:
         """``k L² / 2`` from ``L²`` [m²]: its derivative stays finite where the ends meet (``L = 0``)."""
         return 0.5 * parameters["stiffness"] * square                 # [N/m]·[m²] = [J]
 
-    def tension_per_length(self, length, parameters):
+    def tension_per_length(self, length: Value, parameters: Parameters) -> Value:
         return parameters["stiffness"] + 0 * length                   # smooth at L = 0
 
-    def tendon_law(self, values, lengths):
+    def tendon_law(self, values: dict, lengths: np.ndarray) -> tuple[float, float, float]:
         """Exact: ``F = k L`` (``k``, ``c = 0``)."""
         return float(values["stiffness"]), 0.0, 0.0

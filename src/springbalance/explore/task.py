@@ -1,0 +1,94 @@
+"""One task of a study: one spring topology at one grid point, solved by a pure function of its payload.
+
+A :class:`Task` carries the full design config of its topology (``record``: the study's config
+with the topology's springs and the grid point's overrides). :func:`task_payload` turns it into
+the plain mapping that travels to a worker, and :func:`solve_task` solves it there (the
+multi-start of one design problem), so the same task gives the same result on any worker.
+A design balances exactly when its peak residual torque is below :data:`EXACT` times the
+unbalanced peak [1].
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from springbalance.design.torque_model import one_thread
+from springbalance.errors import SolverError, SpringBalanceError
+from springbalance.io.config import config_from_dict
+from springbalance.pipeline import solve
+
+if TYPE_CHECKING:
+    from springbalance.results.result import DesignResult
+
+#: a design balances exactly when its residual peak is below this fraction of the unbalanced peak
+EXACT = 1e-6
+
+
+@dataclasses.dataclass
+class Task:
+    """One topology at one grid point: ``record`` is the full design config given to :func:`solve_task`."""
+
+    id: str
+    topology: tuple[int, ...]
+    labels: tuple[str, ...]
+    grid: dict[str, Any]
+    record: dict[str, Any]
+
+    @property
+    def count(self) -> int:
+        """The number of springs of the topology."""
+        return len(self.topology)
+
+
+def task_payload(task: Task, base_dir: Path, starts: int, seed: int) -> dict[str, Any]:
+    """The mapping :func:`solve_task` takes: the task's record, the folder its relative paths start from,
+    and the multi-start's ``starts`` and ``seed``."""
+    return {"id": task.id, "labels": list(task.labels), "grid": task.grid, "record": task.record,
+            "base_dir": str(base_dir), "starts": starts, "seed": seed}
+
+
+def solve_task(payload: dict[str, Any]) -> dict[str, Any]:
+    """Solve one task (a pure function of ``payload``): the multi-start of one topology at one grid point.
+
+    Returns the row of ``results.csv`` plus ``design``, the design's saved record (None when it failed).
+    """
+    clock = time.perf_counter()
+    row: dict[str, Any] = {"id": payload["id"], "springs": payload["labels"], "count": len(payload["labels"]),
+                           "grid": payload["grid"], "starts": payload["starts"], "seed": payload["seed"]}
+    try:
+        config = config_from_dict(payload["record"], payload["base_dir"], f"task {payload['id']}")
+        # one process and one thread per task: the study spreads tasks over the cores, not the starts of one task
+        with one_thread():
+            result = solve(config, starts=payload["starts"], seed=payload["seed"], progress=False, workers=1)
+    except (SolverError, SpringBalanceError) as error:
+        return {**row, "status": "failed", "error": str(error).splitlines()[0], "exact": False, "design": None,
+                "seconds": time.perf_counter() - clock}
+    except (ArithmeticError, ValueError, RuntimeError) as error:   # numerical trouble: this topology fails, not the study
+        return {**row, "status": "failed", "error": f"{type(error).__name__}: {str(error).splitlines()[0]}",
+                "exact": False, "design": None, "seconds": time.perf_counter() - clock}
+    return {**row, **_solved_row(result), "seconds": time.perf_counter() - clock}
+
+
+def _solved_row(result: DesignResult) -> dict[str, Any]:
+    """The columns of a solved task: objective before and after, residual (relative to the unbalanced
+    peak), exactness, the springs' total mass [kg] and whether every spring is buildable."""
+    metrics = result.metrics()
+    balance = result.exact_balance()
+    objective = metrics["optimised"]
+    masses = [record.get("mass") for record in result.springs]
+    sheets = [record["helical"]["buildable"] for record in result.springs if isinstance(record.get("helical"), dict)]
+    flags = [flag.kind for flag in result.warnings()]
+    # buildable: every spring is a coil whose spec sheet passes (an ideal law, such as a zero-free-length
+    # spring, says nothing about a part that could be wound)
+    buildable = (len(sheets) == len(result.springs) and all(sheets)
+                 and not any(kind in ("unbuildable", "unbuildable_ideal") for kind in flags))
+    return {"status": "solved", "objective": objective,
+            "objective_value": metrics["objectives"][objective]["after"],
+            "objective_before": metrics["objectives"][objective]["before"],
+            "peak_residual": balance["residual"], "relative_residual": balance["relative_residual"],
+            "exact": bool(balance["relative_residual"] < EXACT),
+            "spring_mass": float(sum(masses)) if masses and all(m is not None for m in masses) else None,
+            "buildable": bool(buildable), "error": "", "design": result.to_dict()}

@@ -1,0 +1,113 @@
+"""springbalance.solve: one entry point from a problem or a config, the steps in order, the problem unchanged."""
+
+from __future__ import annotations
+
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import springbalance as sb
+from springbalance.errors import InputError
+from springbalance.io.catalogue import read_catalogue
+from springbalance.io.config import config_from_dict, load_config
+from springbalance.pipeline import STEPS, SolveOptions
+from springbalance.pipeline.state import SolveState
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+@pytest.fixture(scope="module")
+def pendulum():
+    mechanism = sb.Mechanism.from_urdf(ROOT / "urdf/single_link_r2.urdf", gravity=9.8)
+    workspace = sb.Workspace.grid(mechanism, 61)
+    spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", sb.Free([-0.2, 0, 0.0], [0.2, 0, 0.3])),
+                                     sb.Anchor("link1", sb.Free([0.0, 0, 0], [0.4, 0, 0])),
+                                     stiffness=sb.Free(0, 2000))
+    return sb.DesignProblem(mechanism, workspace, [spring])
+
+
+def test_the_steps_run_in_the_documented_order():
+    assert [step.__name__ for step in STEPS] == ["first_guess", "mount_rows", "multi_start", "fit_to_arm",
+                                                 "round_wires"]
+
+
+def test_solve_of_a_problem_balances_a_pendulum_exactly(pendulum):
+    result = sb.solve(pendulum, starts=2, progress=False)
+    assert isinstance(result, sb.DesignResult)
+    # a zero-free-length spring from above the pivot balances a pendulum exactly (docs/model.md)
+    assert result.exact_balance(tolerance=1e-6)["exact"]
+    assert result.metrics()["objectives"]["rms"]["reduction_percent"] > 99.999
+
+
+def test_the_deprecated_problem_solve_warns_and_gives_the_same_design(pendulum):
+    expected = sb.solve(pendulum, starts=2, seed=1, progress=False)
+    with pytest.warns(DeprecationWarning, match=r"springbalance\.solve"):
+        deprecated = pendulum.solve(starts=2, seed=1, progress=False)
+    np.testing.assert_array_equal(deprecated.x, expected.x)
+
+
+def test_the_deprecated_problem_result_warns_and_wraps_the_design(pendulum):
+    x = np.array(pendulum.variables.start)
+    with pytest.warns(DeprecationWarning, match="DesignResult"):
+        result = pendulum.result(x)
+    assert isinstance(result, sb.DesignResult)
+    np.testing.assert_array_equal(result.residual_torque(), sb.DesignResult(pendulum, x).residual_torque())
+
+
+def test_a_config_gives_the_defaults_and_keyword_arguments_win():
+    config = load_config(ROOT / "examples/two_link.yaml")
+    record = {**config.solve_options}
+    options = SolveOptions.merged(record, {"starts": 3, "seed": None})
+    assert options.starts == 3 and options.seed == record.get("seed", 0)
+    with pytest.raises(InputError, match="unknown solve option"):
+        SolveOptions.merged({"start": 2}, {})
+
+
+def test_solve_names_what_it_was_given_when_it_is_neither_a_problem_nor_a_config():
+    with pytest.raises(InputError, match="DesignProblem or a Config, got str"):
+        sb.solve("examples/two_link.yaml")
+
+
+def test_solve_leaves_the_problem_unchanged_and_the_result_carries_the_rows():
+    """A mounted anchor adds linear rows: they live on the state's copy of the problem, not on the caller's."""
+    config = config_from_dict({
+        "mechanism": {"urdf": "urdf/two_link_planar_collision.urdf"},
+        "workspace": {"kind": "sobol", "n": 32, "seed": 0},
+        "springs": [{"name": "s1", "type": "zero_free_length", "stiffness": {"lower": 0, "upper": 3000},
+                     "a": {"body": "universe", "box": {"lower": [-0.1, 0, 0.05], "upper": [0.1, 0, 0.3]}},
+                     "b": {"body": "link1", "on": "collision", "offset": 0.005}}],
+        "solve": {"starts": 1}}, base_dir=ROOT)
+    problem = config.problem
+    result = sb.solve(config, progress=False)
+    assert problem.linear_rows is None
+    assert result.problem is not problem and result.problem.linear_rows is not None
+    assert result.fit is not None and result.fit.converged
+
+
+def test_stock_parts_are_chosen_when_a_catalogue_is_given():
+    """The R1 link (8 kg) with an ideal extension spring: solve, then the nearest catalogue parts."""
+    mechanism = sb.Mechanism.from_urdf(ROOT / "urdf/single_link_r1.urdf")
+    spring = sb.ExtensionSpring(sb.Anchor("ground", sb.Free([0, -0.1, 0.05], [0, 0.1, 0.3])),
+                                sb.Anchor("link1", sb.Free([0, 0, 0.05], [0, 0, 0.4])), "s1",
+                                stiffness=sb.Free(0, 1e4), free_length=sb.Free(0.02, 1.0),
+                                initial_tension=sb.Free(0, 200))
+    problem = sb.DesignProblem(mechanism, sb.Workspace.grid(mechanism, n=16), [spring])
+    parts = read_catalogue(ROOT / "examples/stock_springs.csv")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", DeprecationWarning)
+        result = sb.solve(problem, starts=2, progress=False, stock=parts)
+    assert result.stock is not None
+    chosen = result.stock.parts()
+    assert list(chosen) == ["s1"] and chosen["s1"] in {row.part_number for row in parts}
+    assert result.problem.springs[0].part_number == chosen["s1"]
+    assert result.stock.stock_objective == pytest.approx(result.problem.objective_value(result.evaluation))
+
+
+def test_a_state_is_a_value(pendulum):
+    state = SolveState(pendulum, SolveOptions())
+    later = state.but(initial=np.zeros(pendulum.variables.size))
+    assert state.initial is None and later.initial is not None and later.problem is pendulum
+    with pytest.raises(RuntimeError, match="multi-start"):
+        state.solved
