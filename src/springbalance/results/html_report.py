@@ -30,7 +30,7 @@ from springbalance.files import write_text_atomic
 from springbalance.results import plots
 from springbalance.results.flags import Flag, flags
 from springbalance.results.report import balance_statement, checked_clearance, spec_sheet_rows
-from springbalance.viz.scene import DesignScene
+from springbalance.viz.design_scene import DesignScene
 
 
 def _number(value: float | None, digits: int = 4) -> str:
