@@ -74,7 +74,7 @@ def test_working_set_ends_at_a_solution_of_the_full_nlp():
 
     structured._solver = counting
     options = {"print_time": False, "ipopt.print_level": 0, "ipopt.sb": "yes", "ipopt.tol": 1e-8}
-    w, status, iterations, _ = sb.solve(structured, w0, nlp.lower, nlp.upper, options, 200)
+    w, status, iterations, _ = structured.solve(w0, nlp.lower, nlp.upper, options, 200)
     assert status == "Solve_Succeeded"
     assert max(seen) < nlp.n_rows / 2          # IPOPT never had most of the rows
     assert np.min(structured.row_values(w)) > -1e-7

@@ -45,7 +45,7 @@ def test_a_joint_held_still_gets_no_panel():
     workspace = sb.Workspace.sobol(mechanism, 64, ranges={"shoulder": [-90, 90], "elbow": [0, 0]}, degrees=True)
     spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", (0, 0, 0.1)), sb.Anchor("link1", (0.3, 0, 0)),
                                      stiffness=500.0)
-    result = sb.DesignProblem(mechanism, workspace, [spring]).result(np.zeros(0))
+    result = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [spring]), np.zeros(0))
     figure = plots.plot_torques(result, points=21)
     assert [a.get_xlabel() for a in figure.axes if a.lines] == ["shoulder [deg]"]
 

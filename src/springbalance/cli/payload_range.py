@@ -9,10 +9,10 @@ from pathlib import Path
 import numpy as np
 
 from springbalance.errors import InputError
+from springbalance.pipeline.payload import payload_range
 from springbalance.results.payload import (
     PayloadRange,
     PayloadSweep,
-    payload_range,
     residual_vs_payload,
 )
 from springbalance.results.result import DesignResult
