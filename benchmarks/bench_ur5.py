@@ -49,7 +49,8 @@ import numpy as np
 from scipy.optimize import least_squares
 
 import springbalance as sb
-from springbalance.design.solvers import _MultiStartSolver, start_points
+from springbalance.design.solvers import start_points
+from springbalance.design.solvers.multistart import _MultiStartSolver
 from springbalance.design.torque_model import BlockEvaluator, compiled
 from threadpoolctl import threadpool_limits
 
