@@ -100,7 +100,7 @@ def run(label, springs):
     phase_times.clear()
     clock = time.perf_counter()
     problem = sb.DesignProblem(mechanism, workspace, springs, objective="rms")
-    result = problem.solve(starts=args.starts, seed=args.seed, progress=False)
+    result = sb.solve(problem, starts=args.starts, seed=args.seed, progress=False)
     seconds = time.perf_counter() - clock
     metrics = result.metrics()
     rms, peak = metrics["objectives"]["rms"], metrics["objectives"]["peak"]

@@ -67,7 +67,7 @@ for label, clearance in (("unconstrained", None),
                                                       rounds=args.rounds, starts=args.fit_starts))):
     clock = time.perf_counter()
     problem = sb.DesignProblem(mechanism, workspace, springs(), clearance=clearance)
-    result = problem.solve(starts=args.starts, seed=args.seed)
+    result = sb.solve(problem, starts=args.starts, seed=args.seed)
     seconds = time.perf_counter() - clock
     rms = result.metrics()["objectives"]["rms"]
     check = result.clearance(samples=VERIFY, margin=args.margin)

@@ -2,7 +2,7 @@
 
 Problem: UR5 with the 4 extension springs of bench_ur5.py (anchors in ±0.3 m boxes, stiffness and free
 length free, no tension constraint), rms objective, the compiled residual of DesignProblem's
-least-squares solver (solvers._LeastSquaresResiduals). Two builds of the same residual, in this process:
+least-squares solver (solvers.residuals._LeastSquaresResiduals). Two builds of the same residual, in this process:
 
   - "CasADi map": the compiled library of CasADi's C code, evaluated by CasADi's serial map over
     each block of samples (BlockEvaluator(..., kernel=False): the path before the block kernel);
@@ -36,7 +36,9 @@ from threadpoolctl import threadpool_limits
 
 import springbalance as sb
 from springbalance.design import torque_model
-from springbalance.design.solvers import _LeastSquaresResiduals, _MultiStartSolver, start_points
+from springbalance.design.solvers import start_points
+from springbalance.design.solvers.multistart import _MultiStartSolver
+from springbalance.design.solvers.residuals import _LeastSquaresResiduals
 from springbalance.design.torque_model import BlockEvaluator
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])

@@ -29,7 +29,7 @@ clock = time.perf_counter()
 gas = sb.GasSpring(sb.Anchor("universe", (GROUND[0], 0, GROUND[1])),
                    sb.Anchor("link1", sb.Segment((0.05, 0, 0), (0.3, 0, 0))),
                    stiffness=sb.Free(*BOUNDS[1]), preload=sb.Free(*BOUNDS[0]), free_length=L0)
-result = sb.DesignProblem(mechanism, workspace, [gas], objective="peak").solve(starts=8)
+result = sb.solve(sb.DesignProblem(mechanism, workspace, [gas], objective="peak"), starts=8)
 optimiser_seconds = time.perf_counter() - clock
 values = result.spring("s1")
 peak = result.metrics()["joints"][0]["peak_after"]

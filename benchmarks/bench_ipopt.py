@@ -56,7 +56,7 @@ def ur5_problem():
 
 
 def two_link_problem():
-    from springbalance.design.solvers import _MultiStartSolver
+    from springbalance.design.solvers.multistart import _MultiStartSolver
     from springbalance.io.config import load_config
 
     problem = load_config(ROOT / "examples" / "two_link.yaml").problem

@@ -29,6 +29,7 @@ RUN = textwrap.dedent("""
     import json, resource, sys, time
     import springbalance as sb
     from springbalance.design import solvers
+    from springbalance.design.solvers import multistart, residuals
     samples, iterations, full = int(sys.argv[1]), int(sys.argv[2]), sys.argv[3] == "full"
     mechanism = sb.Mechanism.from_robot("ur5")
     baseline = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss   # KiB (Linux)
@@ -40,8 +41,8 @@ RUN = textwrap.dedent("""
                for i, (a, b) in enumerate(pairs)]
     problem = sb.DesignProblem(mechanism, sb.Workspace.sobol(mechanism, samples, seed=1), springs)
     if full:
-        problem.least_squares_cache = solvers._LeastSquaresResiduals(problem, block=samples)
-    solver = solvers._MultiStartSolver(problem, "least_squares", iterations, 1e-8)
+        problem.least_squares_cache = residuals._LeastSquaresResiduals(problem, block=samples)
+    solver = multistart._MultiStartSolver(problem, "least_squares", iterations, 1e-8)
     solver.prepare()
     start = solvers.start_points(problem, 1, 0)[0]
     clock = time.perf_counter()

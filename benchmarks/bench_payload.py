@@ -53,7 +53,7 @@ print(f"{'(no springs)':<22s}" + "".join(f"{p:14.4f}" for p in bare_peaks) + f"{
 results = {}
 for label, problem in problems.items():
     clock = time.perf_counter()
-    result = problem.solve(starts=4)
+    result = sb.solve(problem, starts=4)
     seconds = time.perf_counter() - clock
     if problem.per_scenario:
         peaks = np.array([row["peak"] for row in problem.scenario_table(result.x)])

@@ -91,7 +91,7 @@ SETUP = textwrap.dedent(f"""
     import numpy as np
     import springbalance as sb
     from springbalance.design import compile_cache
-    from springbalance.design.solvers import _LeastSquaresResiduals
+    from springbalance.design.solvers.residuals import _LeastSquaresResiduals
     box = lambda: sb.Free([-0.3] * 3, [0.3] * 3)
     pairs = [("universe", "upper_arm_link"), ("universe", "forearm_link"),
              ("upper_arm_link", "forearm_link"), ("shoulder_link", "forearm_link")]

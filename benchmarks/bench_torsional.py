@@ -30,7 +30,7 @@ for label, (lower, upper) in (("0° … 180°", (0, 180)), ("-45° … 135°", (
     for objective in ("peak", "pe_variance"):
         spring = sb.TorsionalSpring("theta", stiffness=sb.Free(0, 20), neutral_angle=sb.Free(-2 * np.pi, 2 * np.pi))
         clock = time.perf_counter()
-        result = sb.DesignProblem(mechanism, workspace, [spring], objective=objective).solve(starts=4)
+        result = sb.solve(sb.DesignProblem(mechanism, workspace, [spring], objective=objective), starts=4)
         seconds = time.perf_counter() - clock
         row = result.metrics()["joints"][0]
         values = result.spring("s1")

@@ -49,7 +49,8 @@ import numpy as np
 from scipy.optimize import least_squares
 
 import springbalance as sb
-from springbalance.design.solvers import _MultiStartSolver, start_points
+from springbalance.design.solvers import start_points
+from springbalance.design.solvers.multistart import _MultiStartSolver
 from springbalance.design.torque_model import BlockEvaluator, compiled
 from threadpoolctl import threadpool_limits
 
@@ -310,7 +311,7 @@ for name in SOLVERS[1:]:
 # ---------------------------------------------------------------- part 2: multi-start with tension constraints
 constrained = sb.DesignProblem(mechanism, workspace, springs(keep_tension=True))
 clock = time.perf_counter()
-result = constrained.solve(starts=args.starts, seed=0, progress=False)
+result = sb.solve(constrained, starts=args.starts, seed=0, progress=False)
 total = time.perf_counter() - clock
 times = [start.seconds for start in result.starts]
 print(f"\nmulti-start with L ≥ l0: {args.starts} starts in {total:.2f} s; per start median {np.median(times):.2f} s, "

@@ -18,7 +18,8 @@ import time
 import numpy as np
 
 import springbalance as sb
-from springbalance.design.solvers import _MultiStartSolver, solve_problem
+from springbalance.design.solvers import solve_problem
+from springbalance.design.solvers.multistart import _MultiStartSolver
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--samples", type=int, default=4096)

@@ -8,15 +8,30 @@ bounds (the design vector is the problem's first guess):
   its tension is high (dark red on the colour scale);
 - ``forearm``: a point free in a box of link1 to a point of link2, soft, so its tension
   stays low (yellow).
+
+And what the scene tests share: the springs' ends straight from Pinocchio, a scene recorded in memory
+and its animation clips, Chromium (or a skip), and the "crossing" spring that link2 passes through.
 """
 
 from __future__ import annotations
 
 from pathlib import Path
 
+import colorsys
+
 import numpy as np
+import pinocchio as pin
+import pytest
+import umsgpack
 
 import springbalance as sb
+from springbalance.viz import browser
+from springbalance.viz import scene as viz
+from springbalance.viz.meshcat_import import import_meshcat
+from springbalance.viz.recorder import SceneRecorder
+
+meshcat = import_meshcat()   # silences meshcat's import-time deprecation warning
+from meshcat.servers.tree import walk  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 URDF = ROOT / "urdf"
@@ -35,7 +50,7 @@ def two_link_design(n: int = 7) -> sb.DesignResult:
                            name="forearm", stiffness=20.0, free_length=0.05, keep_tension=False),
     ]
     problem = sb.DesignProblem(mechanism, workspace, springs, objective="rms")
-    return problem.result(np.array(problem.variables.start))
+    return sb.DesignResult(problem, np.array(problem.variables.start))
 
 
 def ur5_design(n: int = 16) -> sb.DesignResult:
@@ -49,4 +64,80 @@ def ur5_design(n: int = 16) -> sb.DesignResult:
                                 sb.Anchor("forearm_link", (0.1, 0.0, 0.02)), name="s2", stiffness=800.0),
     ]
     problem = sb.DesignProblem(mechanism, workspace, springs, objective="rms")
-    return problem.result(np.array(problem.variables.start))
+    return sb.DesignResult(problem, np.array(problem.variables.start))
+
+
+# ---------------------------------------------------------------------- what the scene tests share
+def model_end_points(result, joint_values):
+    """World positions of each spring's ends straight from Pinocchio (not from the scene code)."""
+    mechanism = result.problem.mechanism
+    model = mechanism.model
+    data = model.createData()
+    ends = {record["name"]: ([], []) for record in result.springs}
+    for q in mechanism.configurations(joint_values):
+        pin.framesForwardKinematics(model, data, q)
+        for record in result.springs:
+            for slot, end in enumerate(("a", "b")):
+                frame = data.oMf[mechanism.frame_id(record[end]["body"])]
+                ends[record["name"]][slot].append(frame.act(np.array(record[end]["point"])))
+    return {name: (np.array(a), np.array(b)) for name, (a, b) in ends.items()}
+
+
+def recorded_scene(result, path):
+    recorder = SceneRecorder()
+    visualizer = meshcat.Visualizer(window=recorder)
+    scene = viz.DesignScene(result, path)
+    scene.draw(visualizer)
+    return scene, recorder
+
+
+def animation_clips(recorder):
+    animation = next(umsgpack.unpackb(node.animation) for node in walk(recorder.tree) if node.animation is not None)
+    return {item["path"]: {track["name"]: [key["value"] for key in track["keys"]] for track in item["clip"]["tracks"]}
+            for item in animation["animations"]}
+
+
+def record_scene(scene):
+    recorder = SceneRecorder()
+    scene.draw(meshcat.Visualizer(window=recorder))
+    return recorder
+
+
+def require_chromium():
+    if browser.find_chromium() is None:
+        pytest.skip("Chromium is not installed (Debian package `chromium`; `make chromium` installs it as root); "
+                    "run `make demo-check` where it is")
+
+
+def hue_distance(rgb_1, rgb_2) -> float:
+    h1, h2 = (360 * colorsys.rgb_to_hsv(*rgb)[0] for rgb in (rgb_1, rgb_2))
+    return abs((h1 - h2 + 180) % 360 - 180)
+
+
+# urdf/two_link_planar_collision.urdf (see its header): both joints turn about (0, -1, 0), so a
+# positive angle lifts a link from +x towards +z; link1 runs 0.5 m along x from the shoulder (the
+# origin), link2's collision box is 0.4 × 0.03 × 0.03 m, centred 0.2 m along link2 from the elbow.
+# "crossing" runs from the ground point P = (0.6, 0, 0.25) to S = (0.4, 0, 0) on link1; with the
+# shoulder at 0 the elbow sits at E = (0.5, 0, 0) and link2 points along (cos e, 0, sin e).
+COLLISION_URDF = URDF / "two_link_planar_collision.urdf"
+CROSSING_P, CROSSING_S, ELBOW = np.array([0.6, 0.0, 0.25]), np.array([0.4, 0.0, 0.0]), np.array([0.5, 0.0, 0.0])
+LINK2_LENGTH, LINK2_HALF_WIDTH = 0.4, 0.015                 # [m] of link2's box
+CAPSULE_RADIUS = 0.01                                      # [m] of a spring without a spec sheet
+MARGIN = 0.02                                              # [m]
+
+
+def fixed_design(urdf, springs, path, **options):
+    """A design of fixed springs (no free variable) whose workspace is ``path`` (N×2) [rad]."""
+    mechanism = sb.Mechanism.from_urdf(urdf)
+    problem = sb.DesignProblem(mechanism, sb.Workspace.from_array(mechanism, path), springs, **options)
+    return sb.DesignResult(problem, np.zeros(0))
+
+
+def crossing_spring():
+    return sb.ExtensionSpring(sb.Anchor("universe", tuple(CROSSING_P)), sb.Anchor("link1", tuple(CROSSING_S)),
+                              name="crossing", stiffness=300.0, free_length=0.05)
+
+
+def elbow_path(degrees):
+    elbow = np.radians(degrees)
+    return np.column_stack([np.zeros_like(elbow), elbow])

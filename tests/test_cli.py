@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from springbalance.cli import main
+from springbalance.cli import build_parser, main
 from springbalance.results.result import FORMAT
 from config_helpers import SHOULDER_SPRING, edited_record
 
@@ -198,6 +198,22 @@ def test_help(capsys, argv):
         main([*argv, "--help"])
     assert exit_info.value.code == 0
     assert capsys.readouterr().out.startswith(f"usage: springbalance {' '.join(argv)}".rstrip())
+
+
+@pytest.mark.parametrize("module", ["springbalance", "springbalance.cli"])
+def test_python_dash_m_runs_the_command(module):
+    completed = subprocess.run([sys.executable, "-m", module, "--version"], capture_output=True, text=True,
+                               timeout=120)
+    assert completed.returncode == 0, completed.stderr
+    assert completed.stdout.startswith("springbalance ")
+
+
+def test_every_command_has_a_parser_and_a_handler():
+    commands = build_parser()._subparsers._group_actions[0].choices
+    assert list(commands) == ["design", "evaluate", "clearance", "view", "report", "export", "payload-range",
+                              "robots", "inspect", "explore", "schema"]
+    for name, parser in commands.items():
+        assert callable(parser.get_default("handler")), name
 
 
 def test_bad_option_values_are_usage_errors(tmp_path, capsys):

@@ -17,9 +17,14 @@ import springbalance as sb
 HEAVY = ("numpy", "casadi", "pinocchio", "pydantic", "springbalance.design", "springbalance.model.mechanism")
 
 
-def _loaded(code: str) -> list[str]:
-    """The modules of :data:`HEAVY` loaded after ``code`` ran in a fresh interpreter."""
-    probe = f"{code}\nimport json, sys\nprint(json.dumps([m for m in {HEAVY!r} if m in sys.modules]))"
+#: optional dependencies that only some commands need; the command line imports them when a command runs
+#: (meshcat joins the list once springbalance.viz imports it lazily)
+OPTIONAL = ("matplotlib", "mujoco", "dask", "distributed", "yourdfpy", "trimesh", "scipy.optimize")
+
+
+def _loaded(code: str, modules: tuple[str, ...] = HEAVY) -> list[str]:
+    """The modules of ``modules`` (default :data:`HEAVY`) loaded after ``code`` ran in a fresh interpreter."""
+    probe = f"{code}\nimport json, sys\nprint(json.dumps([m for m in {modules!r} if m in sys.modules]))"
     run = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=120)
     assert run.returncode == 0, run.stderr
     return json.loads(run.stdout.strip().splitlines()[-1])
@@ -39,9 +44,11 @@ def test_first_use_loads_what_it_needs():
     assert "pydantic" not in _loaded("import springbalance as sb\nsb.DesignProblem, sb.ExtensionSpring, sb.DesignResult")
 
 
-def test_the_command_line_help_loads_no_solver():
+def test_the_command_line_help_loads_no_optional_dependency():
+    # the command modules import their first-party modules at module level (so --help loads numpy, casadi,
+    # pinocchio and pydantic); the optional heavy dependencies stay lazy
     code = "from springbalance.cli import main\ntry:\n    main(['--help'])\nexcept SystemExit:\n    pass"
-    assert _loaded(code) == []
+    assert _loaded(code, OPTIONAL) == []
 
 
 @pytest.mark.parametrize("name", sb.__all__)
@@ -66,9 +73,10 @@ def test_from_imports_and_dir():
 
 
 def test_a_design_problem_imported_alone_still_returns_design_results():
-    # the results layer registers its DesignResult with the design layer; the problem module imported
-    # by itself (as in a worker process) gets it on the first result
+    # the deprecated DesignProblem.result imports the results layer itself: the problem module imported by
+    # itself (as in a worker process) still returns a DesignResult, with a DeprecationWarning
     code = """
+import warnings
 import numpy as np
 from springbalance.design.problem import DesignProblem
 from springbalance.model.mechanism import Mechanism
@@ -78,7 +86,11 @@ from springbalance.springs.params import Anchor
 mechanism = Mechanism.from_robot("ur5")
 spring = ZeroFreeLengthSpring(Anchor("universe", [0, 0, 0.5]), Anchor("forearm_link", [0.1, 0, 0]), "s", stiffness=100)
 problem = DesignProblem(mechanism, Workspace.sobol(mechanism, 8, seed=1), [spring])
-print(type(problem.result(np.zeros(problem.variables.size))).__qualname__)
+with warnings.catch_warnings(record=True) as caught:
+    warnings.simplefilter("always")
+    result = problem.result(np.zeros(problem.variables.size))
+assert any(issubclass(w.category, DeprecationWarning) for w in caught)
+print(type(result).__qualname__)
 """
     run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
     assert run.returncode == 0, run.stderr

@@ -31,7 +31,8 @@ if TYPE_CHECKING:  # the real imports, for type checkers and IDEs
     from springbalance.model.mechanism import GROUND, Joint, Mechanism
     from springbalance.model.workspace import Coupling, Workspace
     from springbalance.pipeline import solve
-    from springbalance.results.payload import PayloadRange, PayloadSweep, payload_range, residual_vs_payload
+    from springbalance.pipeline.payload import payload_range
+    from springbalance.results.payload import PayloadRange, PayloadSweep, residual_vs_payload
     from springbalance.results.result import DesignResult
     from springbalance.springs import constraints
     from springbalance.springs.laws import (CompressionSpring, ConstantForceSpring, ExtensionSpring, GasSpring, Spring,
@@ -65,7 +66,8 @@ _SOURCES = {
     "springbalance.model.mechanism": ("GROUND", "Joint", "Mechanism"),
     "springbalance.model.workspace": ("Coupling", "Workspace"),
     "springbalance.pipeline": ("solve",),
-    "springbalance.results.payload": ("PayloadRange", "PayloadSweep", "payload_range", "residual_vs_payload"),
+    "springbalance.pipeline.payload": ("payload_range",),
+    "springbalance.results.payload": ("PayloadRange", "PayloadSweep", "residual_vs_payload"),
     "springbalance.results.result": ("DesignResult",),
     "springbalance.springs": {"constraints": None},
     "springbalance.springs.laws": ("CompressionSpring", "ConstantForceSpring", "ExtensionSpring", "GasSpring", "Spring",

@@ -51,7 +51,7 @@ def springs(width):
 @pytest.fixture(scope="module")
 def in_plane(arm, workspace):
     """The optimum with every anchor in the arm's plane, no clearance asked for."""
-    return sb.DesignProblem(arm, workspace, springs(0.0)).solve(starts=4)
+    return sb.solve(sb.DesignProblem(arm, workspace, springs(0.0)), starts=4)
 
 
 def test_the_optimum_without_clearance_passes_through_link2(in_plane):
@@ -65,10 +65,10 @@ def test_clearance_fitted_from_a_design_through_link2_keeps_the_margin_at_10x_th
     margin = 0.005
     problem = sb.DesignProblem(arm, workspace, springs(0.1), clearance=sb.Clearance(margin=margin, check_samples=CHECK))
     start = np.array([in_plane.variables.get(name, 0.0) for name in problem.variables.names])
-    assert problem.result(start).clearance(samples=DENSE).row("s1").distance < 0    # the same design, through link2
+    assert sb.DesignResult(problem, start).clearance(samples=DENSE).row("s1").distance < 0    # the same design, through link2
     solution, fit, _ = fit_to_arm(problem, Solution(start, [], "auto", 0, "given"), method="auto", max_iterations=100,
                                tolerance=1e-8, polish_iterations=None)
-    result = problem.result(solution.x, fit=fit)
+    result = sb.DesignResult(problem, solution.x, fit=fit)
     assert fit.converged and fit.rounds >= 1 and fit.rows > 0
     report = result.clearance(samples=DENSE)     # the URDF's own shapes, 2,560 poses
     assert report.margin == margin and report.poses == DENSE
@@ -89,7 +89,7 @@ def test_the_search_between_samples_clears_a_design_fitted_on_16_poses(arm, work
     solution, fit, _ = fit_to_arm(problem, Solution(start, [], "auto", 0, "given"), method="auto", max_iterations=100,
                                tolerance=1e-8, polish_iterations=None)
     assert fit.converged
-    report = problem.result(solution.x, fit=fit).clearance(samples=DENSE)
+    report = sb.DesignResult(problem, solution.x, fit=fit).clearance(samples=DENSE)
     for row in report.rows:
         assert row.distance >= margin, str(report)
 
@@ -101,7 +101,7 @@ def test_fitting_more_starts_keeps_the_best_fit(arm, workspace):
     results = {}
     for starts in (1, 3):
         clearance = sb.Clearance(margin=margin, check_samples=64, starts=starts)
-        results[starts] = sb.DesignProblem(arm, workspace, springs(0.1), clearance=clearance).solve(starts=4, seed=1)
+        results[starts] = sb.solve(sb.DesignProblem(arm, workspace, springs(0.1), clearance=clearance), starts=4, seed=1)
     assert results[1].fit.starts == 1 and results[3].fit.starts == 3
     assert results[3].fit.converged and results[3].fit.rounds >= results[1].fit.rounds
     assert results[3].fit.objective <= results[1].fit.objective * (1 + 1e-9)
@@ -118,7 +118,7 @@ def test_solve_with_clearance_keeps_springs_apart_and_saves_the_fit(arm, workspa
                                      stiffness=sb.Free(0, 5000), name=name) for name in ("s1", "s2")]
     clearance = sb.Clearance(margin=0.005, check_samples=64, between_springs=True)
     problem = sb.DesignProblem(arm, workspace, twins, clearance=clearance)
-    result = problem.solve(starts=1)
+    result = sb.solve(problem, starts=1)
     assert result.fit is not None and result.fit.converged
     ends = {}
     poses = sb.Workspace.sobol(arm, n=640, seed=3)
@@ -178,7 +178,7 @@ def test_an_anchor_on_collision_without_a_box_goes_around_the_geometry(arm, work
     spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", sb.Free([-0.1, -0.1, 0.1], [0.1, 0.1, 0.3])),
                                      sb.Anchor("link1", None, on="collision", offset=0.005),
                                      stiffness=sb.Free(0, 5000), name="s1")
-    result = sb.DesignProblem(arm, workspace, [spring]).solve(starts=2)
+    result = sb.solve(sb.DesignProblem(arm, workspace, [spring]), starts=2)
     assert abs(box_distance(result.springs[0]["b"]["point"]) - 0.005) <= 1e-3
     assert result.fit.converged
 

@@ -106,7 +106,7 @@ def test_sit_to_stand_balances_exactly_with_one_spring(tmp_path):
     a, b = 0.15, 0.3
     k = G * SEAT_MOMENT / (a * b)                                    # k a b = m g c  [N/m]
     spring = sb.ZeroFreeLengthSpring(sb.Anchor("ground", (0, 0, a)), sb.Anchor("rear_arm", (b, 0, 0)), stiffness=k)
-    result = sb.DesignProblem(mechanism, workspace, [spring]).result(np.zeros(0))
+    result = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [spring]), np.zeros(0))
     assert result.exact_balance()["exact"]
     assert "Exactly balanced" in result.table()
     loaded = sb.DesignResult.load(result.save(tmp_path / "seat.json"))

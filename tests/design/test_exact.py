@@ -65,7 +65,7 @@ def test_double_pendulum_synthesis_balances_exactly(pendulum):
     assert synthesis.reachable and synthesis.definitive
     springs = synthesis.require()
     assert [s.parameters["stiffness"] for s in springs] == [300.0, 200.0]
-    result = sb.DesignProblem(mechanism, workspace, springs).result(np.zeros(0))
+    result = sb.DesignResult(sb.DesignProblem(mechanism, workspace, springs), np.zeros(0))
     unbalanced = np.max(np.abs(workspace.kinematics().gravity_torque))
     assert unbalanced == pytest.approx(G * (PROXIMAL_MOMENT + DISTAL_MOMENT), rel=1e-3)  # both links level
     assert np.max(np.abs(result.residual_torque())) < 1e-9 * unbalanced
@@ -91,7 +91,7 @@ def test_consecutive_springs_cannot_balance_two_links(pendulum):
     box = sb.Free(lower=[-0.6, 0, -0.6], upper=[0.6, 0, 0.6])
     springs = [sb.ZeroFreeLengthSpring(sb.Anchor(a, box), sb.Anchor(b, box), stiffness=sb.Free(0, 2000))
                for a, b in (("universe", "link1"), ("link1", "link2"))]
-    best = sb.DesignProblem(mechanism, workspace, springs).solve(starts=8)
+    best = sb.solve(sb.DesignProblem(mechanism, workspace, springs), starts=8)
     unbalanced = np.max(np.abs(workspace.kinematics().gravity_torque))
     relative = np.max(np.abs(best.residual_torque())) / unbalanced
     print(f"[exact] consecutive springs: optimiser's best peak residual {100 * relative:.3g} % of the unbalanced peak")
@@ -101,7 +101,7 @@ def test_consecutive_springs_cannot_balance_two_links(pendulum):
     # the same optimiser with the reachable topology does reach exact balance
     springs = [sb.ZeroFreeLengthSpring(sb.Anchor(a, box), sb.Anchor(b, box), stiffness=sb.Free(0, 2000))
                for a, b in (("universe", "link2"), ("link1", "link2"))]
-    assert sb.DesignProblem(mechanism, workspace, springs).solve(starts=8).exact_balance()["exact"]
+    assert sb.solve(sb.DesignProblem(mechanism, workspace, springs), starts=8).exact_balance()["exact"]
 
 
 def test_blocks_predict_the_pinocchio_potential(pendulum):
@@ -138,7 +138,7 @@ def test_three_link_chain_synthesis():
     assert synthesis.count.conditions == 12 and synthesis.count.enough
     assert synthesis.reachable
     workspace = sb.Workspace.sobol(mechanism, 256, seed=2)
-    result = sb.DesignProblem(mechanism, workspace, synthesis.springs).result(np.zeros(0))
+    result = sb.DesignResult(sb.DesignProblem(mechanism, workspace, synthesis.springs), np.zeros(0))
     assert result.exact_balance()["relative_residual"] < 1e-9
 
 
@@ -169,7 +169,7 @@ def test_synthesis_with_opposite_joint_axes():
     synthesis = exact.synthesize(mechanism, [("universe", "link2", 250.0), ("link1", "link2", 250.0)])
     workspace = sb.Workspace.sobol(mechanism, 256, ranges={"shoulder": [-180, 180], "elbow": [-180, 180]},
                                    degrees=True, seed=4)
-    result = sb.DesignProblem(mechanism, workspace, synthesis.require()).result(np.zeros(0))
+    result = sb.DesignResult(sb.DesignProblem(mechanism, workspace, synthesis.require()), np.zeros(0))
     assert result.exact_balance()["relative_residual"] < 1e-9
 
 
@@ -183,8 +183,8 @@ def test_exact_balance_judges_only_joints_with_weight():
     moment = (2.0 * 0.25 + 1.0 * 0.7 + 0.5 * 0.9) * 9.81          # Σ m c g of link1, link2, tool [N·m]
     spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", [0, 0, 0.1]), sb.Anchor("link1", [0.3, 0, 0]),
                                      stiffness=moment / (0.1 * 0.3))
-    shoulder_only = sb.DesignProblem(mechanism, workspace, [spring], weights={"elbow": 0}).result(np.zeros(0))
-    both = sb.DesignProblem(mechanism, workspace, [spring]).result(np.zeros(0))
+    shoulder_only = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [spring], weights={"elbow": 0}), np.zeros(0))
+    both = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [spring]), np.zeros(0))
     assert shoulder_only.exact_balance()["exact"]
     assert "Exactly balanced on the joints with weight > 0" in shoulder_only.table()
     assert not both.exact_balance()["exact"]     # the elbow still carries link2's weight

@@ -34,8 +34,8 @@ def arm():
                sb.ExtensionSpring(sb.Anchor("link1", sb.Free([0.0, 0, -0.1], [0.45, 0, 0.1])),
                                   sb.Anchor("link2", sb.Free([-0.1, 0, -0.05], [0.3, 0, 0.05])),
                                   stiffness=sb.Free(0, 5000), free_length=sb.Free(0.0, 0.5))]
-    results = {objective: sb.DesignProblem(mechanism, workspace, springs, objective=objective,
-                                           weights=weights).solve(starts=3)
+    results = {objective: sb.solve(sb.DesignProblem(mechanism, workspace, springs, objective=objective,
+                                           weights=weights), starts=3)
                for objective in ("peak", "peak_then_joints", "joint_peaks")}
     return mechanism, workspace, springs, weights, results
 
@@ -80,7 +80,7 @@ def test_joint_peaks_nlp_has_one_epigraph_variable_per_joint(arm):
     assert nlp.size == nlp.n_design + mechanism.nv
     assert nlp.n_rows == problem.model.n_constraints * workspace.size + 2 * mechanism.nv * workspace.size
     with pytest.raises(sb.InputError, match="least_squares"):
-        problem.solve(starts=1, method="least_squares")
+        sb.solve(problem, starts=1, method="least_squares")
 
 
 # ---------------------------------------------------------------------- no_joint_worse
@@ -99,7 +99,7 @@ def crossing():
 
 def test_without_the_constraint_a_joint_gets_worse(crossing):
     mechanism, workspace, springs, weights, unbalanced = crossing
-    result = sb.DesignProblem(mechanism, workspace, springs, weights=weights).solve(starts=2)
+    result = sb.solve(sb.DesignProblem(mechanism, workspace, springs, weights=weights), starts=2)
     peaks = np.max(np.abs(result.evaluation.tau), axis=0)
     assert peaks[1] > 1.1 * unbalanced[1]
 
@@ -111,7 +111,7 @@ def test_no_joint_worse_keeps_every_joint_within_its_unbalanced_peak(crossing, o
     problem = sb.DesignProblem(mechanism, workspace, springs, objective=objective, weights=weights,
                                no_joint_worse=True)
     np.testing.assert_allclose(problem.joint_limits, unbalanced[None, :], rtol=1e-12)
-    result = problem.solve(starts=2, method=method)
+    result = sb.solve(problem, starts=2, method=method)
     peaks = np.max(np.abs(result.evaluation.tau), axis=0)
     assert np.all(peaks <= unbalanced * (1 + TOLERANCE))
     assert peaks[0] < 0.5 * unbalanced[0]  # and the shoulder is still balanced in part
@@ -181,7 +181,7 @@ def test_joint_peaks_worst_scenario_and_peak_then_joints_needs_sum(crossing):
                                scenarios=scenarios, aggregate="worst")
     nlp = problem.build()
     assert nlp.size == nlp.n_design + 2 * mechanism.nv + 1   # t_sj per scenario and joint, and the worst
-    result = problem.solve(starts=1)
+    result = sb.solve(problem, starts=1)
     blocks = np.split(result.evaluation.tau * problem.weights, 2)
     per_scenario = [JointPeaks().value(block, None, None) for block in blocks]
     assert result.metrics()["optimised"] == "joint_peaks"

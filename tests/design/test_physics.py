@@ -75,7 +75,7 @@ def test_ur5_extension_springs_match_potential_gradient(ur5, seed):
     reference = ReferencePotential(ur5.model, reference_springs)
     _assert_torque_is_potential_gradient(ur5, workspace, evaluation.tau, reference, evaluation.potential)
     # The result object reports the same torque.
-    np.testing.assert_array_equal(problem.result(np.zeros(0)).residual_torque(), evaluation.tau)
+    np.testing.assert_array_equal(sb.DesignResult(problem, np.zeros(0)).residual_torque(), evaluation.tau)
     # Spring lengths are the anchor distances.
     for i, q in enumerate(workspace.configurations):
         np.testing.assert_allclose(evaluation.lengths[i], reference.lengths(q), rtol=1e-12, atol=1e-12)
@@ -101,7 +101,7 @@ def test_ur5_zero_free_length_springs_match_potential_gradient(ur5, seed):
         springs.append(sb.ZeroFreeLengthSpring(sb.Anchor(a, pa), sb.Anchor(b, pb), stiffness=k))
         reference_springs.append(RefSpring(a, tuple(pa), b, tuple(pb), k, zero_free_length=True))
     problem = sb.DesignProblem(ur5, workspace, springs)
-    tau = problem.result(np.zeros(0)).residual_torque()
+    tau = sb.DesignResult(problem, np.zeros(0)).residual_torque()
     reference = ReferencePotential(ur5.model, reference_springs)
     _assert_torque_is_potential_gradient(ur5, workspace, tau, reference, problem.evaluate(np.zeros(0)).potential)
     np.testing.assert_allclose(problem.evaluate(np.zeros(0)).tensions,
@@ -151,7 +151,7 @@ def test_ur5_free_design_at_random_x_matches_potential_gradient(ur5, seed):
     ])
     evaluation = problem.evaluate(x)
     _assert_torque_is_potential_gradient(ur5, workspace, evaluation.tau, reference, evaluation.potential)
-    result = problem.result(x)
+    result = sb.DesignResult(problem, x)
     np.testing.assert_array_equal(result.residual_torque(), evaluation.tau)
     # The result reports the anchors and parameters that were evaluated.
     np.testing.assert_allclose(result.spring("ext")["a"]["point"], point_a, rtol=0, atol=1e-15)

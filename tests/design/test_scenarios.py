@@ -87,7 +87,7 @@ def test_shared_stiffness_with_per_scenario_anchor_balances_each_payload(link):
                                      sb.Anchor("link1", sb.Segment((0, 0, 0), (0.35, 0, 0))), stiffness=sb.Free(500, 3000))
     scenarios = sb.payload_scenarios("link1", [0.0, 1.0, 2.0], (0.35, 0, 0))
     problem = sb.DesignProblem(mechanism, workspace, [spring], scenarios=scenarios, per_scenario=["s1.b"])
-    result = problem.solve(starts=2)
+    result = sb.solve(problem, starts=2)
     k = result.variables["s1.stiffness"]
     for index, row in enumerate(problem.scenario_table(result.x)):
         b = 0.35 * row["variables"]["s1.b.s"]
@@ -102,8 +102,8 @@ def test_worst_case_aggregate_balances_the_worst_scenario(link):
     is split evenly)."""
     mechanism, workspace = link
     scenarios = sb.payload_scenarios("link1", [0.0, 2.0], (0.35, 0, 0))
-    designs = {aggregate: sb.DesignProblem(mechanism, workspace, [r4_spring()], scenarios=scenarios,
-                                           aggregate=aggregate).solve(starts=1)
+    designs = {aggregate: sb.solve(sb.DesignProblem(mechanism, workspace, [r4_spring()], scenarios=scenarios,
+                                           aggregate=aggregate), starts=1)
                for aggregate in ("sum", "worst")}
     worst = {aggregate: max(row["rms"] for row in result.problem.scenario_table(result.x))
              for aggregate, result in designs.items()}
@@ -121,7 +121,7 @@ def test_pe_variance_is_taken_per_scenario(link):
     scenarios = sb.payload_scenarios("link1", [0.0, 1.0], (0.35, 0, 0))
     problem = sb.DesignProblem(mechanism, workspace, [r4_spring()], objective="pe_variance", scenarios=scenarios,
                                per_scenario=["s1.b"])
-    result = problem.solve(starts=1)
+    result = sb.solve(problem, starts=1)
     b = [0.35 * v for v in result.x]
     assert b == pytest.approx([0.06, 0.095], abs=1e-6)
 
@@ -129,8 +129,8 @@ def test_pe_variance_is_taken_per_scenario(link):
 def test_scenario_design_saves_and_loads(link, tmp_path):
     mechanism, workspace = link
     scenarios = [sb.Scenario("bare"), sb.Scenario("1 kg", [sb.Payload("link1", 1.0, (0.35, 0, 0))])]
-    result = sb.DesignProblem(mechanism, workspace, [r4_spring()], scenarios=scenarios,
-                              per_scenario=["s1.b"]).solve(starts=1)
+    result = sb.solve(sb.DesignProblem(mechanism, workspace, [r4_spring()], scenarios=scenarios,
+                              per_scenario=["s1.b"]), starts=1)
     path = result.save(tmp_path / "design.json")
     record = json.loads(path.read_text())
     assert record["scenarios"]["per_scenario"] == ["s1.b"] and len(record["workspace"]["joint_values"]) == 37
@@ -206,12 +206,12 @@ def test_two_link_slider_beats_robust_beats_tuned_for_no_payload():
     workspace = sb.Workspace.grid(mechanism, {"shoulder": 9, "elbow": 9},
                                   ranges={"shoulder": (-90, 90), "elbow": (-120, 120)}, degrees=True)
     payloads = sb.payload_scenarios("tool", MASSES)
-    tuned = sb.DesignProblem(mechanism, workspace, two_link_springs(), objective="peak").solve(starts=4)
+    tuned = sb.solve(sb.DesignProblem(mechanism, workspace, two_link_springs(), objective="peak"), starts=4)
     robust_problem = sb.DesignProblem(mechanism, workspace, two_link_springs(), objective="peak", scenarios=payloads)
-    robust = robust_problem.solve(starts=4)
+    robust = sb.solve(robust_problem, starts=4)
     slider_problem = sb.DesignProblem(mechanism, workspace, two_link_springs(), objective="peak", scenarios=payloads,
                                       per_scenario=["shoulder_spring.b", "elbow_spring.b"])
-    slider = slider_problem.solve(starts=4)
+    slider = sb.solve(slider_problem, starts=4)
     tuned_sweep = sb.residual_vs_payload(tuned, "tool", MASSES)
     robust_sweep = sb.residual_vs_payload(robust, "tool", MASSES)
     numbers = {"slider": worst_peak(slider_problem, slider.x), "robust": worst_peak(robust_problem, robust.x),
@@ -253,5 +253,5 @@ def test_cli_designs_scenarios_and_reports_the_payload_range(tmp_path, capsys):
 def test_example_config_reproduces_r4():
     config = load_config(Path(__file__).resolve().parents[2] / "examples" / "self_regulating_link.yaml")
     result = config.solve(progress=False)
-    b = [scenario.spring("s1")["b"]["point"][0] for scenario in result.problem.scenario_results(result.x)]
+    b = [scenario.spring("s1")["b"]["point"][0] for scenario in result.scenario_results()]
     assert b == pytest.approx([3.0 * 0.2 * G / (981 * 0.1), 0.095], abs=1e-9)

@@ -26,7 +26,7 @@ def test_max_stretch_and_max_force_hold_at_the_solution(link):
                                 sb.Anchor("link1", sb.Free([0.05, 0, 0], [0.4, 0, 0])),
                                 stiffness=sb.Free(0, 2000), free_length=sb.Free(0.02, 0.5),
                                 max_stretch=2.5, max_force=30.0)
-    result = sb.DesignProblem(mechanism, workspace, [spring]).solve(starts=4)
+    result = sb.solve(sb.DesignProblem(mechanism, workspace, [spring]), starts=4)
     lengths, tensions = result.evaluation.lengths[:, 0], result.evaluation.tensions[:, 0]
     l0 = result.variables["s1.free_length"]
     assert np.all(lengths >= l0 - 1e-6)                 # stays in tension
@@ -36,7 +36,7 @@ def test_max_stretch_and_max_force_hold_at_the_solution(link):
     free = sb.ExtensionSpring(sb.Anchor("universe", [0, 0, 0.1]),
                               sb.Anchor("link1", sb.Free([0.05, 0, 0], [0.4, 0, 0])),
                               stiffness=sb.Free(0, 2000), free_length=sb.Free(0.02, 0.5))
-    unconstrained = sb.DesignProblem(mechanism, workspace, [free]).solve(starts=4)
+    unconstrained = sb.solve(sb.DesignProblem(mechanism, workspace, [free]), starts=4)
     assert unconstrained.metrics()["objectives"]["rms"]["after"] < result.metrics()["objectives"]["rms"]["after"]
 
 
@@ -44,7 +44,7 @@ def test_energy_objective_on_an_ordered_path(link):
     mechanism, workspace = link
     spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", [0, 0, 0.1]),
                                      sb.Anchor("link1", [0.2, 0, 0]), stiffness=sb.Free(0, 500))
-    result = sb.DesignProblem(mechanism, workspace, [spring], objective="energy").solve(starts=2)
+    result = sb.solve(sb.DesignProblem(mechanism, workspace, [spring], objective="energy"), starts=2)
     # exact balance exists (k = m g c / (a b) = 122.5 N/m), so the path work goes to ~0
     assert result.variables["s1.stiffness"] == pytest.approx(1.0 * G * 0.25 / (0.1 * 0.2), rel=1e-3)
     energy = result.metrics()["objectives"]["energy"]
@@ -71,7 +71,7 @@ def test_segment_and_plane_anchors_are_optimised(arm):
         sb.ZeroFreeLengthSpring(sb.Anchor("link1", [0.25, 0, 0]),
                                 sb.Anchor("link2", sb.Free([-0.2, 0, 0], [0.4, 0, 0])), stiffness=sb.Free(0, 3000)),
     ]
-    result = sb.DesignProblem(mechanism, workspace, springs).solve(starts=6)
+    result = sb.solve(sb.DesignProblem(mechanism, workspace, springs), starts=6)
     rms = result.metrics()["objectives"]["rms"]
     assert rms["after"] < 1e-9 * rms["before"]   # exact balance exists for this topology
     anchor = np.array(result.spring("s1")["b"]["point"])
@@ -87,7 +87,7 @@ def test_multistart_is_deterministic_given_a_seed(arm):
         spring = sb.ExtensionSpring(sb.Anchor("universe", sb.Free([-0.1, 0, 0], [0.1, 0, 0.4])),
                                     sb.Anchor("link1", sb.Free([0.05, 0, 0], [0.5, 0, 0])),
                                     stiffness=sb.Free(0, 3000), free_length=sb.Free(0.02, 0.5))
-        return sb.DesignProblem(mechanism, workspace, [spring]).solve(starts=3, seed=seed)
+        return sb.solve(sb.DesignProblem(mechanism, workspace, [spring]), starts=3, seed=seed)
 
     first, again, other = solve(7), solve(7), solve(8)
     assert np.array_equal(first.x, again.x)
@@ -101,7 +101,7 @@ def test_every_method_balances_a_link(link, method):
     mechanism, workspace = link
     spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", [0, 0, 0.1]), sb.Anchor("link1", [0.2, 0, 0]),
                                      stiffness=sb.Free(0, 500))
-    result = sb.DesignProblem(mechanism, workspace, [spring]).solve(starts=1, method=method)
+    result = sb.solve(sb.DesignProblem(mechanism, workspace, [spring]), starts=1, method=method)
     assert result.variables["s1.stiffness"] == pytest.approx(122.5, rel=1e-6)
     assert result.status.startswith(method if method != "auto" else "least_squares")
 
@@ -111,7 +111,7 @@ def test_least_squares_refuses_a_minimax_objective(link):
     spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", [0, 0, 0.1]), sb.Anchor("link1", [0.2, 0, 0]),
                                      stiffness=sb.Free(0, 500))
     with pytest.raises(sb.InputError, match="peak"):
-        sb.DesignProblem(mechanism, workspace, [spring], objective="peak").solve(method="least_squares")
+        sb.solve(sb.DesignProblem(mechanism, workspace, [spring], objective="peak"), method="least_squares")
 
 
 def test_infeasible_design_raises_solver_error_with_statuses(link):
@@ -120,7 +120,7 @@ def test_infeasible_design_raises_solver_error_with_statuses(link):
     spring = sb.ExtensionSpring(sb.Anchor("universe", [0, 0, 0.1]), sb.Anchor("link1", [0.2, 0, 0]),
                                 stiffness=sb.Free(0, 500), free_length=sb.Free(0.35, 0.5))
     with pytest.raises(sb.SolverError) as caught:
-        sb.DesignProblem(mechanism, workspace, [spring]).solve(starts=2)
+        sb.solve(sb.DesignProblem(mechanism, workspace, [spring]), starts=2)
     assert "start 0" in str(caught.value) and "violation" in str(caught.value)
     assert len(caught.value.starts) == 2 and caught.value.problem is not None
     assert all(record.max_violation > 0.04 for record in caught.value.starts)

@@ -123,7 +123,7 @@ def test_warm_start_puts_every_free_variable_at_the_optimum():
 # ---------------------------------------------------------------------- selection
 def test_select_stock_replaces_each_coil_spring_by_a_catalogue_row(parts):
     problem = link_problem(extension("s1"), compression("s2"))
-    continuous = problem.solve(starts=2, progress=False)
+    continuous = sb.solve(problem, starts=2, progress=False)
     selection = select_stock(problem, continuous, parts, candidates=3, starts=1)
     result = selection.result
 
@@ -157,7 +157,7 @@ def test_select_stock_replaces_each_coil_spring_by_a_catalogue_row(parts):
 
 def test_no_part_fits_names_the_spring(parts):
     problem = link_problem(extension("lifter"))
-    continuous = problem.solve(starts=1, progress=False)
+    continuous = sb.solve(problem, starts=1, progress=False)
     # the anchors are always ≥ 0.1 m apart: a part that may not stretch beyond 40 mm never fits
     tiny = StockPart("TINY", "extension", "music_wire", 0.0008, 0.0048, 10, 0.0168, 5.153, 3750.0, 34.769, 0.04, 0.0168)
     with pytest.raises(sb.SolverError, match="no stock part fits spring 'lifter'.*TINY"):

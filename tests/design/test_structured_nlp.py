@@ -60,7 +60,7 @@ def test_working_set_ends_at_a_solution_of_the_full_nlp():
     and IPOPT on all rows, started there, finds nothing lower."""
     problem = _planar("peak", samples=512)
     rms = _planar("rms", samples=512)
-    start = rms.solve(starts=1, workers=1).x
+    start = sb.solve(rms, starts=1, workers=1).x
     structured = StructuredNlp(problem)
     nlp = structured.nlp
     evaluation = problem.evaluate(start)

@@ -77,9 +77,9 @@ def test_design_problem_solve_passes_workers_to_the_solves_it_makes(arm, monkeyp
 
     monkeypatch.setattr(multistart, "_pool_workers", spy)
     problem = sb.DesignProblem(mechanism, workspace, _springs())
-    pooled = problem.solve(starts=3, seed=1, workers=2, max_iterations=20)
+    pooled = sb.solve(problem, starts=3, seed=1, workers=2, max_iterations=20)
     assert seen and seen[0] == (2, True)
-    sequential = problem.solve(starts=3, seed=1, workers=1, max_iterations=20)
+    sequential = sb.solve(problem, starts=3, seed=1, workers=1, max_iterations=20)
     assert seen[-1] == (1, True)
     assert np.array_equal(pooled.x, sequential.x)
 
@@ -128,7 +128,7 @@ def test_bad_workers_are_refused(arm, bad):
     mechanism, workspace = arm
     problem = sb.DesignProblem(mechanism, workspace, _springs(keep_tension=False))
     with pytest.raises(sb.InputError, match="workers"):
-        problem.solve(starts=2, workers=bad)
+        sb.solve(problem, starts=2, workers=bad)
 
 
 def test_config_and_command_line_workers(tmp_path, capsys):
@@ -166,7 +166,7 @@ def test_wire_rounding_candidates_on_two_workers_equal_the_sequential_run(monkey
         return original(self)
 
     monkeypatch.setattr(pool._StartRunner, "_pool", spy)
-    results = [problem.solve(starts=2, seed=0, workers=workers, progress=False) for workers in (1, 2)]
+    results = [sb.solve(problem, starts=2, seed=0, workers=workers, progress=False) for workers in (1, 2)]
     assert any(pooled_with_held_wires)   # the rounding solves did run on the pool
     roundings = [result.wire_rounding for result in results]
     assert roundings[0].wires and not roundings[0].unrounded

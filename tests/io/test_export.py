@@ -60,7 +60,7 @@ def ur5():
     springs = [sb.ExtensionSpring(sb.Anchor(a, box()), sb.Anchor(b, box()), f"s{i + 1}",
                                   stiffness=sb.Free(0, 5000), free_length=sb.Free(0.05, 1.0))
                for i, (a, b) in enumerate(pairs)]
-    result = sb.DesignProblem(mechanism, workspace, springs).solve(starts=2, progress=False)
+    result = sb.solve(sb.DesignProblem(mechanism, workspace, springs), starts=2, progress=False)
     assert result.metrics()["objectives"]["rms"]["reduction_percent"] > 90
     return result
 

@@ -222,7 +222,7 @@ def test_prismatic_vertical_slider():
     # A zero-free-length spring from 1 m above pulls up with k (1 - z): holding force m g - k (1 - z).
     spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", (0, 0, 1.0)), sb.Anchor("carriage", (0, 0, 0)),
                                      stiffness=20.0)
-    result = sb.DesignProblem(mechanism, workspace, [spring]).result(np.zeros(0))
+    result = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [spring]), np.zeros(0))
     z = workspace.joint_values[:, 0]
     np.testing.assert_allclose(result.residual_torque()[:, 0], 2.5 * 9.81 - 20.0 * (1.0 - z), rtol=1e-12)
     row = result.metrics()["joints"][0]
@@ -274,7 +274,7 @@ def test_tree_shaped_model_in_design_problem():
         sb.ZeroFreeLengthSpring(sb.Anchor("base", (0, -0.2, 0.7)), sb.Anchor("right_upper", sb.Free([0, 0, 0], [0.3, 0, 0])),
                                 stiffness=sb.Free(0, 2000)),
     ]
-    result = sb.DesignProblem(mechanism, workspace, free).solve(starts=2)
+    result = sb.solve(sb.DesignProblem(mechanism, workspace, free), starts=2)
     rows = {row["joint"]: row for row in result.metrics()["joints"]}
     assert rows["left_shoulder"]["rms_after"] < rows["left_shoulder"]["rms_before"]
     assert rows["right_shoulder"]["rms_after"] < rows["right_shoulder"]["rms_before"]

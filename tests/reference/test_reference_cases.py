@@ -56,7 +56,7 @@ def test_r1a_zero_free_length_spring(r1):
     mechanism, workspace = r1
     a, b = _r1_anchors()
     problem = sb.DesignProblem(mechanism, workspace, [sb.ZeroFreeLengthSpring(a, b, stiffness=sb.Free(0, 2000))])
-    result = problem.solve(starts=2)
+    result = sb.solve(problem, starts=2)
     k = result.variables["s1.stiffness"]
     analytic = M1 * S1 * G1 / (Y_B * R_A)  # 299.205 N/m
     peak = result.metrics()["joints"][0]["peak_after"]
@@ -80,7 +80,7 @@ def test_r1c_extension_spring_rms(r1):
     a, b = _r1_anchors()
     spring = sb.ExtensionSpring(a, b, stiffness=sb.Free(0, 2000), free_length=free_length, initial_tension=0.0)
     problem = sb.DesignProblem(mechanism, workspace, [spring], objective="rms")
-    result = problem.solve(starts=2)
+    result = sb.solve(problem, starts=2)
     k = result.variables["s1.stiffness"]
     peak = result.metrics()["joints"][0]["peak_after"]
     report("R1c", "k", k, 990, "N/m")
@@ -125,7 +125,7 @@ def test_r2a_zero_free_length_spring(r2):
     mechanism, workspace = r2
     a, b = _r2_anchors()
     problem = sb.DesignProblem(mechanism, workspace, [sb.ZeroFreeLengthSpring(a, b, stiffness=sb.Free(0, 1000))])
-    result = problem.solve(starts=2)
+    result = sb.solve(problem, starts=2)
     k = result.variables["s1.stiffness"]
     joint = result.metrics()["joints"][0]
     report("R2a", "K", k, 122.5, "N/m")
@@ -141,7 +141,7 @@ def test_r2b_extension_spring_pe_variance(r2):
     mechanism, workspace = r2
     a, b = _r2_anchors()
     spring = sb.ExtensionSpring(a, b, stiffness=sb.Free(0, 1000), free_length=sb.Free(0.05, 0.5))
-    result = sb.DesignProblem(mechanism, workspace, [spring], objective="pe_variance").solve(starts=3)
+    result = sb.solve(sb.DesignProblem(mechanism, workspace, [spring], objective="pe_variance"), starts=3)
     k, l0 = result.variables["s1.stiffness"], result.variables["s1.free_length"]
     peak = result.metrics()["joints"][0]["peak_after"]
     report("R2b", "K", k, 161.34, "N/m")
@@ -161,7 +161,7 @@ def test_r2c_extension_spring_peak(r2):
     mechanism, workspace = r2
     a, b = _r2_anchors()
     spring = sb.ExtensionSpring(a, b, stiffness=sb.Free(0, 1000), free_length=sb.Free(0.05, 0.5))
-    result = sb.DesignProblem(mechanism, workspace, [spring], objective="peak").solve(starts=2)
+    result = sb.solve(sb.DesignProblem(mechanism, workspace, [spring], objective="peak"), starts=2)
     k, l0 = result.variables["s1.stiffness"], result.variables["s1.free_length"]
     peak = result.metrics()["joints"][0]["peak_after"]
     report("R2c", "K", k, 167.26, "N/m")

@@ -38,7 +38,7 @@ def test_r1b_spring_mass_coupled_to_stiffness():
     coil = sb.CoilMass(coil_diameter=COIL, active_coils=COILS, wire_length=WIRE, shear_modulus=SHEAR, density=RHO)
     spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", (0, 0, Y_B)), sb.Anchor("link1", (0, 0, R_A)),
                                      stiffness=sb.Free(1, 2000), mass=coil)
-    result = sb.DesignProblem(mechanism, workspace, [spring]).solve(starts=2)
+    result = sb.solve(sb.DesignProblem(mechanism, workspace, [spring]), starts=2)
     record = result.spring("s1")
     k, mass = record["stiffness"], record["mass"]
     peak = result.metrics()["joints"][0]["peak_after"]

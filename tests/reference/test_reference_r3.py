@@ -64,7 +64,7 @@ def test_r3a_linear_spring_balances_exactly(r3, r5):
     free_length = np.hypot(r5, B1)                       # a10 [m]
     spring = sb.ExtensionSpring(_pivot(r5, 90.0), sb.Anchor("link1", (B1, 0.0, 0.0)), stiffness=k,
                                 free_length=free_length, initial_tension=k * free_length, keep_tension=False)
-    result = sb.DesignProblem(mechanism, workspace, [spring]).result(np.zeros(0))
+    result = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [spring]), np.zeros(0))
     if r5 == 6 * B1:
         assert k == pytest.approx(4410.0, rel=1e-12)
         report("R3a", "k [N/m]", k, 4410, "N/m")
@@ -78,7 +78,7 @@ def test_r3a_optimiser_finds_k(r3):
     mechanism, workspace, _ = r3
     r5 = 6 * B1
     spring = sb.ZeroFreeLengthSpring(_pivot(r5, 90.0), sb.Anchor("link1", (B1, 0.0, 0.0)), stiffness=sb.Free(0, 10000))
-    result = sb.DesignProblem(mechanism, workspace, [spring]).solve(starts=2)
+    result = sb.solve(sb.DesignProblem(mechanism, workspace, [spring]), starts=2)
     report("R3a", "k fitted [N/m]", result.variables["s1.stiffness"], 4410, "N/m")
     assert result.variables["s1.stiffness"] == pytest.approx(4410.0, rel=1e-6)
     assert result.exact_balance()["exact"]
@@ -90,7 +90,7 @@ def test_r3b_constant_force_pivot_angle(r3):
     scan = []
     for alpha5 in np.arange(80.0, 92.01, 0.5):
         spring = sb.ConstantForceSpring(_pivot(r5, alpha5), sb.Anchor("link1", (B1, 0.0, 0.0)), force=sb.Free(0, 20000))
-        result = sb.DesignProblem(mechanism, workspace, [spring], objective="rms").solve(starts=1)
+        result = sb.solve(sb.DesignProblem(mechanism, workspace, [spring], objective="rms"), starts=1)
         scan.append((result.metrics()["objectives"]["rms"]["after"], alpha5, result))
     _, alpha5, best = min(scan, key=lambda item: item[0])
     mean_error = float(np.mean(np.abs(best.residual_torque()))) / C1MAX
@@ -122,16 +122,16 @@ def test_single_link_zero_free_length_condition(mass, com, a, b):
     workspace = sb.Workspace.grid(mechanism, 721)  # the full turn, every 0.5°
     anchors = sb.Anchor("universe", (0, 0, a)), sb.Anchor("link", (b, 0, 0))
     k = mass * 9.81 * com / (a * b)                                   # [N/m]
-    exact = sb.DesignProblem(mechanism, workspace, [sb.ZeroFreeLengthSpring(*anchors, stiffness=k)]).result(np.zeros(0))
+    exact = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [sb.ZeroFreeLengthSpring(*anchors, stiffness=k)]), np.zeros(0))
     peak = mass * 9.81 * com
     assert np.max(np.abs(exact.residual_torque())) < 1e-9 * peak
     assert exact.exact_balance()["exact"]
     # a stiffness 1 % off is not exact: the residual is 1 % of the weight moment
-    off = sb.DesignProblem(mechanism, workspace, [sb.ZeroFreeLengthSpring(*anchors, stiffness=1.01 * k)]).result(np.zeros(0))
+    off = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [sb.ZeroFreeLengthSpring(*anchors, stiffness=1.01 * k)]), np.zeros(0))
     assert np.max(np.abs(off.residual_torque())) == pytest.approx(0.01 * peak, rel=1e-6)
     assert not off.exact_balance()["exact"]
     # the optimiser finds k from free stiffness, and so does the exact synthesis (anchors for k)
-    fitted = sb.DesignProblem(mechanism, workspace, [sb.ZeroFreeLengthSpring(*anchors, stiffness=sb.Free(0, 3 * k))]).solve(starts=1)
+    fitted = sb.solve(sb.DesignProblem(mechanism, workspace, [sb.ZeroFreeLengthSpring(*anchors, stiffness=sb.Free(0, 3 * k))]), starts=1)
     assert fitted.variables["s1.stiffness"] == pytest.approx(k, rel=1e-8)
     synthesis = sb.exact.synthesize(mechanism, [("universe", "link", k)])
     assert synthesis.reachable

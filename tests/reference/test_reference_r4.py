@@ -25,7 +25,7 @@ def adjustable_design(mechanism, workspace, w, scenarios):
     spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", (0, 0, A)), sb.Anchor("link1", sb.Segment((0, 0, 0), (w, 0, 0))),
                                      stiffness=K)
     problem = sb.DesignProblem(mechanism, workspace, [spring], scenarios=scenarios, per_scenario=["s1.b"])
-    return problem.solve(starts=1)
+    return sb.solve(problem, starts=1)
 
 
 @pytest.fixture(scope="module")
@@ -40,7 +40,7 @@ def test_r4_anchor_moves_35_mm_for_1_kg_at_035_m(setup):
     w = 0.35
     scenarios = [sb.Scenario("bare"), sb.Scenario("1 kg at 0.35 m", [sb.Payload("link1", 1.0, (w, 0, 0))])]
     result = adjustable_design(mechanism, workspace, w, scenarios)
-    per_scenario = result.problem.scenario_results(result.x)
+    per_scenario = result.scenario_results()
     b = [record.spring("s1")["b"]["point"][0] for record in per_scenario]
     peaks = [record.metrics()["joints"][0]["peak_after"] for record in per_scenario]
     unbalanced = (M * C + 1.0 * w) * G  # peak gravity torque with the payload [N·m]

@@ -103,7 +103,7 @@ def test_stiffness_capped_below_balance_is_at_its_upper_bound(link, tmp_path):
     # residual (k a b − m g c) sin(phi) shrinks as k grows towards k* = 299 N/m, so with k ≤ 100 N/m
     # the best rate is the cap itself
     spring = sb.ZeroFreeLengthSpring(*_anchors(), name="s1", stiffness=sb.Free(0, 100))
-    result = sb.DesignProblem(mechanism, workspace, [spring]).solve(starts=2)
+    result = sb.solve(sb.DesignProblem(mechanism, workspace, [spring]), starts=2)
     assert result.variables["s1.stiffness"] == pytest.approx(100, rel=1e-6)
     record = assert_flagged(result, tmp_path, "at_bound", "s1.stiffness")
     assert "upper bound 100 N/m" in record["message"]
@@ -118,7 +118,7 @@ def test_stiffness_capped_below_balance_is_at_its_upper_bound(link, tmp_path):
 def test_evaluate_prints_the_warnings(link, tmp_path, capsys):
     mechanism, workspace = link
     spring = sb.ZeroFreeLengthSpring(*_anchors(), name="s1", stiffness=sb.Free(0, 100))
-    result = sb.DesignProblem(mechanism, workspace, [spring]).result([100.0])
+    result = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [spring]), [100.0])
     path = result.save(tmp_path / "design.json")
     assert main(["evaluate", str(path)]) == 0
     out = capsys.readouterr().out
@@ -129,7 +129,7 @@ def test_evaluate_prints_the_warnings(link, tmp_path, capsys):
 def test_stiffness_floor_above_balance_is_at_its_lower_bound(link):
     mechanism, workspace = link
     spring = sb.ZeroFreeLengthSpring(*_anchors(), name="s1", stiffness=sb.Free(400, 1000))
-    result = sb.DesignProblem(mechanism, workspace, [spring]).solve(starts=1)
+    result = sb.solve(sb.DesignProblem(mechanism, workspace, [spring]), starts=1)
     assert result.variables["s1.stiffness"] == pytest.approx(400, rel=1e-6)
     (flag,) = _of_kind(result, "at_bound")
     assert flag.subject == "s1.stiffness" and "lower bound 400 N/m" in flag.message
@@ -139,7 +139,7 @@ def test_stiffness_floor_above_balance_is_at_its_lower_bound(link):
 def test_balanced_link_has_no_warnings(link, tmp_path):
     mechanism, workspace = link
     spring = sb.ZeroFreeLengthSpring(*_anchors(), name="s1", stiffness=sb.Free(0, 1000))
-    result = sb.DesignProblem(mechanism, workspace, [spring]).solve(starts=2)
+    result = sb.solve(sb.DesignProblem(mechanism, workspace, [spring]), starts=2)
     assert result.variables["s1.stiffness"] == pytest.approx(K_STAR, rel=1e-6)   # inside its bounds
     assert_clean(result, tmp_path)
 
@@ -151,7 +151,7 @@ def test_fixed_coordinates_of_a_box_are_not_variables(link):
     spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", (0, 0, A)),
                                      sb.Anchor("link1", sb.Free([0, 0, 0.2], [0, 0, 0.4])),
                                      name="s1", stiffness=K_STAR)
-    result = sb.DesignProblem(mechanism, workspace, [spring]).solve(starts=2)
+    result = sb.solve(sb.DesignProblem(mechanism, workspace, [spring]), starts=2)
     assert result.problem.variables.names == ["s1.b.z"]
     assert result.variables["s1.b.z"] == pytest.approx(B, rel=1e-6)
     assert _of_kind(result, "at_bound") == []
@@ -162,7 +162,7 @@ def test_too_stiff_spring_makes_the_joint_worse(link, tmp_path):
     mechanism, workspace = link
     # k = 3 k*: residual (3 − 1) m g c sin(phi), twice the unbalanced torque at every pose
     spring = sb.ZeroFreeLengthSpring(*_anchors(), name="s1", stiffness=3 * K_STAR)
-    result = sb.DesignProblem(mechanism, workspace, [spring]).result(np.zeros(0))
+    result = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [spring]), np.zeros(0))
     (row,) = result.metrics()["joints"]
     assert row["peak_after"] == pytest.approx(2 * row["peak_before"], rel=1e-9)
     assert row["rms_after"] == pytest.approx(2 * row["rms_before"], rel=1e-9)
@@ -203,7 +203,7 @@ def test_joint_gravity_does_not_load_is_worse_when_a_spring_loads_it(tmp_path):
     workspace = sb.Workspace.grid(mechanism, 5)
     spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", (0, 0, 0)), sb.Anchor("cart", (0, 0, 0)),
                                      name="pull", stiffness=100.0)
-    result = sb.DesignProblem(mechanism, workspace, [spring]).result(np.zeros(0))
+    result = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [spring]), np.zeros(0))
     rows = {row["joint"]: row for row in result.metrics()["joints"]}
     assert rows["slide"]["peak_before"] == pytest.approx(0, abs=1e-12)
     assert rows["slide"]["peak_after"] == pytest.approx(100 * 0.3, rel=1e-9)
@@ -223,7 +223,7 @@ def test_slack_extension_spring_is_a_law_warning(link, tmp_path):
     assert 0 < slack < workspace.size
     spring = sb.ExtensionSpring(*_anchors(), name="loose", stiffness=100.0, free_length=free_length,
                                 keep_tension=False)
-    result = sb.DesignProblem(mechanism, workspace, [spring]).result(np.zeros(0))
+    result = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [spring]), np.zeros(0))
     record = assert_flagged(result, tmp_path, "law", "loose")
     assert f"{slack} of {workspace.size} workspace samples" in record["message"]
     assert "keep_tension" in record["hint"]
@@ -236,7 +236,7 @@ def test_taut_buildable_extension_spring_has_no_warnings(link, tmp_path):
     lengths = _lengths(workspace)
     assert lengths.min() > 0.3
     spring = sb.ExtensionSpring(*_anchors(), name="taut", stiffness=100.0, free_length=0.3, keep_tension=False)
-    result = sb.DesignProblem(mechanism, workspace, [spring]).result(np.zeros(0))
+    result = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [spring]), np.zeros(0))
     assert_clean(result, tmp_path)
 
 
@@ -256,7 +256,7 @@ def test_stiff_short_ideal_spring_is_unbuildable(link, tmp_path):
     # k = 20000 N/m, l0 = 0.02 m stretched to 0.5 m (b = 0.34 m, phi = 180°): 9600 N, more than
     # four times what the strongest music-wire coil carries (about 2.2 kN)
     spring = sb.ExtensionSpring(*_anchors(0.34), name="stiff", stiffness=20000.0, free_length=0.02)
-    result = sb.DesignProblem(mechanism, workspace, [spring]).result(np.zeros(0))
+    result = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [spring]), np.zeros(0))
     largest = 20000.0 * (A + 0.34 - 0.02)
     assert largest == pytest.approx(9600)
     assert largest > 4 * _strongest_music_wire_force()
@@ -272,7 +272,7 @@ def test_compression_is_sized_but_gas_springs_are_not(link):
     assert 20000.0 * (0.6 - shortest) > _strongest_music_wire_force()
     springs = [sb.CompressionSpring(*_anchors(0.34), name="coil", stiffness=20000.0, free_length=0.6),
                sb.GasSpring(*_anchors(0.34), name="gas", stiffness=20000.0, free_length=0.6)]
-    result = sb.DesignProblem(mechanism, workspace, springs).result(np.zeros(0))
+    result = sb.DesignResult(sb.DesignProblem(mechanism, workspace, springs), np.zeros(0))
     assert [flag.subject for flag in _of_kind(result, "unbuildable_ideal")] == ["coil"]
 
 
@@ -280,5 +280,5 @@ def test_spring_without_rate_is_not_sized(link):
     mechanism, workspace = link
     # k = 0: a constant initial tension, nothing to size (and no division by zero)
     spring = sb.ExtensionSpring(*_anchors(), name="flat", stiffness=0.0, free_length=0.3, initial_tension=20.0)
-    result = sb.DesignProblem(mechanism, workspace, [spring]).result(np.zeros(0))
+    result = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [spring]), np.zeros(0))
     assert _of_kind(result, "unbuildable_ideal") == []

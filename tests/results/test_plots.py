@@ -45,7 +45,7 @@ def test_a_joint_held_still_gets_no_panel():
     workspace = sb.Workspace.sobol(mechanism, 64, ranges={"shoulder": [-90, 90], "elbow": [0, 0]}, degrees=True)
     spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", (0, 0, 0.1)), sb.Anchor("link1", (0.3, 0, 0)),
                                      stiffness=500.0)
-    result = sb.DesignProblem(mechanism, workspace, [spring]).result(np.zeros(0))
+    result = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [spring]), np.zeros(0))
     figure = plots.plot_torques(result, points=21)
     assert [a.get_xlabel() for a in figure.axes if a.lines] == ["shoulder [deg]"]
 
@@ -77,3 +77,20 @@ def test_figures_are_written_as_png_and_svg(design, tmp_path):
         colours = np.asarray(image.convert("RGB")).reshape(-1, 3)
     # the "with springs" curve is drawn in its colour (#d7301f)
     assert np.count_nonzero(np.all(np.abs(colours.astype(int) - [0xd7, 0x30, 0x1f]) < 30, axis=1)) > 100
+
+
+def test_importing_the_results_does_not_import_matplotlib():
+    """matplotlib (0.2-0.4 s) is imported on the first figure (plots.new_figure), not at CLI start-up."""
+    import subprocess
+    import sys
+
+    code = "import sys, springbalance.results.result; print('matplotlib' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "False"
+
+
+def test_new_figure_draws_on_an_agg_canvas():
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    figure = plots.new_figure(figsize=(2.0, 1.5))
+    assert isinstance(figure.canvas, FigureCanvasAgg) and tuple(figure.get_size_inches()) == (2.0, 1.5)

@@ -35,7 +35,7 @@ def _springs():
 def solved(arm):
     workspace = sb.Workspace.grid(arm, 9, couplings=[sb.Coupling.parse("elbow - shoulder", -120, 60, degrees=True)])
     problem = sb.DesignProblem(arm, workspace, _springs(), objective="rms", weights={"elbow": 2.0})
-    return problem.solve(starts=2, seed=1)
+    return sb.solve(problem, starts=2, seed=1)
 
 
 def test_solution_improves_on_gravity(solved):
@@ -80,7 +80,7 @@ def test_save_load_robot_with_gravity_override(tmp_path):
     spring = sb.ExtensionSpring(sb.Anchor("universe", (0.05, 0.1, 0.4)), sb.Anchor("upper_arm_link", (0, 0.05, 0.2)),
                                 stiffness=sb.Free(0, 4000), free_length=0.1, keep_tension=False)
     problem = sb.DesignProblem(mechanism, workspace, [spring], objective="peak")
-    result = problem.result([1234.5678901234567])
+    result = sb.DesignResult(problem, [1234.5678901234567])
     loaded = sb.DesignResult.load(result.save(tmp_path / "ur5.json"))
     np.testing.assert_array_equal(loaded.problem.mechanism.gravity, [0, 0, -9.8])
     assert loaded.problem.objective.name == "peak"

@@ -66,7 +66,7 @@ def test_gas_spring_peak_reduction_matches_grid_search():
     gas = sb.GasSpring(sb.Anchor("universe", (GROUND[0], 0, GROUND[1])),
                        sb.Anchor("link1", sb.Segment((0.05, 0, 0), (0.3, 0, 0))),
                        stiffness=sb.Free(*BOUNDS["stiffness"]), preload=sb.Free(*BOUNDS["preload"]), free_length=L0)
-    result = sb.DesignProblem(mechanism, workspace, [gas], objective="peak").solve(starts=8)
+    result = sb.solve(sb.DesignProblem(mechanism, workspace, [gas], objective="peak"), starts=8)
     values = result.spring("s1")
     design = (values["preload"], values["stiffness"], values["b"]["point"][0])
     # the library's torque is the closed form's

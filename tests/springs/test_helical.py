@@ -206,7 +206,7 @@ def test_an_overloaded_coil_is_flagged_in_every_report(tmp_path):
     # stretched to about 0.43 m: ≈ 800 N on a wire whose body allows 45 % · 2211 MPa ≈ 1 GPa at ≈ 20 N
     coil = HelicalExtensionSpring(sb.Anchor("universe", [0, 0, 0.16]), sb.Anchor("link1", [0, 0, 0.3]), "thin",
                                   wire_diameter=1e-3, mean_diameter=8e-3, active_coils=10.0, initial_tension=5.0)
-    result = sb.DesignProblem(mechanism, workspace, [coil]).result(np.zeros(0))
+    result = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [coil]), np.zeros(0))
     assert not result.spring("thin")["helical"]["buildable"]
     kinds = [flag.kind for flag in result.warnings()]
     assert "unbuildable" in kinds

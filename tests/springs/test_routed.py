@@ -56,7 +56,7 @@ def single_link():
     workspace = sb.Workspace.sobol(mechanism, n=256, seed=0)
     coil = sb.HelicalExtensionSpring(sb.Anchor("link1", [-0.35, 0, 0]), sb.Anchor("ground", [0, 0, 0.1]), "s1",
                                      via=[sb.Pulley(sb.Anchor("link1", [0.04, 0, 0]))], cable_length=F(0, 1))
-    return DesignProblem(mechanism, workspace, [coil]).solve(starts=4, progress=False)
+    return sb.solve(DesignProblem(mechanism, workspace, [coil]), starts=4, progress=False)
 
 
 def test_one_routed_coil_balances_r2_exactly_and_is_buildable(single_link):
@@ -92,7 +92,7 @@ def two_link():
         routed_zfl("s3", ("link1", [-0.3, 0, 0]), ("link1", F([0.35, 0, -0.1], [0.6, 0, 0.1], init=[0.45, 0, 0.05])),
                    ("link2", F([0.02, 0, -0.05], [0.4, 0, 0.05], init=[0.1, 0, 0]))),
     ]
-    return DesignProblem(mechanism, workspace, springs).solve(starts=8, progress=False)
+    return sb.solve(DesignProblem(mechanism, workspace, springs), starts=8, progress=False)
 
 
 def test_routed_springs_alone_balance_the_two_link_arm_exactly(two_link):
@@ -151,7 +151,7 @@ def test_mujoco_tendons_over_the_same_sites_hold_the_arm_alike(case, request, tm
             x[i] *= 0.9
         if name.endswith("stiffness") or name.endswith("active_coils"):
             x[i] *= 1.3
-    detuned = problem.result(x)
+    detuned = sb.DesignResult(problem, x)
     assert np.max(np.abs(detuned.evaluation.tau)) > 0.05 * np.max(np.abs(problem.workspace.kinematics().gravity_torque))
     poses = _mujoco_check(detuned, tmp_path, f"{case}_detuned")
     expected = detuned.residual_torque(poses)

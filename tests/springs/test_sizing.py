@@ -159,7 +159,7 @@ def test_helical_option_in_the_optimisation(tmp_path):
     def design(helical):
         spring = sb.ExtensionSpring(sb.Anchor("universe", (0, 0, 0.1)), sb.Anchor("link1", (0.2, 0, 0)),
                                     stiffness=sb.Free(1, 500), free_length=sb.Free(0.02, 0.2), helical=helical)
-        return sb.DesignProblem(mechanism, workspace, [spring], objective="rms").solve(starts=2)
+        return sb.solve(sb.DesignProblem(mechanism, workspace, [spring], objective="rms"), starts=2)
 
     def exists(result, relief=1e-3):
         """Existence for 0.1 % less than the largest force: the constrained optimum lies on the

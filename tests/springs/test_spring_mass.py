@@ -88,7 +88,7 @@ def test_spring_mass_on_ur5_matches_potential_gradient(coupled):
         expected = potential.torque(q)
         np.testing.assert_allclose(evaluation.tau[i], expected, rtol=0, atol=1e-6 * max(np.max(np.abs(expected)), 1.0))
         assert evaluation.potential[i] == pytest.approx(potential(q), rel=1e-10, abs=1e-10)
-    masses = [record["mass"] for record in problem.result(np.zeros(0)).springs]
+    masses = [record["mass"] for record in sb.DesignResult(problem, np.zeros(0)).springs]
     np.testing.assert_allclose(masses, [spring.mass for spring in reference], rtol=1e-12)
 
 

@@ -221,7 +221,7 @@ def mixed_result():
     mechanism = sb.Mechanism.from_urdf(URDF / "single_link_r2.urdf", gravity=9.8)
     workspace = sb.Workspace.grid(mechanism, 61, ranges={"theta": (0, np.pi / 3)})
     springs = [sb.springs.spring_from_dict(record) for record in _record_cases() if record["name"] in ("g", "t")]
-    return sb.DesignProblem(mechanism, workspace, springs, objective="rms").solve(starts=2)
+    return sb.solve(sb.DesignProblem(mechanism, workspace, springs, objective="rms"), starts=2)
 
 
 def test_mixed_design_balances_and_respects_gas_spring_limits(mixed_result):

@@ -90,7 +90,7 @@ def test_a_straight_table_through_zero_reproduces_r1a_exact_balance():
                                "b": {"body": "link1", "point": [0, 0, R_A]},
                                "table": [[0.0, 0.0], [0.2, 0.2 * rate], [0.5, 0.5 * rate]],
                                "scale": {"lower": 0, "upper": 10}})
-    result = sb.DesignProblem(mechanism, workspace, [spring]).solve(starts=2)
+    result = sb.solve(sb.DesignProblem(mechanism, workspace, [spring]), starts=2)
     expected_scale = M1 * G1 * S1 / (Y_B * R_A) / rate
     assert result.variables["s1.scale"] == pytest.approx(expected_scale, rel=1e-6)
     assert result.exact_balance()["exact"]
@@ -102,7 +102,7 @@ def test_stays_in_table_keeps_the_design_inside_the_table():
     spring = spring_from_dict({"type": "tabulated", "a": {"body": "universe", "point": [0, 0, Y_B]},
                                "b": {"body": "link1", "point": [0, 0, R_A]}, "table": TABLE,
                                "scale": {"lower": 0, "upper": 10}, "shift": {"lower": -0.3, "upper": 0.3}})
-    result = sb.DesignProblem(mechanism, workspace, [spring]).solve(starts=4)
+    result = sb.solve(sb.DesignProblem(mechanism, workspace, [spring]), starts=4)
     x = result.evaluation.lengths[:, 0] - result.variables["s1.shift"]
     assert x.min() >= TABLE[0][0] - 1e-6 and x.max() <= TABLE[-1][0] + 1e-6
     assert result.metrics()["joints"][0]["rms_after"] < 0.2 * result.metrics()["joints"][0]["rms_before"]
@@ -128,11 +128,11 @@ def test_mujoco_export_holds_the_line_and_warns_of_the_curve(tmp_path):
     straight = spring_from_dict({"type": "tabulated", "a": {"body": "universe", "point": [0, 0, Y_B]},
                                  "b": {"body": "link1", "point": [0, 0, R_A]},
                                  "table": [[0.0, 10.0], [0.3, 40.0], [0.6, 70.0]], "stays_in_table": False})
-    report = sb.DesignProblem(mechanism, workspace, [straight]).result(np.zeros(0)).to_mjcf(tmp_path / "line.xml")
+    report = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [straight]), np.zeros(0)).to_mjcf(tmp_path / "line.xml")
     assert not any("nonlinear" in warning for warning in report.warnings)
     mujoco = pytest.importorskip("mujoco")
     model = mujoco.MjModel.from_xml_path(str(tmp_path / "line.xml"))
     assert model.tendon_stiffness[0] == pytest.approx(100.0)       # the table's slope [N/m]
     curved = _tabulated(stays_in_table=False)
-    report = sb.DesignProblem(mechanism, workspace, [curved]).result(np.zeros(0)).to_mjcf(tmp_path / "curve.xml")
+    report = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [curved]), np.zeros(0)).to_mjcf(tmp_path / "curve.xml")
     assert any("is nonlinear" in warning and "least-squares line" in warning for warning in report.warnings)

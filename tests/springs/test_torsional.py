@@ -37,7 +37,7 @@ def link():
 
 def _optimum(mechanism, workspace, objective, neutral=(-2 * np.pi, 2 * np.pi)):
     spring = sb.TorsionalSpring("theta", stiffness=sb.Free(0, 20), neutral_angle=sb.Free(*neutral))
-    result = sb.DesignProblem(mechanism, workspace, [spring], objective=objective).solve(starts=4)
+    result = sb.solve(sb.DesignProblem(mechanism, workspace, [spring], objective=objective), starts=4)
     return result, result.metrics()["joints"][0]["peak_after"]
 
 

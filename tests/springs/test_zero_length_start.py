@@ -24,6 +24,6 @@ def test_potential_objective_from_coincident_ends_solves():
     problem = sb.DesignProblem(mechanism, workspace, springs, objective="pe_variance")
     start = problem.evaluate(np.asarray(problem.variables.start, dtype=float))
     assert np.min(start.lengths[:, 0]) == 0.0          # the first spring's ends do coincide at the start
-    result = problem.solve(starts=2, seed=3, progress=False)
+    result = sb.solve(problem, starts=2, seed=3, progress=False)
     after = result.metrics()["objectives"]["pe_variance"]
     assert np.isfinite(after["after"]) and after["after"] < after["before"]

@@ -209,6 +209,25 @@ def _worst(below: dict) -> list:
 
 
 
+def _violations(checker: _Checker, x: np.ndarray) -> tuple[dict, dict]:
+    """``(below, closest)`` at design ``x``: the poses where a spring comes closer than the margin, from the
+    check set and the poses found before; when those are clear, from the 4× denser set; when that is clear
+    too, from a descent between the samples. ``closest``: each spring's smallest distance found [m]."""
+    below, closest, nearest = checker.measure(x, 0)
+    if checker.pose_sets[2]:
+        found, nearby, _ = checker.measure(x, 2)
+        below.update(found)
+        closest = {name: min(closest[name], nearby[name]) for name in closest}
+    if not below:
+        below, dense, nearest_dense = checker.measure(x, 1)
+        closest = {name: min(closest[name], dense[name]) for name in closest}
+        nearest = nearest_dense             # 4× denser: its closest poses are the better starts
+    if not below:
+        below, searched = checker.descend(x, nearest)
+        closest = {name: min(closest[name], searched[name]) for name in closest}
+    return below, closest
+
+
 def fit_from_starts(problem: DesignProblem, solution: Solution,
                     **solve_options: Any) -> tuple[Solution, FitRecord, DesignProblem]:
     """:func:`fit_to_arm` from the :attr:`Clearance.starts` best feasible designs of the multi-start
@@ -251,24 +270,12 @@ def fit_to_arm(problem: DesignProblem, solution: Solution,
     while True:
         mounts = _mount_errors(problem, x, geometry) if problem.mounts else {}
         mounted = all(error <= MOUNT_ACCEPT for error in mounts.values())
-        new = []
         if checker is not None:
-            below, closest, nearest = checker.measure(x, 0)
-            if checker.pose_sets[2]:
-                found, nearby, _ = checker.measure(x, 2)
-                below.update(found)
-                closest = {name: min(closest[name], nearby[name]) for name in closest}
-            if not below:
-                below, dense, nearest_dense = checker.measure(x, 1)
-                closest = {name: min(closest[name], dense[name]) for name in closest}
-                nearest = nearest_dense             # 4× denser: its closest poses are the better starts
-            if not below:
-                below, searched = checker.descend(x, nearest)
-                closest = {name: min(closest[name], searched[name]) for name in closest}
+            below, closest = _violations(checker, x)
             new = [key for key in _worst(below) if key not in watched]
             converged = not below and mounted
         else:
-            converged = mounted
+            new, converged = [], mounted
         if converged or rounds >= limit:
             break
         watched.update(new)

@@ -28,6 +28,7 @@ import numpy as np
 import pinocchio as pin
 
 from springbalance.errors import InputError
+from springbalance.model.kinematics import StackedKinematics
 from springbalance.model.mechanism import Mechanism
 from springbalance.model.workspace import Workspace
 
@@ -167,9 +168,8 @@ class ScenarioWorkspace(Workspace):
         """Samples per scenario."""
         return self.base.size
 
-    def kinematics(self):
-        from springbalance.model.kinematics import StackedKinematics
-
+    def kinematics(self) -> StackedKinematics:
+        """The stacked kinematics of every scenario's samples (computed once)."""
         if self._kinematics is None:
             self._kinematics = StackedKinematics(self, self.base.kinematics(), self.mechanisms)
         return self._kinematics

@@ -29,7 +29,8 @@ import pinocchio as pin
 
 from springbalance.errors import InputError
 from springbalance.model import robots
-from springbalance.model.mechanism import Mechanism, _quiet_native_stderr
+from springbalance.model.mechanism import Mechanism
+from springbalance.model.native import quiet_native_stderr
 
 if TYPE_CHECKING:
     import coal
@@ -65,7 +66,7 @@ def collision_geometry(mechanism: Mechanism) -> pin.GeometryModel:
     directories = robots.mesh_directories(source)
     where = repr(source["path"]) if kind in ("urdf", "robot") else "(URDF string)"
     try:
-        with _quiet_native_stderr():
+        with quiet_native_stderr():
             if kind == "urdf_string":
                 geometry = pin.buildGeomFromUrdfString(mechanism.model, source["text"], pin.GeometryType.COLLISION,
                                                        package_dirs=directories)

@@ -11,12 +11,7 @@ Units: joint coordinates in rad (revolute, continuous) or m (prismatic); gravity
 
 from __future__ import annotations
 
-import contextlib
-import dataclasses
-import os
-import sys
 import warnings
-from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -25,47 +20,13 @@ import numpy.typing as npt
 import pinocchio as pin
 
 from springbalance.model import robots, validation
+from springbalance.model.joints import Joint, degrees_of_freedom
+from springbalance.model.native import quiet_native_stderr
 from springbalance.errors import InputError
 
 GROUND = "universe"
 #: the largest magnitude of gravity [m/s²] taken (about 100 g): beyond it a number is a typo
 MAX_GRAVITY = 1e3
-
-_REVOLUTE = {"JointModelRX", "JointModelRY", "JointModelRZ", "JointModelRevoluteUnaligned"}
-_CONTINUOUS = {"JointModelRUBX", "JointModelRUBY", "JointModelRUBZ", "JointModelRevoluteUnboundedUnaligned"}
-_PRISMATIC = {"JointModelPX", "JointModelPY", "JointModelPZ", "JointModelPrismaticUnaligned"}
-
-
-@dataclasses.dataclass(frozen=True)
-class Joint:
-    """One degree of freedom of the mechanism.
-
-    Attributes:
-        name: URDF joint name.
-        kind: ``"revolute"``, ``"continuous"`` or ``"prismatic"``.
-        index_q: first index in Pinocchio's configuration vector (two slots, cos and sin,
-            for a continuous joint).
-        index_v: index in the velocity/torque vector.
-        lower, upper: range from the URDF [rad or m]; ``[-pi, pi]`` for continuous joints.
-    """
-
-    name: str
-    kind: str
-    index_q: int
-    index_v: int
-    lower: float
-    upper: float
-
-    @property
-    def unit(self) -> str:
-        """Unit of the joint coordinate."""
-        return "m" if self.kind == "prismatic" else "rad"
-
-    @property
-    def torque_unit(self) -> str:
-        """Unit of the generalised force on this joint."""
-        return "N" if self.kind == "prismatic" else "N·m"
-
 
 class Mechanism:
     """A Pinocchio model with named degrees of freedom and bodies.
@@ -94,7 +55,7 @@ class Mechanism:
         elif self.source.get("kind") == "model":  # a URDF was checked before Pinocchio read it
             validation.check_model(self.model, f"mechanism {self.model.name!r}")
         self.source["gravity"] = [float(v) for v in self.model.gravity.linear]
-        self.joints = _degrees_of_freedom(self.model)
+        self.joints = degrees_of_freedom(self.model)
         if len(self.joints) != self.model.nv:
             raise InputError(
                 f"mechanism {self.name!r}: {self.model.nv} velocity DOFs but {len(self.joints)} one-DOF joints; "
@@ -116,7 +77,7 @@ class Mechanism:
         text = validation.read_urdf(path)
         validation.check_urdf(text, where, physics=validate)
         try:
-            with _quiet_native_stderr():
+            with quiet_native_stderr():
                 model = pin.buildModelFromUrdf(str(path), mimic=mimic)
         except Exception as exc:  # Pinocchio raises RuntimeError/ValueError with C++ text
             raise InputError(f"{where} could not be parsed: {_one_line(exc)}") from None
@@ -133,7 +94,7 @@ class Mechanism:
             raise InputError(f"a URDF string must be text, got {type(text).__name__}")
         validation.check_urdf(text, "URDF string", physics=validate)
         try:
-            with _quiet_native_stderr():
+            with quiet_native_stderr():
                 model = pin.buildModelFromXML(text, mimic=mimic)
         except Exception as exc:
             raise InputError(f"URDF string could not be parsed: {_one_line(exc)}") from None
@@ -250,13 +211,26 @@ class Mechanism:
         joint into the body of its moving joint; they are split back per link here, and
         rounded to 1e-12 to hide the round-off of that split.
         """
+        bodies = self._summary_bodies()
+        masses = [body["mass"] for body in bodies]
+        return {
+            "name": self.name,
+            "source": {key: value for key, value in self.source.items() if key != "text"},
+            "gravity": [float(value) for value in self.gravity],
+            "dofs": self.nv,
+            "total_mass": _clean(sum(masses)),
+            "moving_mass": _clean(sum(body["mass"] for body in bodies if not body["ground"])),
+            "ground": [body["name"] for body in bodies if body["ground"]],
+            "bodies": bodies,
+            "joints": self._summary_joints(),
+        }
+
+    def _summary_bodies(self) -> list[dict[str, Any]]:
+        """The ``bodies`` records of :meth:`summary`: per body, its own mass [kg] and centre of mass [m] (the
+        links welded by fixed joints split back out of their Pinocchio body), parent joint and moving joint."""
         model = self.model
         frames = model.frames
         fixed_inertias = self._fixed_link_inertias()
-        dofs = {joint.name: joint for joint in self.joints}
-        mimics = dict(zip((int(i) for i in model.mimicking_joints), (int(i) for i in model.mimicked_joints)))
-        q = pin.neutral(model)
-
         bodies = []
         for name, frame_id in self._frame_ids.items():
             frame = frames[frame_id]
@@ -286,7 +260,11 @@ class Mechanism:
                 "moved_by": None if ground else model.names[frame.parentJoint],
                 "ground": ground,
             })
+        return bodies
 
+    def _summary_joints(self) -> list[dict[str, Any]]:
+        """The ``joints`` records of :meth:`summary`, one per URDF joint in tree order (fixed joints included)."""
+        frames = self.model.frames
         children = {frames[frame_id].parentFrame: name for name, frame_id in self._frame_ids.items() if frame_id}
         joints = []
         for frame_id, frame in enumerate(frames):
@@ -298,42 +276,39 @@ class Mechanism:
                 "unit": None, "mimic": None,
             }
             if frame.type == pin.FrameType.JOINT:
-                joint_id = frame.parentJoint
-                joint_model = model.joints[joint_id]
-                data = joint_model.createData()
-                joint_model.calc(data, q)
-                subspace = np.asarray(data.S, dtype=float).ravel()
-                if joint_id in mimics:
-                    mimic = joint_model.extract()
-                    scaling = float(mimic.scaling)
-                    record["mimic"] = {"joint": model.names[mimics[joint_id]], "multiplier": scaling,
-                                       "offset": float(mimic.offset)}
-                    if scaling:
-                        subspace = subspace / scaling  # a mimic joint's motion subspace is scaled
-                angular = np.linalg.norm(subspace[3:]) > np.linalg.norm(subspace[:3])
-                axis = subspace[3:] if angular else subspace[:3]
-                norm = np.linalg.norm(axis)
-                record["axis"] = [_clean(value / norm) for value in axis] if norm > 0 else None
-                if frame.name in dofs:
-                    dof = dofs[frame.name]
-                    record.update(type=dof.kind, dof=True, lower=float(dof.lower), upper=float(dof.upper),
-                                  unit=dof.unit)
-                else:
-                    record.update(type="revolute" if angular else "prismatic")
+                record.update(self._summary_moving_joint(frame))
             joints.append(record)
+        return joints
 
-        masses = [body["mass"] for body in bodies]
-        return {
-            "name": self.name,
-            "source": {key: value for key, value in self.source.items() if key != "text"},
-            "gravity": [float(value) for value in self.gravity],
-            "dofs": self.nv,
-            "total_mass": _clean(sum(masses)),
-            "moving_mass": _clean(sum(body["mass"] for body in bodies if not body["ground"])),
-            "ground": [body["name"] for body in bodies if body["ground"]],
-            "bodies": bodies,
-            "joints": joints,
-        }
+    def _summary_moving_joint(self, frame: pin.Frame) -> dict[str, Any]:
+        """The entries of a moving joint's :meth:`summary` record: unit axis in the joint frame, type, range
+        [rad or m] of a degree of freedom, mimic coupling."""
+        model = self.model
+        mimics = dict(zip((int(i) for i in model.mimicking_joints), (int(i) for i in model.mimicked_joints)))
+        dofs = {joint.name: joint for joint in self.joints}
+        record: dict[str, Any] = {}
+        joint_id = frame.parentJoint
+        joint_model = model.joints[joint_id]
+        data = joint_model.createData()
+        joint_model.calc(data, pin.neutral(model))
+        subspace = np.asarray(data.S, dtype=float).ravel()
+        if joint_id in mimics:
+            mimic = joint_model.extract()
+            scaling = float(mimic.scaling)
+            record["mimic"] = {"joint": model.names[mimics[joint_id]], "multiplier": scaling,
+                               "offset": float(mimic.offset)}
+            if scaling:
+                subspace = subspace / scaling  # a mimic joint's motion subspace is scaled
+        angular = np.linalg.norm(subspace[3:]) > np.linalg.norm(subspace[:3])
+        axis = subspace[3:] if angular else subspace[:3]
+        norm = np.linalg.norm(axis)
+        record["axis"] = [_clean(value / norm) for value in axis] if norm > 0 else None
+        if frame.name in dofs:
+            dof = dofs[frame.name]
+            record.update(type=dof.kind, dof=True, lower=float(dof.lower), upper=float(dof.upper), unit=dof.unit)
+        else:
+            record.update(type="revolute" if angular else "prismatic")
+        return record
 
     def _fixed_link_inertias(self) -> dict[int, list[pin.Inertia]]:
         """Per Pinocchio joint, the inertias (in the joint frame) of the links welded to it by fixed joints."""
@@ -367,35 +342,6 @@ class Mechanism:
 
     def __repr__(self) -> str:
         return f"Mechanism({self.name!r}, joints={self.joint_names})"
-
-
-def _degrees_of_freedom(model: pin.Model) -> list[Joint]:
-    joints = []
-    for joint_id in range(1, model.njoints):
-        joint_model = model.joints[joint_id]
-        kind_name = joint_model.shortname()
-        name = model.names[joint_id]
-        if "Mimic" in kind_name or joint_model.nv == 0:
-            continue
-        if kind_name in _REVOLUTE:
-            kind = "revolute"
-        elif kind_name in _CONTINUOUS:
-            kind = "continuous"
-        elif kind_name in _PRISMATIC:
-            kind = "prismatic"
-        else:
-            raise InputError(
-                f"joint {name!r} is a {kind_name}; springbalance supports revolute, continuous and prismatic joints"
-            )
-        iq, iv = joint_model.idx_q, joint_model.idx_v
-        if kind == "continuous":
-            lower, upper = -np.pi, np.pi
-        else:
-            lower, upper = float(model.lowerPositionLimit[iq]), float(model.upperPositionLimit[iq])
-            if not (np.isfinite(lower) and np.isfinite(upper)) or lower >= upper:
-                lower, upper = (-np.pi, np.pi) if kind == "revolute" else (-1.0, 1.0)
-        joints.append(Joint(name, kind, iq, iv, lower, upper))
-    return sorted(joints, key=lambda joint: joint.index_v)
 
 
 def _warn_unused_mimic(text: str, where: str) -> None:
@@ -438,19 +384,3 @@ def _one_line(exc: Exception) -> str:
     return text[:300] if text else type(exc).__name__
 
 
-@contextlib.contextmanager
-def _quiet_native_stderr() -> Iterator[None]:
-    """Silence what the C++ URDF parser prints on file descriptor 2 (its error is re-raised)."""
-    try:
-        sys.stderr.flush()
-        saved = os.dup(2)
-    except (OSError, ValueError):
-        yield
-        return
-    try:
-        with open(os.devnull, "w") as devnull:
-            os.dup2(devnull.fileno(), 2)
-            yield
-    finally:
-        os.dup2(saved, 2)
-        os.close(saved)

@@ -8,7 +8,7 @@ from typing import Sequence
 
 import numpy as np
 
-from springbalance.design.objectives import ScenarioAggregate
+from springbalance.design.objectives import Objective, ScenarioAggregate
 from springbalance.design.problem import DesignProblem
 from springbalance.design.stock import (CANDIDATES, StockChoice, StockPart, StockSelection, StockTrial, part_distance,
                                         part_spring, stock_kind, warm_started)
@@ -42,19 +42,8 @@ def select_stock(problem: DesignProblem, continuous: np.ndarray | object, parts:
     problem has no spring a part can replace or the catalogue is empty.
     """
     x = np.asarray(getattr(continuous, "x", continuous), dtype=float)
-    if x.shape != (problem.variables.size,):
-        raise InputError(f"the continuous design has {x.size} values, the problem {problem.variables.size}")
     parts = list(parts)
-    if not parts:
-        raise InputError("the stock catalogue holds no parts")
-    if int(candidates) < 1:
-        raise InputError(f"candidates must be ≥ 1, got {candidates}")
-    names = [spring.name for spring in problem.springs
-             if stock_kind(spring) is not None and spring.part_number is None]
-    if not names:
-        raise InputError("no spring to take from the catalogue: stock parts replace extension and compression "
-                         "springs without a part_number; this design has "
-                         + ", ".join(f"{spring.name} ({spring.kind})" for spring in problem.springs))
+    names = _stock_springs(problem, x, parts, candidates)
     objective = _inner_objective(problem)
     continuous_value = problem.objective_value(problem.evaluate(x))
     options = SolveOptions(starts=int(starts), seed=int(seed), method=method, progress=False,
@@ -73,20 +62,7 @@ def select_stock(problem: DesignProblem, continuous: np.ndarray | object, parts:
             raise SolverError(f"no stock part fits spring {name!r}: the catalogue holds no {kind} springs")
         ranked = sorted(((part_distance(part, lengths, forces), part) for part in same_kind),
                         key=lambda pair: pair[0])[:int(candidates)]
-        warm = warm_started(current, current_x)
-        trials, best = [], None
-        for distance, part in ranked:
-            springs = [part_spring(part, s) if s.name == name else s for s in warm]
-            trial_problem, dropped = _like(current, springs, objective)
-            try:
-                result = run_steps(trial_problem, options)
-            except SolverError as error:
-                trials.append(StockTrial(part, distance, None, " ".join(str(error).split())))
-                continue
-            value = trial_problem.objective_value(result.evaluation)
-            trials.append(StockTrial(part, distance, value, result.status))
-            if best is None or value < best[0]:
-                best = (value, part, trial_problem, result, dropped)
+        trials, best = _try_parts(current, current_x, name, ranked, objective, options)
         if best is None:
             tried = "; ".join(f"{trial.part.part_number}: {trial.status}" for trial in trials)
             raise SolverError(f"no stock part fits spring {name!r}: none of the {len(trials)} {kind} parts nearest its "
@@ -102,7 +78,47 @@ def select_stock(problem: DesignProblem, continuous: np.ndarray | object, parts:
                           choices[-1].objective, choices, notes)
 
 
-def _inner_objective(problem: DesignProblem):
+def _stock_springs(problem: DesignProblem, x: np.ndarray, parts: list[StockPart], candidates: int) -> list[str]:
+    """The names of the springs a part can replace (extension and compression springs without a part number),
+    after checking the design vector, the catalogue and the candidate count."""
+    if x.shape != (problem.variables.size,):
+        raise InputError(f"the continuous design has {x.size} values, the problem {problem.variables.size}")
+    if not parts:
+        raise InputError("the stock catalogue holds no parts")
+    if int(candidates) < 1:
+        raise InputError(f"candidates must be ≥ 1, got {candidates}")
+    names = [spring.name for spring in problem.springs
+             if stock_kind(spring) is not None and getattr(spring, "part_number", None) is None]
+    if not names:
+        raise InputError("no spring to take from the catalogue: stock parts replace extension and compression "
+                         "springs without a part_number; this design has "
+                         + ", ".join(f"{spring.name} ({spring.kind})" for spring in problem.springs))
+    return names
+
+
+def _try_parts(current: DesignProblem, current_x: np.ndarray, name: str, ranked: list[tuple[float, StockPart]],
+               objective: Objective, options: SolveOptions) -> tuple[list[StockTrial], tuple | None]:
+    """Each ranked part in place of spring ``name``, solved warm from ``current_x``: the trials, and the best
+    feasible one as ``(objective value, part, problem, result, dropped per-scenario variables)`` (None if none)."""
+    warm = warm_started(current, current_x)
+    trials: list[StockTrial] = []
+    best = None
+    for distance, part in ranked:
+        springs = [part_spring(part, s) if s.name == name else s for s in warm]
+        trial_problem, dropped = _like(current, springs, objective)
+        try:
+            result = run_steps(trial_problem, options)
+        except SolverError as error:
+            trials.append(StockTrial(part, distance, None, " ".join(str(error).split())))
+            continue
+        value = trial_problem.objective_value(result.evaluation)
+        trials.append(StockTrial(part, distance, value, result.status))
+        if best is None or value < best[0]:
+            best = (value, part, trial_problem, result, dropped)
+    return trials, best
+
+
+def _inner_objective(problem: DesignProblem) -> Objective:
     """The objective to hand a new problem (a scenario aggregate is rebuilt from its inner objective)."""
     return problem.objective.inner if isinstance(problem.objective, ScenarioAggregate) else problem.objective
 

@@ -25,18 +25,16 @@ constraint (:mod:`springbalance.design.clearance`) is linearised from the same d
 from __future__ import annotations
 
 import dataclasses
-from typing import TYPE_CHECKING, Any
+from typing import Any, Iterable
 
 import numpy as np
 import pinocchio as pin
 
 from springbalance.design.evaluated import EvaluatedDesign
+from springbalance.design.problem import DesignProblem
 from springbalance.errors import InputError
 from springbalance.model.collision import DEFAULT_RADIUS, CollisionScene, capsule_radius, collision_geometry
 from springbalance.model.workspace import Workspace
-
-if TYPE_CHECKING:
-    from springbalance.model.mechanism import Mechanism
 
 
 @dataclasses.dataclass(frozen=True)
@@ -181,7 +179,36 @@ def clearance(result: EvaluatedDesign, radius: float | None = None, samples: int
         InputError: a bad ``radius``, ``samples`` or ``margin``, or a mechanism without a URDF
             or without collision geometry.
     """
-    asked = result.problem.clearance
+    margin, radius = _checked_options(result.problem, radius, samples, margin)
+    problem = result.problem
+    mechanism = problem.mechanism
+    scene = CollisionScene(mechanism, collision_geometry(mechanism) if geometry is None else geometry)
+    joint_values = _poses(problem, samples)
+    configurations = mechanism.configurations(joint_values)
+    capsules, skipped = _capsules(result, scene, radius)
+    _closest_approach(scene, capsules, configurations)
+    objects, links = scene.objects, scene.links
+    rows = []
+    for capsule in capsules:
+        distance, index, sample, scenario = capsule["best"]
+        pose = ({joint.name: float(joint_values[sample, joint.index_v]) for joint in mechanism.joints}
+                if sample is not None else {})
+        rows.append(ClearanceRow(
+            spring=capsule["name"], radius=capsule["radius"], distance=distance,
+            link=links[index] if index is not None else None,
+            geometry=objects[index].name if index is not None else None,
+            pose=pose, sample=sample, scenario=scenario, exempt=capsule["bodies"],
+            below_margin=bool(np.isfinite(distance) and (distance < margin or distance <= 0))))
+    return ClearanceReport(rows=rows, margin=float(margin), poses=int(joint_values.shape[0]), mechanism=mechanism.name,
+                           collision_objects=[obj.name for obj in objects], skipped=skipped,
+                           joint_units={joint.name: joint.unit for joint in mechanism.joints})
+
+
+def _checked_options(problem: DesignProblem, radius: float | None, samples: int | None,
+                     margin: float | None) -> tuple[float, float | None]:
+    """``(margin, radius)`` [m] of the check: the ones given, else the problem's clearance options; InputError
+    naming a bad ``radius``, ``margin`` or ``samples``."""
+    asked = problem.clearance
     if margin is None:
         margin = asked.margin if asked is not None else 0.0
     if radius is None and asked is not None:
@@ -192,24 +219,30 @@ def clearance(result: EvaluatedDesign, radius: float | None = None, samples: int
         raise InputError(f"clearance margin must be a finite number ≥ 0 [m], got {margin!r}")
     if samples is not None and (isinstance(samples, bool) or int(samples) != samples or samples < 1):
         raise InputError(f"clearance samples must be an integer ≥ 1, got {samples!r}")
+    return margin, radius
+
+
+def _poses(problem: DesignProblem, samples: int | None) -> np.ndarray:
+    """The joint values (N×nv) [rad or m] to check: the base workspace's, or ``samples`` scrambled Sobol
+    poses (seed 0) over its smallest and largest value of each joint."""
+    mechanism, base = problem.mechanism, problem.base_workspace
+    if samples is None:
+        return base.joint_values
+    ranges = {joint.name: [float(np.min(base.joint_values[:, joint.index_v])),
+                           float(np.max(base.joint_values[:, joint.index_v]))] for joint in mechanism.joints}
+    return Workspace.sobol(mechanism, n=int(samples), ranges=ranges, seed=0).joint_values
+
+
+def _capsules(result: EvaluatedDesign, scene: CollisionScene,
+              radius: float | None) -> tuple[list[dict[str, Any]], list[str]]:
+    """The capsules: per two-point spring, its radius [m], exempt bodies, their frames, the collision objects
+    it is checked against and the anchor points [m] of each scenario (one per distinct pair); and the names
+    of the springs not checked (torsional)."""
     problem = result.problem
     mechanism = problem.mechanism
-    scene = CollisionScene(mechanism, collision_geometry(mechanism) if geometry is None else geometry)
-    base = problem.base_workspace
-    if samples is None:
-        joint_values = base.joint_values
-    else:
-        ranges = {joint.name: [float(np.min(base.joint_values[:, joint.index_v])),
-                               float(np.max(base.joint_values[:, joint.index_v]))] for joint in mechanism.joints}
-        joint_values = Workspace.sobol(mechanism, n=int(samples), ranges=ranges, seed=0).joint_values
-    configurations = mechanism.configurations(joint_values)
-    objects, links = scene.objects, scene.links
-
-    # the capsules: per spring, its radius, exempt bodies and the anchor points of each scenario
-    records = result.springs
     scenario_names = [scenario.name for scenario in problem.scenarios] or [None]
     capsules, skipped = [], []
-    for spring, record in zip(problem.springs, records):
+    for spring, record in zip(problem.springs, result.springs):
         if "a" not in record or "b" not in record:
             skipped.append(spring.name)
             continue
@@ -227,7 +260,13 @@ def clearance(result: EvaluatedDesign, radius: float | None = None, samples: int
         capsules.append({"name": spring.name, "radius": spring_radius, "bodies": bodies, "variants": variants,
                          "frames": tuple(mechanism.frame_id(body) for body in bodies),
                          "checked": scene.indices_except(bodies), "best": (np.inf, None, None, None)})
+    return capsules, skipped
 
+
+def _closest_approach(scene: CollisionScene, capsules: list[dict[str, Any]],
+                      configurations: Iterable[np.ndarray]) -> None:
+    """Set each capsule's ``best``: (smallest signed distance [m], collision object index, sample, scenario)
+    over the configurations."""
     for sample, q in enumerate(configurations):
         scene.place(q)
         for capsule in capsules:
@@ -239,19 +278,3 @@ def clearance(result: EvaluatedDesign, radius: float | None = None, samples: int
                     distance = scene.capsule_distance(start, end, capsule["radius"], index).distance
                     if distance < capsule["best"][0]:
                         capsule["best"] = (distance, index, sample, scenario)
-
-    rows = []
-    for capsule in capsules:
-        distance, index, sample, scenario = capsule["best"]
-        pose = ({joint.name: float(joint_values[sample, joint.index_v]) for joint in mechanism.joints}
-                if sample is not None else {})
-        rows.append(ClearanceRow(
-            spring=capsule["name"], radius=capsule["radius"], distance=distance,
-            link=links[index] if index is not None else None,
-            geometry=objects[index].name if index is not None else None,
-            pose=pose, sample=sample, scenario=scenario, exempt=capsule["bodies"],
-            below_margin=bool(np.isfinite(distance) and (distance < margin or distance <= 0))))
-    return ClearanceReport(rows=rows, margin=float(margin), poses=int(joint_values.shape[0]), mechanism=mechanism.name,
-                           collision_objects=[obj.name for obj in objects], skipped=skipped,
-                           joint_units={joint.name: joint.unit for joint in mechanism.joints})
-

@@ -26,6 +26,7 @@ from springbalance.errors import InputError
 from springbalance.files import read_input_text
 from springbalance.loaders import DuplicateKeyError, LimitError, load_json
 from springbalance.model import budget
+from springbalance.model.mechanism import Mechanism
 
 FORMAT = "springbalance-design/1"
 #: a design file's parsed record takes about this many times its size in memory
@@ -59,7 +60,21 @@ def check_design_record(record: dict[str, Any], label: str) -> None:
     for key in ("mechanism", "workspace", "objective", "weights", "springs", "variables"):
         if key not in record:
             raise InputError(f"{label} lacks key {key!r}")
-    source = _mapping(record["mechanism"], f"{label}: mechanism")
+    _check_mechanism_source(record["mechanism"], label)
+    _check_workspace(record["workspace"], label)
+    if not isinstance(record["objective"], str):
+        raise InputError(f"{label}: objective: expected a name, got {_shown(record['objective'])}")
+    _check_weights_springs_variables(record, label)
+    _check_solver(record.get("solver", {}), label)
+    for key in ("scenarios", "clearance"):
+        if record.get(key) is not None:
+            _mapping(record[key], f"{label}: {key}")
+    _check_scenarios(record.get("scenarios"), label)
+
+
+def _check_mechanism_source(value: Any, label: str) -> None:
+    """The record's ``mechanism``: a saved source (robot, URDF path or URDF text), gravity [m/s²], flags."""
+    source = _mapping(value, f"{label}: mechanism")
     kind = source.get("kind")
     if not isinstance(kind, str) or kind not in _SOURCE_KINDS:
         raise InputError(f"{label}: mechanism.kind: expected one of {', '.join(_SOURCE_KINDS)}, got {kind!r} "
@@ -78,7 +93,11 @@ def check_design_record(record: dict[str, Any], label: str) -> None:
         if key in source and not isinstance(source[key], bool):
             raise InputError(f"{label}: mechanism.{key}: expected true or false, got {_shown(source[key])}")
 
-    workspace = _mapping(record["workspace"], f"{label}: workspace")
+
+def _check_workspace(value: Any, label: str) -> None:
+    """The record's ``workspace``: rows of equal length of finite joint values [rad or m], ``ordered``, and
+    a ``description``."""
+    workspace = _mapping(value, f"{label}: workspace")
     rows = workspace.get("joint_values")
     where = f"{label}: workspace.joint_values"
     if not isinstance(rows, list) or not rows:
@@ -94,8 +113,10 @@ def check_design_record(record: dict[str, Any], label: str) -> None:
         raise InputError(f"{label}: workspace.ordered: expected true or false, got {_shown(workspace.get('ordered'))}")
     _mapping(workspace.get("description"), f"{label}: workspace.description")
 
-    if not isinstance(record["objective"], str):
-        raise InputError(f"{label}: objective: expected a name, got {_shown(record['objective'])}")
+
+def _check_weights_springs_variables(record: dict[str, Any], label: str) -> None:
+    """The record's joint ``weights`` (finite, 0 … MAX_VALUE), ``springs`` (a non-empty list of records) and
+    design ``variables`` (finite, within ±MAX_VALUE in SI units)."""
     weights = _mapping(record["weights"], f"{label}: weights")
     for joint, weight in weights.items():
         if not _is_number(weight) or not 0 <= weight <= MAX_VALUE:
@@ -112,28 +133,33 @@ def check_design_record(record: dict[str, Any], label: str) -> None:
             raise InputError(f"{label}: variables.{name}: expected a finite number, got {_shown(value)}")
         if abs(value) > MAX_VALUE:
             raise InputError(f"{label}: variables.{name}: {value:g} is beyond ±{MAX_VALUE:g} (SI units)")
-    solver = record.get("solver", {})
-    _mapping(solver, f"{label}: solver")
+
+
+def _check_solver(value: Any, label: str) -> None:
+    """The record's ``solver``: a mapping whose ``method`` and ``status`` are strings and ``seed`` an integer."""
+    solver = _mapping(value, f"{label}: solver")
     for key in ("method", "status"):
         if key in solver and not isinstance(solver[key], str):
             raise InputError(f"{label}: solver.{key}: expected a string, got {_shown(solver[key])}")
     if solver.get("seed") is not None and (isinstance(solver["seed"], bool) or not isinstance(solver["seed"], int)):
         raise InputError(f"{label}: solver.seed: expected an integer, got {_shown(solver['seed'])}")
-    for key in ("scenarios", "clearance"):
-        if record.get(key) is not None:
-            _mapping(record[key], f"{label}: {key}")
-    scenarios = record.get("scenarios")
-    if scenarios:
-        cases = scenarios.get("cases")
-        if not isinstance(cases, list) or not all(isinstance(case, dict) for case in cases):
-            raise InputError(f"{label}: scenarios.cases: expected a list of scenario records, got {_shown(cases)}")
-        per_scenario = scenarios.get("per_scenario", [])
-        if not isinstance(per_scenario, list) or not all(isinstance(name, str) for name in per_scenario):
-            raise InputError(f"{label}: scenarios.per_scenario: expected a list of variable names, "
-                             f"got {_shown(per_scenario)}")
 
 
-def check_design_mechanism(record: dict[str, Any], mechanism, label: str, own_workspace: bool = True) -> None:
+def _check_scenarios(scenarios: dict[str, Any] | None, label: str) -> None:
+    """The record's ``scenarios`` (when there are any): a list of ``cases`` and of ``per_scenario`` names."""
+    if not scenarios:
+        return
+    cases = scenarios.get("cases")
+    if not isinstance(cases, list) or not all(isinstance(case, dict) for case in cases):
+        raise InputError(f"{label}: scenarios.cases: expected a list of scenario records, got {_shown(cases)}")
+    per_scenario = scenarios.get("per_scenario", [])
+    if not isinstance(per_scenario, list) or not all(isinstance(name, str) for name in per_scenario):
+        raise InputError(f"{label}: scenarios.per_scenario: expected a list of variable names, "
+                         f"got {_shown(per_scenario)}")
+
+
+def check_design_mechanism(record: dict[str, Any], mechanism: Mechanism, label: str,
+                           own_workspace: bool = True) -> None:
     """The record fits ``mechanism``: its joints (weights, sample width), and its springs' bodies and joints.
 
     ``own_workspace``: the saved samples are used (their width is checked too).
@@ -167,13 +193,13 @@ def check_design_mechanism(record: dict[str, Any], mechanism, label: str, own_wo
                              f"joint {joint!r} is not in mechanism {mechanism.name!r}; joints: {', '.join(joints)}")
 
 
-def _mapping(value, where: str) -> dict:
+def _mapping(value: Any, where: str) -> dict[str, Any]:
     if not isinstance(value, dict):
         raise InputError(f"{where}: expected a mapping, got {_shown(value)}")
     return value
 
 
-def _is_number(value) -> bool:
+def _is_number(value: Any) -> bool:
     """A finite int or float (not a bool), within the range of a float."""
     if not isinstance(value, (int, float)) or isinstance(value, bool):
         return False
@@ -183,6 +209,6 @@ def _is_number(value) -> bool:
         return False
 
 
-def _shown(value, limit: int = 80) -> str:
+def _shown(value: Any, limit: int = 80) -> str:
     text = repr(value)
     return text if len(text) <= limit else text[:limit - 1] + "…"

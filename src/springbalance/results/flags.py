@@ -1,6 +1,6 @@
 """Warnings about a design: things a report should point out before the design is built.
 
-:func:`flags` inspects a :class:`~springbalance.results.result.DesignResult` and returns one
+:func:`flags` inspects a design (:class:`~springbalance.design.evaluated.EvaluatedDesign`) and returns one
 :class:`Flag` per finding. The kinds:
 
 - ``at_bound``: a design variable ended at (within ``1e-6`` of its range of) one of its bounds,
@@ -29,6 +29,8 @@ from typing import Any
 
 import numpy as np
 
+from springbalance.design.evaluated import EvaluatedDesign
+from springbalance.design.problem import DesignProblem
 from springbalance.errors import InputError
 from springbalance.export.common import law_warnings
 from springbalance.springs import CompressionSpring, ExtensionSpring, GasSpring
@@ -71,7 +73,7 @@ class Flag:
         return f"[{self.kind}] {self.message}" + (f" (hint: {self.hint})" if self.hint else "")
 
 
-def flags(result) -> list[Flag]:
+def flags(result: EvaluatedDesign) -> list[Flag]:
     """Every warning about ``result``, in the order at_bound, worse_joint, law, unbuildable_ideal, unbuildable."""
     return (at_bound_flags(result) + worse_joint_flags(result) + law_flags(result) + unbuildable_flags(result)
             + unbuildable_coil_flags(result))
@@ -82,7 +84,7 @@ def _quantity(value: float, unit: str) -> str:
     return f"{value:.6g}" if unit in ("", "1") else f"{value:.6g} {unit}"
 
 
-def _nonnegative_parameter(problem, name: str) -> str | None:
+def _nonnegative_parameter(problem: DesignProblem, name: str) -> str | None:
     """The law whose parameter ``name`` (``spring.key``, maybe ``[scenario]``) must be ≥ 0, else None."""
     base = name.split("[", 1)[0]
     for spring in problem.springs:
@@ -92,7 +94,7 @@ def _nonnegative_parameter(problem, name: str) -> str | None:
     return None
 
 
-def at_bound_flags(result, tolerance: float = BOUND_TOLERANCE) -> list[Flag]:
+def at_bound_flags(result: EvaluatedDesign, tolerance: float = BOUND_TOLERANCE) -> list[Flag]:
     """Design variables at (within ``tolerance`` of their range of) a bound; fixed ones are skipped."""
     variables = result.problem.variables
     found = []
@@ -122,7 +124,7 @@ def at_bound_flags(result, tolerance: float = BOUND_TOLERANCE) -> list[Flag]:
 
 
 # ---------------------------------------------------------------------- worse_joint
-def worse_joint_flags(result, tolerance: float = TORQUE_TOLERANCE) -> list[Flag]:
+def worse_joint_flags(result: EvaluatedDesign, tolerance: float = TORQUE_TOLERANCE) -> list[Flag]:
     """Joints whose peak or RMS torque is larger with the springs than without them."""
     rows = result.metrics()["joints"]
     largest = max((row["peak_before"] for row in rows), default=0.0)
@@ -167,7 +169,7 @@ def _law_hint(message: str) -> str:
     return "check the spring's working range"
 
 
-def law_flags(result) -> list[Flag]:
+def law_flags(result: EvaluatedDesign) -> list[Flag]:
     """Springs whose real law departs from the idealised one in the workspace (one flag per case)."""
     names = sorted((spring.name for spring in result.problem.springs), key=len, reverse=True)
     found = []
@@ -178,12 +180,12 @@ def law_flags(result) -> list[Flag]:
 
 
 # ---------------------------------------------------------------------- unbuildable_ideal
-def unbuildable_flags(result, material: str = DEFAULT_MATERIAL) -> list[Flag]:
+def unbuildable_flags(result: EvaluatedDesign, material: str = DEFAULT_MATERIAL) -> list[Flag]:
     """Extension and compression springs (not gas springs, k > 0) that no helical spring realises.
 
     Inputs to :func:`~springbalance.springs.sizing.size_helical_spring` per spring: its rate, free
     length, longest and shortest length and largest force magnitude over the workspace, as in
-    :meth:`~springbalance.results.result.DesignResult.helical_sizing`. A spring with a ``helical``
+    :meth:`~springbalance.design.evaluated.EvaluatedDesign.helical_sizing`. A spring with a ``helical``
     option is sized with its own material, any other with ``material``.
     """
     problem, evaluation = result.problem, result.evaluation
@@ -220,7 +222,7 @@ def unbuildable_flags(result, material: str = DEFAULT_MATERIAL) -> list[Flag]:
     return found
 
 
-def unbuildable_coil_flags(result) -> list[Flag]:
+def unbuildable_coil_flags(result: EvaluatedDesign) -> list[Flag]:
     """Helical coil springs whose spec sheet fails a rule (the solver's constraints not met)."""
     found = []
     for record in result.springs:

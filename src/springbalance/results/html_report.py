@@ -10,7 +10,7 @@
 - ``out/torques.png`` / ``.svg``: torque along a sweep of each joint (:func:`springbalance.results.plots.plot_torques`);
 - ``out/histogram.png`` / ``.svg``: torque over the workspace samples (:func:`springbalance.results.plots.plot_histogram`).
 
-Every number is read from the :class:`~springbalance.results.result.DesignResult`; the page needs
+Every number is read from the design (:class:`~springbalance.design.evaluated.EvaluatedDesign`); the page needs
 no network (the images are files next to it).
 """
 
@@ -20,15 +20,20 @@ import datetime
 import html
 import math
 from pathlib import Path
+from typing import Any, Iterable, Sequence
 
 import numpy as np
 
 from springbalance._version import __version__
+from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.files import write_text_atomic
+from springbalance.results import plots
+from springbalance.results.flags import Flag, flags
 from springbalance.results.report import balance_statement, checked_clearance, spec_sheet_rows
+from springbalance.viz.design_scene import DesignScene
 
 
-def _number(value, digits: int = 4) -> str:
+def _number(value: float | None, digits: int = 4) -> str:
     if value is None:
         return "—"
     value = float(value)
@@ -37,7 +42,7 @@ def _number(value, digits: int = 4) -> str:
     return f"{value:.{digits}g}"
 
 
-def _point(point) -> str:
+def _point(point: Sequence[float]) -> str:
     return "(" + ", ".join(f"{v:+.4f}" for v in point) + ")"
 
 
@@ -45,7 +50,7 @@ def _point(point) -> str:
 PRELOAD_KEYS = ("initial_tension", "preload", "force")
 
 
-def spec_sheet_html(result) -> list[str]:
+def spec_sheet_html(result: EvaluatedDesign) -> list[str]:
     """The "Spec sheets" section: per helical coil spring its data sheet and buildable verdict."""
     e = html.escape
     sheets = [(record["name"], record["helical"]) for record in result.springs if "helical" in record]
@@ -63,7 +68,7 @@ def spec_sheet_html(result) -> list[str]:
     return parts
 
 
-def design_rows(result) -> list[dict]:
+def design_rows(result: EvaluatedDesign) -> list[dict[str, Any]]:
     """Per spring: the numbers of the design table, with their units.
 
     ``where`` says where the spring acts (its anchors, or its joint); ``stiffness``,
@@ -98,7 +103,7 @@ def design_rows(result) -> list[dict]:
     return rows
 
 
-def _where(row) -> str:
+def _where(row: dict[str, Any]) -> str:
     parts = []
     for end, body, point in row["where"]:
         if point is None:
@@ -108,19 +113,46 @@ def _where(row) -> str:
     return "<br>".join(parts)
 
 
-def _with_unit(value, unit: str, default_unit: str, digits: int = 5) -> str:
+def _with_unit(value: float | None, unit: str, default_unit: str, digits: int = 5) -> str:
     text = _number(value, digits)
     return text if value is None or unit == default_unit else f"{text} {html.escape(unit)}"
 
 
-def report_html(result, scene: str | None = "scene.html", torques: str | None = "torques.svg",
-                histogram: str | None = "histogram.svg", legend: str = "", exports=()) -> str:
+def report_html(result: EvaluatedDesign, scene: str | None = "scene.html", torques: str | None = "torques.svg",
+                histogram: str | None = "histogram.svg", legend: str = "", exports: Iterable[str] = ()) -> str:
     """The report page; ``scene``, ``torques`` and ``histogram`` are relative links (None: left out);
-    ``exports``: relative links to exported URDF/MJCF files (``springbalance export``)."""
-    problem = result.problem
+    ``exports``: relative links to exported URDF/MJCF files (``springbalance export``).
+
+    The sections, in order: the head (:func:`head_html`), the links (:func:`links_html`), the springs
+    (:func:`springs_html`, :func:`spec_sheet_html`), the torque and objective tables (:func:`torque_html`),
+    the balance statement, the scenarios (:func:`scenarios_html`), the infeasibility, the clearance
+    (:func:`clearance_html`), the warnings (:func:`warnings_html`) and the plots (:func:`plots_html`).
+    """
     metrics = result.metrics()
     e = html.escape
-    parts = [
+    parts = head_html(result)
+    parts.extend(links_html(scene, legend, exports))
+    parts.extend(springs_html(result))
+    parts.extend(spec_sheet_html(result))
+    parts.extend(torque_html(metrics))
+    parts.append(f"<p>{e(balance_statement(result))}.</p>")
+    if getattr(result.problem, "scenarios", None):
+        parts.extend(scenarios_html(result))
+    if metrics["max_violation"] > 1e-6:
+        parts.append(f"<p><b>Infeasible:</b> largest constraint violation {_number(metrics['max_violation'])}.</p>")
+    parts.extend(clearance_html(result))
+    parts.extend(warnings_html(flags(result)))
+    parts.extend(plots_html(torques, histogram))
+    parts.append("</body></html>")
+    return "\n".join(parts)
+
+
+def head_html(result: EvaluatedDesign) -> list[str]:
+    """The page's head (title, style) and its first lines: the mechanism, the workspace samples, the
+    objective, the solver's status and method, the version of springbalance and today's date."""
+    problem = result.problem
+    e = html.escape
+    return [
         "<!DOCTYPE html>", '<html lang="en"><head><meta charset="utf-8">',
         f"<title>springbalance report: {e(problem.mechanism.name)}</title>",
         "<style>body{font:14px/1.45 sans-serif;margin:24px auto;max-width:1100px;color:#222;padding:0 16px}"
@@ -133,6 +165,12 @@ def report_html(result, scene: str | None = "scene.html", torques: str | None = 
         f"method <code>{e(str(result.method))}</code>. springbalance {e(__version__)}, "
         f"{datetime.date.today().isoformat()}.</p>",
     ]
+
+
+def links_html(scene: str | None, legend: str, exports: Iterable[str]) -> list[str]:
+    """The link to the 3-D scene (with its colour ``legend``) and to the exported models (relative links)."""
+    e = html.escape
+    parts = []
     if scene:
         parts.append(f'<p><a href="{e(scene)}"><b>Open the 3-D scene</b></a> (Meshcat: the arm and its springs, '
                      "animated through a sweep of each joint; opens offline).</p>")
@@ -141,15 +179,21 @@ def report_html(result, scene: str | None = "scene.html", torques: str | None = 
     if exports:
         links = ", ".join(f'<a href="{e(name)}"><code>{e(name)}</code></a>' for name in exports)
         parts.append(f"<p>Exported models (URDF with spring anchors, MuJoCo model with tendon springs): {links}.</p>")
+    return parts
 
-    parts.append("<h2>Springs</h2>")
-    parts.append("<p class=\"note\">Anchor points in the frame of their body [m]. Lengths and forces over the "
-                 "workspace samples; max force is the largest magnitude (tension pulls the ends together, "
-                 "a compression or gas spring pushes). A torsional spring gives its joint, angles [rad] and "
-                 "torques [N·m].</p>")
-    parts.append("<table><tr><th class=l>spring</th><th class=l>type</th><th class=l>anchors (body, point [m])</th>"
-                 "<th>stiffness [N/m]</th><th>free length [m]</th><th>preload [N]</th><th>min length [m]</th>"
-                 "<th>max length [m]</th><th>max force [N]</th></tr>")
+
+def springs_html(result: EvaluatedDesign) -> list[str]:
+    """The "Springs" section: the table of :func:`design_rows` (anchors [m], stiffness [N/m], free length [m],
+    preload [N], shortest and longest length [m], largest force [N])."""
+    e = html.escape
+    parts = ["<h2>Springs</h2>",
+             "<p class=\"note\">Anchor points in the frame of their body [m]. Lengths and forces over the "
+             "workspace samples; max force is the largest magnitude (tension pulls the ends together, "
+             "a compression or gas spring pushes). A torsional spring gives its joint, angles [rad] and "
+             "torques [N·m].</p>",
+             "<table><tr><th class=l>spring</th><th class=l>type</th><th class=l>anchors (body, point [m])</th>"
+             "<th>stiffness [N/m]</th><th>free length [m]</th><th>preload [N]</th><th>min length [m]</th>"
+             "<th>max length [m]</th><th>max force [N]</th></tr>"]
     for row in design_rows(result):
         state_unit, force_unit = row["state"][1], row["force"][1]
         preload = _with_unit(row["preload"], row["preload_unit"], "N")
@@ -163,11 +207,17 @@ def report_html(result, scene: str | None = "scene.html", torques: str | None = 
             f"<td>{_with_unit(row['max_state'], state_unit, 'm', 4)}</td>"
             f"<td>{_with_unit(row['max_force'], force_unit, 'N', 4)}</td></tr>")
     parts.append("</table>")
-    parts.extend(spec_sheet_html(result))
+    return parts
 
-    parts.append("<h2>Actuator torque</h2>")
-    parts.append("<table><tr><th class=l>joint</th><th>peak before</th><th>peak after</th><th>reduction [%]</th>"
-                 "<th>RMS before</th><th>RMS after</th><th>reduction [%]</th></tr>")
+
+def torque_html(metrics: dict[str, Any]) -> list[str]:
+    """The "Actuator torque" section: the tables of
+    :meth:`~springbalance.design.evaluated.EvaluatedDesign.metrics` (per joint peak and RMS torque [N·m or N]
+    before/after with the reduction [%], every objective before/after)."""
+    e = html.escape
+    parts = ["<h2>Actuator torque</h2>",
+             "<table><tr><th class=l>joint</th><th>peak before</th><th>peak after</th><th>reduction [%]</th>"
+             "<th>RMS before</th><th>RMS after</th><th>reduction [%]</th></tr>"]
     for row in metrics["joints"]:
         parts.append(
             f"<tr><td class=l>{e(row['joint'])} [{e(row['unit'])}]</td><td>{_number(row['peak_before'])}</td>"
@@ -185,25 +235,32 @@ def report_html(result, scene: str | None = "scene.html", torques: str | None = 
                      f"<td>{_number(row['after'])}</td><td>{_number(row['reduction_percent'], 3)}</td>"
                      f"<td class=l>{e(mark)}</td></tr>")
     parts.append("</table>")
-    parts.append(f"<p>{e(balance_statement(result))}.</p>")
-    problem = result.problem
-    if getattr(problem, "scenarios", None):
-        rows = problem.scenario_table(result.x)
-        names = list(rows[0]["variables"]) if rows else []
-        parts.append(f"<h2>Scenarios</h2><p>{len(rows)} load cases, objective aggregated as "
-                     f"{e(problem.aggregate)}; the tables above cover every scenario's samples.</p>")
-        parts.append("<table><tr><th class=l>scenario</th><th>payload [kg]</th>"
-                     + "".join(f"<th>{e(name)}</th>" for name in names) + "<th>peak [N·m]</th><th>rms [N·m]</th></tr>")
-        for row in rows:
-            parts.append(f"<tr><td class=l>{e(row['name'])}</td><td>{_number(row['payload'])}</td>"
-                         + "".join(f"<td>{_number(row['variables'][name], 6)}</td>" for name in names)
-                         + f"<td>{_number(row['peak'])}</td><td>{_number(row['rms'])}</td></tr>")
-        parts.append("</table>")
-    if metrics["max_violation"] > 1e-6:
-        parts.append(f"<p><b>Infeasible:</b> largest constraint violation {_number(metrics['max_violation'])}.</p>")
-    parts.extend(clearance_html(result))
-    parts.extend(warnings_html(result.warnings()))
+    return parts
 
+
+def scenarios_html(result: EvaluatedDesign) -> list[str]:
+    """The "Scenarios" section: per load case its payload [kg], per-scenario variables, peak and RMS
+    residual [N·m]."""
+    problem = result.problem
+    e = html.escape
+    rows = problem.scenario_table(result.x)
+    names = list(rows[0]["variables"]) if rows else []
+    parts = [f"<h2>Scenarios</h2><p>{len(rows)} load cases, objective aggregated as "
+             f"{e(problem.aggregate)}; the tables above cover every scenario's samples.</p>",
+             "<table><tr><th class=l>scenario</th><th>payload [kg]</th>"
+             + "".join(f"<th>{e(name)}</th>" for name in names) + "<th>peak [N·m]</th><th>rms [N·m]</th></tr>"]
+    for row in rows:
+        parts.append(f"<tr><td class=l>{e(row['name'])}</td><td>{_number(row['payload'])}</td>"
+                     + "".join(f"<td>{_number(row['variables'][name], 6)}</td>" for name in names)
+                     + f"<td>{_number(row['peak'])}</td><td>{_number(row['rms'])}</td></tr>")
+    parts.append("</table>")
+    return parts
+
+
+def plots_html(torques: str | None, histogram: str | None) -> list[str]:
+    """The "Plots" section: the torque sweep and histogram images (relative links; None: left out)."""
+    e = html.escape
+    parts = []
     if torques or histogram:
         parts.append("<h2>Plots</h2>")
     if torques:
@@ -212,11 +269,10 @@ def report_html(result, scene: str | None = "scene.html", torques: str | None = 
     if histogram:
         parts.append(f'<p>Torque of each joint over all workspace samples.</p>'
                      f'<p><img src="{e(histogram)}" alt="histogram of the torques over the workspace"></p>')
-    parts.append("</body></html>")
-    return "\n".join(parts)
+    return parts
 
 
-def clearance_html(result) -> list[str]:
+def clearance_html(result: EvaluatedDesign) -> list[str]:
     """The "Clearance" section: per spring its smallest distance to a link of the arm's collision
     geometry, the link and the pose (nothing when the URDF has no collision geometry)."""
     report = checked_clearance(result)
@@ -235,7 +291,7 @@ def clearance_html(result) -> list[str]:
     return parts
 
 
-def warnings_html(flags) -> list[str]:
+def warnings_html(flags: Sequence[Flag]) -> list[str]:
     """The "Warnings" section: a table of kind, subject, message and hint, or "none"."""
     e = html.escape
     if not flags:
@@ -251,7 +307,7 @@ def warnings_html(flags) -> list[str]:
     return parts
 
 
-def exported_files(folder: Path) -> list[str]:
+def exported_files(folder: str | Path) -> list[str]:
     """Names of the URDF (``*.urdf``) and MuJoCo (``*.xml`` with a ``<mujoco>`` root) files in ``folder``."""
     names = []
     for path in sorted(Path(folder).glob("*")):
@@ -264,22 +320,19 @@ def exported_files(folder: Path) -> list[str]:
     return names
 
 
-def write_report(result, folder: str | Path, scene: bool = True, **scene_options) -> Path:
+def write_report(result: EvaluatedDesign, folder: str | Path, scene: bool = True, **scene_options: Any) -> Path:
     """Write ``report.html``, ``scene.html`` and the plots (PNG and SVG) into ``folder``.
 
     Returns the path of ``report.html``. ``scene=False`` leaves the scene out;
     ``scene_options`` go to :class:`springbalance.viz.scene.DesignScene`.
     """
-    from springbalance.results import plots
-    from springbalance.viz import scene as viz
-
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     plots.plot_torques(result, path=folder / "torques.png")
     plots.plot_histogram(result, path=folder / "histogram.png")
     legend = ""
     if scene:
-        design_scene = viz.DesignScene(result, **scene_options)
+        design_scene = DesignScene(result, **scene_options)
         write_text_atomic(folder / "scene.html", design_scene.html())
         legend = design_scene.legend_html(position="absolute")
     page = report_html(result, scene="scene.html" if scene else None, legend=legend, exports=exported_files(folder))

@@ -1,18 +1,55 @@
-"""Plain-text tables of a design result (springs, per-joint torques, objectives)."""
+"""Plain-text tables of a design (:class:`~springbalance.design.evaluated.EvaluatedDesign`): springs, per-joint
+torques, objectives, clearance and warnings."""
 
 from __future__ import annotations
 
+from typing import Any, Sequence
+
 import numpy as np
 
+from springbalance.design.clearance import FitRecord
+from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.design.solvers import FEASIBILITY_TOLERANCE
+from springbalance.design.standard_wire import WireRounding
 from springbalance.errors import InputError
 from springbalance.model.collision import collision_geometry
-from springbalance.results.clearance import clearance
+from springbalance.results.clearance import ClearanceReport, clearance
+from springbalance.results.flags import Flag, flags
+from springbalance.springs.laws import Spring
 
 
-def result_table(result) -> str:
-    """What the actuators still carry, before/after, plus the spring design."""
+def result_table(result: EvaluatedDesign) -> str:
+    """What the actuators still carry, before/after, plus the spring design.
+
+    The sections, in order: the header (:func:`header_lines`), the springs (:func:`spring_lines`), what
+    rounding the wires and fitting to the arm cost (:func:`wire_rounding_lines`, :func:`fit_lines`), the
+    helical sizing (:func:`helical_sizing_lines`), the torque and objective tables (:func:`torque_lines`),
+    the balance statement, the scenarios, the clearance table and the warnings.
+    """
     metrics = result.metrics()
+    problem = result.problem
+    lines = header_lines(result)
+    lines.append("")
+    lines.extend(spring_lines(result))
+    lines.extend(wire_rounding_lines(result.wire_rounding))
+    lines.extend(fit_lines(result.fit))
+    lines.extend(helical_sizing_lines(result))
+    lines.append("")
+    lines.extend(torque_lines(metrics))
+    lines.append("\n  " + balance_statement(result))
+    if getattr(problem, "scenarios", None):
+        lines.extend(scenario_lines(result))
+    if metrics["max_violation"] > FEASIBILITY_TOLERANCE:
+        lines.append(f"\n  INFEASIBLE: largest constraint violation {metrics['max_violation']:.3g} "
+                     f"(tolerance {FEASIBILITY_TOLERANCE:g})")
+    lines.append("")
+    lines.extend(clearance_section(result))
+    lines.extend(warning_lines(flags(result)))
+    return "\n".join(lines)
+
+
+def header_lines(result: EvaluatedDesign) -> list[str]:
+    """The first line (mechanism, samples, objective, status) and the multi-start's spread of objectives."""
     problem = result.problem
     lines = [f"springbalance: {problem.mechanism.name}, {problem.workspace.size} samples, "
              f"objective {problem.objective.name}, status: {result.status}"]
@@ -21,59 +58,90 @@ def result_table(result) -> str:
         lines.append(f"multi-start: {spread['feasible']}/{spread['starts']} feasible, objective best "
                      f"{spread.get('best', float('nan')):.6g}, median {spread.get('median', float('nan')):.6g}, "
                      f"worst {spread.get('worst', float('nan')):.6g}")
-    lines.append("")
-    lines.append("Springs (anchor points in body frames) [m]")
+    return lines
+
+
+def spring_lines(result: EvaluatedDesign) -> list[str]:
+    """The "Springs" section: per spring its anchors [m] (or joint), parameter values, spec sheet or mass
+    [kg], and the range of its length [m] and force [N] (angle [rad] and torque [N·m]) over the workspace."""
+    lines = ["Springs (anchor points in body frames) [m]"]
     evaluation = result.evaluation
     for column, record in enumerate(result.springs):
-        spring = problem.springs[column]
-        states, forces = evaluation.lengths[:, column], evaluation.tensions[:, column]
-        part = f", stock part {record['part_number']}" if "part_number" in record else ""
-        ideal = ", ideal" if record.get("ideal") else ""
-        lines.append(f"  {record['name']} ({record['type']}{ideal}{part})")
-        for end in spring.anchors:
-            point = ", ".join(f"{v:+.4f}" for v in record[end]["point"])
-            lines.append(f"    {end + ':':<5s} {record[end]['body']:<18s} [{point}]" + (f"  pulley r = {record[end]['pulley']['radius'] * 1e3:.4g} mm" if 'pulley' in record[end] else ''))
-        if "joint" in record:
-            lines.append(f"    joint: {record['joint']}")
-        parameters = "  ".join(f"{key} {record[key]:.6g} {unit}" for key, unit in spring.parameter_units.items())
-        lines.append(f"    {parameters}")
-        if "helical" in record:
-            lines.extend(f"    {line}" for line in spec_sheet_lines(record["helical"]))
-        elif "mass" in record:
-            wire = f" (wire diameter {1e3 * record['wire_diameter']:.3g} mm for this rate)" if "wire_diameter" in record else ""
-            lines.append(f"    spring mass {record['mass']:.4g} kg, half at each end{wire}")
-        (state, state_unit), (force, force_unit) = spring.state_quantity, spring.force_quantity
-        lines.append(f"    {state} {states.min():.4f} … {states.max():.4f} {state_unit}   "
-                     f"{force} {forces.min():.4g} … {forces.max():.4g} {force_unit}")
-    rounding = getattr(result, "wire_rounding", None)
-    if rounding is not None:
-        wires = ", ".join(f"{name} {1e3 * pair[0]:.3f} → {1e3 * pair[1]:.2f} mm" for name, pair in rounding.wires.items())
-        lines.append(f"  standard wire: {wires or 'none rounded'}; objective {rounding.continuous_objective:.6g} → "
-                     f"{rounding.objective:.6g} ({rounding.cost_percent:+.2f} %)")
-        lines.extend(f"  wire of {name} left continuous: {reason}" for name, reason in rounding.unrounded.items())
-    fit = getattr(result, "fit", None)
-    if fit is not None:
-        closest = ", ".join(f"{name} {1e3 * value:.1f} mm" for name, value in fit.closest.items())
-        mounts = ", ".join(f"{name} {1e3 * value:.2f} mm" for name, value in fit.mounts.items())
-        lines.append(f"  fitted to the arm in {fit.rounds} round(s) ({fit.rows} linearised rows, "
-                     f"{fit.seconds:.1f} s){'' if fit.converged else ' — NOT CONVERGED'}: objective "
-                     f"{fit.objective_before:.6g} → {fit.objective:.6g} ({fit.cost_percent:+.2f} %)")
-        if closest:
-            lines.append(f"  closest approach over {fit.poses} poses checked: {closest}")
-        if mounts:
-            lines.append(f"  mounted anchors off their surfaces by: {mounts}")
+        lines.extend(_spring_lines(result.problem.springs[column], record, evaluation.lengths[:, column],
+                                   evaluation.tensions[:, column]))
+    return lines
+
+
+def _spring_lines(spring: Spring, record: dict[str, Any], states: np.ndarray, forces: np.ndarray) -> list[str]:
+    """One spring of the "Springs" section (``record``: its entry of ``EvaluatedDesign.springs``)."""
+    part = f", stock part {record['part_number']}" if "part_number" in record else ""
+    ideal = ", ideal" if record.get("ideal") else ""
+    lines = [f"  {record['name']} ({record['type']}{ideal}{part})"]
+    for end in spring.anchors:
+        point = ", ".join(f"{v:+.4f}" for v in record[end]["point"])
+        lines.append(f"    {end + ':':<5s} {record[end]['body']:<18s} [{point}]" + (f"  pulley r = {record[end]['pulley']['radius'] * 1e3:.4g} mm" if 'pulley' in record[end] else ''))
+    if "joint" in record:
+        lines.append(f"    joint: {record['joint']}")
+    parameters = "  ".join(f"{key} {record[key]:.6g} {unit}" for key, unit in spring.parameter_units.items())
+    lines.append(f"    {parameters}")
+    if "helical" in record:
+        lines.extend(f"    {line}" for line in spec_sheet_lines(record["helical"]))
+    elif "mass" in record:
+        wire = f" (wire diameter {1e3 * record['wire_diameter']:.3g} mm for this rate)" if "wire_diameter" in record else ""
+        lines.append(f"    spring mass {record['mass']:.4g} kg, half at each end{wire}")
+    (state, state_unit), (force, force_unit) = spring.state_quantity, spring.force_quantity
+    lines.append(f"    {state} {states.min():.4f} … {states.max():.4f} {state_unit}   "
+                 f"{force} {forces.min():.4g} … {forces.max():.4g} {force_unit}")
+    return lines
+
+
+def wire_rounding_lines(rounding: WireRounding | None) -> list[str]:
+    """What rounding the coils' wires to standard sizes did [mm] and cost (empty when nothing was rounded)."""
+    if rounding is None:
+        return []
+    wires = ", ".join(f"{name} {1e3 * pair[0]:.3f} → {1e3 * pair[1]:.2f} mm" for name, pair in rounding.wires.items())
+    lines = [f"  standard wire: {wires or 'none rounded'}; objective {rounding.continuous_objective:.6g} → "
+             f"{rounding.objective:.6g} ({rounding.cost_percent:+.2f} %)"]
+    lines.extend(f"  wire of {name} left continuous: {reason}" for name, reason in rounding.unrounded.items())
+    return lines
+
+
+def fit_lines(fit: FitRecord | None) -> list[str]:
+    """What fitting the springs to the arm did and cost: rounds, objective, closest approach and mounting
+    offsets [mm] (empty when the design was not fitted)."""
+    if fit is None:
+        return []
+    closest = ", ".join(f"{name} {1e3 * value:.1f} mm" for name, value in fit.closest.items())
+    mounts = ", ".join(f"{name} {1e3 * value:.2f} mm" for name, value in fit.mounts.items())
+    lines = [f"  fitted to the arm in {fit.rounds} round(s) ({fit.rows} linearised rows, "
+             f"{fit.seconds:.1f} s){'' if fit.converged else ' — NOT CONVERGED'}: objective "
+             f"{fit.objective_before:.6g} → {fit.objective:.6g} ({fit.cost_percent:+.2f} %)"]
+    if closest:
+        lines.append(f"  closest approach over {fit.poses} poses checked: {closest}")
+    if mounts:
+        lines.append(f"  mounted anchors off their surfaces by: {mounts}")
+    return lines
+
+
+def helical_sizing_lines(result: EvaluatedDesign) -> list[str]:
+    """The "Helical springs" section: the helical springs that realise ideal ones (empty when none is sized)."""
     sizing = result.helical_sizing()
-    if sizing:
-        lines.append("")
-        lines.append("Helical springs (Shigley's Mechanical Engineering Design, ch. 10)")
-        for name, design in sizing.items():
-            text = design.summary().splitlines()
-            lines.append(f"  {name}: {text[0]}")
-            lines.extend(f"    {line}" for line in text[1:])
-    lines.append("")
+    if not sizing:
+        return []
+    lines = ["", "Helical springs (Shigley's Mechanical Engineering Design, ch. 10)"]
+    for name, design in sizing.items():
+        text = design.summary().splitlines()
+        lines.append(f"  {name}: {text[0]}")
+        lines.extend(f"    {line}" for line in text[1:])
+    return lines
+
+
+def torque_lines(metrics: dict[str, Any]) -> list[str]:
+    """The tables of :meth:`~springbalance.design.evaluated.EvaluatedDesign.metrics`: per joint the peak and
+    RMS torque [N·m or N] before/after with the reduction [%], then every objective before/after (the
+    optimised one marked ``*``)."""
     header = f"  {'joint':<22s}{'peak before':>13s}{'peak after':>12s}{'Δ%':>8s}{'rms before':>13s}{'rms after':>12s}{'Δ%':>8s}"
-    lines.append("Actuator torque (gravity only vs with springs)")
-    lines.append(header)
+    lines = ["Actuator torque (gravity only vs with springs)", header]
     for row in metrics["joints"]:
         lines.append(f"  {row['joint'] + ' [' + row['unit'] + ']':<22s}{row['peak_before']:13.4g}{row['peak_after']:12.4g}"
                      f"{_percent(row['peak_reduction_percent'])}{row['rms_before']:13.4g}{row['rms_after']:12.4g}"
@@ -87,16 +155,7 @@ def result_table(result) -> str:
             continue
         lines.append(f"  {name + ' [' + row['unit'] + ']':<22s}{row['before']:13.4g}{row['after']:12.4g}"
                      f"{_percent(row['reduction_percent'])}{mark}")
-    lines.append("\n  " + balance_statement(result))
-    if getattr(problem, "scenarios", None):
-        lines.extend(scenario_lines(result))
-    if metrics["max_violation"] > FEASIBILITY_TOLERANCE:
-        lines.append(f"\n  INFEASIBLE: largest constraint violation {metrics['max_violation']:.3g} "
-                     f"(tolerance {FEASIBILITY_TOLERANCE:g})")
-    lines.append("")
-    lines.extend(clearance_section(result))
-    lines.extend(warning_lines(result.warnings()))
-    return "\n".join(lines)
+    return lines
 
 
 #: the rows of a coil's spec sheet: (label, key, scale to the unit shown, unit, format)
@@ -117,7 +176,7 @@ SPEC_SHEET_ROWS = (
 )
 
 
-def spec_sheet_rows(sheet: dict) -> list[tuple[str, str]]:
+def spec_sheet_rows(sheet: dict[str, Any]) -> list[tuple[str, str]]:
     """``(label, value with unit)`` of every entry a coil's spec sheet has."""
     rows = []
     for label, key, scale, unit, style in SPEC_SHEET_ROWS:
@@ -128,7 +187,7 @@ def spec_sheet_rows(sheet: dict) -> list[tuple[str, str]]:
     return rows
 
 
-def spec_sheet_lines(sheet: dict) -> list[str]:
+def spec_sheet_lines(sheet: dict[str, Any]) -> list[str]:
     """The spec sheet of a coil as text, ending with its buildable verdict and every failed rule."""
     verdict = "BUILDABLE" if sheet["buildable"] else "NOT BUILDABLE: " + "; ".join(sheet["reasons"])
     lines = [f"{sheet['type']} spring: {verdict}"]
@@ -138,7 +197,7 @@ def spec_sheet_lines(sheet: dict) -> list[str]:
     return lines
 
 
-def checked_clearance(result):
+def checked_clearance(result: EvaluatedDesign) -> ClearanceReport | None:
     """The clearance check of ``result`` (:mod:`springbalance.results.clearance`) when its arm's URDF
     has collision geometry; None when it has none (or the mechanism has no URDF): nothing to check."""
     try:
@@ -148,13 +207,13 @@ def checked_clearance(result):
     return clearance(result, geometry=geometry)
 
 
-def clearance_section(result) -> list[str]:
+def clearance_section(result: EvaluatedDesign) -> list[str]:
     """The clearance table of the text report (empty without collision geometry)."""
     report = checked_clearance(result)
     return [] if report is None else report.lines() + [""]
 
 
-def warning_lines(flags) -> list[str]:
+def warning_lines(flags: Sequence[Flag]) -> list[str]:
     """The "Warnings" section: one entry per flag (kind, message, hint), or "Warnings: none"."""
     if not flags:
         return ["Warnings: none"]
@@ -166,7 +225,7 @@ def warning_lines(flags) -> list[str]:
     return lines
 
 
-def balance_statement(result) -> str:
+def balance_statement(result: EvaluatedDesign) -> str:
     """One sentence: "Exactly balanced …" with the constant total potential, or the largest residual."""
     problem = result.problem
     balance = result.exact_balance()
@@ -187,7 +246,7 @@ def balance_statement(result) -> str:
     return f"Largest residual torque{joints}: {100 * balance['relative_residual']:.3g} % of the unbalanced peak"
 
 
-def scenario_lines(result) -> list[str]:
+def scenario_lines(result: EvaluatedDesign) -> list[str]:
     """Per scenario of a multi-scenario design: payload, per-scenario variables, peak and RMS residual."""
     problem = result.problem
     rows = problem.scenario_table(result.x)

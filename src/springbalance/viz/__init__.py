@@ -1,10 +1,14 @@
 """Pictures of a design: the Meshcat scene, its local server and the headless-browser check.
 
-:mod:`~springbalance.viz.scene` builds the scene of a result (arm, springs as helices coloured by
-tension or magenta below the clearance margin, their name labels, anchor regions, animation) from
-:mod:`~springbalance.viz.helix`, :mod:`~springbalance.viz.colors` and :mod:`~springbalance.viz.arm`;
-it is recorded in memory for a static page (:mod:`~springbalance.viz.recorder`) or drawn on a live
-server on 127.0.0.1 (:mod:`~springbalance.viz.live`, which runs :mod:`~springbalance.viz.server` in a
-child process).
+:mod:`~springbalance.viz.scene` is the entry point (``scene_html``, ``show``): it draws a design's
+:class:`~springbalance.viz.design_scene.DesignScene` (arm, springs as helices coloured by tension or
+magenta below the clearance margin, their name labels, anchor regions, animation), made of the springs'
+tracks (:mod:`~springbalance.viz.tracks`, with :mod:`~springbalance.viz.helix` and
+:mod:`~springbalance.viz.colors`), the anchors' regions (:mod:`~springbalance.viz.regions`), the arm
+(:mod:`~springbalance.viz.arm`) and the camera (:mod:`~springbalance.viz.camera`), and drawn with
+springbalance's meshcat classes (:mod:`~springbalance.viz.meshcat_glue`; meshcat itself is imported on
+first use, :mod:`~springbalance.viz.meshcat_import`). The scene is recorded in memory for a static page
+(:mod:`~springbalance.viz.recorder`) or drawn on a live server on 127.0.0.1
+(:mod:`~springbalance.viz.live`, which runs :mod:`~springbalance.viz.server` in a child process).
 :mod:`~springbalance.viz.browser` renders a page in headless Chromium and checks its pixels.
 """

@@ -7,25 +7,25 @@ import warnings
 import numpy as np
 import pinocchio as pin
 
+from springbalance.model import robots
+from springbalance.model.mechanism import Mechanism
+from springbalance.model.native import quiet_native_stderr
 from springbalance.viz.helix import spring_rotation
 
 #: Colour of the stick figure drawn for a mechanism without visual geometry (RGBA).
 STICK_COLOR = (0.2, 0.3, 0.8, 1.0)
 
 
-def visual_geometry(mechanism):
+def visual_geometry(mechanism: Mechanism) -> pin.GeometryModel | None:
     """Pinocchio visual ``GeometryModel`` of the mechanism's URDF, or None when there is none.
 
     ``package://`` paths resolve against the URDF's folder, its parents and the
     example-robot-data share folder.
     """
-    from springbalance.model import robots
-    from springbalance.model.mechanism import _quiet_native_stderr
-
     source = mechanism.source
     directories = robots.mesh_directories(source)
     try:
-        with _quiet_native_stderr():
+        with quiet_native_stderr():
             if source.get("kind") in ("urdf", "robot"):
                 return pin.buildGeomFromUrdf(mechanism.model, source["path"], pin.GeometryType.VISUAL,
                                              package_dirs=directories)
@@ -38,7 +38,7 @@ def visual_geometry(mechanism):
     return None
 
 
-def stick_figure(model) -> "pin.GeometryModel":
+def stick_figure(model: pin.Model) -> pin.GeometryModel:
     """Visual geometry for a model without any: a sphere at each joint, rods from each joint
     to its children, its body frames and its centre of mass."""
     import coal

@@ -25,8 +25,11 @@ import subprocess
 import sys
 import tempfile
 from pathlib import Path
+from typing import Iterable, Sequence
 
 import numpy as np
+
+from springbalance.viz.colors import ColorScale
 
 CANDIDATES = ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable")
 #: Window size of the screenshots [px].
@@ -53,7 +56,7 @@ def find_chromium() -> str | None:
     return None
 
 
-def chromium_command(chromium: str, page: Path, image: Path, profile: Path, window=WINDOW,
+def chromium_command(chromium: str, page: Path, image: Path, profile: Path, window: tuple[int, int] = WINDOW,
                      budget_ms: int = 2500) -> list[str]:
     """The command line that renders ``page`` into ``image`` (software WebGL, nothing online)."""
     return [chromium, "--headless", "--no-sandbox", "--disable-gpu", "--use-angle=swiftshader",
@@ -64,7 +67,7 @@ def chromium_command(chromium: str, page: Path, image: Path, profile: Path, wind
             Path(page).resolve().as_uri()]
 
 
-def screenshot(page: str | Path, image: str | Path, window=WINDOW, budget_ms: int = 2500,
+def screenshot(page: str | Path, image: str | Path, window: tuple[int, int] = WINDOW, budget_ms: int = 2500,
                timeout: float = 120.0) -> Path:
     """Render ``page`` in headless Chromium and save a PNG screenshot to ``image``.
 
@@ -105,7 +108,7 @@ class Census:
         return f"arm-coloured pixels {self.arm}, spring-coloured pixels {self.spring} (of {self.total})"
 
 
-def hue_mask(rgb: np.ndarray, reference, hue_tolerance: float = 14.0, min_saturation: float = 0.35,
+def hue_mask(rgb: np.ndarray, reference: Sequence[float], hue_tolerance: float = 14.0, min_saturation: float = 0.35,
              min_value: float = 0.2) -> np.ndarray:
     """Pixels (H×W×3 in [0, 1]) whose hue is within ``hue_tolerance`` degrees of ``reference``'s,
     saturated and bright enough to be a lit surface of that colour rather than background."""
@@ -121,7 +124,8 @@ def hue_mask(rgb: np.ndarray, reference, hue_tolerance: float = 14.0, min_satura
     return (distance <= hue_tolerance) & (saturation >= min_saturation) & (maximum >= min_value) & (chroma > 0.05)
 
 
-def colour_census(image: str | Path, arm_colours, spring_colours, exclude=(LEGEND_BOX, CONTROLS_BOX)) -> Census:
+def colour_census(image: str | Path, arm_colours: Iterable[Sequence[float]], spring_colours: Iterable[Sequence[float]],
+                  exclude: Iterable[tuple[int, int, int, int]] = (LEGEND_BOX, CONTROLS_BOX)) -> Census:
     """Count pixels of the arm's and the springs' colours on ``image``.
 
     ``arm_colours`` and ``spring_colours`` are RGB triples in [0, 1] (several allowed:
@@ -147,8 +151,6 @@ def colour_census(image: str | Path, arm_colours, spring_colours, exclude=(LEGEN
 
 def scale_colours(count: int = 41) -> list[tuple[float, float, float]]:
     """Colours of the whole tension scale, compression included (what a spring can look like)."""
-    from springbalance.viz.colors import ColorScale
-
     scale = ColorScale(1.0)
     return [scale.rgb(value) for value in np.linspace(-1.0, 1.0, count)]
 

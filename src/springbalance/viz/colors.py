@@ -12,6 +12,7 @@ from __future__ import annotations
 import html
 
 import numpy as np
+import numpy.typing as npt
 
 
 #: Tension colours, from no tension to the scale's limit (RGB in [0, 1]).
@@ -34,15 +35,16 @@ class ColorScale:
     #: a pull below this fraction of the limit counts as none (solver round-off, not compression)
     slack = 1e-6
 
-    def __init__(self, limit: float):
+    def __init__(self, limit: float) -> None:
         self.limit = float(limit) if np.isfinite(limit) and limit > 0 else 1.0
 
-    def pushes(self, tension) -> np.ndarray:
+    def pushes(self, tension: npt.ArrayLike) -> np.ndarray:
         """True where ``tension`` [N] is a real push (compression), not round-off."""
         return np.asarray(tension) < -self.slack * self.limit
 
     @classmethod
-    def for_tensions(cls, *tensions) -> "ColorScale":
+    def for_tensions(cls, *tensions: npt.ArrayLike) -> ColorScale:
+        """The scale whose limit is the largest |tension| [N] in any of ``tensions`` (1 N when there is none)."""
         values = np.concatenate([np.abs(np.ravel(t)) for t in tensions]) if tensions else np.zeros(0)
         return cls(float(values.max()) if values.size else 1.0)
 

@@ -2,7 +2,7 @@ r"""The helix of a drawn spring, in axial coordinates, and its placement between
 
 ``x, y`` in metres, ``z`` the fraction ``s ∈ [0, 1]`` of the spring's length; at a pose the
 spring's node gets the placement ``(R, x_a)`` with ``R e_z = u`` and the scale ``diag(1, 1, L)``
-(see :mod:`springbalance.viz.scene`).
+(see :mod:`springbalance.viz.tracks`).
 """
 
 from __future__ import annotations
@@ -10,6 +10,7 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
+import numpy.typing as npt
 
 
 @dataclasses.dataclass(frozen=True)
@@ -58,7 +59,8 @@ def helix_centerline(coils: int, coil_radius: float, lead: float = 0.08, points_
     return np.vstack([[0.0, 0.0, 0.0], coil, [0.0, 0.0, 1.0]])
 
 
-def helix_tube(centerline: np.ndarray, wire_radius: float, reference_length: float, sides: int = 8):
+def helix_tube(centerline: np.ndarray, wire_radius: float, reference_length: float,
+               sides: int = 8) -> tuple[np.ndarray, np.ndarray]:
     """Triangle mesh of a wire of radius ``wire_radius`` [m] along ``centerline``.
 
     The tube is built in metres for a spring ``reference_length`` long (so the wire is
@@ -102,7 +104,7 @@ def helix_tube(centerline: np.ndarray, wire_radius: float, reference_length: flo
     return vertices, np.array(faces, dtype=np.int64)
 
 
-def spring_rotation(direction, side) -> np.ndarray:
+def spring_rotation(direction: npt.ArrayLike, side: npt.ArrayLike) -> np.ndarray:
     """Rotation ``R`` (3×3) with ``R e_z = direction`` and ``R e_x`` in the plane of ``side``.
 
     ``side`` is a fixed reference vector per spring, so the coils do not spin while the
@@ -119,7 +121,7 @@ def spring_rotation(direction, side) -> np.ndarray:
     return np.column_stack([x, np.cross(z, x), z])
 
 
-def placement(rotation, translation) -> np.ndarray:
+def placement(rotation: npt.ArrayLike, translation: npt.ArrayLike) -> np.ndarray:
     """Homogeneous 4×4 matrix of a rotation and a translation."""
     matrix = np.eye(4)
     matrix[:3, :3] = rotation

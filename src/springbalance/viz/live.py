@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
 import atexit
 import contextlib
 import html
@@ -12,21 +11,12 @@ import subprocess
 import sys
 import tempfile
 import time
-import warnings
 from pathlib import Path
-
-with warnings.catch_warnings():
-    # meshcat's server module imports zmq.eventloop.ioloop, deprecated since pyzmq 17
-    warnings.simplefilter("ignore", DeprecationWarning)
-    import meshcat
-    import meshcat.animation
-    import meshcat.commands
+from typing import Any
 
 from springbalance.errors import SpringBalanceError
-
-if TYPE_CHECKING:
-    from springbalance.viz.scene import DesignScene
-
+from springbalance.viz.design_scene import DesignScene
+from springbalance.viz.meshcat_import import import_meshcat
 
 
 class MeshcatServer:
@@ -38,7 +28,7 @@ class MeshcatServer:
         process: the child process.
     """
 
-    def __init__(self, port: int | None = None, timeout: float = 30.0):
+    def __init__(self, port: int | None = None, timeout: float = 30.0) -> None:
         # run the module as a script: it needs meshcat and tornado only, not the whole package
         command = [sys.executable, "-u", str(Path(__file__).with_name("server.py"))]
         if port is not None:
@@ -73,13 +63,15 @@ class MeshcatServer:
         text = self._stderr.read().decode("utf-8", "replace").strip().splitlines()
         return text[-1] if text else "no message"
 
-    def visualizer(self):
+    def visualizer(self) -> Any:
         """A ``meshcat.Visualizer`` connected to this server."""
+        meshcat = import_meshcat()
         with contextlib.redirect_stdout(io.StringIO()):  # meshcat prints the URL itself
             return meshcat.Visualizer(zmq_url=self.zmq_url)
 
     @property
     def running(self) -> bool:
+        """True while the server's process runs."""
         return self.process.poll() is None
 
     def stop(self) -> None:
@@ -113,11 +105,12 @@ def local_server(port: int | None = None) -> MeshcatServer:
 class LiveScene:
     """A design drawn on a running meshcat server. In Jupyter it shows inline (an iframe)."""
 
-    def __init__(self, scene: DesignScene, server: MeshcatServer, visualizer):
+    def __init__(self, scene: DesignScene, server: MeshcatServer, visualizer: Any) -> None:
         self.scene, self.server, self.visualizer = scene, server, visualizer
 
     @property
     def url(self) -> str:
+        """The viewer's address on the server."""
         return self.server.web_url
 
     def _repr_html_(self) -> str:

@@ -1,0 +1,55 @@
+"""``springbalance view DESIGN.json``: serve the 3-D scene of a saved design in Meshcat on 127.0.0.1."""
+
+from __future__ import annotations
+
+import argparse
+import time
+import webbrowser
+
+from springbalance.cli.arguments import port, positive_int
+from springbalance.cli.formatting import PROG
+from springbalance.cli.inputs import check_scene_budget
+from springbalance.errors import SpringBalanceError
+from springbalance.results.result import DesignResult
+from springbalance.viz.live import MeshcatServer
+from springbalance.viz.design_scene import DesignScene
+
+
+def add_parser(commands: argparse._SubParsersAction, common: argparse.ArgumentParser) -> None:
+    """Add the ``view`` command to ``commands`` (with the options of ``common``)."""
+    view = commands.add_parser(
+        "view", parents=[common], help="show a saved design in Meshcat, served on 127.0.0.1",
+        description="Serve the 3-D scene of a saved design on this machine only (127.0.0.1): the arm, each "
+                    "spring as a helix coloured by its tension, animated through a sweep of each joint. "
+                    "Prints the URL and serves until Ctrl-C.")
+    view.add_argument("design", metavar="DESIGN.json", help="design file written by 'springbalance design'")
+    view.add_argument("--port", type=port, metavar="P", help="web port (default: the first free one from 7000)")
+    view.add_argument("--open", action="store_true", help="also open the URL in the default web browser")
+    view.add_argument("--frames", type=positive_int, default=48, metavar="N",
+                      help="animation frames per swept joint (default 48)")
+    view.set_defaults(handler=handle)
+
+
+def handle(args: argparse.Namespace) -> int:
+    """Draw the scene, print its URL and serve it until Ctrl-C (exit status 0)."""
+    result = DesignResult.load(args.design)
+    check_scene_budget(result, args.frames)
+    scene = DesignScene(result, frames_per_joint=args.frames)
+    server = MeshcatServer(port=args.port)
+    try:
+        scene.draw(server.visualizer())
+        print(f"{PROG}: the scene of {args.design} is at {server.web_url}")
+        print(f"  {scene.color_scale.describe()}")
+        if scene.skipped:
+            print(f"  not drawn (they act in a joint): {', '.join(scene.skipped)}")
+        print("  press Ctrl-C to stop", flush=True)
+        if args.open:
+            webbrowser.open(server.web_url, new=2)
+        while server.running:
+            time.sleep(0.25)
+        raise SpringBalanceError("the meshcat server stopped unexpectedly")
+    except KeyboardInterrupt:
+        print(f"{PROG}: stopped", flush=True)
+        return 0
+    finally:
+        server.stop()
