@@ -166,8 +166,12 @@ def _distance_bounds(kinematics, bodies, regions) -> tuple[np.ndarray, np.ndarra
         corners.append(world)
         centres.append(placement.points(centre))
         radii.append(float(np.max(np.linalg.norm(local - centre, axis=1))))
-    differences = corners[0][:, :, None, :] - corners[1][:, None, :, :]
-    longest = np.max(np.linalg.norm(differences, axis=-1), axis=(1, 2))
+    # the longest distance is between two corners: one corner of the first region at a time keeps the
+    # temporaries at N × corners × 3 (all pairs at once took 1.5 KiB per sample and more in its norms)
+    longest = np.zeros(corners[0].shape[0])
+    for corner in range(corners[0].shape[1]):
+        differences = corners[0][:, corner, None, :] - corners[1]                      # N × corners × 3 [m]
+        longest = np.maximum(longest, np.max(np.linalg.norm(differences, axis=-1), axis=1))
     shortest = np.maximum(np.linalg.norm(centres[0] - centres[1], axis=1) - radii[0] - radii[1], 0.0)
     return shortest, longest
 
