@@ -158,7 +158,7 @@ def check_cable(problem: _Problem, spring: TwoPointSpring) -> None:
         return
     anchors = list(spring.anchors.values())
     kinematics = problem.base_workspace.kinematics()
-    longest = 2 * np.pi * sum(spring.radii)                   # what wrapping pulleys can add [m]
+    longest: float | np.ndarray = 2 * np.pi * sum(spring.radii)                 # what wrapping pulleys can add [m]
     for first, second in zip(anchors, anchors[1:]):
         longest = longest + _distance_bounds(kinematics, [first.body, second.body],
                                              [first.region(), second.region()])[1]

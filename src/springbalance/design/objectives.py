@@ -32,7 +32,8 @@ class NlpPieces:
     variables: ca.MX | None  # extra variables (epigraph), or None
     lower: np.ndarray | None
     upper: np.ndarray | None
-    start: Callable[[np.ndarray], np.ndarray] | None  # weighted_tau_numeric (N×nv) -> start values of the extra variables
+    #: weighted_tau_numeric (N×nv) -> start values of the extra variables
+    start: Callable[[np.ndarray], np.ndarray] | None
     cost: ca.MX
     rows: ca.MX | None  # ≥ 0
 

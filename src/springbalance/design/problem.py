@@ -344,7 +344,8 @@ class DesignProblem:
         ``springs`` default to this problem's springs (with their free variables).
         """
         # the workspace is a ScenarioWorkspace exactly when there are scenarios
-        mechanism = self.workspace.mechanisms[scenario] if isinstance(self.workspace, ScenarioWorkspace) else self.mechanism
+        workspace = self.workspace
+        mechanism = workspace.mechanisms[scenario] if isinstance(workspace, ScenarioWorkspace) else self.mechanism
         workspace = Workspace(mechanism, self.base_workspace.joint_values, ordered=self.base_workspace.ordered,
                               description=self.base_workspace.description)
         if objective is None:

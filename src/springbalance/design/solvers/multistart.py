@@ -235,7 +235,8 @@ class _MultiStartSolver(LeastSquaresStarts, IpoptStarts):
         return StartRecord(index, np.asarray(z0), evaluation.x, problem.objective_value(evaluation),
                            violation, status, iterations, time.perf_counter() - clock, tiebreak, lam_g)
 
-    def _cold(self, z: np.ndarray, prepare: bool) -> tuple[np.ndarray, str, int, np.ndarray | None, Evaluation | None]:
+    def _cold(self, z: np.ndarray,
+              prepare: bool) -> tuple[np.ndarray, str, int, np.ndarray | None, Evaluation | None]:
         """Least squares first (``auto``, ``least_squares``), then IPOPT when asked for, for an objective
         without least-squares structure, or for a constraint that least squares left violated.
         Returns ``(z, status, iterations, lam_g, evaluation)`` (``lam_g``: IPOPT's row multipliers, None
@@ -255,7 +256,8 @@ class _MultiStartSolver(LeastSquaresStarts, IpoptStarts):
                                                    multipliers=multipliers if problem.objective.least_squares else None)
         return z, status, iterations + more, lam_g, None
 
-    def _warm(self, z: np.ndarray, lam_g: np.ndarray) -> tuple[np.ndarray, str, int, np.ndarray | None, Evaluation | None]:
+    def _warm(self, z: np.ndarray,
+              lam_g: np.ndarray) -> tuple[np.ndarray, str, int, np.ndarray | None, Evaluation | None]:
         """The start from a primal-dual point: ``z`` with IPOPT's multipliers ``lam_g`` of the NLP rows.
 
         IPOPT goes on from it, warm, when it alone minimises the objective. A least-squares objective

@@ -238,7 +238,7 @@ class TorqueModel:
                 if f"{spring.name}.{key}" in self._index]
         return sorted({int(column) for i in base for column in self._columns[:, i]})
 
-    def anchor_point(self, spring: Spring, end: str, x: np.ndarray, scenario: int = 0) -> np.ndarray:
+    def anchor_point(self, spring: Spring, end: str, x: npt.ArrayLike, scenario: int = 0) -> np.ndarray:
         """Body-frame anchor point [m] of end ``"a"``/``"b"`` for design vector ``x`` (in ``scenario``)."""
         x = self.scenario_vector(x, scenario)
         region = spring.anchors[end].region()
