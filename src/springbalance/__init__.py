@@ -16,7 +16,7 @@ the subpackages nor their dependencies (numpy, casadi, pinocchio, pydantic). Eac
 from __future__ import annotations
 
 import importlib
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from springbalance._version import __version__
 from springbalance.errors import ConfigError, InputError, SolverError, SpringBalanceError
@@ -84,7 +84,7 @@ _LAZY = {name: module for module, names in _SOURCES.items() for name in names}
 _SUBMODULES = ("cli", "design", "errors", "explore", "export", "files", "io", "loaders", "model", "pipeline", "results", "springs", "viz")
 
 
-def __getattr__(name: str):
+def __getattr__(name: str) -> Any:
     module = _LAZY.get(name)
     if module is not None:
         value = (importlib.import_module(f"{module}.{name}") if isinstance(_SOURCES[module], dict)

@@ -7,6 +7,11 @@ message on one line and exits with status 2.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any, Iterable
+
+if TYPE_CHECKING:
+    import numpy as np
+
 
 class SpringBalanceError(Exception):
     """Base class of every error springbalance raises on purpose."""
@@ -28,7 +33,9 @@ class SolverError(SpringBalanceError):
         starts: per-start records with the solver's own status string.
     """
 
-    def __init__(self, message: str, problem=None, starts=None):
+    # problem and starts are a DesignProblem and its StartRecords: this bottom layer may not import
+    # springbalance.design (not even under TYPE_CHECKING), so they are typed Any here.
+    def __init__(self, message: str, problem: Any = None, starts: list[Any] | None = None) -> None:
         super().__init__(message)
         self.problem = problem
         self.starts = starts or []
@@ -44,7 +51,8 @@ class Interrupted(SpringBalanceError):
         best_x: the best feasible design found so far (variables of ``problem``), or None.
     """
 
-    def __init__(self, message: str, problem=None, starts=None, total: int = 0, best_x=None):
+    def __init__(self, message: str, problem: Any = None, starts: Iterable[Any] | None = None, total: int = 0,
+                 best_x: np.ndarray | None = None) -> None:
         super().__init__(message)
         self.problem = problem
         self.starts = list(starts or [])

@@ -90,7 +90,7 @@ class ConfigLoader(yaml.SafeLoader):
         self._check_duplicate_keys(node, "", set())
         return self.construct_document(node)
 
-    def _check_duplicate_keys(self, node, path: str, seen_nodes: set) -> None:
+    def _check_duplicate_keys(self, node: yaml.Node, path: str, seen_nodes: set[int]) -> None:
         """Walk the composed document; raise :class:`DuplicateKeyError` at the first repeated key."""
         if id(node) in seen_nodes:  # an alias of a node already walked
             return
@@ -99,7 +99,7 @@ class ConfigLoader(yaml.SafeLoader):
             for index, item in enumerate(node.value):
                 self._check_duplicate_keys(item, f"{path}[{index}]", seen_nodes)
         elif isinstance(node, yaml.MappingNode):
-            lines = {}
+            lines: dict[Any, int] = {}
             for key_node, value_node in node.value:
                 if key_node.tag == MERGE_TAG:
                     self._check_duplicate_keys(value_node, path, seen_nodes)
@@ -119,7 +119,7 @@ ConfigLoader.add_implicit_resolver(FLOAT_TAG, FLOAT, list("-+0123456789."))
 ConfigLoader.add_implicit_resolver(BOOL_TAG, BOOL, list("tTfF"))
 
 
-def _expanded_size(node, sizes: dict, open_nodes: set) -> int:
+def _expanded_size(node: yaml.Node, sizes: dict[int, int], open_nodes: set[int]) -> int:
     """Number of values under ``node`` with every alias expanded; :class:`LimitError` past
     :data:`MAX_VALUES` or for a recursive alias. Shared nodes are counted once per use but walked once."""
     key = id(node)
@@ -158,11 +158,11 @@ def load_json(text: str) -> Any:
     return record
 
 
-def _check_depth(record) -> None:
+def _check_depth(record: Any) -> None:
     """:class:`LimitError` when lists and objects in ``record`` nest deeper than :data:`MAX_DEPTH`."""
     level = [record]
     for depth in range(MAX_DEPTH + 2):
-        children = []
+        children: list[Any] = []
         for value in level:
             if isinstance(value, dict):
                 children.extend(value.values())
@@ -175,8 +175,8 @@ def _check_depth(record) -> None:
         level = children
 
 
-def _unique_pairs(pairs) -> dict:
-    record = {}
+def _unique_pairs(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
+    record: dict[str, Any] = {}
     for key, value in pairs:
         if key in record:
             raise DuplicateKeyError(key)

@@ -33,10 +33,15 @@ forces in N.
 from __future__ import annotations
 
 import itertools
+from typing import Iterable, Protocol, Sequence
 
 import numpy as np
 
 from springbalance.errors import InputError
+from springbalance.model.kinematics import StackedKinematics, WorkspaceKinematics
+from springbalance.model.workspace import Workspace
+from springbalance.springs.laws import Spring, TwoPointSpring
+from springbalance.springs.params import Region
 
 #: slack of the checks [m or N] relative to the compared values, plus the same absolute amount
 TOLERANCE = 1e-9
@@ -48,23 +53,33 @@ MAX_PARAMETER = 1e12
 _LENGTH_OPTIONS = ("keep_tension", "max_stretch", "stays_compressed", "stroke")
 
 
-def check_magnitudes(springs) -> None:
+class _Problem(Protocol):
+    """What the checks read of a :class:`~springbalance.design.problem.DesignProblem` (which imports this module)."""
+
+    @property
+    def springs(self) -> Sequence[Spring]: ...
+
+    @property
+    def base_workspace(self) -> Workspace: ...
+
+
+def check_magnitudes(springs: Iterable[Spring]) -> None:
     """Raise :class:`InputError` for an anchor region beyond :data:`MAX_DISTANCE` or a parameter bound
     beyond :data:`MAX_PARAMETER` (see the module documentation)."""
     for spring in springs:
         _check_magnitudes(spring, f"spring {spring.name!r}")
 
 
-def check_bounds(problem) -> None:
+def check_bounds(problem: _Problem) -> None:
     """Raise :class:`InputError` at the first contradiction between the bounds of ``problem``'s springs."""
     for spring in problem.springs:
         label = f"spring {spring.name!r}"
         _check_magnitudes(spring, label)
         _check_lengths(spring, label)
         _check_force(spring, label)
-    kinematics = None
+    kinematics: WorkspaceKinematics | StackedKinematics | None = None
     for spring in problem.springs:
-        if tuple(spring.anchors) != ("a", "b") or getattr(spring, "via", ()):
+        if tuple(spring.anchors) != ("a", "b") or getattr(spring, "via", None):
             continue
         try:
             regions = [spring.anchors[end].region() for end in ("a", "b")]
@@ -76,7 +91,7 @@ def check_bounds(problem) -> None:
         _check_reach(spring, f"spring {spring.name!r}", shortest, longest)
 
 
-def _bounds(spring, key) -> tuple[float, float] | None:
+def _bounds(spring: Spring, key: str) -> tuple[float, float] | None:
     """``(lower, upper)`` of parameter ``key`` (equal for a fixed value), or None without it."""
     value = getattr(spring, "parameters", {}).get(key)
     if value is None:
@@ -86,7 +101,7 @@ def _bounds(spring, key) -> tuple[float, float] | None:
     return float(value), float(value)
 
 
-def _check_magnitudes(spring, label: str) -> None:
+def _check_magnitudes(spring: Spring, label: str) -> None:
     for key in getattr(spring, "parameters", {}):
         bounds = _bounds(spring, key)
         if bounds is not None and max(abs(bounds[0]), abs(bounds[1])) > MAX_PARAMETER:
@@ -109,17 +124,17 @@ def _exceeds(value: float, limit: float) -> bool:
     return value > limit + TOLERANCE * (1.0 + abs(limit))
 
 
-def _check_lengths(spring, label: str) -> None:
+def _check_lengths(spring: Spring, label: str) -> None:
     low, high = getattr(spring, "min_length", None), getattr(spring, "max_length", None)
     if low is not None and high is not None and _exceeds(low, high):
         raise InputError(f"{label}: min_length {low:g} m > max_length {high:g} m; no length meets both")
 
 
-def _check_force(spring, label: str) -> None:
+def _check_force(spring: Spring, label: str) -> None:
     limit = getattr(spring, "max_force", None)
     if limit is None:
         return
-    floors = []
+    floors: list[tuple[str, float, str]] = []
     force = _bounds(spring, "force")
     if force is not None and getattr(spring, "kind", None) == "constant_force":
         lower, upper = force
@@ -136,14 +151,14 @@ def _check_force(spring, label: str) -> None:
                              "sample); no force meets both")
 
 
-def check_cable(problem, spring) -> None:
+def check_cable(problem: _Problem, spring: TwoPointSpring) -> None:
     """Refuse a routed ``spring`` whose shortest allowed cable is at least the longest path it can make."""
     cable = _bounds(spring, "cable_length")
     if cable is None:
         return
     anchors = list(spring.anchors.values())
     kinematics = problem.base_workspace.kinematics()
-    longest = 2 * np.pi * sum(spring.radii)                   # what wrapping pulleys can add [m]
+    longest: float | np.ndarray = 2 * np.pi * sum(spring.radii)                 # what wrapping pulleys can add [m]
     for first, second in zip(anchors, anchors[1:]):
         longest = longest + _distance_bounds(kinematics, [first.body, second.body],
                                              [first.region(), second.region()])[1]
@@ -154,9 +169,12 @@ def check_cable(problem, spring) -> None:
                          "everywhere; shorten cable_length")
 
 
-def _distance_bounds(kinematics, bodies, regions) -> tuple[np.ndarray, np.ndarray]:
+def _distance_bounds(kinematics: WorkspaceKinematics | StackedKinematics, bodies: Sequence[str],
+                     regions: Sequence[Region]) -> tuple[np.ndarray, np.ndarray]:
     """Per sample, a lower bound of the shortest and the longest distance [m] between two anchor regions."""
-    corners, centres, radii = [], [], []
+    corners: list[np.ndarray] = []
+    centres: list[np.ndarray] = []
+    radii: list[float] = []
     for body, region in zip(bodies, regions):
         local = np.array([region.point(np.array(choice)) for choice in itertools.product(
             *zip(region.lower, region.upper))]) if region.basis.shape[1] else region.offset[None, :]
@@ -166,13 +184,17 @@ def _distance_bounds(kinematics, bodies, regions) -> tuple[np.ndarray, np.ndarra
         corners.append(world)
         centres.append(placement.points(centre))
         radii.append(float(np.max(np.linalg.norm(local - centre, axis=1))))
-    differences = corners[0][:, :, None, :] - corners[1][:, None, :, :]
-    longest = np.max(np.linalg.norm(differences, axis=-1), axis=(1, 2))
+    # the longest distance is between two corners: one corner of the first region at a time keeps the
+    # temporaries at N × corners × 3 (all pairs at once took 1.5 KiB per sample and more in its norms)
+    longest = np.zeros(corners[0].shape[0])
+    for corner in range(corners[0].shape[1]):
+        differences = corners[0][:, corner, None, :] - corners[1]                      # N × corners × 3 [m]
+        longest = np.maximum(longest, np.max(np.linalg.norm(differences, axis=-1), axis=1))
     shortest = np.maximum(np.linalg.norm(centres[0] - centres[1], axis=1) - radii[0] - radii[1], 0.0)
     return shortest, longest
 
 
-def _check_reach(spring, label: str, shortest: np.ndarray, longest: np.ndarray) -> None:
+def _check_reach(spring: Spring, label: str, shortest: np.ndarray, longest: np.ndarray) -> None:
     high = getattr(spring, "max_length", None)
     if high is not None and _exceeds(float(np.max(shortest)), high):
         sample = int(np.argmax(shortest))

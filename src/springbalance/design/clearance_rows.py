@@ -8,16 +8,20 @@ its offset surface between tangent planes.
 
 from __future__ import annotations
 
+from typing import Sequence
+
 
 import numpy as np
+import pinocchio as pin
 
 from springbalance.design.clearance import LinearRows
 from springbalance.design.mounts import MOUNT_TOLERANCE
 from springbalance.design.problem import DesignProblem
 from springbalance.model.collision import collision_geometry, surface_distance
+from springbalance.springs.laws import Spring
 
 
-def mount_planes(problem: DesignProblem, x: np.ndarray, planes: dict | None = None) -> dict:
+def mount_planes(problem: DesignProblem, x: np.ndarray | Sequence[float], planes: dict | None = None) -> dict:
     """Per mounted anchor (``(spring name, end, scenario)``), its tangent planes ``(w, n)``: those in ``planes``
     and the one at design ``x`` (body frame: closest surface point ``w`` [m], outward unit normal ``n``)."""
     planes = {key: list(value) for key, value in (planes or {}).items()}
@@ -39,14 +43,14 @@ def mount_planes(problem: DesignProblem, x: np.ndarray, planes: dict | None = No
     return planes
 
 
-def mount_rows(problem: DesignProblem, x: np.ndarray) -> LinearRows | None:
+def mount_rows(problem: DesignProblem, x: np.ndarray | Sequence[float]) -> LinearRows | None:
     """The rows that hold every ``on: collision`` anchor on its offset surface, linearised at ``x``."""
     return _rows(problem, x, [], [], mount_planes(problem, x))
 
 
-def _mount_errors(problem: DesignProblem, x: np.ndarray, geometry) -> dict[str, float]:
+def _mount_errors(problem: DesignProblem, x: np.ndarray, geometry: pin.GeometryModel) -> dict[str, float]:
     """``"<spring>.<end>"`` → distance [m] of each mounted anchor from its offset surface at ``x``."""
-    errors = {}
+    errors: dict[str, float] = {}
     for spring, end, anchor in problem.mounts:
         for scenario in range(problem.model.n_scenarios):
             point = problem.model.anchor_point(spring, end, x, scenario)
@@ -62,11 +66,11 @@ def _mount_errors(problem: DesignProblem, x: np.ndarray, geometry) -> dict[str, 
 class _AnchorMaps:
     """Per (spring, end, scenario): the anchor point ``P(x) = P0 + J (x - x0)`` (body frame), exact since affine."""
 
-    def __init__(self, problem: DesignProblem):
+    def __init__(self, problem: DesignProblem) -> None:
         self.problem = problem
-        self._jacobians: dict = {}
+        self._jacobians: dict[tuple[str | None, str, int], np.ndarray] = {}
 
-    def jacobian(self, spring, end: str, scenario: int) -> np.ndarray:
+    def jacobian(self, spring: Spring, end: str, scenario: int) -> np.ndarray:
         key = (spring.name, end, scenario)
         if key not in self._jacobians:
             model = self.problem.model
@@ -78,7 +82,7 @@ class _AnchorMaps:
         return self._jacobians[key]
 
 
-def _rows(problem: DesignProblem, x: np.ndarray, object_cuts: list, spring_cuts: list,
+def _rows(problem: DesignProblem, x: np.ndarray | Sequence[float], object_cuts: list, spring_cuts: list,
           planes: dict) -> LinearRows | None:
     """Linear rows at design ``x``: mounting rows, then the given cuts.
 
@@ -93,9 +97,12 @@ def _rows(problem: DesignProblem, x: np.ndarray, object_cuts: list, spring_cuts:
     maps = _AnchorMaps(problem)
     model = problem.model
     n = problem.variables.size
-    matrix, offset, labels = [], [], []
+    matrix: list[np.ndarray] = []
+    offset: list[float] = []
+    labels: list[str] = []
 
-    def end_row(spring, end, scenario, rotation, translation, normal, point):
+    def end_row(spring: Spring, end: str, scenario: int, rotation: np.ndarray, translation: np.ndarray,
+                normal: np.ndarray, point: np.ndarray) -> tuple[np.ndarray, float]:
         """Gradient and value of ``n·(R P(x) + p - w)`` at ``x``."""
         P = model.anchor_point(spring, end, x, scenario)
         gradient = normal @ rotation @ maps.jacobian(spring, end, scenario)
@@ -134,13 +141,13 @@ def _rows(problem: DesignProblem, x: np.ndarray, object_cuts: list, spring_cuts:
 
 
 
-def _ends_of(spring) -> tuple[str, str]:
+def _ends_of(spring: Spring) -> tuple[str, str]:
     """The ends of a spring's own body: ``a`` and ``b``, or for a routed spring ``a`` and its first
     pulley (the capsule is its first segment; its cable beyond is not checked)."""
     return getattr(spring, "spring_ends", ("a", "b"))
 
 
-def _radius(problem: DesignProblem, spring, x: np.ndarray, default: float) -> float:
+def _radius(problem: DesignProblem, spring: Spring, x: np.ndarray, default: float) -> float:
     """Capsule radius [m] of ``spring`` at design ``x``: half its coil's outer diameter, or ``default``."""
     values = problem.model.spring_values(spring, x)
     if "mean_diameter" in values and "wire_diameter" in values:

@@ -13,7 +13,7 @@ adds the one-line conveniences that call them, and saving and loading.
 
 from __future__ import annotations
 
-from typing import Any, Iterable
+from typing import Any, Iterable, Protocol, runtime_checkable
 
 import numpy as np
 import numpy.typing as npt
@@ -26,10 +26,25 @@ from springbalance.design.standard_wire import WireRounding
 from springbalance.design.stock import StockSelection
 from springbalance.errors import InputError
 from springbalance.model.workspace import Workspace
-from springbalance.springs.laws import Spring
+from springbalance.springs.laws import Spring, TwoPointSpring
 from springbalance.springs.mass import CoilMass
 from springbalance.springs.records import spring_from_dict
 from springbalance.springs.sizing import HelicalDesign, Material, size_helical_spring
+
+
+@runtime_checkable
+class _Coil(Protocol):
+    """A coil law (helical extension or compression spring): its derived values and its data sheet."""
+
+    def derived_values(self, values: dict) -> dict: ...
+
+    def spec_sheet(self, values: dict, lengths: np.ndarray, forces: np.ndarray) -> dict: ...
+
+
+def _named(spring: Spring) -> str:
+    """The name of a problem's spring (a problem names every spring it is given)."""
+    assert spring.name is not None
+    return spring.name
 
 
 class EvaluatedDesign:
@@ -76,7 +91,7 @@ class EvaluatedDesign:
         model = self.problem.model
         records = []
         for column, spring in enumerate(self.problem.springs):
-            record = {"name": spring.name, "type": spring.kind}
+            record: dict[str, Any] = {"name": spring.name, "type": spring.kind}
             if spring.ideal is not None:
                 record["ideal"] = bool(spring.ideal)
             for end, anchor, radius in zip(spring.anchors, spring.anchors.values(), getattr(spring, "radii", ())
@@ -88,15 +103,16 @@ class EvaluatedDesign:
                 record["joint"] = joint
             values = model.spring_values(spring, self.x)
             record.update(values)
-            if getattr(spring, "part_number", None) is not None:
-                record["part_number"] = spring.part_number
-            sheet = getattr(spring, "spec_sheet", None)
-            if sheet is not None:
+            part_number = getattr(spring, "part_number", None)
+            if part_number is not None:
+                record["part_number"] = part_number
+            if isinstance(spring, _Coil):
                 # a coil: the law's values it gives, and its data sheet with the buildable verdict
                 record.update({key: value for key, value in spring.derived_values(values).items() if key not in record})
-                record["helical"] = sheet(values, self.evaluation.lengths[:, column], self.evaluation.tensions[:, column])
-            mass = getattr(spring, "mass", None)
-            if mass is not None:
+                record["helical"] = spring.spec_sheet(values, self.evaluation.lengths[:, column],
+                                                      self.evaluation.tensions[:, column])
+            mass = spring.mass if isinstance(spring, TwoPointSpring) else None   # only a two-point spring has one
+            if isinstance(spring, TwoPointSpring) and mass is not None:
                 record["mass"] = float(spring.spring_mass(values))                     # [kg]
                 if isinstance(mass, CoilMass):
                     record["wire_diameter"] = float(mass.wire_diameter(values["stiffness"]))  # [m]
@@ -108,7 +124,7 @@ class EvaluatedDesign:
         for record in self.springs:
             if record["name"] == name:
                 return record
-        raise InputError(f"unknown spring {name!r}; springs: {', '.join(s.name for s in self.problem.springs)}")
+        raise InputError(f"unknown spring {name!r}; springs: {', '.join(_named(s) for s in self.problem.springs)}")
 
     def fixed_springs(self) -> list[Spring]:
         """The springs with every free parameter and anchor fixed at this design's values."""
@@ -137,7 +153,7 @@ class EvaluatedDesign:
         :class:`~springbalance.springs.sizing.HelicalDesign` (``feasible`` False with the reasons when no
         helical spring can do it).
         """
-        designs = {}
+        designs: dict[str, HelicalDesign] = {}
         for column, spring in enumerate(self.problem.springs):
             option = getattr(spring, "helical", None)
             kind = getattr(spring, "helical_kind", None)
@@ -145,10 +161,14 @@ class EvaluatedDesign:
                 continue   # not a coil, nothing asked, or a coil already (its spec sheet says it all)
             values = self.problem.model.spring_values(spring, self.x)
             lengths, forces = self.evaluation.lengths[:, column], self.evaluation.tensions[:, column]
-            chosen = material if material is not None else option.material
+            if material is not None:
+                chosen = material
+            else:
+                assert option is not None   # skipped above when neither is given
+                chosen = option.material
             if values["stiffness"] <= 0:
                 continue
-            designs[spring.name] = size_helical_spring(
+            designs[_named(spring)] = size_helical_spring(
                 values["stiffness"], values["free_length"], float(np.max(lengths)), float(np.max(np.abs(forces))),
                 material=chosen, kind=kind, min_length=float(np.min(lengths)))
         return designs

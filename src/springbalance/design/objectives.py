@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import abc
 import dataclasses
-from typing import ClassVar
+from typing import Callable, cast
 
 import casadi as ca
 import numpy as np
@@ -32,7 +32,8 @@ class NlpPieces:
     variables: ca.MX | None  # extra variables (epigraph), or None
     lower: np.ndarray | None
     upper: np.ndarray | None
-    start: object  # callable(weighted_tau_numeric (N×nv)) -> start values of the extra variables
+    #: weighted_tau_numeric (N×nv) -> start values of the extra variables
+    start: Callable[[np.ndarray], np.ndarray] | None
     cost: ca.MX
     rows: ca.MX | None  # ≥ 0
 
@@ -40,10 +41,11 @@ class NlpPieces:
 class Objective(abc.ABC):
     """Base: subclasses set ``name``, ``unit`` and implement ``value`` and ``nlp``."""
 
-    name: ClassVar[str] = ""
-    unit: ClassVar[str] = ""
-    least_squares: ClassVar[bool] = False
-    needs_path: ClassVar[bool] = False
+    # plain attributes (not ClassVar): ScenarioAggregate sets them per instance from its inner objective
+    name: str = ""
+    unit: str = ""
+    least_squares: bool = False
+    needs_path: bool = False
     #: relative tolerance of a lexicographic objective: how much of the first phase's optimum the
     #: second phase may give up (and within which starts count as tied); 0 for the others.
     slack: float = 0.0
@@ -53,7 +55,7 @@ class Objective(abc.ABC):
         """The objective minimised first when this one is lexicographic, else None."""
         return None
 
-    def tiebreak(self, weighted_tau: np.ndarray, potential: np.ndarray, path: np.ndarray) -> float:
+    def tiebreak(self, weighted_tau: np.ndarray, potential: np.ndarray | None, path: np.ndarray | None) -> float:
         """Second criterion of a lexicographic objective (ranks starts whose values tie); NaN otherwise."""
         return float("nan")
 
@@ -63,11 +65,12 @@ class Objective(abc.ABC):
         return None
 
     @abc.abstractmethod
-    def value(self, weighted_tau: np.ndarray, potential: np.ndarray, path: np.ndarray) -> float:
-        """Objective of numeric torques (N×nv), potentials (N) and path steps |Δq| ((N-1)×nv)."""
+    def value(self, weighted_tau: np.ndarray, potential: np.ndarray | None, path: np.ndarray | None) -> float:
+        """Objective of numeric torques (N×nv), potentials (N) and path steps |Δq| ((N-1)×nv); an objective
+        that does not use the potentials or the path may be given None for them."""
 
     @abc.abstractmethod
-    def nlp(self, weighted_tau: ca.MX, potential: ca.MX, path: np.ndarray, torque_scale: float,
+    def nlp(self, weighted_tau: ca.MX, potential: ca.MX, path: np.ndarray | None, torque_scale: float,
             potential_scale: float) -> NlpPieces:
         """CasADi cost (and epigraph) for torques (nv×N MX) and potentials (1×N MX)."""
 
@@ -78,11 +81,12 @@ class Rms(Objective):
 
     name, unit, least_squares = "rms", "N·m", True
 
-    def value(self, weighted_tau, potential, path):
+    def value(self, weighted_tau: np.ndarray, potential: np.ndarray | None, path: np.ndarray | None) -> float:
         return float(np.sqrt(np.mean(np.square(weighted_tau))))
 
 
-    def nlp(self, weighted_tau, potential, path, torque_scale, potential_scale):
+    def nlp(self, weighted_tau: ca.MX, potential: ca.MX, path: np.ndarray | None, torque_scale: float,
+            potential_scale: float) -> NlpPieces:
         r = ca.vec(weighted_tau) / (torque_scale * np.sqrt(weighted_tau.numel()))
         return NlpPieces(None, None, None, None, ca.sumsqr(r), None)
 
@@ -95,10 +99,11 @@ class Peak(Objective):
 
     name, unit = "peak", "N·m"
 
-    def value(self, weighted_tau, potential, path):
+    def value(self, weighted_tau: np.ndarray, potential: np.ndarray | None, path: np.ndarray | None) -> float:
         return float(np.max(np.abs(weighted_tau)))
 
-    def nlp(self, weighted_tau, potential, path, torque_scale, potential_scale):
+    def nlp(self, weighted_tau: ca.MX, potential: ca.MX, path: np.ndarray | None, torque_scale: float,
+            potential_scale: float) -> NlpPieces:
         t = ca.MX.sym("peak")
         scaled = ca.vec(weighted_tau) / torque_scale
         rows = ca.vertcat(t - scaled, t + scaled)
@@ -114,11 +119,14 @@ class PotentialVariance(Objective):
 
     name, unit, least_squares = "pe_variance", "J²", True
 
-    def value(self, weighted_tau, potential, path):
+    def value(self, weighted_tau: np.ndarray, potential: np.ndarray | None, path: np.ndarray | None) -> float:
+        if potential is None:
+            raise InputError("objective 'pe_variance' needs the potentials of the samples")
         return float(np.var(potential))
 
 
-    def nlp(self, weighted_tau, potential, path, torque_scale, potential_scale):
+    def nlp(self, weighted_tau: ca.MX, potential: ca.MX, path: np.ndarray | None, torque_scale: float,
+            potential_scale: float) -> NlpPieces:
         n = potential.numel()
         centred = potential - ca.sum2(potential) / n
         return NlpPieces(None, None, None, None, ca.sumsqr(centred) / (n * potential_scale**2), None)
@@ -132,12 +140,15 @@ class PathEnergy(Objective):
 
     name, unit, needs_path = "energy", "J", True
 
-    def value(self, weighted_tau, potential, path):
+    def value(self, weighted_tau: np.ndarray, potential: np.ndarray | None, path: np.ndarray | None) -> float:
         if path is None:
             return float("nan")
         return float(np.sum(np.abs(weighted_tau[:-1]) * path))
 
-    def nlp(self, weighted_tau, potential, path, torque_scale, potential_scale):
+    def nlp(self, weighted_tau: ca.MX, potential: ca.MX, path: np.ndarray | None, torque_scale: float,
+            potential_scale: float) -> NlpPieces:
+        if path is None:
+            raise InputError("objective 'energy' needs the ordered path of the workspace samples")
         nv, n = weighted_tau.shape
         steps = path.T  # nv×(N-1)
         s = ca.MX.sym("abs_tau", nv * (n - 1))
@@ -160,10 +171,11 @@ class JointPeaks(Objective):
 
     name, unit = "joint_peaks", "N·m"
 
-    def value(self, weighted_tau, potential, path):
+    def value(self, weighted_tau: np.ndarray, potential: np.ndarray | None, path: np.ndarray | None) -> float:
         return float(np.sum(np.max(np.abs(weighted_tau), axis=0)))
 
-    def nlp(self, weighted_tau, potential, path, torque_scale, potential_scale):
+    def nlp(self, weighted_tau: ca.MX, potential: ca.MX, path: np.ndarray | None, torque_scale: float,
+            potential_scale: float) -> NlpPieces:
         nv, n = weighted_tau.shape
         t = ca.MX.sym("joint_peak", nv)
         scaled = weighted_tau / torque_scale                     # nv×N
@@ -187,7 +199,7 @@ class PeakThenJoints(JointPeaks):
 
     name, unit = "peak_then_joints", "N·m"
 
-    def __init__(self, slack: float = 1e-3):
+    def __init__(self, slack: float = 1e-3) -> None:
         slack = float(slack)
         if not np.isfinite(slack) or slack < 0:
             raise InputError(f"slack of objective 'peak_then_joints' must be a finite number ≥ 0, got {slack}")
@@ -197,13 +209,13 @@ class PeakThenJoints(JointPeaks):
     def first_phase(self) -> Objective:
         return Peak()
 
-    def value(self, weighted_tau, potential, path):
+    def value(self, weighted_tau: np.ndarray, potential: np.ndarray | None, path: np.ndarray | None) -> float:
         return float(np.max(np.abs(weighted_tau)))
 
-    def tiebreak(self, weighted_tau, potential, path):
+    def tiebreak(self, weighted_tau: np.ndarray, potential: np.ndarray | None, path: np.ndarray | None) -> float:
         return JointPeaks.value(self, weighted_tau, potential, path)
 
-    def phase_two_bound(self, first_value, torque_scale):
+    def phase_two_bound(self, first_value: float, torque_scale: float) -> float:
         return float(first_value) * (1.0 + self.slack) / torque_scale
 
 
@@ -231,37 +243,40 @@ class ScenarioAggregate(Objective):
     scaled cost), minimise ``t``; it is solved by IPOPT. The mean keeps least-squares structure.
     """
 
-    def __init__(self, inner: Objective, blocks: int, worst: bool = True):
+    def __init__(self, inner: Objective, blocks: int, worst: bool = True) -> None:
         if inner.needs_path:
             raise InputError(f"objective {inner.name!r} cannot be aggregated per scenario; use aggregate 'sum'")
         self.inner, self.blocks, self.worst = inner, int(blocks), bool(worst)
         self.name, self.unit = inner.name, inner.unit
         self.least_squares = inner.least_squares and not self.worst
 
-    def _split(self, values, axis):
+    def _split(self, values: np.ndarray | None, axis: int) -> list[np.ndarray]:
         return np.split(np.asarray(values), self.blocks, axis=axis)
 
-    def value(self, weighted_tau, potential, path):
+    def value(self, weighted_tau: np.ndarray, potential: np.ndarray | None, path: np.ndarray | None) -> float:
         values = [self.inner.value(tau, v, None) for tau, v in zip(self._split(weighted_tau, 0),
                                                                    self._split(potential, 0))]
         return float(max(values) if self.worst else np.mean(values))
 
-    def nlp(self, weighted_tau, potential, path, torque_scale, potential_scale):
+    def nlp(self, weighted_tau: ca.MX, potential: ca.MX, path: np.ndarray | None, torque_scale: float,
+            potential_scale: float) -> NlpPieces:
         n = weighted_tau.shape[1] // self.blocks
         pieces = [self.inner.nlp(weighted_tau[:, s * n:(s + 1) * n], potential[:, s * n:(s + 1) * n], None,
                                  torque_scale, potential_scale) for s in range(self.blocks)]
         costs = [piece.cost for piece in pieces]
         if not self.worst:
-            return NlpPieces(None, None, None, None, sum(costs) / self.blocks, None)
+            # sum() of MX is MX (typeshed types its 0 start as int)
+            return NlpPieces(None, None, None, None, cast(ca.MX, sum(costs)) / self.blocks, None)
         t = ca.MX.sym("worst")
         # an inner epigraph (joint_peaks) keeps its own variables and rows, one set per block
-        inner = [piece for piece in pieces if piece.variables is not None]
+        inner = [_epigraph(piece) for piece in pieces if piece.variables is not None]
         rows = ca.vertcat(*[piece.rows for piece in inner], *[t - cost for cost in costs])
         variables = ca.vertcat(*[piece.variables for piece in inner], t)
         lower = np.concatenate([*[piece.lower for piece in inner], [0.0]])
         upper = np.concatenate([*[piece.upper for piece in inner], [np.inf]])
+        inner_start = [piece.start for piece in inner]
 
-        def start(tau):
+        def start(tau: np.ndarray) -> np.ndarray:
             blocks = self._split(tau, 0)
             if self.inner.name == "rms":
                 worst = max(float(np.mean(block**2)) for block in blocks) / torque_scale**2
@@ -269,7 +284,27 @@ class ScenarioAggregate(Objective):
                 worst = max(self.inner.value(block, None, None) for block in blocks) / torque_scale
             else:
                 worst = 1.0
-            inner_starts = [piece.start(block) for piece, block in zip(pieces, blocks) if piece.variables is not None]
+            epigraph_blocks = [block for piece, block in zip(pieces, blocks) if piece.variables is not None]
+            inner_starts = [piece_start(block) for piece_start, block in zip(inner_start, epigraph_blocks)]
             return np.concatenate([*inner_starts, [worst]])
 
         return NlpPieces(variables, lower, upper, start, t, rows)
+
+
+@dataclasses.dataclass
+class _Epigraph:
+    """The pieces of an objective that has epigraph variables, none of them None."""
+
+    variables: ca.MX
+    lower: np.ndarray
+    upper: np.ndarray
+    start: Callable[[np.ndarray], np.ndarray]
+    rows: ca.MX
+
+
+def _epigraph(piece: NlpPieces) -> _Epigraph:
+    """``piece`` with its epigraph fields checked present (an objective with variables sets them all)."""
+    if (piece.variables is None or piece.lower is None or piece.upper is None or piece.start is None
+            or piece.rows is None):
+        raise AssertionError("an objective with epigraph variables must give their bounds, start and rows")
+    return _Epigraph(piece.variables, piece.lower, piece.upper, piece.start, piece.rows)

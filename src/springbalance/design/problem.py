@@ -27,6 +27,7 @@ from typing import Any, Mapping, Sequence
 
 import casadi as ca
 import numpy as np
+import numpy.typing as npt
 
 from springbalance.design import row_multipliers
 from springbalance.design.block_kernel import KERNEL_MIN_SAMPLES
@@ -37,12 +38,12 @@ from springbalance.design.mounts import check_mounts, resolve_mounts
 from springbalance.design.objectives import Objective, ScenarioAggregate, objective_named
 from springbalance.design.problem_inputs import AGGREGATES, joint_limits, joint_weights, named_springs
 from springbalance.design.scenarios import Scenario, ScenarioWorkspace, check_scenarios
-from springbalance.design.torque_model import BlockEvaluator, TorqueModel, compiled
+from springbalance.design.torque_model import BlockEvaluator, DesignVariables, TorqueModel, compiled
 from springbalance.errors import InputError
 from springbalance.model import budget
 from springbalance.model.mechanism import Mechanism
 from springbalance.model.workspace import Workspace
-from springbalance.springs.laws import Spring
+from springbalance.springs.laws import Spring, TwoPointSpring
 from springbalance.springs.records import spring_from_dict
 
 class DesignProblem:
@@ -141,7 +142,7 @@ class DesignProblem:
 
     # ---------------------------------------------------------------- variables
     @property
-    def variables(self):
+    def variables(self) -> DesignVariables:
         """Design variables (names, units, bounds, first guess) in physical units."""
         return self.model.variables
 
@@ -167,7 +168,7 @@ class DesignProblem:
         return (np.asarray(x, dtype=float) - lower) / width
 
     # ---------------------------------------------------------------- numeric evaluation
-    def evaluate(self, x=None) -> Evaluation:
+    def evaluate(self, x: npt.ArrayLike | None = None) -> Evaluation:
         """Residual torque, potential, lengths, tensions and constraint rows of design ``x``."""
         x = np.array(self.variables.start if x is None else x, dtype=float)
         if x.shape != (self.variables.size,):
@@ -225,7 +226,7 @@ class DesignProblem:
                 raise InputError(f"linear rows depend on {name!r}, which is not a design variable of this problem")
         return matrix, np.asarray(rows.offset, dtype=float)
 
-    def linear_violation(self, x) -> float:
+    def linear_violation(self, x: npt.ArrayLike) -> float:
         """Largest violation [m] of the :attr:`linear_rows` at design ``x`` (0 when there are none or all hold)."""
         matrix, offset = self.linear_matrix()
         if not offset.size:
@@ -262,6 +263,8 @@ class DesignProblem:
         variables = [design]
         z_lower, z_upper = [np.zeros(self.variables.size)], [np.ones(self.variables.size)]
         if pieces.variables is not None:
+            if pieces.lower is None or pieces.upper is None:
+                raise AssertionError(f"objective {objective.name!r} gives epigraph variables without their bounds")
             variables.append(pieces.variables)
             z_lower.append(pieces.lower)
             z_upper.append(pieces.upper)
@@ -279,6 +282,7 @@ class DesignProblem:
             all_rows.append(pieces.rows)
         matrix, offset = self.linear_matrix()
         if offset.size:   # G x + h = G (lower + w z) + h, in units of the rows' scale
+            assert self.linear_rows is not None   # linear_matrix has rows only with linear_rows
             scale = self.linear_rows.scale
             all_rows.append(ca.DM(matrix * (upper - lower)[None, :] / scale) @ design
                             + ca.DM((matrix @ lower + offset) / scale))
@@ -322,7 +326,7 @@ class DesignProblem:
         return DesignResult(self, np.asarray(x, dtype=float)).scenario_results()
 
     # ---------------------------------------------------------------- scenarios
-    def scenario_springs(self, x, scenario: int = 0) -> list[Spring]:
+    def scenario_springs(self, x: np.ndarray, scenario: int = 0) -> list[Spring]:
         """The springs with every variable fixed at its value in ``scenario`` (design ``x``)."""
         records = []
         for spring in self.springs:
@@ -339,7 +343,9 @@ class DesignProblem:
 
         ``springs`` default to this problem's springs (with their free variables).
         """
-        mechanism = self.workspace.mechanisms[scenario] if self.scenarios else self.mechanism
+        # the workspace is a ScenarioWorkspace exactly when there are scenarios
+        workspace = self.workspace
+        mechanism = workspace.mechanisms[scenario] if isinstance(workspace, ScenarioWorkspace) else self.mechanism
         workspace = Workspace(mechanism, self.base_workspace.joint_values, ordered=self.base_workspace.ordered,
                               description=self.base_workspace.description)
         if objective is None:
@@ -351,7 +357,7 @@ class DesignProblem:
         """The problem's options beyond objective and weights, for a saved design:
         ``{"scenarios": {cases, per_scenario, aggregate}}`` with scenarios, and ``"no_joint_worse": true``
         when set (``{}`` when neither)."""
-        record = {"no_joint_worse": True} if self.no_joint_worse else {}
+        record: dict[str, Any] = {"no_joint_worse": True} if self.no_joint_worse else {}
         if self.clearance is not None:
             record["clearance"] = self.clearance.to_dict()
         if not self.scenarios:
@@ -363,7 +369,7 @@ class DesignProblem:
     def scenario_options(record: dict) -> dict:
         """Keyword arguments (scenarios, per_scenario, aggregate, no_joint_worse, clearance) from a saved design's
         record (what :meth:`scenarios_record` wrote)."""
-        options = {"no_joint_worse": True} if record.get("no_joint_worse") else {}
+        options: dict[str, Any] = {"no_joint_worse": True} if record.get("no_joint_worse") else {}
         if record.get("clearance"):
             options["clearance"] = Clearance.from_dict(record["clearance"], "design clearance")
         saved = record.get("scenarios")
@@ -372,7 +378,7 @@ class DesignProblem:
         return {"scenarios": [Scenario.from_dict(case) for case in saved["cases"]],
                 "per_scenario": saved.get("per_scenario", []), "aggregate": saved.get("aggregate", "sum"), **options}
 
-    def scenario_table(self, x) -> list[dict]:
+    def scenario_table(self, x: np.ndarray) -> list[dict]:
         """Per scenario: name, payload [kg], per-scenario variable values, peak and RMS residual [N·m]
         (weighted, over all joints) of design ``x``."""
         if not self.scenarios:
@@ -387,7 +393,7 @@ class DesignProblem:
                          "peak": float(np.max(np.abs(block))), "rms": float(np.sqrt(np.mean(block**2)))})
         return rows
 
-    def with_springs(self, springs: Sequence[Spring], **changes) -> "DesignProblem":
+    def with_springs(self, springs: Sequence[Spring], **changes: Any) -> "DesignProblem":
         """The same problem (mechanism, poses, objective, weights, scenarios) with other springs.
 
         ``changes`` override keyword arguments of :class:`DesignProblem` (``objective``,
@@ -410,7 +416,7 @@ class DesignProblem:
         # (Spring.check); what needs an evaluation is a two-point spring of zero length, and a
         # routed spring's cable that is longer than its path can ever be.
         for spring in self.springs:
-            if getattr(spring, "routed", False):
+            if isinstance(spring, TwoPointSpring) and spring.routed:   # only a two-point spring is routed
                 check_cable(self, spring)
         for column, spring in enumerate(self.springs):
             anchors = list(spring.anchors.values())

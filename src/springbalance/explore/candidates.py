@@ -20,6 +20,7 @@ import dataclasses
 from typing import Any, Sequence
 
 import numpy as np
+import pinocchio as pin
 
 from springbalance.design.mounts import body_bounds
 from springbalance.errors import InputError
@@ -52,8 +53,9 @@ class Candidate:
 
     def anchors(self) -> tuple[dict, dict]:
         """The two ends as anchor records ``{body, box: {lower, upper}}``."""
-        return tuple({"body": body, "box": {"lower": list(box[0]), "upper": list(box[1])}}
-                     for body, box in ((self.a, self.box_a), (self.b, self.box_b)))
+        a, b = ({"body": body, "box": {"lower": list(box[0]), "upper": list(box[1])}}
+                for body, box in ((self.a, self.box_a), (self.b, self.box_b)))
+        return a, b
 
     def to_dict(self) -> dict[str, Any]:
         a, b = self.anchors()
@@ -93,7 +95,7 @@ class BodyTree:
         return self.body_of[self.joint_of[body]]
 
 
-def _geometry(mechanism: Mechanism):
+def _geometry(mechanism: Mechanism) -> pin.GeometryModel | None:
     """The URDF's collision geometry, or None when it has none (the boxes are then cubes)."""
     try:
         return collision_geometry(mechanism)
@@ -101,7 +103,8 @@ def _geometry(mechanism: Mechanism):
         return None
 
 
-def _box(mechanism: Mechanism, geometry, body: str, margin: float, default: float):
+def _box(mechanism: Mechanism, geometry: pin.GeometryModel | None, body: str, margin: float,
+         default: float) -> tuple[tuple[float, ...], tuple[float, ...]]:
     if geometry is not None and not mechanism.is_ground(body):
         try:
             lower, upper = body_bounds(mechanism, geometry, body)
@@ -138,7 +141,8 @@ def candidates_from_records(mechanism: Mechanism, records: Sequence, margin: flo
     if not isinstance(records, list) or not records:
         raise InputError(f"{where}: expected 'auto' or a non-empty list of body pairs, got {records!r}")
     tree, geometry = BodyTree(mechanism), _geometry(mechanism)
-    candidates, seen = [], {}
+    candidates: list[Candidate] = []
+    seen: dict[tuple[int, ...], int] = {}
     for i, record in enumerate(records):
         here = f"{where}[{i}]"
         if isinstance(record, list) and len(record) == 2 and all(isinstance(b, str) for b in record):

@@ -35,7 +35,8 @@ def pareto_svg(records: list[dict]) -> str:
     for buildable, marker in ((True, "o"), (False, "o")):
         points = [(a, b) for a, b, record in zip(x, y, records) if bool(record.get("buildable")) == buildable]
         if points:
-            axes.scatter(*zip(*points), s=36, marker=marker, facecolors="C0" if buildable else "none",
+            xs, ys = zip(*points)
+            axes.scatter(xs, ys, s=36, marker=marker, facecolors="C0" if buildable else "none",
                          edgecolors="C0", label="buildable (every spring a coil that passes its spec sheet)" if buildable
                          else "not shown buildable (ideal laws, or a spec sheet fails)")
     front, best = [], float("inf")

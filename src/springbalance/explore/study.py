@@ -98,7 +98,7 @@ def _fingerprint(record: Any) -> str:
     return hashlib.sha256(json.dumps(record, sort_keys=True, default=str).encode()).hexdigest()[:16]
 
 
-def _set_dotted(record: dict, key: str, value, where: str) -> None:
+def _set_dotted(record: dict, key: str, value: object, where: str) -> None:
     """Set ``a.b.c`` in a nested mapping (the grid's overrides)."""
     parts = key.split(".")
     node = record
@@ -191,7 +191,7 @@ class Study:
             self._layouts[key] = Layout(mechanism, found, note, topologies, verdicts)
         return self._layouts[key]
 
-    def _grid(self, grid) -> list[dict[str, Any]]:
+    def _grid(self, grid: object) -> list[dict[str, Any]]:
         if not isinstance(grid, dict):
             raise InputError(f"{self.label}: explore.grid: expected a mapping of dotted config keys to lists of values")
         keys = list(grid)

@@ -79,6 +79,7 @@ def _solved_row(result: DesignResult) -> dict[str, Any]:
     balance = result.exact_balance()
     objective = metrics["optimised"]
     masses = [record.get("mass") for record in result.springs]
+    known = [mass for mass in masses if mass is not None]
     sheets = [record["helical"]["buildable"] for record in result.springs if isinstance(record.get("helical"), dict)]
     flags = [flag.kind for flag in result.warnings()]
     # buildable: every spring is a coil whose spec sheet passes (an ideal law, such as a zero-free-length
@@ -90,5 +91,5 @@ def _solved_row(result: DesignResult) -> dict[str, Any]:
             "objective_before": metrics["objectives"][objective]["before"],
             "peak_residual": balance["residual"], "relative_residual": balance["relative_residual"],
             "exact": bool(balance["relative_residual"] < EXACT),
-            "spring_mass": float(sum(masses)) if masses and all(m is not None for m in masses) else None,
+            "spring_mass": float(sum(known)) if masses and len(known) == len(masses) else None,
             "buildable": bool(buildable), "error": "", "design": result.to_dict()}

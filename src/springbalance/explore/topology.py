@@ -49,6 +49,12 @@ class Verdict:
     reason: str
 
 
+def _ordered(first: int, second: int) -> tuple[int, int]:
+    """The two chain body indices, the lower first."""
+    low, high = sorted((first, second))
+    return low, high
+
+
 class Reachability:
     """The exact-balance reachability test of a planar chain (see the module documentation)."""
 
@@ -56,7 +62,7 @@ class Reachability:
         self.chain = PlanarChain.from_mechanism(mechanism)
         gravity = np.abs(self.chain.gravity_blocks())
         self.loaded = [j for j in range(1, self.chain.size) if gravity[j] > GRAVITY_ZERO * max(gravity.max(), 1e-300)]
-        self.ends = [tuple(sorted((self.chain.body_index(c.a), self.chain.body_index(c.b)))) for c in candidates]
+        self.ends = [_ordered(self.chain.body_index(c.a), self.chain.body_index(c.b)) for c in candidates]
 
     def _reached(self, spring: tuple[int, int]) -> set[tuple[int, int]]:
         a, b = spring

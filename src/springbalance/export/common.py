@@ -15,9 +15,10 @@ from pathlib import Path
 from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.errors import InputError
 from springbalance.model.mechanism import Mechanism
+from springbalance.springs.laws.spring import Spring
 
 __all__ = ["GROUND", "ExportReport", "anchor_link_name", "law_warnings", "number", "resolve_package", "source_urdf",
-           "vector"]
+           "spring_name", "vector"]
 
 GROUND = "universe"
 
@@ -61,6 +62,17 @@ def number(value: float) -> str:
 def vector(values: Iterable[float]) -> str:
     """The numbers of ``values`` separated by spaces, each as :func:`number` writes it."""
     return " ".join(number(v) for v in values)
+
+
+def spring_name(spring: Spring) -> str:
+    """The name of a spring of a design (a DesignProblem names every spring, ``s0``, ``s1``, ... when not given).
+
+    Raises:
+        InputError: ``spring`` has no name (it is not a spring of a DesignProblem).
+    """
+    if spring.name is None:
+        raise InputError(f"a {spring.kind} spring of the design has no name")
+    return spring.name
 
 
 def anchor_link_name(spring: str, end: str) -> str:

@@ -38,8 +38,10 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
+import numpy.typing as npt
 
 from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.errors import InputError
@@ -51,10 +53,17 @@ from springbalance.export.common import (
     number,
     resolve_package,
     source_urdf,
+    spring_name,
     vector,
 )
 from springbalance.files import write_text_atomic
 from springbalance.model import robots
+from springbalance.springs.laws.spring import Spring
+from springbalance.springs.laws.two_point import TwoPointSpring
+
+if TYPE_CHECKING:   # lxml and yourdfpy (no stubs) are imported when a model is exported
+    from lxml.etree import _Element
+    from yourdfpy import Collision, Joint, Link, Mesh, Visual
 
 __all__ = ["MUJOCO_MESH_FORMATS", "export_mjcf", "mjcf_string"]
 
@@ -106,10 +115,10 @@ class _MjcfBuilder:
         self.folder = folder
         self.urdf = yourdfpy.URDF.load(io.BytesIO(urdf_text.encode()), build_scene_graph=False, load_meshes=False)
         self.warnings: list[str] = []
-        self.meshes: dict[str, str] = {}
+        self.meshes: dict[tuple[str, tuple[float, ...]], str] = {}
         self.joint_springs: dict[str, list] = {}
 
-    def build(self):
+    def build(self) -> _Element:
         from lxml import etree
 
         E = etree.SubElement
@@ -138,7 +147,8 @@ class _MjcfBuilder:
         return root
 
     # ---------------------------------------------------------------- bodies
-    def _add_body(self, parent, link, joint, links, children):
+    def _add_body(self, parent: _Element, link: Link, joint: Joint | None, links: dict[str, Link],
+                  children: dict[str, list[Joint]]) -> None:
         from lxml import etree
 
         E = etree.SubElement
@@ -167,7 +177,7 @@ class _MjcfBuilder:
         for child in children.get(link.name, []):
             self._add_body(body, links[child.child], child, links, children)
 
-    def _add_joint(self, body, joint):
+    def _add_joint(self, body: _Element, joint: Joint) -> None:
         from lxml import etree
 
         kinds = {"revolute": "hinge", "continuous": "hinge", "prismatic": "slide"}
@@ -190,7 +200,7 @@ class _MjcfBuilder:
                 attributes["frictionloss"] = number(joint.dynamics.friction)
         etree.SubElement(body, "joint", **attributes)
 
-    def _add_geom(self, body, element, name, visual: bool):
+    def _add_geom(self, body: _Element, element: Visual | Collision, name: str, visual: bool) -> None:
         from lxml import etree
 
         geometry = element.geometry
@@ -217,7 +227,7 @@ class _MjcfBuilder:
             return
         etree.SubElement(body, "geom", **attributes)
 
-    def _mesh_asset(self, mesh, name):
+    def _mesh_asset(self, mesh: Mesh, name: str) -> str | None:
         from lxml import etree
 
         filename = mesh.filename
@@ -248,7 +258,7 @@ class _MjcfBuilder:
         return self.meshes[key_scale]
 
     # ---------------------------------------------------------------- springs
-    def _add_springs(self, root):
+    def _add_springs(self, root: _Element) -> None:
         from lxml import etree
 
         E = etree.SubElement
@@ -261,7 +271,7 @@ class _MjcfBuilder:
             sites = []   # the tendon's path through the sites; a pulley's cylinder is drawn, not wrapped
             for end, radius in zip(spring.anchors, getattr(spring, "radii", [0.0] * len(spring.anchors))):
                 body = self._body(record[end]["body"])
-                name = anchor_link_name(spring.name, end)
+                name = anchor_link_name(spring_name(spring), end)
                 E(body, "site", name=name, pos=vector(record[end]["point"]), size="0.01")
                 sites.append(name)
                 if radius > 0:
@@ -300,7 +310,7 @@ class _MjcfBuilder:
             if not len(element):
                 root.remove(element)
 
-    def _add_pulley(self, body, spring, end, record, radius: float) -> None:
+    def _add_pulley(self, body: _Element, spring: Spring, end: str, record: dict, radius: float) -> None:
         """A cylinder of ``radius`` [m] drawn at the pulley ``end`` of a routed spring (no contact, no
         mass), its axis normal to the plane of the pulley and its neighbours at the reference pose."""
         from lxml import etree
@@ -319,12 +329,12 @@ class _MjcfBuilder:
             if np.linalg.norm(axis) >= 1e-9:
                 break
             axis = np.cross(neighbours[0], fallback)
-        etree.SubElement(body, "geom", name=f"{anchor_link_name(spring.name, end)}_pulley", type="cylinder",
+        etree.SubElement(body, "geom", name=f"{anchor_link_name(spring_name(spring), end)}_pulley", type="cylinder",
                          pos=vector(centre), zaxis=vector(axis / np.linalg.norm(axis)),
                          size=vector([radius, 0.005]), contype="0", conaffinity="0", mass="0",
                          rgba="0.3 0.3 0.3 1")
 
-    def _pulley_warning(self, spring, record) -> str:
+    def _pulley_warning(self, spring: Spring, record: dict) -> str:
         """How far MuJoCo's tendon (through the pulleys' centres) is from the wrapped cable over the workspace."""
         problem = self.design.problem
         kinematics = problem.base_workspace.kinematics()
@@ -355,7 +365,7 @@ class _MjcfBuilder:
         placement = data.oMf[mechanism.frame_id(body)]
         return np.array(placement.rotation), np.array(placement.translation)
 
-    def _add_torsional(self, actuator, spring, record):
+    def _add_torsional(self, actuator: _Element, spring: Spring, record: dict) -> None:
         """Collect a torsional spring; :meth:`_finish_torsional` writes each joint's sum."""
         stiffness, neutral, preload = record["stiffness"], record["neutral_angle"], record.get("preload", 0.0)
         total = self.joint_springs.setdefault(record["joint"], [0.0, 0.0, []])
@@ -363,7 +373,7 @@ class _MjcfBuilder:
         total[1] += stiffness * neutral - preload              # Σ (k q0 - τ0) [N·m]
         total[2].append(spring.name)
 
-    def _finish_torsional(self, actuator):
+    def _finish_torsional(self, actuator: _Element) -> None:
         from lxml import etree
 
         for joint_name, (stiffness, offset, names) in self.joint_springs.items():
@@ -378,7 +388,7 @@ class _MjcfBuilder:
                 etree.SubElement(actuator, "general", name=f"{'_'.join(names)}_constant_torque", joint=joint_name,
                                  gainprm="0", biastype="affine", biasprm=vector([offset, 0, 0]))
 
-    def _add_mimic(self, root):
+    def _add_mimic(self, root: _Element) -> None:
         from lxml import etree
 
         mimics = [joint for joint in self.urdf.robot.joints if joint.mimic is not None]
@@ -395,17 +405,19 @@ class _MjcfBuilder:
                 f"MuJoCo, which has a DOF for each: the holding torque of {joint.mimic.joint!r} is MuJoCo's torque on "
                 f"it plus {multiplier:g} × the torque on {joint.name!r}")
 
-    def _body(self, name):
+    def _body(self, name: str) -> _Element:
         if name == GROUND:
             return self.bodies[GROUND]
         return self.bodies[name]
 
 
-def _tendon_law(spring, record, lengths) -> tuple[float, float, float, float]:
+def _tendon_law(spring: Spring, record: dict, lengths: np.ndarray) -> tuple[float, float, float, float]:
     """MuJoCo tendon ``(stiffness k [N/m], springlength L_s [m], constant tension F_c [N], deviation [N])``
     with ``F(L) = k (L - L_s) + F_c`` the spring's law (:meth:`~springbalance.springs.laws.base.TwoPointSpring.tendon_law`:
     exact for a linear law; a nonlinear one gives its best line over the workspace ``lengths`` [m]
     and the largest deviation there)."""
+    if not isinstance(spring, TwoPointSpring):
+        raise InputError(f"spring {spring.name!r} ({spring.kind}): a MuJoCo tendon is made of a two-point spring only")
     k, constant, deviation = spring.tendon_law(record, lengths)          # F = k L + constant
     if getattr(spring, "routed", False):
         # MuJoCo's tendon is the whole path, ℓ = L + cable: F = k ℓ + (constant − k cable)
@@ -418,7 +430,7 @@ def _tendon_law(spring, record, lengths) -> tuple[float, float, float, float]:
     return k, length, 0.0, deviation
 
 
-def _quaternion(rotation) -> np.ndarray:
+def _quaternion(rotation: npt.ArrayLike) -> np.ndarray:
     """Unit quaternion (w, x, y, z) of a rotation matrix."""
     import pinocchio as pin
 

@@ -39,6 +39,7 @@ from springbalance.export.common import (
     number,
     resolve_package,
     source_urdf,
+    spring_name,
     vector,
 )
 from springbalance.files import write_text_atomic
@@ -117,7 +118,7 @@ def _add_springs(root: Any, design: EvaluatedDesign) -> list[dict]:
         if "joint" in values:
             attributes["joint"] = values["joint"]
         for end in spring.anchors:
-            link_name = anchor_link_name(spring.name, end)
+            link_name = anchor_link_name(spring_name(spring), end)
             joint_name = link_name + "_joint"
             if link_name in links or joint_name in joints:
                 raise InputError(f"cannot add the anchor link {link_name!r}: the URDF already has a link or joint "

@@ -30,6 +30,7 @@ from __future__ import annotations
 import csv
 import math
 from pathlib import Path
+from typing import NoReturn
 
 from springbalance.errors import InputError
 from springbalance.files import read_input_text
@@ -72,7 +73,8 @@ def read_catalogue(path: str | Path) -> list[StockPart]:
         raise InputError(f"{label} line {header_line}: missing column(s) {', '.join(missing)}; a stock catalogue has "
                          f"the columns {', '.join(COLUMNS)}")
     position = {column: header.index(column) for column in COLUMNS}
-    parts, seen = [], {}
+    parts: list[StockPart] = []
+    seen: dict[str, int] = {}
     for (number, _), row in zip(lines[1:], rows[1:]):
         if len(row) != len(header):
             raise InputError(f"{label} line {number}: {len(row)} cells, the header has {len(header)} columns")
@@ -95,7 +97,7 @@ def _part(cells: dict[str, str], where: str) -> StockPart:
         raise InputError(f"{where}, column 'part_number': empty part number")
     where = f"{where} (part {name!r})"
 
-    def fail(column: str, message: str):
+    def fail(column: str, message: str) -> NoReturn:
         raise InputError(f"{where}, column {column!r}: {message}")
 
     kind = cells["type"]
@@ -104,7 +106,7 @@ def _part(cells: dict[str, str], where: str) -> StockPart:
     material = cells["material"]
     if material not in MATERIALS:
         fail("material", f"unknown material {material!r}; valid: {', '.join(MATERIALS)}")
-    values = {}
+    values: dict[str, float] = {}
     for column in NUMBERS:
         text = cells[column]
         try:

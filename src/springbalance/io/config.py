@@ -25,8 +25,9 @@ degrees. Relative file paths (URDF, sample files) are relative to the config fil
 from __future__ import annotations
 
 import dataclasses
+import json
 from pathlib import Path
-from typing import Any
+from typing import Any, Mapping, cast
 
 import yaml
 
@@ -101,7 +102,7 @@ class Config:
     workspace: Workspace
     springs: list[Spring]
     problem: DesignProblem
-    solve_options: dict
+    solve_options: Mapping[str, Any]
 
     def solve(self, **overrides: Any) -> DesignResult:
         """:func:`springbalance.solve` of this config: its ``solve`` options, overridden by the ``overrides``
@@ -184,8 +185,9 @@ def read_config_file(path: str | Path) -> Any:
         except DuplicateKeyError as error:
             raise ConfigError(f"{label}: duplicate key {error.key!r} in a JSON object") from None
         except ValueError as error:  # json.JSONDecodeError
-            raise ConfigError(f"{label}: JSON syntax error at line {error.lineno}, column {error.colno}: "
-                              f"{error.msg}") from None
+            syntax = cast(json.JSONDecodeError, error)
+            raise ConfigError(f"{label}: JSON syntax error at line {syntax.lineno}, column {syntax.colno}: "
+                              f"{syntax.msg}") from None
     try:
         return load_yaml(text)
     except LimitError as error:

@@ -68,6 +68,7 @@ def workspace_from_record(mechanism: Mechanism, model: WorkspaceRecord | None, b
                 n = dict(_joint_mapping(mechanism, n, f"{where}.n"))
             return Workspace.grid(mechanism, n=16 if n is None else n, ranges=ranges, couplings=couplings,
                                   degrees=degrees)
+        assert not isinstance(n, dict)   # a mapping is rejected above for every kind but grid
         if kind in ("sobol", "random"):
             constructor = Workspace.sobol if kind == "sobol" else Workspace.random
             return constructor(mechanism, n=1024 if n is None else n, ranges=ranges, couplings=couplings,
@@ -134,7 +135,7 @@ def scenarios_from_record(mechanism: Mechanism, model: ScenariosRecord | None, w
             for number, payload in enumerate(case.payloads or []):
                 spot = f"{label}.payloads[{number}]"
                 body = _known_body(mechanism, payload.body, f"{spot}.body")
-                point = [0.0, 0.0, 0.0] if payload.point is None else payload.point
+                point = (0.0, 0.0, 0.0) if payload.point is None else tuple(payload.point)
                 with prefixed(spot):
                     items.append(Payload(body, payload.mass, point))
             scale = case.mass_scale

@@ -266,4 +266,5 @@ def surface_distance(mechanism: Mechanism, geometry: pin.GeometryModel, body: st
         distance = float(distance) + 1e-9
         if best is None or distance < best[0]:
             best = (distance, np.array(result.getNearestPoint2()), -np.array(result.normal))
+    assert best is not None  # objects is not empty (checked above)
     return best

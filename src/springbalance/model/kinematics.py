@@ -28,7 +28,10 @@ class Samples(Protocol):
     its mechanism and its Pinocchio configurations (N×nq)."""
 
     mechanism: Mechanism
-    configurations: np.ndarray
+
+    @property
+    def configurations(self) -> np.ndarray:
+        """The Pinocchio configurations (N×nq)."""
 
 
 @dataclasses.dataclass(frozen=True)

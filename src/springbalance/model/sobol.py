@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import functools
 import os
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 
@@ -76,7 +76,9 @@ class ScrambledSobol:
     def __init__(self, d: int, rng: np.random.Generator, numbers: tuple[np.ndarray, np.ndarray]):
         self.d = int(d)
         bit_generator = rng.bit_generator
-        child = np.random.Generator(type(bit_generator)(bit_generator.seed_seq.spawn(1)[0]))
+        # numpy types seed_seq as ISeedSequence (no spawn); a Generator seeded as here holds a SeedSequence
+        seed_seq = cast(np.random.SeedSequence, bit_generator.seed_seq)
+        child = np.random.Generator(type(bit_generator)(seed_seq.spawn(1)[0]))
         poly, vinit = numbers
         v = _direction_matrix(self.d, poly, vinit)
         # digital shift, then the lower-triangular scramble matrices (unit diagonal), as SciPy draws them

@@ -131,7 +131,7 @@ def check_model(model: pin.Model, where: str) -> None:
 
 
 # ---------------------------------------------------------------------- pieces
-def _numbers(element, key: str, count: int, where: str) -> list[float] | None:
+def _numbers(element: ElementTree.Element, key: str, count: int, where: str) -> list[float] | None:
     """The numbers of attribute ``key`` of ``element`` (None when absent); InputError when malformed."""
     text = element.get(key)
     if text is None:
@@ -152,14 +152,16 @@ def _numbers(element, key: str, count: int, where: str) -> list[float] | None:
     return values
 
 
-def _check_inertial(link, where: str) -> None:
+def _check_inertial(link: ElementTree.Element, where: str) -> None:
     inertial = link.find("inertial")
     if inertial is None:
         return  # no <inertial>: a massless link, as the URDF says
     mass_element = inertial.find("mass")
     if mass_element is None or mass_element.get("value") is None:
         raise InputError(f"{where}: <inertial> has no <mass value=...>")
-    mass = _numbers(mass_element, "value", 1, where)[0]
+    numbers = _numbers(mass_element, "value", 1, where)
+    assert numbers is not None  # the value attribute is present (checked above)
+    mass = numbers[0]
     inertia_element = inertial.find("inertia")
     values = {key: 0.0 for key in _INERTIA_KEYS}
     if inertia_element is not None:
@@ -203,7 +205,7 @@ def _check_mass_and_inertia(mass: float, matrix: np.ndarray, where: str, mass_te
                          f"{a:.4g} + {b:.4g} < {c:.4g} [kg·m²], which no rigid body has; " + OPT_OUT)
 
 
-def _check_joint(joint, where: str) -> None:
+def _check_joint(joint: ElementTree.Element, where: str) -> None:
     kind = joint.get("type")
     if kind not in _MOVING:
         return

@@ -235,7 +235,7 @@ def _workspace_bytes(mechanism: Mechanism, kind: str, n: int) -> int:
     return budget.sampling_bytes(kind, n, mechanism.nv) + budget.kinematics_bytes(n, mechanism.nv, mechanism.model.nq)
 
 
-def _count(n, what: str) -> int:
+def _count(n: object, what: str) -> int:
     """``n`` as an int ≥ 1 (an integral float such as ``1e4`` counts); InputError naming ``what`` otherwise."""
     if isinstance(n, (bool, np.bool_)) or not isinstance(n, (int, float, np.integer, np.floating)):
         raise InputError(f"{what} must be an integer ≥ 1, got {n!r}")
@@ -247,7 +247,7 @@ def _count(n, what: str) -> int:
     return count
 
 
-def _ranges(mechanism: Mechanism, ranges, degrees: bool) -> tuple[np.ndarray, np.ndarray]:
+def _ranges(mechanism: Mechanism, ranges: Mapping[str, Sequence[float]] | None, degrees: bool) -> tuple[np.ndarray, np.ndarray]:
     lower = np.array([joint.lower for joint in mechanism.joints])
     upper = np.array([joint.upper for joint in mechanism.joints])
     for name, bounds in (ranges or {}).items():
@@ -267,7 +267,8 @@ def _ranges(mechanism: Mechanism, ranges, degrees: bool) -> tuple[np.ndarray, np
     return lower, upper
 
 
-def _apply_couplings(mechanism, values, couplings, allow_empty=False):
+def _apply_couplings(mechanism: Mechanism, values: np.ndarray, couplings: Sequence[Coupling],
+                     allow_empty: bool = False) -> np.ndarray:
     keep = np.ones(values.shape[0], dtype=bool)
     for coupling in couplings:
         lo, hi = coupling.bounds()

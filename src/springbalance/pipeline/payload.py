@@ -165,17 +165,17 @@ def _solve_payloads(problem: DesignProblem, springs: list[Spring], body: str, po
                             weights=problem.weights_by_name(), scenarios=payload_cases(body, point, masses),
                             per_scenario=problem.per_scenario)
     solution = run_steps(stacked, SolveOptions(starts=starts, progress=False, max_iterations=200, tolerance=1e-12))
-    solution = EvaluatedDesign(stacked, refine(stacked, solution.x), method=solution.method, status=solution.status)
-    peak, rms = per_block(stacked, solution.evaluation.tau, len(masses))
+    design = EvaluatedDesign(stacked, refine(stacked, solution.x), method=solution.method, status=solution.status)
+    peak, rms = per_block(stacked, design.evaluation.tau, len(masses))
     model = stacked.model
     names = [model.base_variables.names[i] for i in model.per_scenario]
     ends = [(spring, end) for spring in stacked.springs for end, anchor in spring.anchors.items()
             if any(name.startswith(f"{spring.name}.{end}.") for name in names)]
     rows = []
     for s, mass in enumerate(masses):
-        base = model.scenario_vector(solution.x, s)
+        base = model.scenario_vector(design.x, s)
         variables = {name: float(base[i]) for name, i in zip(names, model.per_scenario)}
-        anchors = {f"{spring.name}.{end}": model.anchor_point(spring, end, solution.x, s).tolist()
+        anchors = {f"{spring.name}.{end}": model.anchor_point(spring, end, design.x, s).tolist()
                    for spring, end in ends}
         rows.append(PayloadRow(float(mass), variables, anchors, float(peak[s]), float(rms[s]),
                                bool(peak[s] <= max_residual)))

@@ -54,6 +54,7 @@ def select_stock(problem: DesignProblem, continuous: np.ndarray | object, parts:
         column = [spring.name for spring in current.springs].index(name)
         spring = current.springs[column]
         kind = stock_kind(spring)
+        assert kind is not None   # only springs of a stock kind are named above
         evaluation = current.evaluate(current_x)
         values = current.model.spring_values(spring, current_x)
         lengths, forces = evaluation.lengths[:, column], evaluation.tensions[:, column]
@@ -87,8 +88,9 @@ def _stock_springs(problem: DesignProblem, x: np.ndarray, parts: list[StockPart]
         raise InputError("the stock catalogue holds no parts")
     if int(candidates) < 1:
         raise InputError(f"candidates must be ≥ 1, got {candidates}")
-    names = [spring.name for spring in problem.springs
-             if stock_kind(spring) is not None and getattr(spring, "part_number", None) is None]
+    names = [spring.name for spring in problem.springs   # (a problem names every spring)
+             if spring.name is not None and stock_kind(spring) is not None
+             and getattr(spring, "part_number", None) is None]
     if not names:
         raise InputError("no spring to take from the catalogue: stock parts replace extension and compression "
                          "springs without a part_number; this design has "
@@ -123,10 +125,11 @@ def _inner_objective(problem: DesignProblem) -> Objective:
     return problem.objective.inner if isinstance(problem.objective, ScenarioAggregate) else problem.objective
 
 
-def _like(problem: DesignProblem, springs: list[Spring], objective) -> tuple[DesignProblem, list[str]]:
+def _like(problem: DesignProblem, springs: list[Spring], objective: Objective) -> tuple[DesignProblem, list[str]]:
     """A problem like ``problem`` with other springs; per-scenario entries that no longer name a
     variable (a parameter the stock part fixed) are dropped and returned."""
-    keep, dropped = [], []
+    keep: list[str] = []
+    dropped: list[str] = []
     variables = _variable_names(springs)
     for entry in problem.per_scenario:
         matches = any(name == entry or name.startswith(entry + ".") for name in variables)

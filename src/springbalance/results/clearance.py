@@ -33,6 +33,7 @@ import pinocchio as pin
 from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.design.problem import DesignProblem
 from springbalance.errors import InputError
+from springbalance.export.common import spring_name
 from springbalance.model.collision import DEFAULT_RADIUS, CollisionScene, capsule_radius, collision_geometry
 from springbalance.model.workspace import Workspace
 
@@ -240,21 +241,23 @@ def _capsules(result: EvaluatedDesign, scene: CollisionScene,
     of the springs not checked (torsional)."""
     problem = result.problem
     mechanism = problem.mechanism
-    scenario_names = [scenario.name for scenario in problem.scenarios] or [None]
-    capsules, skipped = [], []
+    scenario_names: list[str | None] = [scenario.name for scenario in problem.scenarios] or [None]
+    capsules: list[dict[str, Any]] = []
+    skipped: list[str] = []
     for spring, record in zip(problem.springs, result.springs):
         if "a" not in record or "b" not in record:
-            skipped.append(spring.name)
+            skipped.append(spring_name(spring))
             continue
         spring_radius = capsule_radius(record, radius)
         ends = getattr(spring, "spring_ends", ("a", "b"))   # a routed spring: its first segment
         bodies = tuple(record[end]["body"] for end in ends)
-        variants = []   # (scenario name, point a, point b), one per distinct pair of anchor points
+        # (scenario name, point a, point b), one per distinct pair of anchor points
+        variants: list[tuple[str | None, np.ndarray, np.ndarray]] = []
         for index, name in enumerate(scenario_names):
-            points = tuple(np.asarray(problem.model.anchor_point(spring, end, result.x, scenario=index), dtype=float)
-                           for end in ends)
-            if not any(np.array_equal(points[0], a) and np.array_equal(points[1], b) for _, a, b in variants):
-                variants.append((name, *points))
+            point_a, point_b = (np.asarray(problem.model.anchor_point(spring, end, result.x, scenario=index),
+                                           dtype=float) for end in ends)
+            if not any(np.array_equal(point_a, a) and np.array_equal(point_b, b) for _, a, b in variants):
+                variants.append((name, point_a, point_b))
         if len(variants) == 1:
             variants = [(None, variants[0][1], variants[0][2])]
         capsules.append({"name": spring.name, "radius": spring_radius, "bodies": bodies, "variants": variants,

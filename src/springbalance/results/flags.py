@@ -32,7 +32,7 @@ import numpy as np
 from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.design.problem import DesignProblem
 from springbalance.errors import InputError
-from springbalance.export.common import law_warnings
+from springbalance.export.common import law_warnings, spring_name
 from springbalance.springs import CompressionSpring, ExtensionSpring, GasSpring
 from springbalance.springs.sizing import size_helical_spring
 
@@ -171,7 +171,7 @@ def _law_hint(message: str) -> str:
 
 def law_flags(result: EvaluatedDesign) -> list[Flag]:
     """Springs whose real law departs from the idealised one in the workspace (one flag per case)."""
-    names = sorted((spring.name for spring in result.problem.springs), key=len, reverse=True)
+    names = sorted((spring_name(spring) for spring in result.problem.springs), key=len, reverse=True)
     found = []
     for message in law_warnings(result):
         subject = next((name for name in names if message.startswith(f"spring {name!r}")), "springs")
@@ -218,7 +218,7 @@ def unbuildable_flags(result: EvaluatedDesign, material: str = DEFAULT_MATERIAL)
                    f"{max_force:.4g} N): no helical {kind} spring of {material_name} realises it: " + "; ".join(reasons))
         hint = ("lower the stiffness or the force, lengthen the free length, or give the spring a helical option "
                 "so that the optimisation keeps it buildable")
-        found.append(Flag("unbuildable_ideal", spring.name, message, hint))
+        found.append(Flag("unbuildable_ideal", spring_name(spring), message, hint))
     return found
 
 

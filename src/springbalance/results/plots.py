@@ -114,8 +114,10 @@ def plot_histogram(result: EvaluatedDesign, bins: int = 40, path: str | Path | N
         low = min(before[:, j].min(), after[:, j].min())
         high = max(before[:, j].max(), after[:, j].max())
         edges = np.linspace(low, high, bins + 1) if high > low else bins
-        axes.hist(before[:, j], bins=edges, color=BEFORE_COLOR, alpha=0.55, label="gravity only")
-        axes.hist(after[:, j], bins=edges, color=AFTER_COLOR, alpha=0.7, label="with springs")
+        axes.hist(before[:, j], bins=edges,  # type: ignore[arg-type]  # matplotlib stub: bins may be an array
+                  color=BEFORE_COLOR, alpha=0.55, label="gravity only")
+        axes.hist(after[:, j], bins=edges,  # type: ignore[arg-type]  # matplotlib stub: bins may be an array
+                  color=AFTER_COLOR, alpha=0.7, label="with springs")
         axes.set_xlabel(f"{joint.name} torque [{joint.torque_unit}]")
         axes.set_ylabel("samples")
         axes.grid(True, alpha=0.3)

@@ -13,12 +13,12 @@ Bounds on stiffness and free length are variable bounds (:class:`~springbalance.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Union
 
 import dataclasses
 
 from springbalance.springs.helical_option import Helical
-from springbalance.springs.values import Parameters, Value
+from springbalance.springs.values import Parameters, ValueT
 
 
 @dataclasses.dataclass(frozen=True)
@@ -29,7 +29,7 @@ class StaysInTension:
     unit = "m"
     scale = 0.1  # [m] typical size of a violation, for the solver's scaling
 
-    def rows(self, length: Value, force: Value, parameters: Parameters) -> Value | list[Value]:
+    def rows(self, length: ValueT, force: ValueT, parameters: Parameters) -> ValueT | list[ValueT]:
         return length - parameters["free_length"]
 
 
@@ -42,7 +42,7 @@ class MaxStretch:
     unit = "m"
     scale = 0.1  # [m]
 
-    def rows(self, length: Value, force: Value, parameters: Parameters) -> Value | list[Value]:
+    def rows(self, length: ValueT, force: ValueT, parameters: Parameters) -> ValueT | list[ValueT]:
         return self.ratio * parameters["free_length"] - length
 
 
@@ -61,7 +61,7 @@ class MaxForce:
     def scale(self) -> float:
         return self.limit  # [N]
 
-    def rows(self, length: Value, force: Value, parameters: Parameters) -> Value | list[Value]:
+    def rows(self, length: ValueT, force: ValueT, parameters: Parameters) -> ValueT | list[ValueT]:
         return (self.limit * self.limit - force * force) / self.limit
 
 
@@ -77,7 +77,7 @@ class MaxLength:
     def scale(self) -> float:
         return self.limit  # [m]
 
-    def rows(self, length: Value, force: Value, parameters: Parameters) -> Value | list[Value]:
+    def rows(self, length: ValueT, force: ValueT, parameters: Parameters) -> ValueT | list[ValueT]:
         return self.limit - length
 
 
@@ -91,7 +91,7 @@ class FitsSegment:
     scale = 0.01  # [m]
     uses_extra = True
 
-    def rows(self, length: Value, force: Value, parameters: Parameters, extra: Any) -> Value | list[Value]:
+    def rows(self, length: ValueT, force: ValueT, parameters: Parameters, extra: Any) -> ValueT | list[ValueT]:
         return extra["segment"] - length
 
 
@@ -107,7 +107,7 @@ class MinLength:
     def scale(self) -> float:
         return self.limit  # [m]
 
-    def rows(self, length: Value, force: Value, parameters: Parameters) -> Value | list[Value]:
+    def rows(self, length: ValueT, force: ValueT, parameters: Parameters) -> ValueT | list[ValueT]:
         return length - self.limit
 
 
@@ -119,7 +119,7 @@ class StaysCompressed:
     unit = "m"
     scale = 0.1  # [m]
 
-    def rows(self, length: Value, force: Value, parameters: Parameters) -> Value | list[Value]:
+    def rows(self, length: ValueT, force: ValueT, parameters: Parameters) -> ValueT | list[ValueT]:
         return parameters["free_length"] - length
 
 
@@ -132,7 +132,7 @@ class Stroke:
     unit = "m"
     scale = 0.1  # [m]
 
-    def rows(self, length: Value, force: Value, parameters: Parameters) -> Value | list[Value]:
+    def rows(self, length: ValueT, force: ValueT, parameters: Parameters) -> ValueT | list[ValueT]:
         return length - (parameters["free_length"] - self.stroke)
 
 
@@ -157,7 +157,7 @@ class MaxDeflection:
     def scale(self) -> float:
         return self.limit  # [rad]
 
-    def rows(self, angle: Value, torque: Value, parameters: Parameters) -> Value | list[Value]:
+    def rows(self, angle: ValueT, torque: ValueT, parameters: Parameters) -> ValueT | list[ValueT]:
         deflection = angle - parameters["neutral_angle"]
         return (self.limit * self.limit - deflection * deflection) / self.limit
 
@@ -195,7 +195,7 @@ class HelicalSpringExists:
                 ("helical_coils", "m", 1e-3), ("helical_min_wire", "m", 1e-3),
                 ("helical_max_stiffness", "N/m", self.helical.max_stiffness))
 
-    def rows(self, length: Value, force: Value, parameters: Parameters) -> Value | list[Value]:
+    def rows(self, length: ValueT, force: ValueT, parameters: Parameters) -> ValueT | list[ValueT]:
         helical, kind = self.helical, self.kind
         stiffness = parameters["stiffness"]                                          # [N/m]
         room = parameters["free_length"] if kind == "extension" else length          # [m]
@@ -209,3 +209,8 @@ class HelicalSpringExists:
             fit - thinnest,
             helical.max_stiffness - stiffness,
         ]
+
+
+#: any practical constraint of this module (what :meth:`~springbalance.springs.laws.spring.Spring.constraints` lists)
+Constraint = Union[StaysInTension, MaxStretch, MaxForce, MaxLength, FitsSegment, MinLength, StaysCompressed, Stroke,
+                   MaxTorque, MaxDeflection, HelicalSpringExists]

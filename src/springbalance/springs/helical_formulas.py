@@ -26,30 +26,31 @@ from typing import Any, Callable
 import casadi as ca
 import numpy as np
 
-from springbalance.springs.values import Value
+from springbalance.springs.values import ValueT
 
 MPA = 1e6   # [Pa]
 MM = 1e-3   # [m]
 
 
 # ---------------------------------------------------------------------- textbook relations
-def wahl_factor(index: Value) -> Value:
+def wahl_factor(index: ValueT) -> ValueT:
     r"""Wahl factor :math:`K_W = (4C - 1)/(4C - 4) + 0.615/C` (Shigley Eq. 10-5), dimensionless."""
     return (4 * index - 1) / (4 * index - 4) + 0.615 / index
 
 
-def bergstrasser_factor(index: Value) -> Value:
+def bergstrasser_factor(index: ValueT) -> ValueT:
     r"""Bergsträsser factor :math:`K_B = (4C + 2)/(4C - 3)` (Shigley Eq. 10-6), dimensionless."""
     return (4 * index + 2) / (4 * index - 3)
 
 
-def spring_rate(shear_modulus: Value, wire_diameter: Value, mean_diameter: Value, active_coils: Value) -> Value:
+def spring_rate(shear_modulus: float | ValueT, wire_diameter: ValueT, mean_diameter: ValueT,
+                active_coils: float | ValueT) -> ValueT:
     r"""Rate :math:`k = G d^4 / (8 D^3 n)` [N/m] (Shigley Eq. 10-9); G [Pa], d and D [m]."""
     return shear_modulus * wire_diameter**4 / (8 * mean_diameter**3 * active_coils)
 
 
-def shear_stress(force: Value, wire_diameter: Value, mean_diameter: Value,
-                 factor: Callable[[Any], Any] = wahl_factor) -> Value:
+def shear_stress(force: float | ValueT, wire_diameter: ValueT, mean_diameter: ValueT,
+                 factor: Callable[[Any], Any] = wahl_factor) -> ValueT:
     r"""Corrected shear stress :math:`\tau = K \, 8 F D / (\pi d^3)` [Pa] under axial force F [N].
 
     ``factor`` maps the index ``C = D/d`` to the correction (default the Wahl factor).
@@ -57,8 +58,8 @@ def shear_stress(force: Value, wire_diameter: Value, mean_diameter: Value,
     return factor(mean_diameter / wire_diameter) * 8 * force * mean_diameter / (math.pi * wire_diameter**3)
 
 
-def coil_mass(stiffness: Value, coil_diameter: Value, active_coils: Value, wire_length: Value, shear_modulus: Value,
-              density: Value) -> Value:
+def coil_mass(stiffness: ValueT, coil_diameter: float, active_coils: float, wire_length: float, shear_modulus: float,
+              density: float) -> ValueT:
     r"""Mass [kg] of a coil of fixed ``D`` and ``n`` whose wire diameter gives rate ``k``
     (docs/model.md §5): :math:`m_s = \rho \pi L_w \sqrt{D^3 n k / (2 G)}`.
 
@@ -68,7 +69,7 @@ def coil_mass(stiffness: Value, coil_diameter: Value, active_coils: Value, wire_
     return density * math.pi * wire_length * (coil_diameter**3 * active_coils * stiffness / (2 * shear_modulus)) ** 0.5
 
 
-def initial_stress_band(index: Value) -> tuple[Value, Value]:
+def initial_stress_band(index: ValueT) -> tuple[ValueT, ValueT]:
     r"""Preferred range ``(low, high)`` [Pa] of the uncorrected initial stress of a close-wound
     extension spring of index ``C`` (Shigley Eq. 10-40, fitted to the wire makers' chart):
 
@@ -82,7 +83,7 @@ def initial_stress_band(index: Value) -> tuple[Value, Value]:
     return middle - half_width, middle + half_width
 
 
-def hook_bending_stress(force: Value, wire_diameter: Value, mean_diameter: Value) -> Value:
+def hook_bending_stress(force: float | ValueT, wire_diameter: ValueT, mean_diameter: ValueT) -> ValueT:
     r"""Bending stress [Pa] at the top of a machine hook (section A, Shigley Eq. 10-34, 10-35), with the
     hook's bend index ``C_1 = 2 r_1/d = D/d`` (the hook as wide as the coil):
 
@@ -98,15 +99,15 @@ def hook_bending_stress(force: Value, wire_diameter: Value, mean_diameter: Value
 HOOK_SIDE_BEND_INDEX = 4.0
 
 
-def hook_torsion_stress(force: Value, wire_diameter: Value, mean_diameter: Value,
-                        side_bend_index: float = HOOK_SIDE_BEND_INDEX) -> Value:
+def hook_torsion_stress(force: float | ValueT, wire_diameter: ValueT, mean_diameter: ValueT,
+                        side_bend_index: float = HOOK_SIDE_BEND_INDEX) -> ValueT:
     r"""Torsional stress [Pa] at the side bend of a machine hook (section B, Shigley Eq. 10-36):
     :math:`\tau_B = (K)_B\, 8 F D/(\pi d^3)`, :math:`(K)_B = (4 C_2 - 1)/(4 C_2 - 4)`."""
     factor = (4 * side_bend_index - 1) / (4 * side_bend_index - 4)
     return factor * 8 * force * mean_diameter / (math.pi * wire_diameter**3)
 
 
-def _exp(value: Value) -> Value:
+def _exp(value: ValueT) -> ValueT:
     return ca.exp(value) if isinstance(value, (ca.SX, ca.MX, ca.DM)) else np.exp(value)
 
 

@@ -26,7 +26,8 @@ COIL_MASS_RECORD = typing.ForwardRef("CoilMassRecord", module="springbalance.spr
 
 
 #: the type of the ``mass`` option in the config schema: kilograms, or a coil.
-MassOption = Union[Annotated[float, annotated_types.Ge(0)], COIL_MASS_RECORD]
+# a runtime ForwardRef, resolved by pydantic when the schema is built: mypy cannot read it as a type
+MassOption = Union[Annotated[float, annotated_types.Ge(0)], COIL_MASS_RECORD]  # type: ignore[valid-type]
 
 
 class CoilMass:
@@ -76,7 +77,7 @@ class CoilMass:
         return (8 * self.coil_diameter**3 * self.active_coils * stiffness / self.shear_modulus) ** 0.25
 
     def to_dict(self) -> dict:
-        record = {"coil_diameter": self.coil_diameter, "active_coils": self.active_coils,
+        record: dict[str, float | str] = {"coil_diameter": self.coil_diameter, "active_coils": self.active_coils,
                   "wire_length": self.wire_length, "shear_modulus": self.shear_modulus, "density": self.density}
         if self.material is not None:
             record["material"] = self.material

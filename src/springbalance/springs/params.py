@@ -43,7 +43,10 @@ class Free:
                              f"upper {upper!r}" + ("" if init is None else f", init {init!r}")) from None
         if self.lower.shape != self.upper.shape:
             raise InputError(f"Free bounds have different shapes: lower {lower!r}, upper {upper!r}")
-        for label, value in (("lower", self.lower), ("upper", self.upper)) + ((("init", self.init),) if init is not None else ()):
+        checked: list[tuple[str, np.ndarray]] = [("lower", self.lower), ("upper", self.upper)]
+        if self.init is not None:
+            checked.append(("init", self.init))
+        for label, value in checked:
             if not np.all(np.isfinite(value)):
                 raise InputError(f"Free {label} bound must be finite, got {value.tolist()!r}")
         if np.any(self.lower > self.upper):
@@ -117,13 +120,16 @@ class Plane:
     along them.
     """
 
-    def __init__(self, origin: Sequence[float], u: Sequence[float], v: Sequence[float],
-                 lower: Sequence[float], upper: Sequence[float], init: Sequence[float] | None = None) -> None:
+    #: the box a plane mounting was cut from (set by :func:`_plane_in_box` only)
+    box: Free
+
+    def __init__(self, origin: npt.ArrayLike, u: npt.ArrayLike, v: npt.ArrayLike,
+                 lower: npt.ArrayLike, upper: npt.ArrayLike, init: npt.ArrayLike | None = None) -> None:
         self.origin = _vector3(origin, "Plane origin")
-        u, v = _vector3(u, "Plane u"), _vector3(v, "Plane v")
-        if np.linalg.norm(np.cross(u, v)) < 1e-12 * max(np.linalg.norm(u) * np.linalg.norm(v), 1e-300):
-            raise InputError(f"Plane directions u={u.tolist()} and v={v.tolist()} are parallel or zero")
-        self.u, self.v = u / np.linalg.norm(u), v / np.linalg.norm(v)
+        u_dir, v_dir = _vector3(u, "Plane u"), _vector3(v, "Plane v")
+        if np.linalg.norm(np.cross(u_dir, v_dir)) < 1e-12 * max(np.linalg.norm(u_dir) * np.linalg.norm(v_dir), 1e-300):
+            raise InputError(f"Plane directions u={u_dir.tolist()} and v={v_dir.tolist()} are parallel or zero")
+        self.u, self.v = u_dir / np.linalg.norm(u_dir), v_dir / np.linalg.norm(v_dir)
         self.bounds = Free(lower, upper, init)
         if self.bounds.lower.shape != (2,):
             raise InputError(f"Plane bounds must have two entries (along u and v), got {lower!r}")
@@ -166,7 +172,8 @@ class Anchor:
         if not isinstance(body, str) or not body:
             raise InputError(f"anchor body must be a link name, got {body!r}")
         self.body = body
-        self.mount, self.offset = None, 0.0
+        self.mount: str | dict[str, Any] | None = None
+        self.offset = 0.0
         if on is not None:
             point = self._mount(on, point, offset)
         elif point is None:
@@ -180,7 +187,7 @@ class Anchor:
         elif not isinstance(point, (Segment, Plane)):
             self.point = _vector3(point, f"anchor point on {body!r}")
 
-    def _mount(self, on, point, offset) -> AnchorPoint | None:
+    def _mount(self, on: str | dict, point: AnchorPoint | None, offset: float) -> AnchorPoint | None:
         """Check a mounting (``on``, ``offset``) and return the anchor's point or region."""
         where = f"anchor on {self.body!r}"
         if isinstance(offset, bool) or not isinstance(offset, (int, float)) or not np.isfinite(offset) or offset < 0:
@@ -228,7 +235,7 @@ class Anchor:
         """``{body, point | box | segment | plane, on?, offset?}`` (the config form)."""
         point = self.point
         if self.mount is not None:
-            record = {"body": self.body, "on": self.mount}
+            record: dict[str, Any] = {"body": self.body, "on": self.mount}
             if self.mount == "collision" and self.offset:
                 record["offset"] = self.offset
             if isinstance(point, Free):
@@ -245,7 +252,9 @@ class Anchor:
     @property
     def mount_box(self) -> Free:
         """The box a plane mounting was cut from."""
-        return self.point.box
+        point = self.point
+        assert isinstance(point, Plane)  # only a plane mounting has a box
+        return point.box
 
     def __repr__(self) -> str:
         return f"Anchor({self.body!r}, {self.point!r}{'' if self.mount is None else f', on={self.mount!r}'})"

@@ -7,7 +7,7 @@ in :data:`~springbalance.springs.laws.base.SPRING_TYPES`, and its class says whi
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Callable, cast
 
 from springbalance.errors import InputError
 from springbalance.springs.laws.spring import SPRING_TYPES, Spring
@@ -95,14 +95,15 @@ def spring_from_dict(record: dict[str, Any], where: str = "spring", **routing: A
     if "helical" in extra:
         extra["helical"] = helical_from_dict(extra["helical"], f"{where}.helical")
     name = None if name is None else str(name)
+    make = cast(Callable[..., Spring], cls)   # each law's constructor takes its own ends and options
     try:
         if ends == ("joint",):
             if not isinstance(record["joint"], str):
                 raise InputError(f"joint: expected a joint name, got {record['joint']!r}")
-            return cls(record["joint"], name, **parameters, **extra)
+            return make(record["joint"], name, **parameters, **extra)
         a = anchor_from_dict(record["a"], f"{where}.a")
         b = anchor_from_dict(record["b"], f"{where}.b")
-        return cls(a, b, name, **parameters, **extra, **routing)
+        return make(a, b, name, **parameters, **extra, **routing)
     except InputError as error:
         if str(error).startswith(where):
             raise

@@ -37,7 +37,7 @@ from ``C`` to ``A`` and ``B``.
 from __future__ import annotations
 
 import math
-from typing import Sequence
+from typing import Sequence, TypeVar
 
 import casadi as ca
 
@@ -45,7 +45,11 @@ import casadi as ca
 _TINY = 1e-12
 
 
-def _norm(v):
+#: the CasADi kind of one path (SX or MX, not mixed)
+_Symbolic = TypeVar("_Symbolic", ca.SX, ca.MX)
+
+
+def _norm(v: _Symbolic) -> _Symbolic:
     return ca.sqrt(ca.dot(v, v))
 
 

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from typing import Sequence
+from typing import Sequence, cast
 
 import numpy as np
 
@@ -213,7 +213,7 @@ def _candidates(design: HelicalDesign, material: Material, min_length: float, in
     D = (G * d**4 / (8 * n * k)) ** (1.0 / 3.0)
     C = D / d
     stress = shear_stress(force, d, D)
-    allowable = material.allowable_stress(d, kind)
+    allowable = cast(np.ndarray, material.allowable_stress(d, kind))   # an array of wires: an array
     if kind == "extension":
         length = 2 * (D - d) + d * (n + 1)     # coil free length with machine hooks [m]
         fits = length <= l0 * (1 + 1e-12)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import warnings
 
 import numpy as np
+import numpy.typing as npt
 import pinocchio as pin
 
 from springbalance.model import robots
@@ -46,12 +47,12 @@ def stick_figure(model: pin.Model) -> pin.GeometryModel:
     geometry = pin.GeometryModel()
     radius = 0.012  # [m]
 
-    def add(name, joint, shape, pose):
+    def add(name: str, joint: int, shape: coal.CollisionGeometry, pose: pin.SE3) -> None:
         obj = pin.GeometryObject(name, joint, pose, shape)
         obj.meshColor = np.array(STICK_COLOR)
         geometry.addGeometryObject(obj)
 
-    def rod(name, joint, start, end):
+    def rod(name: str, joint: int, start: npt.ArrayLike, end: npt.ArrayLike) -> None:
         axis = np.asarray(end) - np.asarray(start)
         length = float(np.linalg.norm(axis))
         if length < 1e-6:

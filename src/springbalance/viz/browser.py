@@ -140,7 +140,7 @@ def colour_census(image: str | Path, arm_colours: Iterable[Sequence[float]], spr
     for left, top, right, bottom in exclude:
         keep[top:bottom, left:right] = False
 
-    def count(colours) -> int:
+    def count(colours: Iterable[Sequence[float]]) -> int:
         mask = np.zeros(rgb.shape[:2], dtype=bool)
         for colour in colours:
             mask |= hue_mask(rgb, colour)

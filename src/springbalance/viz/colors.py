@@ -23,7 +23,8 @@ COMPRESSION_STOPS = ((0.0, (0.75, 0.9, 0.7)), (1.0, (0.1, 0.47, 0.22)))
 #: red, since the tension scale ends in crimson.
 CLEARANCE_COLOR = 0xE000E0
 #: :data:`CLEARANCE_COLOR` as RGB in [0, 1].
-CLEARANCE_RGB = tuple(((CLEARANCE_COLOR >> shift) & 0xFF) / 255.0 for shift in (16, 8, 0))
+_RED, _GREEN, _BLUE = (((CLEARANCE_COLOR >> shift) & 0xFF) / 255.0 for shift in (16, 8, 0))
+CLEARANCE_RGB = (_RED, _GREEN, _BLUE)
 
 
 class ColorScale:
@@ -53,7 +54,8 @@ class ColorScale:
         stops = TENSION_STOPS if tension >= -self.slack * self.limit else COMPRESSION_STOPS
         fraction = min(abs(float(tension)) / self.limit, 1.0)
         positions = [p for p, _ in stops]
-        return tuple(float(np.interp(fraction, positions, [c[i] for _, c in stops])) for i in range(3))
+        red, green, blue = (float(np.interp(fraction, positions, [c[i] for _, c in stops])) for i in range(3))
+        return red, green, blue
 
     def hex(self, tension: float) -> int:
         """Colour as the 0xRRGGBB integer that meshcat materials take."""

@@ -203,6 +203,8 @@ class DesignScene:
         """Draw each spring at the first pose below ``root``: its helix, name label, anchor spheres and
         cable. Returns the uuid of each spring's helix mesh by spring name."""
         mg, sprite = import_meshcat().geometry, meshcat_classes().TextSprite
+        if self.camera_position is None or self.camera_target is None:
+            raise RuntimeError("the springs are drawn after the camera is placed (DesignScene.draw)")
         helix_objects = {}
         label_size = LABEL_SIZE * float(np.linalg.norm(self.camera_position - self.camera_target))  # [m], a side
         for spring in self.springs:

@@ -37,16 +37,19 @@ class MeshcatServer:
         self.process = subprocess.Popen(command, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=self._stderr,
                                         start_new_session=True)
         atexit.register(self.stop)
-        urls = {}
+        urls: dict[str, str] = {}
         deadline = time.monotonic() + timeout
+        stdout = self.process.stdout
+        if stdout is None:   # never: stdout is a pipe
+            raise SpringBalanceError("the meshcat server's output is not a pipe")
         with selectors.DefaultSelector() as selector:
-            selector.register(self.process.stdout, selectors.EVENT_READ)
+            selector.register(stdout, selectors.EVENT_READ)
             while len(urls) < 2:
                 remaining = deadline - time.monotonic()
                 if remaining <= 0 or not selector.select(remaining):
                     self.stop()
                     raise SpringBalanceError(f"the meshcat server did not start within {timeout:g} s")
-                line = self.process.stdout.readline().decode("utf-8", "replace").strip()
+                line = stdout.readline().decode("utf-8", "replace").strip()
                 if not line:
                     with contextlib.suppress(subprocess.TimeoutExpired):
                         self.process.wait(5)

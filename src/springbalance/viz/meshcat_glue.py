@@ -8,7 +8,8 @@ subclasses of its classes are made once, by :func:`meshcat_classes`, when a scen
 from __future__ import annotations
 
 import functools
-from typing import NamedTuple
+from types import ModuleType
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -47,31 +48,31 @@ def meshcat_classes() -> MeshcatClasses:
                           _animation(meshcat.animation), _set_animation(meshcat.commands))
 
 
-def _text_texture(mg):
-    class _TextTexture(mg.Texture):
+def _text_texture(mg: ModuleType) -> type:
+    class _TextTexture(mg.Texture):  # type: ignore[name-defined]  # meshcat: no stubs, lazy import
         """meshcat's ``_text`` texture: the viewer draws ``text`` centred on a 256×256 px canvas
         (``font_size`` px, smaller when the text is wider than the canvas)."""
 
-        def __init__(self, text: str, font_size: int = LABEL_FONT_SIZE, font_face: str = "sans-serif"):
+        def __init__(self, text: str, font_size: int = LABEL_FONT_SIZE, font_face: str = "sans-serif") -> None:
             super().__init__()
             self.text, self.font_size, self.font_face = str(text), int(font_size), font_face
 
-        def lower(self, object_data):
+        def lower(self, object_data: dict[str, Any]) -> dict[str, Any]:
             return {"uuid": self.uuid, "type": "_text", "text": self.text, "font_size": self.font_size,
                     "font_face": self.font_face}
 
     return _TextTexture
 
 
-def _sprite_material(mg):
-    class _SpriteMaterial(mg.Material):
+def _sprite_material(mg: ModuleType) -> type:
+    class _SpriteMaterial(mg.Material):  # type: ignore[name-defined]  # meshcat: no stubs, lazy import
         """three.js ``SpriteMaterial`` showing a texture, drawn over everything (no depth test)."""
 
-        def __init__(self, texture: mg.Texture):
+        def __init__(self, texture: Any) -> None:
             super().__init__()
             self.texture = texture
 
-        def lower(self, object_data):
+        def lower(self, object_data: dict[str, Any]) -> dict[str, Any]:
             return {"uuid": self.uuid, "type": "SpriteMaterial", "color": 0xFFFFFF, "transparent": True,
                     "depthTest": False, "depthWrite": False, "sizeAttenuation": True,
                     "map": self.texture.lower_in_object(object_data)}
@@ -79,17 +80,17 @@ def _sprite_material(mg):
     return _SpriteMaterial
 
 
-def _text_sprite(mg, texture_class, material_class):
-    class _TextSprite(mg.Object):
+def _text_sprite(mg: ModuleType, texture_class: type, material_class: type) -> type:
+    class _TextSprite(mg.Object):  # type: ignore[name-defined]  # meshcat: no stubs, lazy import
         """A text label: a three.js ``Sprite`` (a square that always faces the camera) of side ``size``
         [m], centred on its node, with ``text`` on it (meshcat's ``_text`` texture)."""
 
-        def __init__(self, text: str, size: float):
+        def __init__(self, text: str, size: float) -> None:
             super().__init__(None, material_class(texture_class(text)))
             self.text, self.size = text, float(size)
 
-        def lower(self):
-            data = {"metadata": {"version": 4.5, "type": "Object"}, "geometries": [], "materials": [],
+        def lower(self) -> dict[str, Any]:
+            data: dict[str, Any] = {"metadata": {"version": 4.5, "type": "Object"}, "geometries": [], "materials": [],
                     "textures": [], "images": [],
                     "object": {"uuid": self.uuid, "type": "Sprite", "name": self.text,
                                "material": self.material.uuid,
@@ -100,8 +101,8 @@ def _text_sprite(mg, texture_class, material_class):
     return _TextSprite
 
 
-def _animation(animation_module):
-    class _Animation(animation_module.Animation):
+def _animation(animation_module: ModuleType) -> type:
+    class _Animation(animation_module.Animation):  # type: ignore[name-defined]  # meshcat: no stubs, lazy import
         """meshcat's Animation, plus tracks of a property of a node's object (``<uuid>.material.color``).
 
         meshcat names every track ``.<property>``, a property of the node (a group); a track of
@@ -110,8 +111,8 @@ def _animation(animation_module):
 
         __slots__ = ()
 
-        def lower(self):
-            lowered = super().lower()
+        def lower(self) -> list[dict[str, Any]]:
+            lowered: list[dict[str, Any]] = super().lower()
             for item in lowered:
                 for track in item["clip"]["tracks"]:
                     if ".material." in track["name"]:
@@ -121,8 +122,8 @@ def _animation(animation_module):
     return _Animation
 
 
-def _set_animation(commands):
-    class _SetAnimation(commands.SetAnimation):
+def _set_animation(commands: ModuleType) -> type:
+    class _SetAnimation(commands.SetAnimation):  # type: ignore[name-defined]  # meshcat: no stubs, lazy import
         """meshcat's set_animation command, kept in the server's scene tree *after* the objects.
 
         A meshcat server (and :class:`~springbalance.viz.recorder.SceneRecorder`) stores a command at
@@ -134,8 +135,8 @@ def _set_animation(commands):
 
         __slots__ = ()
 
-        def lower(self):
-            data = super().lower()
+        def lower(self) -> dict[str, Any]:
+            data: dict[str, Any] = super().lower()
             data["path"] = f"/{ROOT}-animation"
             return data
 

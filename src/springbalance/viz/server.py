@@ -15,6 +15,11 @@ import argparse
 import os
 import signal
 import sys
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from tornado.httpserver import HTTPServer
+    from tornado.web import Application
 
 HOST = "127.0.0.1"
 
@@ -26,11 +31,11 @@ def main(argv: list[str] | None = None) -> int:
     class LoopbackBridge(ZMQWebSocketBridge):
         """meshcat's bridge whose web application listens on 127.0.0.1 only."""
 
-        def make_app(self):
+        def make_app(self) -> Application:
             app = super().make_app()
             listen = app.listen
 
-            def listen_on_loopback(port, address=None, **kwargs):
+            def listen_on_loopback(port: int, address: str | None = None, **kwargs: Any) -> HTTPServer:
                 return listen(port, address=HOST, **kwargs)
 
             app.listen = listen_on_loopback
@@ -51,13 +56,13 @@ def main(argv: list[str] | None = None) -> int:
 
     loop = tornado.ioloop.IOLoop.current()
 
-    def stop(*_):
+    def stop(*_: object) -> None:
         loop.add_callback_from_signal(loop.stop)
 
     signal.signal(signal.SIGTERM, stop)
     signal.signal(signal.SIGINT, stop)
 
-    def watch_parent():
+    def watch_parent() -> None:
         if os.getppid() != parent:   # the process that started us is gone
             loop.stop()
 

@@ -20,6 +20,7 @@ from springbalance.errors import InputError
 from springbalance.model.collision import CollisionScene, capsule_radius
 from springbalance.model.kinematics import WorkspaceKinematics
 from springbalance.model.mechanism import Mechanism
+from springbalance.springs.laws.spring import Spring
 from springbalance.viz.helix import HelixStyle, helix_centerline, helix_tube, placement, spring_rotation
 
 @dataclasses.dataclass
@@ -72,6 +73,8 @@ class SpringTrack:
     def cable_placement(self, segment: int, frame: int) -> tuple[np.ndarray, float]:
         """Cable segment ``segment`` at pose ``frame``: the rigid placement (4×4) of a unit cylinder
         (axis y) at the segment's middle along it, and the segment's length [m] (its y scale)."""
+        if self.cable is None:
+            raise ValueError(f"spring {self.name!r} has no cable: it is not routed over pulleys")
         start, end = self.cable[frame, segment], self.cable[frame, segment + 1]
         direction = end - start
         length = float(np.linalg.norm(direction))
@@ -137,7 +140,7 @@ def spring_tracks(design: EvaluatedDesign, lengths: np.ndarray, tensions: np.nda
     return tracks, records, columns
 
 
-def _track(spring, record: dict, lengths: np.ndarray, tensions: np.ndarray, kinematics: WorkspaceKinematics,
+def _track(spring: Spring, record: dict, lengths: np.ndarray, tensions: np.ndarray, kinematics: WorkspaceKinematics,
            style: HelixStyle) -> SpringTrack:
     """The track of one two-point spring: its ends per pose from the kinematics, its helix from ``style``.
 
@@ -184,18 +187,21 @@ def add_clearances(tracks: list[SpringTrack], records: dict[str, dict], mechanis
     except InputError as error:   # no URDF, or no <collision> elements: the scene is drawn without
         return str(error)
     checked = {}
+    radii: list[float] = []
+    clearances: list[np.ndarray] = []
     for track in tracks:
         track.radius = capsule_radius(records[track.name], radius)
         track.clearance = np.full(len(configurations), np.inf)
+        radii.append(track.radius)
+        clearances.append(track.clearance)
         checked[track.name] = collision.indices_except(track.bodies)
     for frame, q in enumerate(configurations):
         collision.place(q)
-        for track in tracks:
+        for track, capsule, clearance in zip(tracks, radii, clearances):
             for index in checked[track.name]:
-                distance = collision.capsule_distance(track.starts[frame], track.ends[frame], track.radius,
-                                                      index).distance
-                track.clearance[frame] = min(track.clearance[frame], distance)
-    for track in tracks:
-        finite = np.isfinite(track.clearance)
-        track.below_margin = finite & ((track.clearance < margin) | (track.clearance <= 0))
+                distance = collision.capsule_distance(track.starts[frame], track.ends[frame], capsule, index).distance
+                clearance[frame] = min(clearance[frame], distance)
+    for track, clearance in zip(tracks, clearances):
+        finite = np.isfinite(clearance)
+        track.below_margin = finite & ((clearance < margin) | (clearance <= 0))
     return None

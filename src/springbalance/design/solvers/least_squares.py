@@ -30,7 +30,14 @@ class LeastSquaresStarts:
     """The least-squares part of :class:`~springbalance.design.solvers.multistart._MultiStartSolver` (a mixin):
     it reads ``problem``, ``fixed``, ``max_iterations``, ``tolerance`` and keeps ``_ls`` (the residual)."""
 
-    def _least_squares(self, z0, prepare=True, multipliers=None, budget=None):
+    problem: Problem
+    fixed: np.ndarray
+    max_iterations: int
+    tolerance: float
+    _ls: _LeastSquaresResiduals | None
+
+    def _least_squares(self, z0: np.ndarray, prepare: bool = True, multipliers: np.ndarray | None = None,
+                       budget: int | None = None) -> tuple[np.ndarray, str, int, np.ndarray | None]:
         """Bounded Gauss–Newton (SciPy TRF) on the residuals; practical constraints by an
         augmented Lagrangian whose penalty rows ``max(0, λ - μ c)/√μ`` join the residuals.
 
@@ -73,7 +80,8 @@ class LeastSquaresStarts:
             self._ls = problem.least_squares_cache
         return self._ls
 
-    def _trust_region(self, ls, z, budget=None):
+    def _trust_region(self, ls: _LeastSquaresResiduals, z: np.ndarray,
+                      budget: int | None = None) -> tuple[np.ndarray, int, str]:
         """SciPy's bounded trust-region-reflective least squares on the *compressed* residual.
 
         With ``JᵀJ = V Λ Vᵀ`` and ``R = Λ^½ Vᵀ``, ``q = Λ^-½ Vᵀ Jᵀ r`` (directions with
@@ -85,12 +93,12 @@ class LeastSquaresStarts:
         """
         from scipy.optimize import least_squares  # imported when first used: SciPy's optimize costs 0.2 s at start-up
 
-        cache = {}
+        cache: dict[bytes, tuple[np.ndarray, np.ndarray]] = {}
         held = self.fixed.any()
         free = ~self.fixed
         full = z.copy()
 
-        def compressed(zz):
+        def compressed(zz: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
             key = zz.tobytes()
             if key not in cache:
                 if held:   # the held variables' columns left out
@@ -117,7 +125,7 @@ class LeastSquaresStarts:
         full[free] = np.clip(result.x, 0.0, 1.0)
         return full, int(result.nfev), f"least_squares: {_STATUS.get(result.status, result.message)}"
 
-    def _fit_linear_variables(self, z):
+    def _fit_linear_variables(self, z: np.ndarray) -> np.ndarray:
         """Replace the start's stiffnesses and initial tensions by their bounded linear least-squares
         optimum for the start's geometry. The residual is exactly affine in them,
         ``r(z) = r(z0) + J_lin (z_lin - z0_lin)``, so one evaluation and one BVLS solve suffice.
@@ -129,7 +137,7 @@ class LeastSquaresStarts:
         linear = [index for index in self.problem.model.linear_indices if not self.fixed[index]]
         if not linear:
             return z
-        r, columns = self._ls.linear_columns(z, linear)
+        r, columns = self._residuals().linear_columns(z, linear)
         # Keep every stiffness at least 10 % into its range: at k = 0 a spring's anchors have no
         # gradient (a saddle the start could not leave); the solver may still drive k to 0.
         # Other linear variables (initial tension, constant force, preload) may start anywhere.
@@ -142,7 +150,7 @@ class LeastSquaresStarts:
         z[linear] = np.clip(fit.x, floor, 1.0)
         return z
 
-    def _feasible_free_lengths(self, z):
+    def _feasible_free_lengths(self, z: np.ndarray) -> np.ndarray:
         """Move each free length of the start into the interval its spring's length range allows
         (``Spring.free_length_interval``: e.g. ``max L/ρ ≤ l0 ≤ min L`` for an extension spring),
         where that interval meets the bounds, so that the augmented Lagrangian starts feasible

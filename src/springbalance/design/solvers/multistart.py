@@ -14,6 +14,7 @@ from typing import Callable, Sequence
 import numpy as np
 from threadpoolctl import threadpool_limits
 
+from springbalance.design.evaluation import Evaluation
 from springbalance.design.solvers.ipopt import IpoptStarts
 from springbalance.design.solvers.least_squares import LeastSquaresStarts
 from springbalance.design.solvers.pool import _pool_workers, _StartRunner, check_workers
@@ -98,9 +99,9 @@ def _solve(problem: Problem, runner: _StartRunner, starts: int, seed: int, metho
         from tqdm.auto import tqdm
 
         bar = tqdm(total=len(points), desc="starts", unit="start")
-    finished = []
+    finished: list[StartRecord] = []
 
-    def done(record):
+    def done(record: StartRecord) -> None:
         finished.append(record)
         if bar is not None:
             best = min((r.objective for r in finished if r.feasible), default=float("nan"))
@@ -220,9 +221,12 @@ class _MultiStartSolver(LeastSquaresStarts, IpoptStarts):
         point (:meth:`_warm`)."""
         problem = self.problem
         clock = time.perf_counter()
+        lam_g: np.ndarray | None
+        evaluation: Evaluation | None
         z, status, iterations, lam_g, evaluation = np.array(z0, dtype=float), "evaluated", 0, None, None
         if not self.fixed.all():
-            z, status, iterations, lam_g, evaluation = (self._warm(z, nlp_multipliers) if self._matches(nlp_multipliers)
+            z, status, iterations, lam_g, evaluation = (self._warm(z, nlp_multipliers)
+                                                        if nlp_multipliers is not None and self._matches(nlp_multipliers)
                                                         else self._cold(z, prepare))
         if evaluation is None:
             evaluation = problem.evaluate(problem.scale(z))
@@ -231,7 +235,8 @@ class _MultiStartSolver(LeastSquaresStarts, IpoptStarts):
         return StartRecord(index, np.asarray(z0), evaluation.x, problem.objective_value(evaluation),
                            violation, status, iterations, time.perf_counter() - clock, tiebreak, lam_g)
 
-    def _cold(self, z, prepare):
+    def _cold(self, z: np.ndarray,
+              prepare: bool) -> tuple[np.ndarray, str, int, np.ndarray | None, Evaluation | None]:
         """Least squares first (``auto``, ``least_squares``), then IPOPT when asked for, for an objective
         without least-squares structure, or for a constraint that least squares left violated.
         Returns ``(z, status, iterations, lam_g, evaluation)`` (``lam_g``: IPOPT's row multipliers, None
@@ -251,7 +256,8 @@ class _MultiStartSolver(LeastSquaresStarts, IpoptStarts):
                                                    multipliers=multipliers if problem.objective.least_squares else None)
         return z, status, iterations + more, lam_g, None
 
-    def _warm(self, z, lam_g):
+    def _warm(self, z: np.ndarray,
+              lam_g: np.ndarray) -> tuple[np.ndarray, str, int, np.ndarray | None, Evaluation | None]:
         """The start from a primal-dual point: ``z`` with IPOPT's multipliers ``lam_g`` of the NLP rows.
 
         IPOPT goes on from it, warm, when it alone minimises the objective. A least-squares objective
@@ -268,14 +274,14 @@ class _MultiStartSolver(LeastSquaresStarts, IpoptStarts):
         evaluation = problem.evaluate(problem.scale(z))
         if "iteration limit" not in status and self._violation(evaluation) <= FEASIBILITY_TOLERANCE:
             return z, status, iterations, None, evaluation
-        z, status, more, lam_g = self._ipopt_solve(z, evaluation, multipliers=multipliers)
-        return z, status, iterations + more, lam_g, None
+        z, status, more, nlp_lam_g = self._ipopt_solve(z, evaluation, multipliers=multipliers)
+        return z, status, iterations + more, nlp_lam_g, None
 
-    def _violation(self, evaluation) -> float:
+    def _violation(self, evaluation: Evaluation) -> float:
         """The largest violation of a constraint row or a linear row [m or N] of an evaluated design."""
         return max(evaluation.max_violation, self.problem.linear_violation(evaluation.x))
 
-    def _matches(self, lam_g) -> bool:
+    def _matches(self, lam_g: np.ndarray | None) -> bool:
         """Whether a start may begin from IPOPT's multipliers ``lam_g``: a method that runs IPOPT, a
         one-phase objective, constraint rows when least squares comes first, and an NLP of as many rows."""
         problem = self.problem
@@ -283,6 +289,6 @@ class _MultiStartSolver(LeastSquaresStarts, IpoptStarts):
             return False
         if problem.objective.least_squares and self.method == "auto" and not self._residuals().n_constraint_rows:
             return False
-        self._ipopt_solvers()
-        return np.size(lam_g) == self._ipopt.nlp.n_rows
+        solver, _ = self._ipopt_solvers()
+        return np.size(lam_g) == solver.nlp.n_rows
 

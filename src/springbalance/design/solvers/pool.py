@@ -13,11 +13,12 @@ import contextvars
 import os
 import sys
 import time
-from typing import Any, Callable, Iterable, Iterator
+from typing import TYPE_CHECKING, Any, Callable, Iterable, Iterator, Protocol
 
 import numpy as np
 
 from springbalance.design.solvers.records import Problem, StartRecord
+from springbalance.design.solvers.residuals import _LeastSquaresResiduals
 from springbalance.design.torque_model.threads import count_from_environment, use_one_thread
 from springbalance.errors import InputError
 
@@ -26,8 +27,33 @@ WORKERS_ENV = "SPRINGBALANCE_WORKERS"
 #: (a pool's start-up, forking and collecting, costs 10-20 ms for the demo's process, more for a larger one)
 POOL_MIN_SECONDS = 0.1
 _DEFAULT_WORKERS: contextvars.ContextVar = contextvars.ContextVar("springbalance_workers", default=None)
-_WORKER_SOLVER = None  # the solver a forked worker runs its starts with (set before the fork)
+_WORKER_SOLVER: _Solver | None = None  # the solver a forked worker runs its starts with (set before the fork)
 _IN_WORKER = False
+
+if TYPE_CHECKING:
+    from concurrent.futures import ProcessPoolExecutor   # imported when the pool opens
+
+#: one start for the runner: (index, z0, prepare, the NLP multipliers to go on from or None)
+StartTask = tuple[int, np.ndarray, bool, "np.ndarray | None"]
+
+
+class _Solver(Protocol):
+    """What the runner uses of a :class:`~springbalance.design.solvers.multistart._MultiStartSolver` (not
+    imported here: it uses this module)."""
+
+    problem: Problem
+    method: str
+    max_iterations: int
+    fixed: np.ndarray
+
+    def prepare(self) -> None: ...
+
+    def run(self, index: int, z0: np.ndarray, prepare: bool = True,
+            nlp_multipliers: np.ndarray | None = None) -> StartRecord: ...
+
+    def _matches(self, lam_g: np.ndarray | None) -> bool: ...
+
+    def _residuals(self) -> _LeastSquaresResiduals: ...
 
 
 def default_workers() -> int:
@@ -89,6 +115,7 @@ def _mark_worker() -> None:
 def _run_in_worker(index: int, z0: np.ndarray, prepare: bool, multipliers: np.ndarray | None,
                    max_iterations: int) -> StartRecord:
     solver = _WORKER_SOLVER
+    assert solver is not None   # set before the fork that made this worker
     solver.max_iterations = max_iterations
     return solver.run(index, z0, prepare, multipliers)
 
@@ -104,11 +131,11 @@ class _StartRunner:
     :class:`~springbalance.design.solvers.multistart._MultiStartSolver` (not imported here: it uses this module).
     """
 
-    def __init__(self, solver: Any, workers: int, asked: bool = True) -> None:
+    def __init__(self, solver: _Solver, workers: int, asked: bool = True) -> None:
         self.solver, self.workers, self.asked = solver, int(workers), bool(asked)
-        self._executor = None
+        self._executor: ProcessPoolExecutor | None = None
 
-    def run(self, tasks: Iterable[tuple], done: Callable[[StartRecord], None] | None = None) -> list[StartRecord]:
+    def run(self, tasks: Iterable[StartTask], done: Callable[[StartRecord], None] | None = None) -> list[StartRecord]:
         """The records of ``tasks`` in their order; ``done(record)`` is called as each one finishes."""
         tasks, records = list(tasks), []
         if self.workers > 1 and len(tasks) > 1 and self._executor is None and not self.asked:
@@ -129,13 +156,13 @@ class _StartRunner:
                 done(future.result())
         return records + [future.result() for future in futures]
 
-    def _here(self, task: tuple, done: Callable[[StartRecord], None] | None) -> StartRecord:
+    def _here(self, task: StartTask, done: Callable[[StartRecord], None] | None) -> StartRecord:
         record = self.solver.run(*task)
         if done is not None:
             done(record)
         return record
 
-    def _worth_a_pool(self, tasks: list[tuple]) -> bool:
+    def _worth_a_pool(self, tasks: list[StartTask]) -> bool:
         """Whether one start is expected to last :data:`POOL_MIN_SECONDS`: IPOPT runs for sure, or
         most likely (the starts go on from IPOPT's multipliers, :meth:`~springbalance.design.solvers.multistart._MultiStartSolver._warm`: least
         squares alone rarely finishes such a start in its short run), or one evaluation of the compiled
@@ -153,7 +180,7 @@ class _StartRunner:
         residuals.normal_equations(z)
         return (time.perf_counter() - clock) * solver.max_iterations >= POOL_MIN_SECONDS
 
-    def _pool(self) -> Any:
+    def _pool(self) -> ProcessPoolExecutor:
         global _WORKER_SOLVER
         if self._executor is None:
             import multiprocessing

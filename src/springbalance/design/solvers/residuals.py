@@ -3,6 +3,8 @@
 
 from __future__ import annotations
 
+from typing import Iterator
+
 import casadi as ca
 import numpy as np
 
@@ -63,16 +65,23 @@ class _LeastSquaresResiduals:
                                 ca.jacobian(scaled_rows, z).T])
         self.function = compiled(function)
         self.evaluator = BlockEvaluator(self.function, problem.data, block)
-        self.multipliers, self.penalty = None, 0.0
-        self._rows_z, self._rows = None, None            # the sample constraint rows at _rows_z
-        self._normal_key, self._normal = None, None      # (z, penalty, multipliers) → (JᵀJ, Jᵀr, rᵀr)
-        self._full_z, self._full = None, None            # z → full outputs (residuals_and_jacobian)
+        self.multipliers: np.ndarray | None = None
+        self.penalty = 0.0
+        # the sample constraint rows at _rows_z
+        self._rows_z: np.ndarray | None = None
+        self._rows: np.ndarray | None = None
+        # (z, penalty, multipliers) → (JᵀJ, Jᵀr, rᵀr)
+        self._normal_key: tuple[bytes, float, bytes | None] | None = None
+        self._normal: tuple[np.ndarray, np.ndarray, float] | None = None
+        # z → full outputs (residuals_and_jacobian)
+        self._full_z: np.ndarray | None = None
+        self._full: list[np.ndarray] | None = None
 
     def set_penalty(self, multipliers: np.ndarray | None, penalty: float) -> None:
         """Penalty rows ``max(0, λ - μ c)/√μ`` with ``λ = multipliers``, ``μ = penalty`` from now on (None: none)."""
         self.multipliers, self.penalty = multipliers, penalty
 
-    def _linear(self):
+    def _linear(self) -> tuple[np.ndarray, np.ndarray]:
         """The problem's linear rows over ``z``, scaled: ``(A, b)`` with rows ``A z + b`` (empty when none)."""
         matrix, offset = self.problem.linear_matrix()
         if not offset.size:
@@ -92,7 +101,7 @@ class _LeastSquaresResiduals:
         return float(min(scales)) if scales else 1.0
 
     # ---------------------------------------------------------------- block pass
-    def _blocks(self, z):
+    def _blocks(self, z: np.ndarray) -> Iterator[tuple[int, int, list[np.ndarray]]]:
         """The evaluator's blocks at ``z``; records the sample constraint rows on the way."""
         z = np.array(z, dtype=float)
         rows_all = np.empty(self.n_sample_rows)
@@ -108,6 +117,7 @@ class _LeastSquaresResiduals:
         if self._rows_z is None or not np.array_equal(z, self._rows_z):
             for _ in self._blocks(z):
                 pass
+        assert self._rows is not None   # recorded by the pass over the blocks
         matrix, offset = self._linear()
         return np.concatenate([self._rows, matrix @ z + offset])
 
@@ -116,7 +126,7 @@ class _LeastSquaresResiduals:
         summed block by block."""
         key = (np.array(z, dtype=float).tobytes(), self.penalty,
                None if self.multipliers is None else np.asarray(self.multipliers).tobytes())
-        if self._normal_key == key:
+        if self._normal_key == key and self._normal is not None:   # (set together)
             return self._normal
         if self.variance:
             r, J = self.residuals_and_jacobian(z)
@@ -126,7 +136,7 @@ class _LeastSquaresResiduals:
         self._normal_key, self._normal = key, normal
         return normal
 
-    def _accumulate(self, z):
+    def _accumulate(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
         n_x = self.problem.variables.size
         n_c = self.row_scale.size
         gram, projected, squares = np.zeros((n_x, n_x)), np.zeros(n_x), 0.0
@@ -163,20 +173,23 @@ class _LeastSquaresResiduals:
     def linear_columns(self, z: np.ndarray, columns: list[int]) -> tuple[np.ndarray, np.ndarray]:
         """The objective residual ``r`` (no penalty rows) and the columns ``columns`` of its Jacobian at ``z``."""
         if self.variance:
-            r, J = self._objective_rows(z)
-            return r, J[:, columns]
-        per_sample = r = J = None
+            rows, jacobian = self._objective_rows(z)
+            return rows, jacobian[:, columns]
+        per_sample = self.order.size
+        r: np.ndarray | None = None
+        J: np.ndarray | None = None
         for start, stop, (residual, jacobian, _, _) in self._blocks(z):
-            if r is None:
-                per_sample = self.order.size
+            if r is None or J is None:
                 r = np.empty(self.evaluator.n_samples * per_sample)
                 J = np.empty((r.size, len(columns)))
             r_block, J_block = self._in_row_order(residual, jacobian)
             r[start * per_sample: stop * per_sample] = r_block
             J[start * per_sample: stop * per_sample] = J_block[:, columns]
+        if r is None or J is None:
+            raise ValueError("no samples to evaluate")
         return r, J
 
-    def _in_row_order(self, residual, jacobian) -> tuple[np.ndarray, np.ndarray]:
+    def _in_row_order(self, residual: np.ndarray, jacobian: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``r`` and ``J`` of some samples' outputs in the residual's own row order (sample by sample),
         the constant rows with their zero Jacobian rows put back."""
         n_x, size = self.problem.variables.size, self.order.size
@@ -189,14 +202,15 @@ class _LeastSquaresResiduals:
         return r.reshape(-1), J.reshape(-1, n_x)
 
     # ---------------------------------------------------------------- full arrays
-    def _full_outputs(self, z):
+    def _full_outputs(self, z: np.ndarray) -> list[np.ndarray]:
         """Every output for all samples at ``z`` (``(N, cols, rows)`` arrays, as SampleEvaluator's)."""
         if self._full_z is None or not np.array_equal(z, self._full_z):
             self._full = self.evaluator.evaluate(np.array(z, dtype=float))
             self._full_z = np.array(z)
+        assert self._full is not None   # set with _full_z
         return self._full
 
-    def _objective_rows(self, z):
+    def _objective_rows(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         residual, jacobian, _, _ = self._full_outputs(z)
         n_x = self.problem.variables.size
         r, J = self._in_row_order(residual, jacobian)

@@ -48,10 +48,11 @@ class PointKinematics:
     def __init__(self, position: ca.SX, lever: ca.SX | None, jacobian: ca.SX | None, nv: int) -> None:
         self.position, self._lever, self._jacobian, self._nv = position, lever, jacobian, nv
 
-    def generalized(self, force: ca.SX) -> ca.SX:
+    def generalized(self, force: ca.SX) -> ca.SX | ca.DM:
         """``J_p^T f`` (nv): the joint torques of a force ``f`` [N] applied at the point (0 on the ground)."""
         if self._jacobian is None:
             return ca.DM.zeros(self._nv, 1)
         J = self._jacobian
+        assert self._lever is not None   # a moving point has its lever with its Jacobian
         return ca.mtimes(J[:3, :].T, force) + ca.mtimes(J[3:, :].T, ca.cross(self._lever, force))
 

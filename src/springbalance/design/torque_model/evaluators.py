@@ -20,9 +20,12 @@ class _Outputs:
     of per-sample shape ``(rows, cols)`` is an ``(n, cols, rows)`` array (a view of the raw
     nonzeros when dense, else a dense array the nonzeros are scattered into)."""
 
-    def __init__(self, function: ca.Function, capacity: int):
+    def __init__(self, function: ca.Function, capacity: int) -> None:
         self.capacity = capacity
-        self.raw, self._shapes, self._sparse = [], [], []
+        self.raw: list[np.ndarray] = []
+        self._shapes: list[tuple[int, int]] = []
+        #: per output, None when dense, else (columns, rows, nonzeros) of its sparsity triplet
+        self._sparse: list[tuple[np.ndarray, np.ndarray, int] | None] = []
         for i in range(function.n_out()):
             sparsity = function.sparsity_out(i)
             self.raw.append(np.zeros(sparsity.nnz() * capacity))
@@ -68,7 +71,7 @@ class SampleEvaluator:
     the repeated ``x`` and the outputs on every call: about twice the memory, and slower.
     """
 
-    def __init__(self, function: ca.Function, data: np.ndarray, kernel: bool | None = None):
+    def __init__(self, function: ca.Function, data: np.ndarray, kernel: bool | None = None) -> None:
         n = data.shape[1]
         self.n_samples = n
         self.function = function
@@ -79,10 +82,11 @@ class SampleEvaluator:
             return
         self._x = np.zeros((n, function.nnz_in(0)))   # row i: the x of sample i (all equal)
         self._buffer, self._trigger = function.map(n, "serial").buffer()
-        self._buffer.set_arg(0, memoryview(self._x.reshape(-1)))
-        self._buffer.set_arg(1, memoryview(self._data))
+        # casadi's stub asks for a size the SWIG wrapper takes from the buffer, and numpy's stub lacks __buffer__
+        self._buffer.set_arg(0, memoryview(self._x.reshape(-1)))  # type: ignore[call-arg, arg-type]
+        self._buffer.set_arg(1, memoryview(self._data))  # type: ignore[call-arg, arg-type]
         for i, raw in enumerate(self._buffers.raw):
-            self._buffer.set_res(i, memoryview(raw))
+            self._buffer.set_res(i, memoryview(raw))  # type: ignore[call-arg, arg-type]
 
     def rebind(self, data: np.ndarray) -> None:
         """Evaluate on other data columns from now on: ``data`` holds ``n_samples`` columns, flat in
@@ -91,7 +95,7 @@ class SampleEvaluator:
             raise ValueError(f"{data.size} data values, the evaluator reads {self._data.size}")
         self._data = data
         if self._kernel is None:
-            self._buffer.set_arg(1, memoryview(self._data))
+            self._buffer.set_arg(1, memoryview(self._data))  # type: ignore[call-arg, arg-type]  # as in __init__
 
     def __call__(self, x: np.ndarray) -> list[np.ndarray]:
         if self._kernel is not None:
@@ -130,7 +134,7 @@ class BlockEvaluator:
     """
 
     def __init__(self, function: ca.Function, data: np.ndarray, block: int | None = None,
-                 kernel: bool | None = None):
+                 kernel: bool | None = None) -> None:
         self.function = function
         self.n_samples = n = data.shape[1]
         self._rows = data.shape[0]
@@ -174,15 +178,18 @@ class BlockEvaluator:
         yield from self._pipelined(x, spans)
 
     def _evaluate(self, x: np.ndarray, start: int, stop: int, slot: _Outputs) -> None:
-        self._kernel(x, self._data.ctypes.data + 8 * start * self._rows, stop - start, slot.addresses)
+        kernel = self._kernel
+        assert kernel is not None   # only the kernel's path evaluates block by block into slots
+        kernel(x, self._data.ctypes.data + 8 * start * self._rows, stop - start, slot.addresses)
 
     def _pipelined(self, x: np.ndarray, spans: list[tuple[int, int]]) -> Iterator[tuple[int, int, list[np.ndarray]]]:
         """The blocks with a helper thread one block ahead (two buffers; each reply is the helper's
         error or None)."""
         slots = (self._slot(0), self._slot(1))
-        requests, replies = queue.SimpleQueue(), queue.SimpleQueue()
+        requests: queue.SimpleQueue[int | None] = queue.SimpleQueue()
+        replies: queue.SimpleQueue[BaseException | None] = queue.SimpleQueue()
 
-        def helper():
+        def helper() -> None:
             while True:
                 index = requests.get()
                 if index is None:
@@ -212,10 +219,12 @@ class BlockEvaluator:
 
     def evaluate(self, x: np.ndarray) -> list[np.ndarray]:
         """Every output for all samples, ``(N, cols, rows)`` arrays as :class:`SampleEvaluator`'s (new arrays)."""
-        full = None
+        full: list[np.ndarray] | None = None
         for start, stop, outputs in self.blocks(x):
             if full is None:
                 full = [np.empty((self.n_samples,) + out.shape[1:]) for out in outputs]
             for whole, out in zip(full, outputs):
                 whole[start:stop] = out
+        if full is None:
+            raise ValueError("no samples to evaluate")
         return full

@@ -4,10 +4,11 @@ mechanism carrying springs (see :mod:`springbalance.design.torque_model`)."""
 from __future__ import annotations
 
 import functools
-from typing import Sequence
+from typing import Sequence, cast
 
 import casadi as ca
 import numpy as np
+import numpy.typing as npt
 import pinocchio as pin
 
 from springbalance.design.torque_model.context import SampleContext
@@ -15,7 +16,8 @@ from springbalance.design.torque_model.variables import ConstraintBlock, DesignV
 from springbalance.errors import InputError
 from springbalance.model.kinematics import StackedKinematics, WorkspaceKinematics
 from springbalance.model.mechanism import Mechanism
-from springbalance.springs.laws import Spring
+from springbalance.model.workspace import Workspace
+from springbalance.springs.laws import Contribution, Spring
 from springbalance.springs.params import Free
 
 
@@ -106,9 +108,11 @@ class TorqueModel:
         practical constraints (their :class:`ConstraintBlock` recorded in :attr:`constraint_blocks`)."""
         nv = self.mechanism.nv
         tau, potential = data[:nv], data[nv]
-        states, forces, constraint_rows = [], [], []
+        states: list[object] = []
+        forces: list[object] = []
+        constraint_rows: list[ca.SX] = []
         self.constraint_blocks: list[ConstraintBlock] = []
-        points = {}
+        points: dict[tuple[str | None, str], ca.DM | ca.SX] = {}
         for spring, end, region, indices in variable_slots:
             point = ca.DM(region.offset) + (ca.mtimes(ca.DM(region.basis), local[indices]) if indices else 0)
             points[(spring.name, end)] = point
@@ -116,14 +120,16 @@ class TorqueModel:
             parameters = self.parameter_values(spring, local)
             own_points = {end: points[(spring.name, end)] for end in spring.anchors}
             share = spring.contribution(context, parameters, own_points)
-            tau = tau + share.torque
-            potential = potential + share.potential
+            # Contribution declares its fields as object (springs package); they are CasADi expressions
+            tau = tau + cast(ca.SX, share.torque)
+            potential = potential + cast(ca.SX, share.potential)
             states.append(share.state)
             forces.append(share.force)
             self._add_constraint_rows(spring, share, parameters, data, constraint_rows)
         return tau, potential, states, forces, constraint_rows
 
-    def _add_constraint_rows(self, spring: Spring, share, parameters: dict, data: ca.SX, constraint_rows: list) -> None:
+    def _add_constraint_rows(self, spring: Spring, share: Contribution, parameters: dict, data: ca.SX,
+                             constraint_rows: list[ca.SX]) -> None:
         """Append the rows (≥ 0 when feasible) of ``spring``'s practical constraints to ``constraint_rows``."""
         for constraint in spring.constraints():
             parts = getattr(constraint, "parts", None)
@@ -137,7 +143,8 @@ class TorqueModel:
                                                               float(scale), bool(ca.depends_on(row, data))))
                 constraint_rows.append(row)
 
-    def _add_joint_limits(self, limits: np.ndarray, tau, selectors, constraint_rows: list) -> None:
+    def _add_joint_limits(self, limits: np.ndarray, tau: ca.SX, selectors: ca.SX | None,
+                          constraint_rows: list[ca.SX]) -> None:
         r"""Rows :math:`(P_j^2 - \tau_j^2)/P_j \ge 0`, i.e. :math:`|\tau_j| \le P_j`, for every joint
         whose limit ``P_j`` [N·m or N] is finite. ``limits`` is (S×nv) with scenarios (a sample sees
         its own scenario's row through the selectors), else (1×nv); NaN: no row for that joint."""
@@ -148,17 +155,18 @@ class TorqueModel:
                 continue
             if np.any(column <= 0):
                 raise InputError(f"joint limit of {joint.name!r} must be > 0, got {column.min()}")
+            bound: float | ca.SX
             if selectors is None or column.size == 1:
                 bound = float(column[0])
-            else:
-                bound = sum(selectors[s] * float(column[s]) for s in range(column.size))
+            else:   # (sum() of SX is SX: typeshed's sum wants int-addable items)
+                bound = cast(ca.SX, sum(selectors[s] * float(column[s]) for s in range(column.size)))
             torque = tau[joint.index_v]
             self.constraint_blocks.append(ConstraintBlock("", f"no_joint_worse.{joint.name}", joint.torque_unit,
                                                           len(constraint_rows), float(np.max(column))))
             constraint_rows.append((bound * bound - torque * torque) / bound)
 
     # ---------------------------------------------------------------- scenarios
-    def _scenario_variables(self, per_scenario) -> np.ndarray:
+    def _scenario_variables(self, per_scenario: Sequence[str]) -> np.ndarray:
         """With scenarios: replace every variable named in (or under) ``per_scenario`` by one copy
         per scenario, ``<name>[<scenario>]``. Returns the S×n_base map base index → full index."""
         base = self.base_variables
@@ -168,7 +176,7 @@ class TorqueModel:
             if per_scenario:
                 raise InputError(f"per-scenario variables {', '.join(per_scenario)} need scenarios")
             return np.arange(base.size)[None, :]
-        adjustable = set()
+        adjustable: set[int] = set()
         for entry in per_scenario:
             matches = [i for i, name in enumerate(base.names) if name == entry or name.startswith(entry + ".")]
             if not matches:
@@ -188,19 +196,20 @@ class TorqueModel:
         self.variables = full
         return columns
 
-    def _local_symbols(self, x, selectors):
+    def _local_symbols(self, x: ca.SX, selectors: ca.SX | None) -> ca.SX:
         """The base design vector seen by one sample: shared entries of ``x``, and for per-scenario
         variables ``Σ_s selector_s · x[copy_s]`` (the selector is 1 for the sample's scenario)."""
-        entries = []
+        entries: list[ca.SX] = []
         for i in range(self.base_variables.size):
             column = self._columns[:, i]
             if np.all(column == column[0]):
                 entries.append(x[int(column[0])])
             else:
-                entries.append(sum(selectors[s] * x[int(column[s])] for s in range(len(self.scenarios))))
+                assert selectors is not None   # a variable with per-scenario copies means scenarios
+                entries.append(cast(ca.SX, sum(selectors[s] * x[int(column[s])] for s in range(len(self.scenarios)))))
         return ca.vertcat(*entries) if entries else ca.SX(0, 1)
 
-    def scenario_vector(self, x, scenario: int = 0) -> np.ndarray:
+    def scenario_vector(self, x: npt.ArrayLike, scenario: int = 0) -> np.ndarray:
         """The base design vector (names in :attr:`base_variables`) of scenario ``scenario``."""
         return np.asarray(x, dtype=float)[self._columns[scenario]]
 
@@ -229,7 +238,7 @@ class TorqueModel:
                 if f"{spring.name}.{key}" in self._index]
         return sorted({int(column) for i in base for column in self._columns[:, i]})
 
-    def anchor_point(self, spring: Spring, end: str, x: np.ndarray, scenario: int = 0) -> np.ndarray:
+    def anchor_point(self, spring: Spring, end: str, x: npt.ArrayLike, scenario: int = 0) -> np.ndarray:
         """Body-frame anchor point [m] of end ``"a"``/``"b"`` for design vector ``x`` (in ``scenario``)."""
         x = self.scenario_vector(x, scenario)
         region = spring.anchors[end].region()
@@ -247,6 +256,7 @@ class TorqueModel:
         kinematics.prepare(self.bodies)
         n = kinematics.gravity_torque.shape[0]
         blocks = [kinematics.gravity_torque, kinematics.potential[:, None]]
+        assert isinstance(kinematics.workspace, Workspace)   # the kinematics of a problem's workspace
         joint_values = kinematics.workspace.joint_values
         for joint in self.joints:
             column = self.mechanism.joint(joint).index_v

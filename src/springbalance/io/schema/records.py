@@ -10,7 +10,7 @@ angles [rad] (degrees where ``workspace.degrees`` says so), gravity [m/s²].
 from __future__ import annotations
 
 import warnings
-from typing import Annotated, Any, Literal, Optional, Union
+from typing import TYPE_CHECKING, Annotated, Any, Literal, Optional, Union, cast
 
 import annotated_types
 from pydantic import ConfigDict, Field
@@ -54,9 +54,12 @@ class NonNegativeFreeRecord(FreeRecord, title="NonNegativeFree"):
 
 
 Parameter = by_shape(scalar=Annotated[Number, expect("a number or {lower, upper, init?}")], mapping=FreeRecord)
-NonNegativeParameter = by_shape(
-    scalar=Annotated[NonNegative, expect("a number ≥ 0 or {lower, upper, init?}", bounds=False)],
-    mapping=NonNegativeFreeRecord)
+if TYPE_CHECKING:   # what by_shape builds at run time (a tagged union), as mypy can read it
+    NonNegativeParameter = Union[float, NonNegativeFreeRecord]
+else:
+    NonNegativeParameter = by_shape(
+        scalar=Annotated[NonNegative, expect("a number ≥ 0 or {lower, upper, init?}", bounds=False)],
+        mapping=NonNegativeFreeRecord)
 
 
 class BoxRecord(Record, title="Box"):
@@ -173,9 +176,11 @@ with warnings.catch_warnings():
                            expect("a magnitude [m/s²] or a 3-vector")] = optional(
             "magnitude g [m/s²], meaning (0, 0, -g), or the gravity vector [m/s²] in the world frame", shown=9.81)
         mimic: bool = Field(False, description="parse URDF mimic joints as coupled joints (closed chains)")
-        validate: bool = Field(True, description="check the arm's physics at load (masses ≥ 0, inertias positive "
-                                                 "semi-definite within the triangle inequality, joint limits lower ≤ "
-                                                 "upper); false loads a deliberately odd URDF anyway")
+        # pydantic lets a field shadow the deprecated classmethod BaseModel.validate; mypy sees a clash
+        validate: bool = Field(  # type: ignore[assignment]
+            True, description="check the arm's physics at load (masses ≥ 0, inertias positive semi-definite within "
+                              "the triangle inequality, joint limits lower ≤ upper); false loads a deliberately odd "
+                              "URDF anyway")
 
 
 class CouplingRecord(Record, title="Coupling"):
@@ -185,9 +190,14 @@ class CouplingRecord(Record, title="Coupling"):
     range: Interval = Field(description="[lower, upper] of the expression [rad or m; degrees if workspace.degrees]")
 
 
-_RangeValue = by_shape(list=Interval, scalar=Annotated[Number, expect("[lower, upper] or a single value")])
-_Count = by_shape(scalar=Counting, mapping=dict[str, Counting])
-_Row = by_shape(list=list[Number], scalar=Number)
+if TYPE_CHECKING:   # what by_shape builds at run time (tagged unions), as mypy can read them
+    _RangeValue = Union[list[float], float]
+    _Count = Union[int, dict[str, int]]
+    _Row = Union[list[float], float]
+else:
+    _RangeValue = by_shape(list=Interval, scalar=Annotated[Number, expect("[lower, upper] or a single value")])
+    _Count = by_shape(scalar=Counting, mapping=dict[str, Counting])
+    _Row = by_shape(list=list[Number], scalar=Number)
 
 
 def _workspace_rules() -> dict:
@@ -210,11 +220,11 @@ class WorkspaceRecord(Record, title="Workspace"):
     model_config = ConfigDict(json_schema_extra=_workspace_rules())
 
     kind: WorkspaceKind = Field(
-        "sobol", description="grid, sobol (scrambled Sobol points), random, sweep (one joint moves) or array")
+        default="sobol", description="grid, sobol (scrambled Sobol points), random, sweep (one joint moves) or array")
     n: _Count = optional("grid: points per joint, or {joint: count} (default 16); sobol, random: number of "
                           "samples (default 1024); sweep: number of points, ≥ 2 (default 181)")
-    seed: Seed = Field(0, description="sobol, random: seed of the sequence")
-    degrees: bool = Field(False, description="angles of revolute joints in ranges, couplings and values/file "
+    seed: Seed = Field(default=0, description="sobol, random: seed of the sequence")
+    degrees: bool = Field(default=False, description="angles of revolute joints in ranges, couplings and values/file "
                                              "are in degrees")
     ranges: Annotated[dict[str, _RangeValue], expect("a mapping joint name → [lower, upper]", deep=False)] = \
         optional("grid, sobol, random, sweep: {joint: [lower, upper]} [rad or m], or a single value that holds "
@@ -229,7 +239,7 @@ class WorkspaceRecord(Record, title="Workspace"):
                   "joint order")
     file: Text = optional("array: samples from a .npy array (N×nv) or a .csv file (optional header of "
                            "joint names), relative to the config file's folder")
-    ordered: bool = Field(True, description="array: the rows form a path (a trajectory), which the energy "
+    ordered: bool = Field(default=True, description="array: the rows form a path (a trajectory), which the energy "
                                             "objective needs")
 
 
@@ -257,7 +267,10 @@ class PayloadRecord(Record, title="Payload"):
     point: Vector3 = optional("position [m] in the body frame", shown=[0.0, 0.0, 0.0])
 
 
-_MassScale = by_shape(scalar=Number, mapping=dict[str, Number])
+if TYPE_CHECKING:   # what by_shape builds at run time (a tagged union), as mypy can read it
+    _MassScale = Union[float, dict[str, float]]
+else:
+    _MassScale = by_shape(scalar=Number, mapping=dict[str, Number])
 
 
 class LoadCaseRecord(Record, title="LoadCase"):
@@ -314,7 +327,7 @@ class WorkspaceFileRecord(Record, title="WorkspaceFile"):
 
 
 #: every record class of this module, by its name in the JSON Schema (its name before it was ``<Name>Record``).
-RECORDS: dict[str, type[Record]] = {cls.model_config["title"]: cls for cls in (
+RECORDS: dict[str, type[Record]] = {cast(str, cls.model_config["title"]): cls for cls in (  # every record has a title
     FreeRecord, NonNegativeFreeRecord, BoxRecord, SegmentRecord, PlaneRecord, MountPlaneRecord, AnchorRecord, PulleySizeRecord, PathPointRecord, RoutedSpringRecord, ClearanceRecord, MechanismRecord, CouplingRecord, WorkspaceRecord, SolveRecord, PayloadRecord, LoadCaseRecord, PayloadRangeRecord, ScenariosRecord, WorkspaceFileRecord)}
 #: the name in the JSON Schema of each record class (a definition's key, as its title).
 SCHEMA_NAMES: dict[str, str] = {cls.__name__: name for name, cls in RECORDS.items()}

@@ -24,7 +24,7 @@ from pydantic import BaseModel, BeforeValidator, Discriminator, Field, Tag
 import springbalance.springs.options  # noqa: F401  (the option records the laws name by forward references)
 from springbalance.io.schema.fields import DEFAULT_SPRING_TYPE, Record, Text, abbreviated, expect, fail, optional
 from springbalance.io.schema.records import AnchorRecord, NonNegativeParameter, Parameter, RoutedSpringRecord
-from springbalance.springs import SPRING_TYPES
+from springbalance.springs import SPRING_TYPES, Spring
 from springbalance.springs.records import ROUTED, ideal_law_hint
 
 _PARAMETER_TEXT = {
@@ -50,7 +50,9 @@ def _docstring_args(cls: type) -> dict[str, str]:
     """``name: text`` entries of the ``Args:`` sections (Google style) of ``cls`` and its bases."""
     found: dict[str, str] = {}
     for klass in reversed(cls.__mro__):
-        section, entry_indent, names = None, None, []
+        section: int | None = None
+        entry_indent: int | None = None
+        names: list[str] = []
         for line in inspect.cleandoc(klass.__doc__ or "").splitlines():
             text, indent = line.strip(), len(line) - len(line.lstrip())
             if text in ("Args:", "Arguments:"):
@@ -116,24 +118,26 @@ def _adopted(annotation: Any) -> Any:
     if isinstance(annotation, type) and issubclass(annotation, BaseModel) and not issubclass(annotation, Record):
         return _adopted_model(annotation)
     origin, args = typing.get_origin(annotation), typing.get_args(annotation)
+    # the annotation is rebuilt at run time from values, which mypy cannot read as types (hence the ignores)
     if origin is Annotated:
-        return Annotated[(_adopted(args[0]), *args[1:])]
+        parts = (_adopted(args[0]), *args[1:])
+        return Annotated[parts]
     if origin in (Union, types.UnionType):
         return Union[tuple(_adopted(arg) for arg in args)]
     if origin is list:
-        return list[_adopted(args[0])]
+        return list[_adopted(args[0])]  # type: ignore[misc]
     if origin is dict:
-        return dict[args[0], _adopted(args[1])]
+        return dict[args[0], _adopted(args[1])]  # type: ignore[misc, valid-type]
     return annotation
 
 
-def _option_text(cls: type, key: str, args: dict[str, str]) -> str:
+def _option_text(cls: type[Spring], key: str, args: dict[str, str]) -> str:
     described = getattr(cls, "option_descriptions", {}) or {}
     return described.get(key) or _plain(args.get(key, "")) or _OPTION_TEXT.get(key) or f"option of the {cls.kind} law"
 
 
 @functools.cache
-def spring_model(cls: type) -> type[Record]:
+def spring_model(cls: type[Spring]) -> type[Record]:
     """The record model of spring law ``cls`` (a class of the registry), built from its class attributes:
     ``name``, ``type``, its ends (anchors ``a``/``b`` or a ``joint``), its parameters (a number or
     ``{lower, upper, init?}`` each, in the unit of ``parameter_units``) and its options."""
@@ -163,8 +167,8 @@ def spring_model(cls: type) -> type[Record]:
         if key in cls.required_options:
             field = Field(description=text)
         else:
-            default = _init_default(cls, key)
-            field = Field(default, description=text) if default is not None else optional(text)
+            init_default = _init_default(cls, key)
+            field = Field(init_default, description=text) if init_default is not None else optional(text)
         fields[key] = (_adopted(annotation), field)
     return pydantic.create_model(cls.__name__, __base__=Record, __doc__=_summary(cls), __module__=__name__,
                                  **fields)
@@ -212,7 +216,7 @@ def _spring_union(laws: tuple) -> Any:
 def spring_list(laws: tuple | None = None) -> Any:
     """The type of the ``springs`` section: a non-empty list of spring records."""
     laws = tuple(SPRING_TYPES.items()) if laws is None else laws
-    return Annotated[list[_spring_union(laws)], annotated_types.MinLen(1),
+    return Annotated[list[_spring_union(laws)], annotated_types.MinLen(1),  # type: ignore[misc]  # built at run time
                      expect("a non-empty list of springs", deep=False)]
 
 

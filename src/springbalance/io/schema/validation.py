@@ -10,6 +10,7 @@ from __future__ import annotations
 from typing import Any
 
 import pydantic
+from pydantic_core import ErrorDetails
 
 from springbalance.errors import ConfigError
 from springbalance.io.schema.fields import EXPECTED_TYPES, abbreviated
@@ -27,7 +28,7 @@ def validated(model: type[pydantic.BaseModel] | pydantic.TypeAdapter, data: Any,
             is a file label (a colon before the key path) rather than a key path. ``springs_at`` is the
             key path of the spring list within ``data``: the key paths of spring errors name the spring.
     """
-    validate = getattr(model, "model_validate", None) or model.validate_python
+    validate = model.model_validate if isinstance(model, type) else model.validate_python
     try:
         return validate(data)
     except pydantic.ValidationError as error:
@@ -62,7 +63,7 @@ def describe(error: pydantic.ValidationError, data: Any, where: str, top: bool =
     return f"{prefix}: {what}"
 
 
-def _what(detail: dict) -> str:
+def _what(detail: ErrorDetails) -> str:
     kind, value, context = detail["type"], detail["input"], detail.get("ctx") or {}
     if "message" in context:
         return context["message"]
@@ -86,10 +87,12 @@ def _what(detail: dict) -> str:
     return f"{message[:1].lower()}{message[1:]}, got {abbreviated(value)}"
 
 
-def _steps(detail: dict, data: Any) -> list[tuple[object, bool]]:
+def _steps(detail: ErrorDetails, data: Any) -> list[tuple[object, bool]]:
     """The key path of an error in ``data``: ``(key, is_list_index)`` steps. Parts of pydantic's
     location that are not keys of the data (union tags) are left out."""
-    loc, steps, node = detail["loc"], [], data
+    loc = detail["loc"]
+    steps: list[tuple[object, bool]] = []
+    node = data
     for position, part in enumerate(loc):
         if isinstance(node, list) and isinstance(part, int) and 0 <= part < len(node):
             steps.append((part, True))
@@ -105,10 +108,12 @@ def _steps(detail: dict, data: Any) -> list[tuple[object, bool]]:
 def _path(steps: list[tuple[object, bool]], data: Any, springs_at: tuple) -> str:
     """``springs[0] 'shoulder'.b.box``: keys joined by dots, list indices in brackets; a spring's
     name follows its index (unless the error is about its type or name)."""
-    text, node = "", data
+    text = ""
+    node: Any = data   # the config's own data: any JSON value
     for position, (part, index) in enumerate(steps):
         text += f"[{part}]" if index else (f".{part}" if text else str(part))
-        node = node[part] if isinstance(node, (dict, list)) and (index or part in node) else None
+        inside = isinstance(node, (dict, list)) and (index or part in node)   # a list's steps are int indices
+        node = node[part] if inside else None
         spring = (index and position == len(springs_at) and tuple(key for key, _ in steps[:position]) == springs_at)
         following = steps[position + 1][0] if position + 1 < len(steps) else None
         if spring and isinstance(node, dict) and following not in ("type", "name"):

@@ -12,7 +12,7 @@ has no ``kind``: the laws are :mod:`~springbalance.springs.laws.helical_extensio
 from __future__ import annotations
 
 import math
-from typing import Annotated, Any, ClassVar, Literal, Sequence
+from typing import Annotated, Any, ClassVar, Literal, Mapping, Sequence
 
 import annotated_types
 import numpy as np
@@ -23,7 +23,7 @@ from springbalance.springs.laws.two_point import TwoPointSpring
 from springbalance.springs.params import Anchor, Free
 from springbalance.springs.helical_formulas import bergstrasser_factor
 from springbalance.springs.materials import material_named
-from springbalance.springs.values import Parameters, Value
+from springbalance.springs.values import Parameters, Value, ValueT
 
 MPA = 1e6
 #: fraction of each allowable stress that the optimisation keeps in reserve [1]: the rules hold at the
@@ -96,17 +96,17 @@ class HelicalCoilSpring(TwoPointSpring):
                              f"{self.material.diameter_range[1] * 1e3:g} mm")
 
     # ---------------------------------------------------------------- the coil
-    def rate(self, values: dict) -> Value:
+    def rate(self, values: Mapping[str, ValueT]) -> ValueT:
         """``k = G d⁴ / (8 D³ n)`` [N/m] (numbers or CasADi)."""
         d, D, n = values["wire_diameter"], values["mean_diameter"], values["active_coils"]
         return self.material.shear_modulus * d**4 / (8 * D**3 * n)
 
-    def coil_mass(self, values: dict) -> Value:
+    def coil_mass(self, values: Mapping[str, ValueT]) -> ValueT:
         """``ρ (π d²/4) π D (n + 2)`` [kg]."""
         d, D, n = values["wire_diameter"], values["mean_diameter"], values["active_coils"]
         return self.material.density * (math.pi * d**2 / 4) * math.pi * D * (n + 2)
 
-    def body_stress(self, force: Value, values: dict) -> Value:
+    def body_stress(self, force: ValueT, values: Mapping[str, ValueT]) -> ValueT:
         """Bergsträsser-corrected shear stress ``K_B 8 |F| D / (π d³)`` [Pa] under force ``F`` [N]."""
         d, D = values["wire_diameter"], values["mean_diameter"]
         return bergstrasser_factor(D / d) * 8 * force * D / (math.pi * d**3)
@@ -117,7 +117,7 @@ class HelicalCoilSpring(TwoPointSpring):
         False for a stock part (``part_number``), which exists already: only the rules of its use apply."""
         return self.part_number is None
 
-    def common_rows(self, values: dict) -> list:
+    def common_rows(self, values: Parameters) -> list:
         """Index within its range (a coil to be wound) and the outer diameter within the envelope (rows ≥ 0)."""
         index = values["mean_diameter"] / values["wire_diameter"]
         rows = [index - self.index_range[0], self.index_range[1] - index] if self.winds else []
@@ -186,7 +186,7 @@ class HelicalCoilSpring(TwoPointSpring):
         return sheet, reasons
 
 
-def _index_range(value, label: str) -> tuple[float, float]:
+def _index_range(value: Any, label: str) -> tuple[float, float]:
     if value is None:
         return 4.0, 12.0
     try:

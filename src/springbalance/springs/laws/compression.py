@@ -2,7 +2,7 @@ r"""Compression spring with preload (docs/model.md §3.3): pushes its ends apart
 
 from __future__ import annotations
 
-from typing import Any, Literal
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 
@@ -13,7 +13,7 @@ from springbalance.springs.laws.two_point import HelicalSpringMixin, TwoPointSpr
 from springbalance.springs.params import Anchor
 from springbalance.springs.helical_option import HELICAL_OPTION
 from springbalance.springs.helical_option import Helical
-from springbalance.springs.values import Parameters, Value
+from springbalance.springs.values import Parameters, ValueT
 
 
 class CompressionSpring(HelicalSpringMixin, TwoPointSpring):
@@ -30,15 +30,15 @@ class CompressionSpring(HelicalSpringMixin, TwoPointSpring):
     """
 
     kind = "compression"
-    ideal = True
-    required_options = ("ideal",)
+    ideal: ClassVar[bool | None] = True
+    required_options: ClassVar[tuple[str, ...]] = ("ideal",)
     parameter_units = {"stiffness": "N/m", "free_length": "m", "preload": "N"}
     nonnegative = ("stiffness", "free_length", "preload")
     defaults = {"preload": 0.0}
     linear_parameters = ("stiffness", "preload")
     option_types = {**TwoPointSpring.option_types, "ideal": Literal[True], "stays_compressed": bool, "stroke": PositiveNumber | None,
-                    "helical": HELICAL_OPTION | None}
-    helical_kind = "compression"
+                    "helical": HELICAL_OPTION | None}  # type: ignore[operator]  # typeshed's ForwardRef lacks __or__, which Python has
+    helical_kind: ClassVar[str | None] = "compression"
 
     def __init__(self, a: Anchor, b: Anchor, name: str | None = None, *, ideal: bool = True, stays_compressed: bool = True,
                  stroke: float | None = None, helical: Helical | dict | None = None, **kwargs: Any):
@@ -56,11 +56,11 @@ class CompressionSpring(HelicalSpringMixin, TwoPointSpring):
         high = float(np.min(lengths)) + self.stroke if self.stroke is not None else np.inf
         return low, high
 
-    def tension(self, length: Value, parameters: Parameters) -> Value:
+    def tension(self, length: ValueT, parameters: Parameters) -> ValueT:
         compression = parameters["free_length"] - length                          # [m]
         return -(parameters["preload"] + parameters["stiffness"] * compression)  # [N], pushes
 
-    def potential(self, length: Value, parameters: Parameters) -> Value:
+    def potential(self, length: ValueT, parameters: Parameters) -> ValueT:
         compression = parameters["free_length"] - length                          # [m]
         return compression * (parameters["preload"] + 0.5 * parameters["stiffness"] * compression)  # [J]
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from springbalance.springs.laws.two_point import TwoPointSpring
-from springbalance.springs.values import Parameters, Value
+from springbalance.springs.values import Parameters, ValueT
 
 
 class ConstantForceSpring(TwoPointSpring):
@@ -22,10 +22,10 @@ class ConstantForceSpring(TwoPointSpring):
     parameter_units = {"force": "N"}
     linear_parameters = ("force",)
 
-    def tension(self, length: Value, parameters: Parameters) -> Value:
+    def tension(self, length: ValueT, parameters: Parameters) -> ValueT:
         return parameters["force"] + 0 * length                       # [N]
 
-    def potential(self, length: Value, parameters: Parameters) -> Value:
+    def potential(self, length: ValueT, parameters: Parameters) -> ValueT:
         return parameters["force"] * length                           # [N]·[m] = [J]
 
     def tendon_law(self, values: dict, lengths: np.ndarray) -> tuple[float, float, float]:

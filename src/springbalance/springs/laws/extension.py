@@ -2,7 +2,7 @@ r"""Linear extension spring with initial tension (docs/model.md §3.1)."""
 
 from __future__ import annotations
 
-from typing import Any, Literal
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 
@@ -13,7 +13,7 @@ from springbalance.springs.laws.two_point import HelicalSpringMixin, TwoPointSpr
 from springbalance.springs.params import Anchor
 from springbalance.springs.helical_option import HELICAL_OPTION
 from springbalance.springs.helical_option import Helical
-from springbalance.springs.values import Parameters, Value
+from springbalance.springs.values import Parameters, ValueT
 
 
 class ExtensionSpring(HelicalSpringMixin, TwoPointSpring):
@@ -30,15 +30,15 @@ class ExtensionSpring(HelicalSpringMixin, TwoPointSpring):
     """
 
     kind = "extension"
-    ideal = True
-    required_options = ("ideal",)
+    ideal: ClassVar[bool | None] = True
+    required_options: ClassVar[tuple[str, ...]] = ("ideal",)
     parameter_units = {"stiffness": "N/m", "free_length": "m", "initial_tension": "N"}
     nonnegative = ("stiffness", "free_length", "initial_tension")
     defaults = {"initial_tension": 0.0}
     linear_parameters = ("stiffness", "initial_tension")
     option_types = {**TwoPointSpring.option_types, "ideal": Literal[True], "keep_tension": bool, "max_stretch": StretchRatio | None,
-                    "helical": HELICAL_OPTION | None}
-    helical_kind = "extension"
+                    "helical": HELICAL_OPTION | None}  # type: ignore[operator]  # typeshed's ForwardRef lacks __or__, which Python has
+    helical_kind: ClassVar[str | None] = "extension"
 
     def __init__(self, a: Anchor, b: Anchor, name: str | None = None, *, ideal: bool = True, keep_tension: bool = True,
                  max_stretch: float | None = None, helical: Helical | dict | None = None, **kwargs: Any):
@@ -58,11 +58,11 @@ class ExtensionSpring(HelicalSpringMixin, TwoPointSpring):
         high = float(np.min(lengths)) if self.keep_tension else np.inf
         return low, high
 
-    def tension(self, length: Value, parameters: Parameters) -> Value:
+    def tension(self, length: ValueT, parameters: Parameters) -> ValueT:
         stretch = length - parameters["free_length"]                          # [m]
         return parameters["initial_tension"] + parameters["stiffness"] * stretch  # [N]
 
-    def potential(self, length: Value, parameters: Parameters) -> Value:
+    def potential(self, length: ValueT, parameters: Parameters) -> ValueT:
         stretch = length - parameters["free_length"]                          # [m]
         return stretch * (parameters["initial_tension"] + 0.5 * parameters["stiffness"] * stretch)  # [J]
 

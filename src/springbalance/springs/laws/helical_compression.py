@@ -25,7 +25,7 @@ import numpy as np
 
 from springbalance.springs.laws.coil import CHECK_TOLERANCE, HelicalCoilSpring
 from springbalance.springs.params import Anchor
-from springbalance.springs.values import Parameters, Value
+from springbalance.springs.values import Parameters, ValueT
 
 #: end-condition constant α of squared-and-ground ends between flat parallel surfaces (Shigley Table 10-2)
 END_CONSTANT = 0.5
@@ -44,7 +44,7 @@ class CompressionCoilRules:
             parts.append(("buckling", "m", 0.01))
         self.parts = tuple(parts + spring.common_parts())
 
-    def rows(self, length: Value, force: Value, parameters: Parameters) -> Value | list[Value]:
+    def rows(self, length: ValueT, force: ValueT, parameters: Parameters) -> ValueT | list[ValueT]:
         spring, material = self.spring, self.spring.material
         d, D, n = parameters["wire_diameter"], parameters["mean_diameter"], parameters["active_coils"]
         free = parameters["free_length"]
@@ -88,10 +88,10 @@ class HelicalCompressionSpring(HelicalCoilSpring):
         self.stays_compressed, self.guided = bool(stays_compressed), bool(guided)
         super().__init__(a, b, name, **kwargs)
 
-    def tension(self, length: Value, parameters: Parameters) -> Value:
+    def tension(self, length: ValueT, parameters: Parameters) -> ValueT:
         return -self.rate(parameters) * (parameters["free_length"] - length)                 # [N], pushes
 
-    def potential(self, length: Value, parameters: Parameters) -> Value:
+    def potential(self, length: ValueT, parameters: Parameters) -> ValueT:
         compression = parameters["free_length"] - length                                    # [m]
         return 0.5 * self.rate(parameters) * compression * compression                      # [J]
 

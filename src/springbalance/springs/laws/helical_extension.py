@@ -25,7 +25,7 @@ The rules of a buildable coil are constraints of the optimisation, at every work
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Mapping
 
 import math
 
@@ -34,7 +34,7 @@ import numpy as np
 from springbalance.springs.laws.coil import CHECK_TOLERANCE, MPA, HelicalCoilSpring
 from springbalance.springs.params import Anchor
 from springbalance.springs.helical_formulas import hook_bending_stress, hook_torsion_stress, initial_stress_band
-from springbalance.springs.values import Parameters, Value
+from springbalance.springs.values import Parameters, ValueT
 
 
 class ExtensionCoilRules:
@@ -51,7 +51,7 @@ class ExtensionCoilRules:
             parts += [("initial_tension_low", "MPa", 10.0), ("initial_tension_high", "MPa", 10.0)]
         self.parts = tuple(parts + spring.common_parts())
 
-    def rows(self, length: Value, force: Value, parameters: Parameters) -> Value | list[Value]:
+    def rows(self, length: ValueT, force: ValueT, parameters: Parameters) -> ValueT | list[ValueT]:
         spring, material = self.spring, self.spring.material
         d, D = parameters["wire_diameter"], parameters["mean_diameter"]
         strength = material.tensile_strength(d)                                          # S_ut [Pa]
@@ -97,16 +97,16 @@ class HelicalExtensionSpring(HelicalCoilSpring):
         self.keep_tension = bool(keep_tension)
         super().__init__(a, b, name, **kwargs)
 
-    def free_length(self, values: dict) -> Value:
+    def free_length(self, values: Mapping[str, ValueT]) -> ValueT:
         """``l0 = d (n + 1) + 2 (D − d)`` [m]: the closed body and two machine hooks."""
         d, D, n = values["wire_diameter"], values["mean_diameter"], values["active_coils"]
         return d * (n + 1) + 2 * (D - d)
 
-    def tension(self, length: Value, parameters: Parameters) -> Value:
+    def tension(self, length: ValueT, parameters: Parameters) -> ValueT:
         stretch = length - self.free_length(parameters)                                           # [m]
         return parameters["initial_tension"] + self.rate(parameters) * stretch                     # [N]
 
-    def potential(self, length: Value, parameters: Parameters) -> Value:
+    def potential(self, length: ValueT, parameters: Parameters) -> ValueT:
         stretch = length - self.free_length(parameters)                                           # [m]
         return stretch * (parameters["initial_tension"] + 0.5 * self.rate(parameters) * stretch)   # [J]
 

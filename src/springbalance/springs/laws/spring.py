@@ -27,6 +27,7 @@ import numpy as np
 
 from springbalance.errors import InputError
 from springbalance.springs.params import Anchor, Free
+from springbalance.springs.values import Parameters, Value
 
 if TYPE_CHECKING:
     from springbalance.model.mechanism import Mechanism
@@ -90,14 +91,15 @@ class Spring(abc.ABC):
     """
 
     kind: ClassVar[str] = ""
-    #: parameter name -> unit; order is the order of design variables.
-    parameter_units: ClassVar[dict[str, str]] = {}
-    #: parameters that must be ≥ 0.
-    nonnegative: ClassVar[tuple[str, ...]] = ()
-    defaults: ClassVar[dict[str, float]] = {}
+    #: parameter name -> unit; order is the order of design variables (a routed spring's instance adds its cable).
+    parameter_units: dict[str, str] = {}
+    #: parameters that must be ≥ 0 (likewise).
+    nonnegative: tuple[str, ...] = ()
+    #: parameter name -> default value (None: the parameter is required).
+    defaults: ClassVar[dict[str, float | None]] = {}
     #: parameters that the torque and the potential depend on linearly (the solver fits them
     #: exactly by linear least squares at every start). An instance may narrow this list.
-    linear_parameters: ClassVar[tuple[str, ...]] = ()
+    linear_parameters: tuple[str, ...] = ()
     #: the record keys that say where the element acts: ``("a", "b")`` (anchors) or ``("joint",)``.
     ends: ClassVar[tuple[str, ...]] = ()
     #: option key -> its type (a type annotation that the config schema validates against);
@@ -114,6 +116,8 @@ class Spring(abc.ABC):
     #: ``True`` for the idealised law of a part that is also made as a real coil (its records say
     #: ``ideal: true``), ``False`` for the coil itself, ``None`` for laws without that choice.
     ideal: ClassVar[bool | None] = None
+    #: the catalogue part this spring is (a stock spring; two-point laws take it as an option), or None
+    part_number: str | None = None
 
     @classmethod
     def registry_key(cls) -> str:
@@ -177,6 +181,20 @@ class Spring(abc.ABC):
         """Practical constraints (docs/model.md §7) that apply to this spring."""
         return []
 
+    def spring_mass(self, parameters: Parameters) -> Value:
+        """The spring's own mass ``m_s`` [kg] for the given parameter values: 0 unless the law carries one."""
+        return 0.0
+
+    def derived_values(self, values: dict) -> dict:
+        """The law's values that follow from the parameter values ``values`` [SI] (a coil's stiffness
+        [N/m], free length [m], ...); none unless the law is a part built from other dimensions."""
+        return {}
+
+    def law_warnings(self, values: dict, lengths: np.ndarray, tolerance: float = 1e-6) -> list[str]:
+        """Where a real part departs from this idealised law at the workspace states ``lengths``
+        (length [m] or angle [rad]); none unless the law says so."""
+        return []
+
     def options(self) -> dict:
         return {}
 
@@ -202,7 +220,7 @@ class Spring(abc.ABC):
                              "give stiffness a positive lower bound")
 
 
-def _checked_parameter(spring: Spring, key: str, value):
+def _checked_parameter(spring: Spring, key: str, value: Any) -> float | Free:
     label = f"{type(spring).__name__} {spring.name or ''}".strip()
     if isinstance(value, Free):
         if value.lower.shape != ():
@@ -221,7 +239,7 @@ def _checked_parameter(spring: Spring, key: str, value):
     return number
 
 
-def _positive_option(spring: Spring, key: str, value):
+def _positive_option(spring: Spring, key: str, value: Any) -> float | None:
     if value is None:
         return None
     try:

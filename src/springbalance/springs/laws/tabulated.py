@@ -34,13 +34,13 @@ import numpy as np
 from springbalance.errors import InputError
 from springbalance.springs.laws.two_point import TwoPointSpring
 from springbalance.springs.params import Anchor
-from springbalance.springs.values import Parameters, Value
+from springbalance.springs.values import Parameters, ValueT
 
 #: the type of the ``table`` option in the config schema: at least two [length m, force N] rows.
 TableOption = Annotated[list[Annotated[list[float], annotated_types.Len(2, 2)]], annotated_types.MinLen(2)]
 
 
-def _ramp(value):
+def _ramp(value: ValueT) -> ValueT:
     """``max(value, 0)`` with plain arithmetic (CasADi and NumPy alike)."""
     return 0.5 * (value + abs(value))
 
@@ -55,7 +55,7 @@ class StaysInTable:
     unit = "m"
     parts = (("in_table_low", "m", 0.1), ("in_table_high", "m", 0.1))
 
-    def rows(self, length: Value, force: Value, parameters: Parameters) -> Value | list[Value]:
+    def rows(self, length: ValueT, force: ValueT, parameters: Parameters) -> ValueT | list[ValueT]:
         x = length - parameters["shift"]                       # [m]
         return [x - self.low, self.high - x]
 
@@ -94,7 +94,7 @@ class TabulatedSpring(TwoPointSpring):
         self.kinks = lengths[1:-1]                                              # x_1 … x_{n-2} [m]
         self.slope_changes = np.diff(self.slopes)                               # s_i - s_{i-1} [N/m]
 
-    def _curve(self, x):
+    def _curve(self, x: ValueT) -> tuple[ValueT, ValueT]:
         """``f(x)`` [N] and ``∫_{x_0}^{x} f`` [J] of the table at table length ``x`` [m]."""
         x0, f0, s0 = self.table[0, 0], self.table[0, 1], self.slopes[0]
         offset = x - x0                                                         # [m]
@@ -106,11 +106,11 @@ class TabulatedSpring(TwoPointSpring):
             energy = energy + 0.5 * change * past * past
         return force, energy
 
-    def tension(self, length: Value, parameters: Parameters) -> Value:
+    def tension(self, length: ValueT, parameters: Parameters) -> ValueT:
         force, _ = self._curve(length - parameters["shift"])
         return parameters["scale"] * force                                      # [N]
 
-    def potential(self, length: Value, parameters: Parameters) -> Value:
+    def potential(self, length: ValueT, parameters: Parameters) -> ValueT:
         _, energy = self._curve(length - parameters["shift"])
         return parameters["scale"] * energy                                     # [J]
 
@@ -146,7 +146,7 @@ class TabulatedSpring(TwoPointSpring):
         return warnings + super().law_warnings(values, lengths, tolerance)
 
 
-def _checked_table(table, label: str) -> np.ndarray:
+def _checked_table(table: Any, label: str) -> np.ndarray:
     if table is None:
         raise InputError(f"{label}: missing key 'table' (rows [length, force] of the force–length curve)")
     try:

@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING, Any
 from springbalance.errors import InputError
 from springbalance.springs import constraints as practical
 from springbalance.springs.laws.spring import Contribution, PositiveNumber, Sample, Spring, _positive_option
-from springbalance.springs.values import Parameters, Value
+from springbalance.springs.values import Parameters, ValueT
 
 if TYPE_CHECKING:
     from springbalance.model.mechanism import Mechanism
@@ -57,11 +57,11 @@ class TorsionalSpring(Spring):
             raise InputError(f"torsional spring {self.name!r}: joint {self.joint!r} is prismatic; "
                              "a torsional spring needs a revolute or continuous joint")
 
-    def torque(self, angle: Value, parameters: Parameters) -> Value:
+    def torque(self, angle: ValueT, parameters: Parameters) -> ValueT:
         """Spring torque ``k (q - q0) + τ0`` [N·m] at joint angle ``q`` [rad]."""
         return parameters["stiffness"] * (angle - parameters["neutral_angle"]) + parameters["preload"]
 
-    def potential(self, angle: Value, parameters: Parameters) -> Value:
+    def potential(self, angle: ValueT, parameters: Parameters) -> ValueT:
         """Stored energy ``k (q - q0)²/2 + τ0 (q - q0)`` [J]."""
         deflection = angle - parameters["neutral_angle"]                      # [rad]
         return deflection * (parameters["preload"] + 0.5 * parameters["stiffness"] * deflection)  # [J]
@@ -72,7 +72,7 @@ class TorsionalSpring(Spring):
         return Contribution(sample.direction(self.joint) * torque, self.potential(angle, parameters), angle, torque)
 
     def constraints(self) -> list:
-        rows = []
+        rows: list[practical.Constraint] = []
         if self.max_torque is not None:
             rows.append(practical.MaxTorque(self.max_torque))
         if self.max_deflection is not None:

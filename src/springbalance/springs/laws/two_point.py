@@ -40,12 +40,12 @@ import numpy as np
 
 from springbalance.errors import InputError
 from springbalance.springs import constraints as practical
-from springbalance.springs.helical_option import helical_from_dict
+from springbalance.springs.helical_option import Helical, helical_from_dict
 from springbalance.springs.laws.spring import Contribution, PositiveNumber, Sample, Spring, _positive_option
 from springbalance.springs.mass import CoilMass, FixedMass, MassOption, mass_from_record
 from springbalance.springs.params import Anchor, Pulley
 from springbalance.springs.routing import path_length
-from springbalance.springs.values import Parameters, Value
+from springbalance.springs.values import Parameters, Value, ValueT
 
 if TYPE_CHECKING:
     from springbalance.model.mechanism import Mechanism
@@ -102,21 +102,22 @@ class TwoPointSpring(Spring):
 
     # ---------------------------------------------------------------- the law
     @abc.abstractmethod
-    def tension(self, length: Value, parameters: Parameters) -> Value:
+    def tension(self, length: ValueT, parameters: Parameters) -> ValueT:
         """Tension ``F(L)`` [N], positive when the spring pulls its ends together."""
 
     @abc.abstractmethod
-    def potential(self, length: Value, parameters: Parameters) -> Value:
+    def potential(self, length: ValueT, parameters: Parameters) -> ValueT:
         """Stored energy ``V_s(L)`` [J]."""
 
-    def tension_per_length(self, length: Value, parameters: Parameters) -> Value:
+    def tension_per_length(self, length: ValueT, parameters: Parameters) -> ValueT:
         """``F(L) / L`` [N/m]; the force on end b is ``-(F/L) d`` with ``d = x_b - x_a``."""
         return self.tension(length, parameters) / length
 
     # ---------------------------------------------------------------- mass
     @property
-    def mass(self) -> CoilMass | FixedMass | None:
-        """``None``, :class:`FixedMass` or :class:`CoilMass`."""
+    def mass(self) -> CoilMass | FixedMass | str | None:
+        """``None``, :class:`FixedMass` or :class:`CoilMass` (a helical coil's: ``"coil"`` when it carries
+        its own mass)."""
         return self._mass
 
     @mass.setter
@@ -204,7 +205,7 @@ class TwoPointSpring(Spring):
             potential = potential - half * (sample.gravity.T @ (end_a.position + end_b.position))  # [J]
         return Contribution(torque, potential, length, self.tension(length, parameters))
 
-    def _routed_contribution(self, sample, parameters, points) -> Contribution:
+    def _routed_contribution(self, sample: Sample, parameters: Parameters, points: dict) -> Contribution:
         """``L = ℓ(path) − cable``; torque ``F Σ_i J_{P_i}^T ∂ℓ/∂P_i`` (see :mod:`springbalance.springs.routing`)."""
         ends = [sample.point(anchor.body, points[end]) for end, anchor in self.anchors.items()]
         path, gradients = path_length([end.position for end in ends], self.radii)    # [m], [1]
@@ -225,7 +226,7 @@ class TwoPointSpring(Spring):
 
     # ---------------------------------------------------------------- constraints and records
     def constraints(self) -> list:
-        rows = [practical.FitsSegment()] if self.routed else []
+        rows: list[practical.Constraint] = [practical.FitsSegment()] if self.routed else []
         if self.max_force is not None:
             rows.append(practical.MaxForce(self.max_force))
         if self.max_length is not None:
@@ -250,8 +251,8 @@ class TwoPointSpring(Spring):
         return {"name": name, "type": "routed", "path": path, "spring": record, "cable_length": cable}
 
     def options(self) -> dict:
-        record = {key: value for key, value in (("max_force", self.max_force), ("max_length", self.max_length),
-                                                ("min_length", self.min_length)) if value is not None}
+        limits = (("max_force", self.max_force), ("max_length", self.max_length), ("min_length", self.min_length))
+        record: dict[str, Any] = {key: value for key, value in limits if value is not None}
         if self._mass is not None:
             record["mass"] = self._mass.to_dict()
         if self.part_number is not None:
@@ -300,9 +301,15 @@ class TwoPointSpring(Spring):
 class HelicalSpringMixin:
     """Mixin: the ``helical`` option (a helical spring of a given material and index must exist)."""
 
-    helical_kind: ClassVar[str] = "extension"
+    helical_kind: ClassVar[str | None] = "extension"
+    helical: Helical | None
 
-    def _set_helical(self, helical) -> None:
+    if TYPE_CHECKING:   # what the mixin uses of the spring it is mixed into (TwoPointSpring's)
+        def _label(self) -> str: ...
+
+        def _positive_stiffness(self, reason: str) -> None: ...
+
+    def _set_helical(self, helical: Helical | dict | None) -> None:
         self.helical = None if helical is None else helical_from_dict(helical, f"{self._label()}: helical")
         if self.helical is not None:
             self._positive_stiffness("the helical option")
@@ -310,4 +317,6 @@ class HelicalSpringMixin:
     def _helical_constraints(self) -> list:
         if self.helical is None:
             return []
-        return [practical.HelicalSpringExists(self.helical, self.helical_kind)]
+        kind = self.helical_kind
+        assert kind is not None  # a law with a helical option names its coil's kind
+        return [practical.HelicalSpringExists(self.helical, kind)]

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from springbalance.springs.laws.two_point import TwoPointSpring
-from springbalance.springs.values import Parameters, Value
+from springbalance.springs.values import Parameters, ValueT
 
 
 class ZeroFreeLengthSpring(TwoPointSpring):
@@ -19,17 +19,17 @@ class ZeroFreeLengthSpring(TwoPointSpring):
     nonnegative = ("stiffness",)
     linear_parameters = ("stiffness",)
 
-    def tension(self, length: Value, parameters: Parameters) -> Value:
+    def tension(self, length: ValueT, parameters: Parameters) -> ValueT:
         return parameters["stiffness"] * length                       # [N/m]·[m] = [N]
 
-    def potential(self, length: Value, parameters: Parameters) -> Value:
+    def potential(self, length: ValueT, parameters: Parameters) -> ValueT:
         return 0.5 * parameters["stiffness"] * length * length        # [N/m]·[m²] = [J]
 
-    def potential_of_square(self, square: Value, parameters: Parameters) -> Value:
+    def potential_of_square(self, square: ValueT, parameters: Parameters) -> ValueT:
         """``k L² / 2`` from ``L²`` [m²]: its derivative stays finite where the ends meet (``L = 0``)."""
         return 0.5 * parameters["stiffness"] * square                 # [N/m]·[m²] = [J]
 
-    def tension_per_length(self, length: Value, parameters: Parameters) -> Value:
+    def tension_per_length(self, length: ValueT, parameters: Parameters) -> ValueT:
         return parameters["stiffness"] + 0 * length                   # smooth at L = 0
 
     def tendon_law(self, values: dict, lengths: np.ndarray) -> tuple[float, float, float]:
