@@ -57,7 +57,12 @@ def _interrupt(tmp_path, *extra) -> tuple[int, str, Path]:
         time.sleep(0.2)
     assert process.poll() is None, process.communicate()
     process.send_signal(signal.SIGINT)
-    _, err = process.communicate(timeout=60)
+    try:
+        _, err = process.communicate(timeout=60)
+    finally:   # a process that outlives the test is killed, not left behind
+        if process.poll() is None:
+            process.kill()
+            process.communicate()
     return process.returncode, err, out
 
 
