@@ -6,7 +6,7 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 DOCS_STAMP := $(VENV)/.docs-installed
 
-.PHONY: bytecode demo test test-fast bench bench-buildable bench-clearance bench-explore bench-startup bench-workers bench-memory bench-evaluation bench-ipopt clean chromium demo-check docs
+.PHONY: bytecode demo lint test test-fast bench bench-buildable bench-clearance bench-explore bench-startup bench-workers bench-memory bench-evaluation bench-ipopt clean chromium demo-check docs
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -28,13 +28,20 @@ demo: bytecode
 # lint-imports checks that data flows one way through the subpackages (pyproject.toml [tool.importlinter]).
 # `make test` runs every test (CI calls it); `make test-fast` leaves out the tests marked `slow` (whole
 # studies, notebooks, the browser, the documentation's Python examples, anything over ~5 s).
-test: $(STAMP) chromium
-	$(BIN)/lint-imports --no-cache
+test: lint chromium
 	$(BIN)/python -m pytest -q
 
-test-fast: $(STAMP)
-	$(BIN)/lint-imports --no-cache
+test-fast: lint
 	$(BIN)/python -m pytest -q -m "not slow"
+
+# The code's shape before any test: ruff's format and lint (imports sorted), mypy on src/ (pyproject.toml),
+# and the layers and cycles of the import contracts
+LINTED := src tests benchmarks examples docs/griffe_extensions.py
+lint: $(STAMP)
+	$(BIN)/ruff format --check $(LINTED)
+	$(BIN)/ruff check $(LINTED)
+	$(BIN)/mypy
+	$(BIN)/lint-imports --no-cache
 
 # Headless Chromium renders scene.html in the browser test of tests/viz/test_viz.py and in
 # `make demo-check`. It is installed here (Debian package `chromium`) when it is missing

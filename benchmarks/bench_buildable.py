@@ -54,7 +54,8 @@ MPA = 1e6
 
 
 def anchors(a, b):
-    box = lambda: sb.Free([-0.3] * 3, [0.3] * 3)
+    def box():
+        return sb.Free([-0.3] * 3, [0.3] * 3)
     return sb.Anchor(a, box()), sb.Anchor(b, box())
 
 

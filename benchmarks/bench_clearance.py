@@ -49,7 +49,8 @@ PAIRS = [("shoulder_link", "upper_arm_link"), ("shoulder_link", "forearm_link"),
 
 
 def springs():
-    box = lambda: sb.Free([-0.3] * 3, [0.3] * 3)
+    def box():
+        return sb.Free([-0.3] * 3, [0.3] * 3)
     return [sb.ExtensionSpring(sb.Anchor(a, box()), sb.Anchor(b, box()), f"s{i + 1}", stiffness=sb.Free(0, 5000),
                                free_length=sb.Free(0.05, 1.0)) for i, (a, b) in enumerate(PAIRS)]
 

@@ -56,7 +56,8 @@ r3 = sb.Mechanism.from_urdf(URDF / "quaglia_yin_r3.urdf", gravity=9.8)
 theta = np.linspace(-np.pi / 2, np.pi / 2, 363)[1:-1]
 r3_samples = sb.Workspace.from_array(r3, theta[:, None])
 c1max, b1 = (100 * 0.6 + 40 * 1.2) * 9.8, 0.2
-pivot = lambda r5, alpha: sb.Anchor("universe", (r5 * np.cos(np.deg2rad(alpha)), 0, r5 * np.sin(np.deg2rad(alpha))))
+def pivot(r5, alpha):
+    return sb.Anchor("universe", (r5 * np.cos(np.deg2rad(alpha)), 0, r5 * np.sin(np.deg2rad(alpha))))
 arm = sb.Anchor("link1", (b1, 0, 0))
 r3a = sb.solve(sb.DesignProblem(r3, r3_samples, [sb.ZeroFreeLengthSpring(pivot(6 * b1, 90), arm, stiffness=sb.Free(0, 10000))]), starts=2)
 row("R3a", "k [N/m]", r3a.variables["s1.stiffness"], 4410, "N/m")

@@ -127,7 +127,7 @@ class ReferencePotential:
         nv = self.model.nv
         tau = np.empty(nv)
         for j in range(nv):
-            def shifted(h):
+            def shifted(h, j=j):
                 dv = np.zeros(nv)
                 dv[j] = h
                 return self(pin.integrate(self.model, q, dv))

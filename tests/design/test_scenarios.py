@@ -89,7 +89,7 @@ def test_shared_stiffness_with_per_scenario_anchor_balances_each_payload(link):
     problem = sb.DesignProblem(mechanism, workspace, [spring], scenarios=scenarios, per_scenario=["s1.b"])
     result = sb.solve(problem, starts=2)
     k = result.variables["s1.stiffness"]
-    for index, row in enumerate(problem.scenario_table(result.x)):
+    for row in problem.scenario_table(result.x):
         b = 0.35 * row["variables"]["s1.b.s"]
         assert k * 0.1 * b == pytest.approx((3.0 * 0.2 + row["payload"] * 0.35) * G, rel=1e-6)
         assert row["peak"] < 1e-6

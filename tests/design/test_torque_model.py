@@ -92,7 +92,7 @@ def test_the_moved_solver_names_still_work_and_warn(name, module):
 
     from springbalance.design import solvers
 
-    with pytest.warns(DeprecationWarning, match=f"solvers.{name} moved to springbalance.design.solvers.{module}"):
+    with pytest.warns(DeprecationWarning, match=f"solvers.{name} is deprecated; use springbalance.design.solvers.{module}"):
         value = getattr(solvers, name)
     assert value is getattr(importlib.import_module(f"springbalance.design.solvers.{module}"), name)
     with warnings.catch_warnings():

@@ -12,7 +12,7 @@ from springbalance.explore import execution, report, task
 
 @pytest.mark.parametrize(("name", "home"), [("solve_task", task), ("EXACT", task), ("CONNECT_TIMEOUT", execution)])
 def test_a_moved_name_is_still_importable_from_study_and_warns(name, home):
-    with pytest.warns(DeprecationWarning, match=f"study.{name} moved to {home.__name__}.{name}"):
+    with pytest.warns(DeprecationWarning, match=f"study.{name} is deprecated; use {home.__name__}.{name}"):
         value = getattr(study, name)
     assert value is getattr(home, name)
 

@@ -110,4 +110,4 @@ def test_a_state_is_a_value(pendulum):
     later = state.but(initial=np.zeros(pendulum.variables.size))
     assert state.initial is None and later.initial is not None and later.problem is pendulum
     with pytest.raises(RuntimeError, match="multi-start"):
-        state.solved
+        _ = state.solved

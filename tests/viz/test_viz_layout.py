@@ -48,7 +48,7 @@ def test_the_old_names_of_the_scene_module_still_import():
                  "_insert_before_body_end", "_anchors", "_region_corners", "_region_points", "_box_mesh"):
         assert hasattr(viz, name), name
     with pytest.raises(AttributeError):
-        viz.no_such_name
+        _ = viz.no_such_name
 
 
 def test_scene_result_is_a_deprecated_alias_of_its_design():

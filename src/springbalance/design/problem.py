@@ -22,13 +22,13 @@ from __future__ import annotations
 
 import copy
 import dataclasses
-import warnings
 from typing import Any, Mapping, Sequence
 
 import casadi as ca
 import numpy as np
 import numpy.typing as npt
 
+from springbalance.deprecation import warn_deprecated
 from springbalance.design import row_multipliers
 from springbalance.design.block_kernel import KERNEL_MIN_SAMPLES
 from springbalance.design.bounds import check_cable
@@ -45,6 +45,7 @@ from springbalance.model.mechanism import Mechanism
 from springbalance.model.workspace import Workspace
 from springbalance.springs.laws import Spring, TwoPointSpring
 from springbalance.springs.records import spring_from_dict
+
 
 class DesignProblem:
     """Choose spring parameters so that the actuators carry as little gravity torque as possible.
@@ -306,7 +307,7 @@ class DesignProblem:
         """Deprecated: ``springbalance.solve(problem, ...)`` (same options, same design)."""
         from springbalance.pipeline.run import solve  # deprecated shim: the one upward import, listed in pyproject
 
-        _deprecated("DesignProblem.solve(...)", "springbalance.solve(problem, ...)")
+        warn_deprecated("DesignProblem.solve(...)", "springbalance.solve(problem, ...)")
         return solve(self, starts=starts, seed=seed, method=method, progress=progress, max_iterations=max_iterations,
                      tolerance=tolerance, polish_iterations=polish_iterations, standard_wire=standard_wire,
                      workers=workers)
@@ -315,14 +316,14 @@ class DesignProblem:
         """Deprecated: ``springbalance.DesignResult(problem, x, **info)`` (no optimisation)."""
         from springbalance.results.result import DesignResult  # deprecated shim, listed in pyproject
 
-        _deprecated("DesignProblem.result(x)", "springbalance.DesignResult(problem, x)")
+        warn_deprecated("DesignProblem.result(x)", "springbalance.DesignResult(problem, x)")
         return DesignResult(self, np.asarray(x, dtype=float), **info)
 
     def scenario_results(self, x: np.ndarray) -> list:
         """Deprecated: ``DesignResult(problem, x).scenario_results()``."""
         from springbalance.results.result import DesignResult  # deprecated shim, listed in pyproject
 
-        _deprecated("DesignProblem.scenario_results(x)", "DesignResult(problem, x).scenario_results()")
+        warn_deprecated("DesignProblem.scenario_results(x)", "DesignResult(problem, x).scenario_results()")
         return DesignResult(self, np.asarray(x, dtype=float)).scenario_results()
 
     # ---------------------------------------------------------------- scenarios
@@ -440,8 +441,3 @@ class _Compiled:
     evaluator: BlockEvaluator | None = None
     least_squares: Any = None
     nlps: dict = dataclasses.field(default_factory=dict)
-
-
-def _deprecated(old: str, new: str) -> None:
-    warnings.warn(f"{old} is deprecated and will be removed in springbalance 0.3; use {new}", DeprecationWarning,
-                  stacklevel=3)

@@ -14,10 +14,10 @@ from __future__ import annotations
 import html
 import io
 import json
-import warnings
 from pathlib import Path
 from typing import Any, Callable, Mapping
 
+from springbalance.deprecation import warn_deprecated
 from springbalance.files import write_text_atomic
 
 
@@ -118,9 +118,9 @@ def write_study_report(folder: str | Path, mechanism_name: str, summary: Mapping
 def write_report(result: Any) -> None:
     """Deprecated: write ``report.html`` of a ``StudyResult`` (use :func:`write_study_report`, or
     ``StudyResult.write``)."""
-    warnings.warn("springbalance.explore.report.write_report(result) is deprecated; use "
-                  "write_study_report(folder, mechanism_name, summary, max_springs, results, dominated, best) "
-                  "or StudyResult.write()", DeprecationWarning, stacklevel=2)
+    warn_deprecated("springbalance.explore.report.write_report(result)",
+                    "write_study_report(folder, mechanism_name, summary, max_springs, results, dominated, best) "
+                    "or StudyResult.write()")
     study = result.study
     write_study_report(result.folder, study.mechanism.name, study.summary(), study.max_springs, result.results,
                        result.dominated, result.best())

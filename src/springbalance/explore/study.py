@@ -42,15 +42,20 @@ import itertools
 import json
 import math
 import shutil
-import warnings
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Callable, Sequence
 
+from springbalance.deprecation import moved_names
 from springbalance.errors import InputError
 from springbalance.explore import execution as _execution
 from springbalance.explore import task as _task
-from springbalance.explore.candidates import (DEFAULT_HALF_WIDTH, DEFAULT_MARGIN, Candidate, auto_candidates,
-                                             candidates_from_records)
+from springbalance.explore.candidates import (
+    DEFAULT_HALF_WIDTH,
+    DEFAULT_MARGIN,
+    Candidate,
+    auto_candidates,
+    candidates_from_records,
+)
 from springbalance.explore.execution import execute, make_client, progress_bar  # noqa: F401  (make_client: see _MOVED)
 from springbalance.explore.report import write_study_report
 from springbalance.explore.task import Task
@@ -74,13 +79,7 @@ COLUMNS = ("id", "status", "springs", "count", "grid", "objective", "objective_v
 _MOVED = {"EXACT": _task, "solve_task": _task, "CONNECT_TIMEOUT": _execution}
 
 
-def __getattr__(name: str) -> Any:
-    if name in _MOVED:
-        module = _MOVED[name]
-        warnings.warn(f"springbalance.explore.study.{name} moved to {module.__name__}.{name}", DeprecationWarning,
-                      stacklevel=2)
-        return getattr(module, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+__getattr__ = moved_names(__name__, {name: (module, name) for name, module in _MOVED.items()})
 
 
 @dataclasses.dataclass

@@ -9,10 +9,9 @@ still import from here for one release, with a :class:`DeprecationWarning`.
 from __future__ import annotations
 
 import json
-import warnings
 from pathlib import Path
-from typing import Any
 
+from springbalance.deprecation import moved_names
 from springbalance.errors import InputError
 from springbalance.export import urdf
 from springbalance.export.common import GROUND
@@ -24,13 +23,7 @@ __all__ = ["springs_from_urdf"]
 _MOVED = ("SIDECAR_FORMAT", "URDF_NAMESPACE", "export_urdf", "sidecar_path", "urdf_strings")
 
 
-def __getattr__(name: str) -> Any:
-    """The names that moved to :mod:`springbalance.export.urdf` (deprecated, for one release)."""
-    if name not in _MOVED:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    warnings.warn(f"{__name__}.{name} is deprecated; use springbalance.export.urdf.{name}", DeprecationWarning,
-                  stacklevel=2)
-    return getattr(urdf, name)
+__getattr__ = moved_names(__name__, {name: (urdf, name) for name in _MOVED})
 
 
 def springs_from_urdf(path: str | Path) -> list[Spring]:

@@ -10,11 +10,10 @@ from __future__ import annotations
 from typing import Any, Callable, cast
 
 from springbalance.errors import InputError
+from springbalance.springs.helical_option import helical_from_dict
 from springbalance.springs.laws.spring import SPRING_TYPES, Spring
 from springbalance.springs.mass import mass_from_record
 from springbalance.springs.params import Pulley, anchor_from_dict, check_keys, path_from_dict, value_from_record
-from springbalance.springs.helical_option import helical_from_dict
-
 
 #: the law of a record without ``type``
 DEFAULT_TYPE = "extension"

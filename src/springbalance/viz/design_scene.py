@@ -44,6 +44,7 @@ import numpy as np
 import numpy.typing as npt
 import pinocchio as pin
 
+from springbalance.deprecation import warn_deprecated
 from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.errors import InputError
 from springbalance.model import sweeps
@@ -64,6 +65,8 @@ CABLE_COLOR = 0x222222
 CABLE_RADIUS = 0.0015  # [m]
 #: Side of a label's square sprite as a fraction of the camera's distance from what it frames.
 LABEL_SIZE = 0.22
+#: the helix drawn when no style is given (frozen: one instance serves every scene)
+DEFAULT_HELIX = HelixStyle()
 
 
 class DesignScene:
@@ -98,7 +101,7 @@ class DesignScene:
     """
 
     def __init__(self, design: EvaluatedDesign, joint_values: npt.ArrayLike | None = None,
-                 frames_per_joint: int = 48, style: HelixStyle = HelixStyle(), fps: int = 30,
+                 frames_per_joint: int = 48, style: HelixStyle = DEFAULT_HELIX, fps: int = 30,
                  margin: float | None = None) -> None:
         self.design = design
         mechanism = design.problem.mechanism
@@ -136,7 +139,7 @@ class DesignScene:
     @property
     def result(self) -> EvaluatedDesign:
         """Deprecated alias of :attr:`design`."""
-        warnings.warn("DesignScene.result is deprecated; use DesignScene.design", DeprecationWarning, stacklevel=2)
+        warn_deprecated("DesignScene.result", "DesignScene.design")
         return self.design
 
     def _margin(self, margin: float | None) -> float | None:

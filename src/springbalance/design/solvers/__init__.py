@@ -48,14 +48,24 @@ The modules, one concept each: :mod:`~springbalance.design.solvers.records` (:cl
 
 from __future__ import annotations
 
-import warnings
-
+from springbalance.deprecation import moved_names
 from springbalance.design.solvers import multistart, pool, residuals
 from springbalance.design.solvers.least_squares import refine
 from springbalance.design.solvers.multistart import solve_problem
-from springbalance.design.solvers.pool import (POOL_MIN_SECONDS, WORKERS_ENV, check_workers, default_workers,
-                                               workers_default)
-from springbalance.design.solvers.records import EPIGRAPH_TOLERANCE, FEASIBILITY_TOLERANCE, METHODS, Solution, StartRecord
+from springbalance.design.solvers.pool import (
+                                               POOL_MIN_SECONDS,
+                                               WORKERS_ENV,
+                                               check_workers,
+                                               default_workers,
+                                               workers_default,
+)
+from springbalance.design.solvers.records import (
+                                               EPIGRAPH_TOLERANCE,
+                                               FEASIBILITY_TOLERANCE,
+                                               METHODS,
+                                               Solution,
+                                               StartRecord,
+)
 from springbalance.design.solvers.starts import start_points
 
 __all__ = ["EPIGRAPH_TOLERANCE", "FEASIBILITY_TOLERANCE", "METHODS", "POOL_MIN_SECONDS", "WORKERS_ENV", "Solution",
@@ -67,10 +77,5 @@ _MOVED = {"_LeastSquaresResiduals": "residuals", "_MultiStartSolver": "multistar
           "_pool_workers": "pool"}
 
 
-def __getattr__(name: str) -> object:
-    """The private names of the former ``solvers.py`` (deprecated here: import them from their module)."""
-    if name not in _MOVED:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    module = f"{__name__}.{_MOVED[name]}"
-    warnings.warn(f"{__name__}.{name} moved to {module}.{name}", DeprecationWarning, stacklevel=2)
-    return getattr({"residuals": residuals, "multistart": multistart, "pool": pool}[_MOVED[name]], name)
+__getattr__ = moved_names(__name__, {name: ({"residuals": residuals, "multistart": multistart, "pool": pool}[module], name)
+                                      for name, module in _MOVED.items()})

@@ -26,8 +26,8 @@ for one release, with a :class:`DeprecationWarning`.
 
 from __future__ import annotations
 
-import warnings
-
+from springbalance.deprecation import moved_names
+from springbalance.io.schema import records
 from springbalance.io.schema.config_file import TITLE, config_model
 from springbalance.io.schema.fields import (
     DEFAULT_SPRING_TYPE,
@@ -96,11 +96,4 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str) -> type[Record]:
-    """The records' names before they were ``<Name>Record`` (deprecated, for one release)."""
-    record = RECORDS.get(name)
-    if record is None:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    warnings.warn(f"springbalance.io.schema.{name} is deprecated; use springbalance.io.schema.{record.__name__}",
-                  DeprecationWarning, stacklevel=2)
-    return record
+__getattr__ = moved_names(__name__, {name: (records, record.__name__) for name, record in RECORDS.items()})

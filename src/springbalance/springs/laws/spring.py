@@ -165,7 +165,7 @@ class Spring(abc.ABC):
         """Joints whose coordinate the element needs."""
         return ()
 
-    def check(self, mechanism: Mechanism) -> None:
+    def check(self, mechanism: Mechanism) -> None:  # noqa: B027  (a hook: a law without body or joint checks keeps it)
         """Raise :class:`~springbalance.errors.InputError` when the element does not fit ``mechanism``."""
 
     @abc.abstractmethod
