@@ -41,7 +41,8 @@ TWIN_TOLERANCE = 1e-4
 
 def coil_springs(problem: DesignProblem) -> list[HelicalCoilSpring]:
     """The helical coil springs of ``problem`` that have free variables."""
-    return [spring for spring in problem.springs if isinstance(spring, HelicalCoilSpring) and hasattr(spring, "spec_sheet")
+    return [spring for spring in problem.springs
+            if isinstance(spring, HelicalCoilSpring) and hasattr(spring, "spec_sheet")
             and any(isinstance(value, Free) for value in spring.parameters.values())]
 
 

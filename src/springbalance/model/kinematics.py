@@ -133,7 +133,9 @@ class StackedKinematics(WorkspaceKinematics):
     """The kinematics of a workspace repeated once per scenario (see :mod:`springbalance.design.scenarios`).
 
     A :class:`WorkspaceKinematics` of the stacked workspace (the same attributes and methods); it computes
-    its own arrays from ``base`` (it does not run the base class's constructor). Block ``s`` (rows ``s·N … (s+1)·N - 1``) holds the gravity torque and potential of
+    its own arrays from ``base`` (it does not run the base class's constructor).
+
+    Block ``s`` (rows ``s·N … (s+1)·N - 1``) holds the gravity torque and potential of
     ``mechanisms[s]`` (same joints and bodies, other masses); body placements and Jacobians
     are the base workspace's, repeated, because masses do not change kinematics.
 
