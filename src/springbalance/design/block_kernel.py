@@ -16,9 +16,12 @@ in a helper thread while the caller sums the previous one.
 from __future__ import annotations
 
 import ctypes
+from _ctypes import CFuncPtr
+from typing import Literal, cast
 
 import casadi as ca
 import numpy as np
+import numpy.typing as npt
 
 from springbalance.design.compile_cache import load_or_build
 
@@ -120,8 +123,10 @@ def block_kernel_code(function: ca.Function, name: str | None = None, lanes: int
         raise Unsupported("no outputs")
     name = name or function.name()
     sizes = [source.nnz_out(i) for i in range(source.n_out())]
-    shared, body, used = [], [], {}   # x-only statements, per-sample statements, x-only values the body reads
-    kind = {}   # work index -> (is_vector, C name)
+    shared: list[str] = []   # x-only statements
+    body: list[str] = []     # per-sample statements
+    used: dict[str, int] = {}   # x-only values the body reads -> their slot in h
+    kind: dict[int, tuple[bool, str]] = {}   # work index -> (is_vector, C name)
     names = iter(range(1, 10 ** 9))
 
     def operand(work: int) -> str:
@@ -243,7 +248,7 @@ def _load_kernel(function: ca.Function, library: str) -> "_BlockKernel | None":
 class _BlockKernel:
     """A compiled block kernel, called through ctypes (which releases the GIL for the call)."""
 
-    def __init__(self, entry, function: ca.Function):
+    def __init__(self, entry: CFuncPtr, function: ca.Function):
         entry.restype = ctypes.c_int
         entry.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_longlong, ctypes.c_longlong, ctypes.c_void_p]
         self.entry = entry
@@ -251,13 +256,13 @@ class _BlockKernel:
         self.data_rows = function.nnz_in(1)
         self.sizes = [function.nnz_out(i) for i in range(function.n_out())]
 
-    def __call__(self, x: np.ndarray, data_address: int, n: int, results) -> None:
+    def __call__(self, x: np.ndarray, data_address: int, n: int, results: ctypes.Array[ctypes.c_void_p]) -> None:
         """Evaluate ``n`` samples whose data start at ``data_address`` into ``results`` (a ctypes
         array of the output addresses). ``x``: float64, contiguous, ``n_x`` values."""
         if n > 0:
             self.entry(x.ctypes.data, data_address, n, self.data_rows, results)
 
-    def shared_input(self, x) -> np.ndarray:
+    def shared_input(self, x: npt.ArrayLike) -> np.ndarray:
         """``x`` as the kernel reads it (broadcast like an assignment to an ``n_x`` vector, a new array)."""
         values = np.asarray(x, dtype=float)
         if values.size == self.n_x:
@@ -271,7 +276,8 @@ def block_kernel(function: ca.Function, n_samples: int | None = None) -> _BlockK
     source = getattr(function, SOURCE_ATTRIBUTE, None)
     if source is None or (n_samples is not None and n_samples < KERNEL_MIN_SAMPLES):
         return None
-    kernel = getattr(function, "_springbalance_kernel", False)
+    # what an earlier call stored on the function (None: it has no kernel), False before the first call
+    kernel = cast("_BlockKernel | None | Literal[False]", getattr(function, "_springbalance_kernel", False))
     if kernel is False:
         kernel = _compile_kernel(source)
         try:

@@ -8,7 +8,7 @@ the problem it is given is not changed).
 from __future__ import annotations
 
 import time
-from typing import Any
+from typing import Any, Iterable, Iterator, TypeAlias
 
 import numpy as np
 
@@ -20,6 +20,7 @@ from springbalance.design.solvers import Solution, solve_problem
 from springbalance.errors import SolverError
 from springbalance.model.collision import DEFAULT_RADIUS, CollisionScene, Contact, capsule_contact, collision_geometry
 from springbalance.model.workspace import Workspace
+from springbalance.springs.laws import Spring
 
 #: Most poses per spring and object (and round) that join the watched set.
 WORST_PER_PAIR = 4
@@ -31,6 +32,14 @@ DESCENT_BAND = 0.02
 #: Most distance evaluations of one descent.
 DESCENT_EVALUATIONS = 150
 
+#: A pair checked: ``(kind, spring, object index or other spring, scenario)``, kind ``"object"`` or ``"spring"``.
+Pair: TypeAlias = tuple[str, str, "int | str", int]
+#: A contact watched: ``(*pair, pose set, sample)``.
+Key: TypeAlias = tuple[str, str, "int | str", int, int, int]
+#: World placements ``(rotation, translation)`` of a spring's end bodies.
+Frames: TypeAlias = tuple[tuple[np.ndarray, np.ndarray], ...]
+#: Per pair, its closest sampled poses ``(distance [m], pose set, sample)``.
+Nearest: TypeAlias = dict[Pair, list[tuple[float, int, int]]]
 
 
 
@@ -50,54 +59,62 @@ class _Checker:
                         float(np.max(base.joint_values[:, joint.index_v]))) for joint in mechanism.joints]
         ranges = {joint.name: list(bound) for joint, bound in zip(mechanism.joints, self.bounds)}
         n = clearance.check_samples
-        self.joint_sets = [Workspace.sobol(mechanism, n=n, ranges=ranges, seed=0).joint_values,
-                           Workspace.sobol(mechanism, n=4 * n, ranges=ranges, seed=1).joint_values]
-        self.pose_sets = [mechanism.configurations(values) for values in self.joint_sets] + [[]]
-        self.joint_sets.append([])
-        self.springs = [spring for spring in problem.springs if getattr(spring, "ends", ()) == ("a", "b")]
-        self.by_name = {spring.name: spring for spring in self.springs}
-        self.checked = {spring.name: self.scene.indices_except([spring.anchors[e].body for e in _ends_of(spring)])
+        sampled = [Workspace.sobol(mechanism, n=n, ranges=ranges, seed=0).joint_values,
+                   Workspace.sobol(mechanism, n=4 * n, ranges=ranges, seed=1).joint_values]
+        #: pose set 2 (grown by :meth:`descend`): its joint values and configurations
+        self.found_joints: list[np.ndarray] = []
+        self.found_poses: list[np.ndarray] = []
+        self.joint_sets: list[np.ndarray | list[np.ndarray]] = [*sampled, self.found_joints]
+        self.pose_sets: list[np.ndarray | list[np.ndarray]] = [mechanism.configurations(values) for values in sampled]
+        self.pose_sets.append(self.found_poses)
+        self.springs: list[Spring] = [spring for spring in problem.springs if getattr(spring, "ends", ()) == ("a", "b")]
+        self.by_name = {_named(spring): spring for spring in self.springs}
+        self.checked = {_named(spring): self.scene.indices_except([spring.anchors[e].body for e in _ends_of(spring)])
                         for spring in self.springs}
-        self.frame_ids = {spring.name: tuple(mechanism.frame_id(spring.anchors[e].body) for e in _ends_of(spring))
+        self.frame_ids = {_named(spring): tuple(mechanism.frame_id(spring.anchors[e].body) for e in _ends_of(spring))
                           for spring in self.springs}
 
-    def _frames(self, spring):
+    def _frames(self, spring: Spring) -> Frames:
         return tuple((np.array(self.scene.frame(f).rotation), np.array(self.scene.frame(f).translation))
-                     for f in self.frame_ids[spring.name])
+                     for f in self.frame_ids[_named(spring)])
 
-    def _ends(self, spring, frames, x, scenario):
-        return [rotation @ self.problem.model.anchor_point(spring, end, x, scenario) + translation
-                for end, (rotation, translation) in zip(_ends_of(spring), frames)]
+    def _ends(self, spring: Spring, frames: Frames, x: np.ndarray, scenario: int) -> tuple[np.ndarray, np.ndarray]:
+        """World points [m] of the two ends of ``spring``'s capsule (its body: :func:`_ends_of`)."""
+        start, end = [rotation @ self.problem.model.anchor_point(spring, name, x, scenario) + translation
+                      for name, (rotation, translation) in zip(_ends_of(spring), frames)]
+        return start, end
 
     def _radii(self, x: np.ndarray) -> dict[str, float]:
         default = self.clearance.radius or DEFAULT_RADIUS
-        return {s.name: _radius(self.problem, s, x, default) for s in self.springs}
+        return {_named(s): _radius(self.problem, s, x, default) for s in self.springs}
 
-    def _pairs(self):
+    def _pairs(self) -> Iterator[Pair]:
         """Every pair checked: ``(kind, spring, object index or other spring, scenario)``."""
         for scenario in range(self.problem.model.n_scenarios):
             for spring in self.springs:
-                for index in self.checked[spring.name]:
-                    yield ("object", spring.name, index, scenario)
+                for index in self.checked[_named(spring)]:
+                    yield ("object", _named(spring), index, scenario)
             if self.clearance.between_springs:
                 for i, first in enumerate(self.springs):
                     for second in self.springs[i + 1:]:
-                        yield ("spring", first.name, second.name, scenario)
+                        yield ("spring", _named(first), _named(second), scenario)
 
-    def _contact(self, pair, x: np.ndarray, radius: dict) -> tuple[Contact, tuple, tuple | None]:
+    def _contact(self, pair: Pair, x: np.ndarray, radius: dict[str, float]) -> tuple[Contact, Frames, Frames | None]:
         """Contact of ``pair`` at the placed pose, with the frames of its spring (and of the other spring)."""
         kind, first, second, scenario = pair
         spring = self.by_name[first]
         frames = self._frames(spring)
         ends = self._ends(spring, frames, x, scenario)
         if kind == "object":
+            assert isinstance(second, int)   # an object pair names the object by its index
             return self.scene.capsule_distance(*ends, radius[first], second), frames, None
+        assert isinstance(second, str)       # a spring pair names the other spring
         other = self.by_name[second]
         other_frames = self._frames(other)
         contact = capsule_contact(*ends, radius[first], *self._ends(other, other_frames, x, scenario), radius[second])
         return contact, frames, other_frames
 
-    def measure(self, x: np.ndarray, pose_set: int):
+    def measure(self, x: np.ndarray, pose_set: int) -> tuple[dict[Key, float], dict[str, float], Nearest]:
         """Distances [m] of every pair at the poses of ``pose_set``.
 
         Returns ``(below, closest, nearest)``: ``below`` maps a key ``(*pair, pose_set, sample)``
@@ -113,20 +130,21 @@ class _Checker:
             self.scene.place(q)
             for column, pair in enumerate(pairs):
                 distances[sample, column] = self._contact(pair, x, radius)[0].distance
-        below, closest, nearest = {}, {s.name: np.inf for s in self.springs}, {}
+        below: dict[Key, float] = {}
+        closest = {_named(s): np.inf for s in self.springs}
+        nearest: Nearest = {}
         for column, pair in enumerate(pairs):
             if not len(poses):
                 break
             order = np.argsort(distances[:, column], kind="stable")
             nearest[pair] = [(float(distances[s, column]), pose_set, int(s)) for s in self._apart(pose_set, order)]
-            names = (pair[1], pair[2]) if pair[0] == "spring" else (pair[1],)
-            for name in names:
+            for name in _names(pair):
                 closest[name] = min(closest[name], float(distances[order[0], column]))
-            for sample in np.flatnonzero(distances[:, column] < self.clearance.margin):
-                below[(*pair, pose_set, int(sample))] = float(distances[sample, column])
+            for hit in np.flatnonzero(distances[:, column] < self.clearance.margin):
+                below[pair + (pose_set, int(hit))] = float(distances[hit, column])
         return below, closest, nearest
 
-    def _apart(self, pose_set: int, order) -> list[int]:
+    def _apart(self, pose_set: int, order: np.ndarray) -> list[int]:
         """Up to :data:`DESCENTS_PER_PAIR` samples, closest first, at least a quarter of the joint box
         apart from each other (so the descents start in different basins)."""
         values = np.asarray(self.joint_sets[pose_set], dtype=float)
@@ -139,7 +157,7 @@ class _Checker:
                     break
         return chosen
 
-    def descend(self, x: np.ndarray, nearest: dict):
+    def descend(self, x: np.ndarray, nearest: Nearest) -> tuple[dict[Key, float], dict[str, float]]:
         """Search the joint box for the closest approach of every pair that comes near.
 
         From each of a pair's closest sampled poses within :data:`DESCENT_BAND` of the margin, a
@@ -152,9 +170,10 @@ class _Checker:
 
         radius = self._radii(x)
         mechanism = self.problem.mechanism
-        below, closest = {}, {s.name: np.inf for s in self.springs}
+        below: dict[Key, float] = {}
+        closest = {_named(s): np.inf for s in self.springs}
 
-        def distance(values, pair):
+        def distance(values: np.ndarray, pair: Pair) -> float:
             self.scene.place(mechanism.configurations(values)[0])
             return self._contact(pair, x, radius)[0].distance
 
@@ -166,20 +185,20 @@ class _Checker:
                 found = minimize(distance, start, args=(pair,), method="L-BFGS-B", bounds=self.bounds,
                                  options={"eps": 1e-4, "maxfun": DESCENT_EVALUATIONS})
                 value = float(distance(found.x, pair))
-                names = (pair[1], pair[2]) if pair[0] == "spring" else (pair[1],)
-                for name in names:
+                for name in _names(pair):
                     closest[name] = min(closest[name], value)
                 if value < self.clearance.margin:
-                    self.joint_sets[2].append(np.array(found.x))
-                    self.pose_sets[2].append(mechanism.configurations(found.x)[0])
-                    below[(*pair, 2, len(self.pose_sets[2]) - 1)] = value
+                    self.found_joints.append(np.array(found.x))
+                    self.found_poses.append(mechanism.configurations(found.x)[0])
+                    below[pair + (2, len(self.pose_sets[2]) - 1)] = value
         return below, closest
 
-    def cuts(self, x: np.ndarray, keys) -> tuple[list, list]:
+    def cuts(self, x: np.ndarray, keys: Iterable[Key]) -> tuple[list, list]:
         """The cuts of the watched ``keys`` at design ``x``."""
         clearance = self.clearance
         radius = self._radii(x)
-        object_cuts, spring_cuts = [], []
+        object_cuts: list = []
+        spring_cuts: list = []
         for key in sorted(keys, key=lambda k: (k[4], k[5], k[:4])):
             pair, pose_set, sample = key[:4], key[4], key[5]
             kind, first, second, scenario = pair
@@ -187,9 +206,11 @@ class _Checker:
             contact, frames, other_frames = self._contact(pair, x, radius)
             spring = self.by_name[first]
             if kind == "object":
+                assert isinstance(second, int)   # an object pair names the object by its index
                 label = f"{first} clear of {self.scene.objects[second].name} (pose {pose_set}:{sample})"
                 object_cuts.append((label, spring, scenario, frames, contact, radius[first], clearance.target))
             else:
+                assert isinstance(second, str)   # a spring pair names the other spring
                 spring_cuts.append((f"{first} clear of {second} (pose {pose_set}:{sample})",
                                     (spring, frames, radius[first]), (self.by_name[second], other_frames,
                                                                       radius[second]),
@@ -197,19 +218,34 @@ class _Checker:
         return object_cuts, spring_cuts
 
 
-def _worst(below: dict) -> list:
+def _named(spring: Spring) -> str:
+    """The name of a problem's spring (a problem names every spring it is given)."""
+    assert spring.name is not None
+    return spring.name
+
+
+def _names(pair: Pair) -> tuple[str, ...]:
+    """The springs of ``pair``: its spring, and the other one of a spring pair."""
+    kind, first, second, _ = pair
+    if kind == "spring":
+        assert isinstance(second, str)   # a spring pair names the other spring
+        return (first, second)
+    return (first,)
+
+
+def _worst(below: dict[Key, float]) -> list[Key]:
     """Of the contacts below the margin, the :data:`WORST_PER_PAIR` closest per pair."""
-    groups: dict = {}
+    groups: dict[Pair, list[tuple[float, Key]]] = {}
     for key, distance in below.items():
         groups.setdefault(key[:4], []).append((distance, key))
-    chosen = []
+    chosen: list[Key] = []
     for items in groups.values():
         chosen += [key for _, key in sorted(items)[:WORST_PER_PAIR]]
     return chosen
 
 
 
-def _violations(checker: _Checker, x: np.ndarray) -> tuple[dict, dict]:
+def _violations(checker: _Checker, x: np.ndarray) -> tuple[dict[Key, float], dict[str, float]]:
     """``(below, closest)`` at design ``x``: the poses where a spring comes closer than the margin, from the
     check set and the poses found before; when those are clear, from the 4× denser set; when that is clear
     too, from a descent between the samples. ``closest``: each spring's smallest distance found [m]."""
@@ -263,9 +299,11 @@ def fit_to_arm(problem: DesignProblem, solution: Solution,
     before = problem.objective_value(problem.evaluate(x))
     checker = _Checker(problem, clearance) if clearance is not None else None
     geometry = collision_geometry(problem.mechanism) if problem.mounts else None
-    watched: set = set()
+    watched: set[Key] = set()
     planes = mount_planes(problem, np.asarray(problem.variables.start, dtype=float)) if problem.mounts else {}
-    rounds, converged, closest, mounts = 0, False, {}, {}
+    rounds, converged = 0, False
+    closest: dict[str, float] = {}
+    mounts: dict[str, float] = {}
     limit = clearance.rounds if clearance is not None else 12
     while True:
         mounts = _mount_errors(problem, x, geometry) if problem.mounts else {}

@@ -15,14 +15,18 @@ the twin) for the solver's first start; the rules themselves are the solver's jo
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from springbalance.design.solvers import solve_problem
 from springbalance.errors import SolverError
+from springbalance.springs.laws import Spring
+from springbalance.springs.laws.coil import HelicalCoilSpring
 from springbalance.springs.laws.compression import CompressionSpring
 from springbalance.springs.laws.extension import ExtensionSpring
+from springbalance.springs.laws.helical_compression import HelicalCompressionSpring
+from springbalance.springs.laws.helical_extension import HelicalExtensionSpring
 from springbalance.springs.params import Free
 from springbalance.springs.sizing import PREFERRED_WIRE_DIAMETERS, initial_stress_band
 
@@ -35,18 +39,20 @@ if TYPE_CHECKING:
 TWIN_TOLERANCE = 1e-4
 
 
-def coil_springs(problem: DesignProblem) -> list:
+def coil_springs(problem: DesignProblem) -> list[HelicalCoilSpring]:
     """The helical coil springs of ``problem`` that have free variables."""
-    return [spring for spring in problem.springs if hasattr(spring, "spec_sheet")
+    return [spring for spring in problem.springs
+            if isinstance(spring, HelicalCoilSpring) and hasattr(spring, "spec_sheet")
             and any(isinstance(value, Free) for value in spring.parameters.values())]
 
 
-def coil_start(problem: DesignProblem, **solve_options) -> np.ndarray | None:
+def coil_start(problem: DesignProblem, **solve_options: Any) -> np.ndarray | None:
     """A design vector of ``problem`` to start from (see the module docstring); None when the twin fails."""
     coils = coil_springs(problem)
     if not coils:
         return None
-    twins = [_twin(spring) if spring in coils else spring for spring in problem.springs]
+    twins = [_twin(spring) if isinstance(spring, HelicalCoilSpring) and spring in coils else spring
+             for spring in problem.springs]
     twin = problem.with_springs(twins, no_joint_worse=False)
     try:
         # only a first guess: winding the coils moves the design far more than this fraction of its cost
@@ -62,6 +68,7 @@ def coil_start(problem: DesignProblem, **solve_options) -> np.ndarray | None:
         if problem.springs[column] not in coils:
             continue
         coil = problem.springs[column]
+        assert isinstance(coil, HelicalCoilSpring)   # one of `coils`
         law = twin.model.spring_values(spring, found.x)
         lengths, forces = evaluation.lengths[:, column], evaluation.tensions[:, column]
         start.update({f"{coil.name}.{key}": value for key, value in _wind(coil, law, lengths, forces).items()})
@@ -70,12 +77,12 @@ def coil_start(problem: DesignProblem, **solve_options) -> np.ndarray | None:
     return np.clip(x, lower, upper)
 
 
-def _bounds(spring, key) -> tuple[float, float]:
+def _bounds(spring: Spring, key: str) -> tuple[float, float]:
     value = spring.parameters[key]
     return (float(value.lower), float(value.upper)) if isinstance(value, Free) else (float(value), float(value))
 
 
-def _twin(coil):
+def _twin(coil: HelicalCoilSpring) -> ExtensionSpring | CompressionSpring:
     """The ideal law of the coil's kind, with the coil's anchors and limits, over generous ranges."""
     d_low, d_high = _bounds(coil, "wire_diameter")
     D_low, D_high = _bounds(coil, "mean_diameter")
@@ -84,19 +91,21 @@ def _twin(coil):
     stiffest = G * d_high**4 / (8 * max(D_low, coil.index_range[0] * d_high) ** 3 * n_low)       # [N/m]
     options = {key: getattr(coil, key) for key in ("max_force", "max_length", "min_length")}
     if coil.kind == "extension":
+        assert isinstance(coil, HelicalExtensionSpring)   # the helical law of kind "extension"
         low, high = _bounds(coil, "initial_tension")
         shortest = d_low * (n_low + 1) + 2 * (coil.index_range[0] - 1) * d_low                      # [m]
         longest = d_high * (n_high + 1) + 2 * (D_high - d_high)                                     # [m]
         return ExtensionSpring(coil.a, coil.b, coil.name, stiffness=Free(0.0, stiffest),
                                free_length=Free(shortest, longest), initial_tension=Free(low, high),
                                keep_tension=coil.keep_tension, **options)
+    assert isinstance(coil, HelicalCompressionSpring)   # the helical law of kind "compression"
     free_low, free_high = _bounds(coil, "free_length")
     return CompressionSpring(coil.a, coil.b, coil.name, stiffness=Free(0.0, stiffest),
                              free_length=Free(free_low, free_high), preload=0.0,
                              stays_compressed=coil.stays_compressed, **options)
 
 
-def _wind(coil, law: dict, lengths: np.ndarray, forces: np.ndarray) -> dict[str, float]:
+def _wind(coil: HelicalCoilSpring, law: dict, lengths: np.ndarray, forces: np.ndarray) -> dict[str, float]:
     """Wire, coil diameter and coils (and the initial tension) of a coil close to the ideal ``law``."""
     d_low, d_high = _bounds(coil, "wire_diameter")
     n_low, n_high = _bounds(coil, "active_coils")

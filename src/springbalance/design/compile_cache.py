@@ -38,7 +38,7 @@ import subprocess
 import sys
 import tempfile
 import time
-from typing import Callable
+from typing import Callable, TypeVar, cast
 
 import casadi as ca
 
@@ -64,6 +64,8 @@ class CacheStats:
 #: counters of this process (read by benchmarks/bench_startup.py and the tests)
 STATS = CacheStats()
 _loaded: dict[str, object] = {}   # key -> what load_or_build loaded (None: unusable)
+#: what a loader of :func:`load_or_build` makes of a library
+Loaded = TypeVar("Loaded")
 
 
 def cache_dir() -> str:
@@ -120,7 +122,9 @@ def _machine_identity() -> str:
 
 def cache_key(code: str, compiler_path: str, flags: tuple[str, ...]) -> str:
     """The key of a library: a hash of the C code, the compiler, the flags and the platform."""
-    parts = [code, _compiler_identity(compiler_path), " ".join(flags), ca.__version__, sys.platform,
+    # casadi's stubs do not declare the module's __version__ (it is set at import)
+    version = ca.__version__  # type: ignore[attr-defined]
+    parts = [code, _compiler_identity(compiler_path), " ".join(flags), version, sys.platform,
              _machine_identity() if any(flag.startswith(("-march", "-mcpu", "-mtune")) for flag in flags) else ""]
     return hashlib.sha256("\0".join(parts).encode()).hexdigest()[:40]
 
@@ -138,7 +142,7 @@ def compile_function(function: ca.Function) -> ca.Function:
     Raises:
         RuntimeError: no compiler, or none of the flags compile the code.
     """
-    def load(library):
+    def load(library: str) -> ca.Function | None:
         try:
             return ca.external(function.name(), library)
         except RuntimeError:  # not a usable library (a foreign file): built again
@@ -150,7 +154,7 @@ def compile_function(function: ca.Function) -> ca.Function:
     return loaded
 
 
-def load_or_build(code: str, name: str, load: Callable[[str], object]) -> object:
+def load_or_build(code: str, name: str, load: Callable[[str], Loaded | None]) -> Loaded | None:
     """What ``load(library)`` makes of the shared library compiled from the C ``code`` (the file
     ``<name>-<key>`` of the cache folder): from the cache when it holds a library ``load`` can use
     (``load`` returns None for one it cannot, which is then built again), else compiled and stored.
@@ -165,8 +169,8 @@ def load_or_build(code: str, name: str, load: Callable[[str], object]) -> object
     errors = []
     for flags in _flag_candidates():
         key = cache_key(code, path, flags)
-        if key in _loaded:
-            return _loaded[key]
+        if key in _loaded:   # loaded by this loader: the key hashes the code it was given with
+            return cast("Loaded | None", _loaded[key])
         folder = cache_dir()
         library = os.path.join(folder, f"{name}-{key}{_SUFFIX}")
         loaded = load(library) if os.path.exists(library) else None

@@ -22,7 +22,7 @@ the body of their moving joint, so scaling body ``B`` scales everything that mov
 from __future__ import annotations
 
 import dataclasses
-from typing import Mapping, Sequence
+from typing import Any, Iterable, Mapping, Sequence
 
 import numpy as np
 import pinocchio as pin
@@ -45,7 +45,7 @@ class Payload:
     point: tuple = (0.0, 0.0, 0.0)
     inertia: tuple | None = None
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         mass = float(self.mass)
         if not np.isfinite(mass) or mass < 0:
             raise InputError(f"payload on {self.body!r}: mass must be a finite number ≥ 0 [kg], got {self.mass!r}")
@@ -61,7 +61,7 @@ class Payload:
             object.__setattr__(self, "inertia", tuple(map(tuple, inertia.tolist())))
 
     def to_dict(self) -> dict:
-        record = {"body": self.body, "mass": self.mass, "point": list(self.point)}
+        record: dict[str, Any] = {"body": self.body, "mass": self.mass, "point": list(self.point)}
         if self.inertia is not None:
             record["inertia"] = [list(row) for row in self.inertia]
         return record
@@ -121,7 +121,7 @@ class Scenario:
         return scenario_mechanism
 
     def to_dict(self) -> dict:
-        record = {"name": self.name}
+        record: dict[str, Any] = {"name": self.name}
         if self.payloads:
             record["payloads"] = [p.to_dict() for p in self.payloads]
         if self.mass_scale is not None:
@@ -136,12 +136,13 @@ class Scenario:
         return f"Scenario({self.name!r}, payload {self.payload_mass:g} kg)"
 
 
-def payload_scenarios(body: str, masses: Sequence[float], point=(0.0, 0.0, 0.0)) -> list[Scenario]:
+def payload_scenarios(body: str, masses: Sequence[float],
+                      point: Sequence[float] = (0.0, 0.0, 0.0)) -> list[Scenario]:
     """One scenario per payload mass [kg] at ``point`` [m] of ``body``, named ``"<m> kg"``."""
     masses = [float(m) for m in masses]
     if not masses:
         raise InputError("payload_scenarios needs at least one mass")
-    return [Scenario(f"{m:g} kg", [Payload(body, m, point)] if m > 0 else []) for m in masses]
+    return [Scenario(f"{m:g} kg", [Payload(body, m, tuple(point))] if m > 0 else []) for m in masses]
 
 
 class ScenarioWorkspace(Workspace):
@@ -172,18 +173,19 @@ class ScenarioWorkspace(Workspace):
         """The stacked kinematics of every scenario's samples (computed once)."""
         if self._kinematics is None:
             self._kinematics = StackedKinematics(self, self.base.kinematics(), self.mechanisms)
+        assert isinstance(self._kinematics, StackedKinematics)   # the only kinematics this workspace makes
         return self._kinematics
 
 
-def check_scenarios(mechanism: Mechanism, scenarios) -> list[Scenario]:
+def check_scenarios(mechanism: Mechanism, scenarios: Iterable[Scenario | dict]) -> list[Scenario]:
     """Validated list of scenarios (bodies exist, names unique)."""
-    scenarios = [s if isinstance(s, Scenario) else Scenario.from_dict(s) for s in scenarios]
-    if not scenarios:
+    checked = [s if isinstance(s, Scenario) else Scenario.from_dict(s) for s in scenarios]
+    if not checked:
         raise InputError("scenarios: give at least one scenario")
-    names = [s.name for s in scenarios]
+    names = [s.name for s in checked]
     if len(set(names)) != len(names):
         raise InputError(f"scenario names must be unique, got {', '.join(names)}")
-    for scenario in scenarios:
+    for scenario in checked:
         for payload in scenario.payloads:
             if payload.body not in mechanism.body_names:
                 raise InputError(f"scenario {scenario.name!r}: unknown payload body {payload.body!r}; "
@@ -193,4 +195,4 @@ def check_scenarios(mechanism: Mechanism, scenarios) -> list[Scenario]:
                 if body not in mechanism.body_names:
                     raise InputError(f"scenario {scenario.name!r}: unknown mass_scale body {body!r}; "
                                      f"bodies: {', '.join(mechanism.body_names)}")
-    return scenarios
+    return checked

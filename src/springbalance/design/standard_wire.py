@@ -13,11 +13,11 @@ reports what the rounding cost: the objective before and after, and each spring'
 from __future__ import annotations
 
 import dataclasses
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from springbalance.design.solvers import Solution, solve_problem
+from springbalance.design.solvers import Solution, StartRecord, solve_problem
 from springbalance.errors import SolverError
 from springbalance.springs.params import Free
 from springbalance.springs.sizing import PREFERRED_WIRE_DIAMETERS
@@ -73,7 +73,7 @@ def standard_neighbours(diameter: float, lower: float, upper: float) -> list[flo
     return sorted({float(value) for value in ([below.max()] if below.size else []) + ([above.min()] if above.size else [])})
 
 
-def round_wires(problem: DesignProblem, solution: Solution, **solve_options) -> tuple[Solution, WireRounding]:
+def round_wires(problem: DesignProblem, solution: Solution, **solve_options: Any) -> tuple[Solution, WireRounding]:
     """Fix every coil's wire to a standard size and re-optimise the rest (see the module docstring).
 
     Returns the solution of ``problem`` with the standard wires (the wire variables at their
@@ -111,7 +111,9 @@ def round_wires(problem: DesignProblem, solution: Solution, **solve_options) -> 
     return best_solution, rounding
 
 
-def _best_candidate(problem, x, multipliers, fixed, name, candidates, solve_options):
+def _best_candidate(problem: DesignProblem, x: np.ndarray, multipliers: np.ndarray | None, fixed: dict[str, float],
+                    name: str, candidates: list[float],
+                    solve_options: dict[str, Any]) -> tuple[float, float, np.ndarray, StartRecord] | None:
     """``(objective, candidate, design, record)`` of the best feasible re-solve with wire ``name`` at one
     of ``candidates`` (and the wires of ``fixed`` held), or None. The candidates are starts of one solve
     of the same problem (at once on the pool's workers), each warm from ``x`` and ``multipliers``."""
@@ -127,7 +129,7 @@ def _best_candidate(problem, x, multipliers, fixed, name, candidates, solve_opti
                               fixed=[*fixed, name], **solve_options)
     except SolverError:
         return None
-    best = None
+    best: tuple[float, float, np.ndarray, StartRecord] | None = None
     for record in found.starts:
         if not record.feasible:
             continue

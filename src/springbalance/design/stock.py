@@ -32,6 +32,7 @@ import math
 from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 
 from springbalance.errors import InputError
 from springbalance.design.problem import DesignProblem
@@ -133,7 +134,7 @@ def part_spring(part: StockPart, spring: Spring) -> Spring:
     so does its envelope (``max_outer_diameter``).
     """
     kind = stock_kind(spring)
-    if kind is None:
+    if kind is None or not isinstance(spring, TwoPointSpring):   # (a stock kind is a two-point spring's)
         raise InputError(f"spring {spring.name!r} ({spring.kind}) cannot be a catalogue part; only extension and "
                          "compression springs can")
     if part.kind != kind:
@@ -153,7 +154,7 @@ def part_spring(part: StockPart, spring: Spring) -> Spring:
                                     guided=bool(getattr(spring, "guided", False)), **coil)
 
 
-def part_distance(part: StockPart, lengths, forces) -> float:
+def part_distance(part: StockPart, lengths: npt.ArrayLike, forces: npt.ArrayLike) -> float:
     r"""How far ``part`` is from a designed spring that has ``lengths`` [m] and tensions ``forces``
     [N] (negative: pushing) at the workspace samples; dimensionless, 0 for the same spring.
 
@@ -300,7 +301,7 @@ class StockSelection:
                 "choices": [choice.to_dict() for choice in self.choices], "notes": list(self.notes)}
 
 
-def warm_started(problem: DesignProblem, x) -> list[Spring]:
+def warm_started(problem: DesignProblem, x: np.ndarray) -> list[Spring]:
     """The problem's springs with every free variable's ``init`` at its value in design ``x``
     (the first scenario's value for a per-scenario variable): the same bounds, a warm start."""
     base = problem.model.scenario_vector(x, 0)

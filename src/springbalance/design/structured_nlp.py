@@ -46,7 +46,7 @@ the set depend on (all of them for ``rms``, a few hundred for ``peak``).
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Callable
 
 import casadi as ca
 import numpy as np
@@ -103,10 +103,13 @@ class StructuredNlp:
         if not _linear_in(both, design):
             raise NotStructured("the NLP depends nonlinearly on the design variables other than through the samples")
         self.n_rows = int(nlp.rows.numel())
-        self.extra_start = None
+        self.extra_start: Callable[[np.ndarray], np.ndarray] | None = None
         if nlp.size > n_x:
-            def extra_start(z):
-                return nlp.extra_start(problem.evaluate(problem.scale(z)).tau * problem.weights)
+            starts = nlp.extra_start
+            assert starts is not None   # an NLP with extra (epigraph) variables has their start
+
+            def extra_start(z: np.ndarray) -> np.ndarray:
+                return starts(problem.evaluate(problem.scale(z)).tau * problem.weights)
             self.extra_start = extra_start
         # the first sample each row depends on (n_samples for rows of no sample: linear, or of the extras only)
         rows_of, columns_of = ca.jacobian(nlp.rows, self._outputs).sparsity().get_triplet()
@@ -134,13 +137,15 @@ class StructuredNlp:
         x = ca.MX.sym("x", nlp.size)
         self._all_rows = ca.Function("all_rows", [x], [self._oracle(x, np.arange(self.n_samples), nlp.rows)[1]])
 
-    def _oracle(self, x, samples, rows):
+    def _oracle(self, x: ca.MX, samples: np.ndarray, rows: ca.MX) -> tuple[ca.MX, ca.MX]:
         """``(f, g)`` at ``x`` with the per-sample outputs of ``samples`` only (the others are not needed)."""
         outputs = self._sample_outputs.map("outputs", "serial", samples.size, [0], [])(
             x[: self.n_design], ca.MX(ca.DM(self._data[:, samples])))
-        return ca.Function("phi", [self._outputs, self.nlp.z], [self.nlp.cost, rows])(self._scatter(samples) @ ca.vec(outputs), x)
+        phi = ca.Function("phi", [self._outputs, self.nlp.z], [self.nlp.cost, rows])
+        # casadi's stubs type a call as one MX; a function of two outputs returns the tuple of both
+        return phi(self._scatter(samples) @ ca.vec(outputs), x)  # type: ignore[return-value]
 
-    def _scatter(self, samples) -> ca.DM:
+    def _scatter(self, samples: np.ndarray) -> ca.DM:
         """The sparse 0/1 matrix that places the outputs of ``samples`` in vec(Y) (zeros elsewhere)."""
         m = self.n_outputs
         positions = (samples[:, None] * m + np.arange(m)[None, :]).reshape(-1)
@@ -284,6 +289,7 @@ class StructuredNlp:
             added = violated.copy()
             added[_closest(values, active | violated, keep // 2)] = True
             active |= added
+        assert multipliers is not None   # every round sets them (MAX_ROUNDS ≥ 1)
         return x, status, iterations, multipliers[1]
 
 

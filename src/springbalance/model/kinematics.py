@@ -129,8 +129,11 @@ class WorkspaceKinematics:
             self._bodies[name] = BodyKinematics(translations[slot], rotations[slot], jacobians[slot])
 
 
-class StackedKinematics:
+class StackedKinematics(WorkspaceKinematics):
     """The kinematics of a workspace repeated once per scenario (see :mod:`springbalance.design.scenarios`).
+
+    A :class:`WorkspaceKinematics` of the stacked workspace (the same attributes and methods); it computes
+    its own arrays from ``base`` (it does not run the base class's constructor).
 
     Block ``s`` (rows ``s·N … (s+1)·N - 1``) holds the gravity torque and potential of
     ``mechanisms[s]`` (same joints and bodies, other masses); body placements and Jacobians
@@ -153,6 +156,7 @@ class StackedKinematics:
         self._bodies: dict[str, BodyKinematics] = {}
 
     def body(self, name: str) -> BodyKinematics:
+        """Kinematics of body ``name``: the base workspace's, repeated per scenario (computed on first request)."""
         if name not in self._bodies:
             single = self.base.body(name)
             repeat = (self.n_blocks,) + (1,) * (single.translation.ndim - 1)

@@ -20,15 +20,22 @@ from springbalance.model.workspace import Workspace
 
 
 class _Problem(Protocol):
-    mechanism: Mechanism
-    workspace: Workspace
+    @property
+    def mechanism(self) -> Mechanism:
+        """The arm."""
+
+    @property
+    def workspace(self) -> Workspace:
+        """The design's workspace samples."""
 
 
 class Designed(Protocol):
     """A design on its problem (a design result): what the sweeps read is ``problem.mechanism`` and
-    ``problem.workspace``."""
+    ``problem.workspace`` (read-only)."""
 
-    problem: _Problem
+    @property
+    def problem(self) -> _Problem:
+        """The design problem."""
 
 
 def workspace_ranges(result: Designed) -> tuple[np.ndarray, np.ndarray]:

@@ -5,14 +5,14 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from typing import Any, Iterable, Sequence
+from typing import Iterable, Protocol, Sequence, runtime_checkable
 
 import numpy as np
 
 from springbalance.design.exact.chain import PlanarChain, as_chain
 from springbalance.errors import InputError
 from springbalance.model.mechanism import Mechanism
-from springbalance.springs.laws import ZeroFreeLengthSpring
+from springbalance.springs.laws import Spring, ZeroFreeLengthSpring
 from springbalance.springs.params import Free
 
 
@@ -49,22 +49,43 @@ class BalanceBlocks:
         return self.relative <= 1e-9
 
 
+class _OnMechanism(Protocol):
+    @property
+    def mechanism(self) -> Mechanism:
+        """The arm."""
+
+
+@runtime_checkable
+class _FixedDesign(Protocol):
+    """A design on its problem (a :class:`~springbalance.design.evaluated.EvaluatedDesign`): its springs at
+    the design's values and its problem's mechanism."""
+
+    @property
+    def problem(self) -> _OnMechanism:
+        """The design problem."""
+
+    def fixed_springs(self) -> list[Spring]:
+        """The springs with every free parameter and anchor fixed at the design's values."""
+
+
 def _pair_blocks(chain: PlanarChain, matrix: np.ndarray) -> dict[tuple[str, str], complex]:
     return {(chain.bodies[i], chain.bodies[j]): complex(matrix[i, j])
             for i in range(chain.size) for j in range(i + 1, chain.size)}
 
 
-def residual_blocks(target: PlanarChain | Mechanism | None, springs: Iterable[ZeroFreeLengthSpring] | Any) -> BalanceBlocks:
+def residual_blocks(target: PlanarChain | Mechanism | None, springs: Iterable[Spring] | _FixedDesign) -> BalanceBlocks:
     """Off-diagonal stiffness blocks [N·m] of a design with zero-free-length springs.
 
     ``target``: a :class:`PlanarChain` or a planar :class:`~springbalance.model.mechanism.Mechanism`;
     ``springs``: :class:`~springbalance.springs.laws.ZeroFreeLengthSpring` objects with fixed anchors
     and stiffness, or a :class:`~springbalance.results.result.DesignResult` (its springs at the design's values).
     """
-    if hasattr(springs, "fixed_springs"):
+    if isinstance(springs, _FixedDesign):
         if target is None:
             target = springs.problem.mechanism
         springs = springs.fixed_springs()
+    if target is None:
+        raise InputError("residual_blocks: give the chain or mechanism (target) with a list of springs")
     chain = as_chain(target)
     entries = []
     for spring in springs:

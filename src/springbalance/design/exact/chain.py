@@ -7,6 +7,7 @@ import dataclasses
 from typing import Sequence
 
 import numpy as np
+import numpy.typing as npt
 import pinocchio as pin
 
 from springbalance.errors import InputError
@@ -92,7 +93,7 @@ class PlanarChain:
         pin.framesForwardKinematics(model, data, self.mechanism.configurations(np.zeros((1, self.mechanism.nv)))[0])
         return data.oMf[self.mechanism.frame_id(body)]
 
-    def to_plane(self, body: str, point) -> complex:
+    def to_plane(self, body: str, point: npt.ArrayLike) -> complex:
         """Plane coordinate ``z`` [m] of the body-frame point ``point`` relative to the body's joint."""
         placement = self._frame(body)
         world = placement.act(np.asarray(point, dtype=float))

@@ -129,7 +129,7 @@ def _anchor_solutions(chain: PlanarChain, entries: list[tuple], scale: float, st
     pairs = [(i, j) for i in range(chain.size) for j in range(i + 1, chain.size)]
     rows = np.array([i for i, _ in pairs]), np.array([j for _, j in pairs])
 
-    def residual(coordinates):
+    def residual(coordinates: np.ndarray) -> np.ndarray:
         z = coordinates[0::2] + 1j * coordinates[1::2]
         springs = [(a, b, z[2 * s], z[2 * s + 1], k) for s, (_, _, a, b, k) in enumerate(entries)]
         values = chain.blocks(springs)[rows] / scale
