@@ -47,12 +47,12 @@ import time
 import casadi as ca
 import numpy as np
 from scipy.optimize import least_squares
+from threadpoolctl import threadpool_limits
 
 import springbalance as sb
 from springbalance.design.solvers import start_points
 from springbalance.design.solvers.multistart import _MultiStartSolver
 from springbalance.design.torque_model import BlockEvaluator, compiled
-from threadpoolctl import threadpool_limits
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--samples", type=int, default=4096)

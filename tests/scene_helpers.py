@@ -15,9 +15,8 @@ and its animation clips, Chromium (or a skip), and the "crossing" spring that li
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import colorsys
+from pathlib import Path
 
 import numpy as np
 import pinocchio as pin

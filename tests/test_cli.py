@@ -10,9 +10,9 @@ from pathlib import Path
 import pytest
 import yaml
 
+from config_helpers import SHOULDER_SPRING, edited_record
 from springbalance.cli import build_parser, main
 from springbalance.results.result import FORMAT
-from config_helpers import SHOULDER_SPRING, edited_record
 
 ROOT = Path(__file__).resolve().parents[1]
 URDF = ROOT / "urdf" / "two_link_planar.urdf"

@@ -76,7 +76,7 @@ def test_ctrl_c_stops_cleanly_and_partial_saves_the_best_so_far(tmp_path, partia
     assert match, lines[0]
     finished = int(match.group(1))
     assert 1 <= finished < 100000
-    assert f"starts 0 (" in lines[0] and "best objective" in lines[0]   # the finished starts, and the best
+    assert "starts 0 (" in lines[0] and "best objective" in lines[0]   # the finished starts, and the best
     if partial:
         assert out.exists() and "saved to" in lines[0]
         result = DesignResult.load(out)

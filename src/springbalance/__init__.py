@@ -24,8 +24,8 @@ from springbalance.errors import ConfigError, InputError, SolverError, SpringBal
 if TYPE_CHECKING:  # the real imports, for type checkers and IDEs
     from springbalance.design import exact
     from springbalance.design.clearance import Clearance
-    from springbalance.design.objectives import OBJECTIVES
     from springbalance.design.evaluated import EvaluatedDesign
+    from springbalance.design.objectives import OBJECTIVES
     from springbalance.design.problem import DesignProblem, Evaluation
     from springbalance.design.scenarios import Payload, Scenario, payload_scenarios
     from springbalance.model.mechanism import GROUND, Joint, Mechanism
@@ -35,8 +35,16 @@ if TYPE_CHECKING:  # the real imports, for type checkers and IDEs
     from springbalance.results.payload import PayloadRange, PayloadSweep, residual_vs_payload
     from springbalance.results.result import DesignResult
     from springbalance.springs import constraints
-    from springbalance.springs.laws import (CompressionSpring, ConstantForceSpring, ExtensionSpring, GasSpring, Spring,
-                                            TorsionalSpring, TwoPointSpring, ZeroFreeLengthSpring)
+    from springbalance.springs.laws import (
+        CompressionSpring,
+        ConstantForceSpring,
+        ExtensionSpring,
+        GasSpring,
+        Spring,
+        TorsionalSpring,
+        TwoPointSpring,
+        ZeroFreeLengthSpring,
+    )
     from springbalance.springs.laws.helical_compression import HelicalCompressionSpring
     from springbalance.springs.laws.helical_extension import HelicalExtensionSpring
     from springbalance.springs.mass import CoilMass

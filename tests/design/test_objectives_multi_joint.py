@@ -5,7 +5,8 @@ import pytest
 
 import springbalance as sb
 from springbalance.design.objectives import JointPeaks, Peak, PeakThenJoints
-from springbalance.design.problem_inputs import JOINT_LIMIT_FLOOR, joint_limits as _joint_limits
+from springbalance.design.problem_inputs import JOINT_LIMIT_FLOOR
+from springbalance.design.problem_inputs import joint_limits as _joint_limits
 
 URDF = "urdf/two_link_planar.urdf"
 TOLERANCE = 1e-6  # relative

@@ -13,8 +13,8 @@ import yaml
 import springbalance as sb
 from springbalance.cli import main
 from springbalance.design.stock import StockPart, part_distance, part_spring, warm_started
-from springbalance.pipeline.stock import select_stock
 from springbalance.io.catalogue import read_catalogue
+from springbalance.pipeline.stock import select_stock
 
 ROOT = Path(__file__).resolve().parents[2]
 URDF = ROOT / "urdf" / "single_link_r1.urdf"

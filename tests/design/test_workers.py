@@ -10,12 +10,11 @@ import pytest
 import yaml
 
 import springbalance as sb
+from config_helpers import SHOULDER_SPRING
 from springbalance.cli import main
 from springbalance.design import solvers
-from springbalance.design.solvers import multistart, pool
-from springbalance.design.solvers import solve_problem
+from springbalance.design.solvers import multistart, pool, solve_problem
 from springbalance.io.config import config_from_dict
-from config_helpers import SHOULDER_SPRING
 
 ROOT = Path(__file__).resolve().parents[2]
 pytestmark = pytest.mark.skipif(sys.platform == "darwin" or "fork" not in multiprocessing.get_all_start_methods(),

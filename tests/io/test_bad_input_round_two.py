@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import json
 import os
-import resource
 import subprocess
 import sys
 import textwrap
@@ -21,6 +20,7 @@ import pinocchio as pin
 import pytest
 import yaml
 
+from config_helpers import SHOULDER_SPRING, edited_record
 from springbalance.cli import main
 from springbalance.errors import InputError
 from springbalance.io import config as config_io
@@ -29,7 +29,6 @@ from springbalance.model import budget
 from springbalance.model.mechanism import Mechanism
 from springbalance.model.robots import available_robots
 from springbalance.model.workspace import Workspace
-from config_helpers import SHOULDER_SPRING, edited_record
 
 ROOT = Path(__file__).resolve().parents[2]
 URDF = ROOT / "urdf" / "two_link_planar.urdf"

@@ -10,11 +10,10 @@ import numpy as np
 import pytest
 import yaml
 
-from springbalance import ConfigError, InputError
-from springbalance.io.config import (WORKSPACE_KEYS, config_from_dict, load_config, load_workspace,
-                                  workspace_from_dict)
-from springbalance.model.mechanism import Mechanism
 from config_helpers import SHOULDER_SPRING, edited_record
+from springbalance import ConfigError, InputError
+from springbalance.io.config import WORKSPACE_KEYS, config_from_dict, load_config, load_workspace, workspace_from_dict
+from springbalance.model.mechanism import Mechanism
 
 ROOT = Path(__file__).resolve().parents[2]
 URDF = ROOT / "urdf" / "two_link_planar.urdf"

@@ -14,20 +14,20 @@ import json
 from pathlib import Path
 
 import mujoco
-from mujoco_helpers import mujoco_holding_torque, random_inside
 import numpy as np
 import pinocchio as pin
 import pytest
 import yourdfpy
 
 import springbalance as sb
-from springbalance.model import robots
+from mujoco_helpers import mujoco_holding_torque, random_inside
 from springbalance.cli import main
-from springbalance.io.config import load_config
+from springbalance.design.problem import DesignProblem
 from springbalance.export.common import anchor_link_name
 from springbalance.export.urdf import sidecar_path
+from springbalance.io.config import load_config
 from springbalance.io.urdf import springs_from_urdf
-from springbalance.design.problem import DesignProblem
+from springbalance.model import robots
 from springbalance.results.result import DesignResult
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -23,8 +23,8 @@ from pathlib import Path
 import pytest
 import yaml
 
-from springbalance.cli import main
 from config_helpers import SHOULDER_SPRING
+from springbalance.cli import main
 
 ROOT = Path(__file__).resolve().parents[2]
 URDF = ROOT / "urdf" / "two_link_planar.urdf"
@@ -167,7 +167,7 @@ def run(argv, capsys) -> tuple[int | None, str]:
         code = main(argv)
     except SystemExit as stop:   # argparse's usage errors
         code = stop.code
-    except BaseException as error:  # noqa: BLE001 (what would reach the user as a traceback)
+    except BaseException as error:
         capsys.readouterr()
         return None, f"{type(error).__name__}: {error}"
     captured = capsys.readouterr()

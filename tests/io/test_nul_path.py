@@ -8,11 +8,11 @@ from pathlib import Path
 
 import pytest
 
+from config_helpers import SHOULDER_SPRING
 from springbalance import ConfigError, InputError
 from springbalance.cli import main
 from springbalance.io.config import config_from_dict
 from springbalance.model.mechanism import Mechanism
-from config_helpers import SHOULDER_SPRING
 
 NUL_URDF = "a\x00b.urdf"
 

@@ -9,9 +9,9 @@ import pinocchio as pin
 import pytest
 
 import springbalance as sb
+from scene_helpers import URDF, two_link_design
 from springbalance.model import sweeps
 from springbalance.results import plots
-from scene_helpers import URDF, two_link_design
 
 
 @pytest.fixture(scope="module")

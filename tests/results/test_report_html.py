@@ -10,9 +10,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from scene_helpers import two_link_design
 from springbalance.cli import main
 from springbalance.results import html_report
-from scene_helpers import two_link_design
 
 
 @pytest.fixture(scope="module")

@@ -23,13 +23,12 @@ import pinocchio as pin
 import pytest
 
 import springbalance as sb
+from mujoco_helpers import mujoco_holding_torque, random_inside
+from physics_helpers import ReferencePotential
 from springbalance.cli import main
 from springbalance.design.problem import DesignProblem
 from springbalance.results.result import DesignResult
 from springbalance.springs.routing import path_length
-
-from mujoco_helpers import mujoco_holding_torque, random_inside
-from physics_helpers import ReferencePotential
 
 ROOT = Path(__file__).resolve().parents[2]
 R2 = ROOT / "urdf" / "single_link_r2.urdf"
@@ -317,6 +316,7 @@ def test_example_config_designs_saves_reports_and_draws(tmp_path, capsys):
     import meshcat
     import umsgpack
     from meshcat.servers.tree import walk
+
     from springbalance.viz.recorder import SceneRecorder
     from springbalance.viz.scene import ROOT as SCENE_ROOT
 

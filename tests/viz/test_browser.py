@@ -6,11 +6,19 @@ import colorsys
 
 import pytest
 
+from scene_helpers import (
+    COLLISION_URDF,
+    LINK1_RGB,
+    MARGIN,
+    crossing_spring,
+    elbow_path,
+    fixed_design,
+    meshcat,
+    require_chromium,
+)
 from springbalance.viz import browser, colors
 from springbalance.viz import scene as viz
 from springbalance.viz.recorder import SceneRecorder
-from scene_helpers import (COLLISION_URDF, LINK1_RGB, MARGIN, crossing_spring, elbow_path, fixed_design, meshcat,
-                           require_chromium)
 
 pytestmark = pytest.mark.slow   # every test here opens headless Chromium
 

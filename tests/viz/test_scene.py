@@ -11,11 +11,24 @@ import pytest
 import umsgpack
 
 import springbalance as sb
+from scene_helpers import (
+    COLLISION_URDF,
+    LINK1_RGB,
+    URDF,
+    animation_clips,
+    crossing_spring,
+    elbow_path,
+    fixed_design,
+    model_end_points,
+    record_scene,
+    recorded_scene,
+    two_link_design,
+    ur5_design,
+    walk,
+)
 from springbalance.model import sweeps
 from springbalance.viz import arm
 from springbalance.viz import scene as viz
-from scene_helpers import (COLLISION_URDF, LINK1_RGB, URDF, animation_clips, crossing_spring, elbow_path, fixed_design,
-                           model_end_points, record_scene, recorded_scene, two_link_design, ur5_design, walk)
 
 
 # ---------------------------------------------------------------------- must hold 3: ends = model ends

@@ -9,11 +9,26 @@ import pytest
 import umsgpack
 
 import springbalance as sb
+from scene_helpers import (
+    CAPSULE_RADIUS,
+    COLLISION_URDF,
+    CROSSING_P,
+    CROSSING_S,
+    ELBOW,
+    LINK1_RGB,
+    LINK2_HALF_WIDTH,
+    LINK2_LENGTH,
+    MARGIN,
+    URDF,
+    animation_clips,
+    crossing_spring,
+    elbow_path,
+    fixed_design,
+    hue_distance,
+    record_scene,
+)
 from springbalance.viz import browser, colors
 from springbalance.viz import scene as viz
-from scene_helpers import (CAPSULE_RADIUS, COLLISION_URDF, CROSSING_P, CROSSING_S, ELBOW, LINK1_RGB, LINK2_HALF_WIDTH,
-                           LINK2_LENGTH, MARGIN, URDF, animation_clips, crossing_spring, elbow_path, fixed_design,
-                           hue_distance, record_scene)
 
 # the crossing spring on urdf/two_link_planar_collision.urdf: see scene_helpers (COLLISION_URDF)
 

@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 
 import springbalance as sb
+from scene_helpers import two_link_design
 from springbalance.errors import SpringBalanceError
 from springbalance.viz import meshcat_import
 from springbalance.viz import scene as viz
-from scene_helpers import two_link_design
 
 VIZ_MODULES = ("arm", "browser", "camera", "colors", "design_scene", "helix", "live", "meshcat_glue",
                "meshcat_import", "recorder", "regions", "scene", "server", "tracks")

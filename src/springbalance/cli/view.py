@@ -11,8 +11,8 @@ from springbalance.cli.formatting import PROG
 from springbalance.cli.inputs import check_scene_budget
 from springbalance.errors import SpringBalanceError
 from springbalance.results.result import DesignResult
-from springbalance.viz.live import MeshcatServer
 from springbalance.viz.design_scene import DesignScene
+from springbalance.viz.live import MeshcatServer
 
 
 def add_parser(commands: argparse._SubParsersAction, common: argparse.ArgumentParser) -> None:

@@ -224,7 +224,7 @@ def block_kernel_code(function: ca.Function, name: str | None = None, lanes: int
     return "\n".join(lines)
 
 
-def _compile_kernel(function: ca.Function) -> "_BlockKernel | None":
+def _compile_kernel(function: ca.Function) -> _BlockKernel | None:
     """The block kernel of ``function``, compiled or loaded from the disk cache
     (:func:`~springbalance.design.compile_cache.load_or_build`); None when there is none (an operation
     it lacks, no compiler, a compiler without vector extensions)."""
@@ -238,7 +238,7 @@ def _compile_kernel(function: ca.Function) -> "_BlockKernel | None":
         return None
 
 
-def _load_kernel(function: ca.Function, library: str) -> "_BlockKernel | None":
+def _load_kernel(function: ca.Function, library: str) -> _BlockKernel | None:
     try:
         return _BlockKernel(getattr(ctypes.CDLL(library), function.name() + _KERNEL_SUFFIX), function)
     except (OSError, AttributeError):   # not a usable library, or no kernel in it (no vector extensions)
@@ -281,7 +281,7 @@ def block_kernel(function: ca.Function, n_samples: int | None = None) -> _BlockK
     if kernel is False:
         kernel = _compile_kernel(source)
         try:
-            setattr(function, "_springbalance_kernel", kernel)
+            setattr(function, "_springbalance_kernel", kernel)  # noqa: B010  (casadi.Function declares no such attribute)
         except AttributeError:
             pass
     return kernel

@@ -107,7 +107,7 @@ class Clearance:
         return {key: value for key, value in dataclasses.asdict(self).items() if value is not None}
 
     @classmethod
-    def from_dict(cls, record: Any, where: str = "clearance") -> "Clearance":
+    def from_dict(cls, record: Any, where: str = "clearance") -> Clearance:
         if not isinstance(record, dict):
             raise InputError(f"{where}: expected a mapping {{margin, check_samples, ...}}, got {record!r}")
         valid = [field.name for field in dataclasses.fields(cls)]
@@ -158,7 +158,7 @@ class FitRecord:
         return {**dataclasses.asdict(self), "cost_percent": self.cost_percent}
 
     @classmethod
-    def from_dict(cls, record: Any) -> "FitRecord | None":
+    def from_dict(cls, record: Any) -> FitRecord | None:
         """The record a saved design carries (None when it has none or it is damaged)."""
         if not isinstance(record, dict):
             return None

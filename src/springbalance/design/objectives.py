@@ -51,7 +51,7 @@ class Objective(abc.ABC):
     slack: float = 0.0
 
     @property
-    def first_phase(self) -> "Objective | None":
+    def first_phase(self) -> Objective | None:
         """The objective minimised first when this one is lexicographic, else None."""
         return None
 
@@ -107,7 +107,9 @@ class Peak(Objective):
         t = ca.MX.sym("peak")
         scaled = ca.vec(weighted_tau) / torque_scale
         rows = ca.vertcat(t - scaled, t + scaled)
-        start = lambda tau: np.array([np.max(np.abs(tau)) / torque_scale])
+        def start(tau: np.ndarray) -> np.ndarray:
+            return np.array([np.max(np.abs(tau)) / torque_scale])
+
         return NlpPieces(t, np.array([0.0]), np.array([np.inf]), start, t, rows)
 
 
@@ -156,7 +158,9 @@ class PathEnergy(Objective):
         rows = ca.vertcat(s - scaled, s + scaled)
         weights = steps.reshape(-1, order="F")
         scale = max(float(np.sum(weights)), 1e-12)
-        start = lambda tau: np.abs(tau[:-1]).reshape(-1) / torque_scale
+        def start(tau: np.ndarray) -> np.ndarray:
+            return np.abs(tau[:-1]).reshape(-1) / torque_scale
+
         return NlpPieces(s, np.zeros(s.numel()), np.full(s.numel(), np.inf), start,
                          ca.dot(ca.DM(weights), s) / scale, rows)
 
@@ -181,7 +185,9 @@ class JointPeaks(Objective):
         scaled = weighted_tau / torque_scale                     # nv×N
         bound = ca.repmat(t, 1, n)
         rows = ca.vertcat(ca.vec(bound - scaled), ca.vec(bound + scaled))
-        start = lambda tau: np.max(np.abs(tau), axis=0) / torque_scale
+        def start(tau: np.ndarray) -> np.ndarray:
+            return np.max(np.abs(tau), axis=0) / torque_scale
+
         return NlpPieces(t, np.zeros(nv), np.full(nv, np.inf), start, ca.sum1(t), rows)
 
 

@@ -339,7 +339,7 @@ class DesignProblem:
         return records
 
     def scenario_problem(self, scenario: int, springs: Sequence[Spring] | None = None,
-                         objective: str | Objective | None = None) -> "DesignProblem":
+                         objective: str | Objective | None = None) -> DesignProblem:
         """A single-scenario problem: scenario ``scenario``'s mechanism on :attr:`base_workspace`.
 
         ``springs`` default to this problem's springs (with their free variables).
@@ -394,7 +394,7 @@ class DesignProblem:
                          "peak": float(np.max(np.abs(block))), "rms": float(np.sqrt(np.mean(block**2)))})
         return rows
 
-    def with_springs(self, springs: Sequence[Spring], **changes: Any) -> "DesignProblem":
+    def with_springs(self, springs: Sequence[Spring], **changes: Any) -> DesignProblem:
         """The same problem (mechanism, poses, objective, weights, scenarios) with other springs.
 
         ``changes`` override keyword arguments of :class:`DesignProblem` (``objective``,

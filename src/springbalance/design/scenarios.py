@@ -129,7 +129,7 @@ class Scenario:
         return record
 
     @classmethod
-    def from_dict(cls, record: dict) -> "Scenario":
+    def from_dict(cls, record: dict) -> Scenario:
         return cls(record["name"], [Payload(**p) for p in record.get("payloads", [])], record.get("mass_scale"))
 
     def __repr__(self) -> str:

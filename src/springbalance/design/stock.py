@@ -34,8 +34,8 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from springbalance.errors import InputError
 from springbalance.design.problem import DesignProblem
+from springbalance.errors import InputError
 from springbalance.springs.laws import Spring, TwoPointSpring
 from springbalance.springs.laws.helical_compression import HelicalCompressionSpring
 from springbalance.springs.laws.helical_extension import HelicalExtensionSpring

@@ -19,7 +19,6 @@ from __future__ import annotations
 import dataclasses
 from typing import Any, Sequence
 
-import numpy as np
 import pinocchio as pin
 
 from springbalance.design.mounts import body_bounds

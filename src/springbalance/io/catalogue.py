@@ -32,9 +32,9 @@ import math
 from pathlib import Path
 from typing import NoReturn
 
+from springbalance.design.stock import STOCK_KINDS, StockPart
 from springbalance.errors import InputError
 from springbalance.files import read_input_text
-from springbalance.design.stock import STOCK_KINDS, StockPart
 from springbalance.springs.sizing import MATERIALS, spring_rate
 
 __all__ = ["COLUMNS", "RATE_TOLERANCE", "StockPart", "read_catalogue"]

@@ -138,8 +138,6 @@ def hull(shape: coal.CollisionGeometry) -> coal.CollisionGeometry:
 
 def _convex(geometry: pin.GeometryModel) -> pin.GeometryModel:
     """A copy of ``geometry`` in which every mesh (BVH) is replaced by its convex hull."""
-    import coal
-
     hulls = pin.GeometryModel()
     for obj in geometry.geometryObjects:
         obj = obj.copy()

@@ -19,10 +19,10 @@ import numpy as np
 import numpy.typing as npt
 import pinocchio as pin
 
+from springbalance.errors import InputError
 from springbalance.model import robots, validation
 from springbalance.model.joints import Joint, degrees_of_freedom
 from springbalance.model.native import quiet_native_stderr
-from springbalance.errors import InputError
 
 GROUND = "universe"
 #: the largest magnitude of gravity [m/s²] taken (about 100 g): beyond it a number is a typo

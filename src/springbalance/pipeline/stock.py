@@ -10,8 +10,17 @@ import numpy as np
 
 from springbalance.design.objectives import Objective, ScenarioAggregate
 from springbalance.design.problem import DesignProblem
-from springbalance.design.stock import (CANDIDATES, StockChoice, StockPart, StockSelection, StockTrial, part_distance,
-                                        part_spring, stock_kind, warm_started)
+from springbalance.design.stock import (
+    CANDIDATES,
+    StockChoice,
+    StockPart,
+    StockSelection,
+    StockTrial,
+    part_distance,
+    part_spring,
+    stock_kind,
+    warm_started,
+)
 from springbalance.errors import InputError, SolverError
 from springbalance.pipeline.sequence import run_steps
 from springbalance.pipeline.state import SolveOptions

@@ -34,7 +34,7 @@ from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.design.problem import DesignProblem
 from springbalance.errors import InputError
 from springbalance.export.common import spring_name
-from springbalance.model.collision import DEFAULT_RADIUS, CollisionScene, capsule_radius, collision_geometry
+from springbalance.model.collision import CollisionScene, capsule_radius, collision_geometry
 from springbalance.model.workspace import Workspace
 
 

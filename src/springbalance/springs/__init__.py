@@ -6,9 +6,18 @@ A spring law is one module of :mod:`springbalance.springs.laws`; it registers it
 solver, the exports and the scenes find it.
 """
 
-from springbalance.springs.laws import (SPRING_TYPES, CompressionSpring, ConstantForceSpring, Contribution,
-                                        ExtensionSpring, GasSpring, Spring, TorsionalSpring, TwoPointSpring,
-                                        ZeroFreeLengthSpring)
+from springbalance.springs.laws import (
+                                        SPRING_TYPES,
+                                        CompressionSpring,
+                                        ConstantForceSpring,
+                                        Contribution,
+                                        ExtensionSpring,
+                                        GasSpring,
+                                        Spring,
+                                        TorsionalSpring,
+                                        TwoPointSpring,
+                                        ZeroFreeLengthSpring,
+)
 from springbalance.springs.laws.helical_compression import HelicalCompressionSpring
 from springbalance.springs.laws.helical_extension import HelicalExtensionSpring
 from springbalance.springs.mass import CoilMass, FixedMass

@@ -13,9 +13,8 @@ Bounds on stiffness and free length are variable bounds (:class:`~springbalance.
 
 from __future__ import annotations
 
-from typing import Any, Union
-
 import dataclasses
+from typing import Any, Union
 
 from springbalance.springs.helical_option import Helical
 from springbalance.springs.values import Parameters, ValueT

@@ -260,7 +260,7 @@ class Anchor:
         return f"Anchor({self.body!r}, {self.point!r}{'' if self.mount is None else f', on={self.mount!r}'})"
 
 
-def _plane_in_box(origin: np.ndarray, normal: np.ndarray, box: Free, where: str) -> "Plane":
+def _plane_in_box(origin: np.ndarray, normal: np.ndarray, box: Free, where: str) -> Plane:
     """The part of the plane through ``origin`` with ``normal`` inside ``box``, as a :class:`Plane` region.
 
     Exact for a normal along a box axis; otherwise the bounding rectangle (in the plane) of the

@@ -27,12 +27,29 @@ from typing import Sequence, cast
 import numpy as np
 
 from springbalance.errors import InputError
-from springbalance.springs.helical_formulas import (HOOK_SIDE_BEND_INDEX, MM, MPA, bergstrasser_factor, coil_mass,
-                                                    hook_bending_stress, hook_torsion_stress, initial_stress_band,
-                                                    shear_stress, spring_rate, wahl_factor)
+from springbalance.springs.helical_formulas import (
+    HOOK_SIDE_BEND_INDEX,
+    MM,
+    MPA,
+    bergstrasser_factor,
+    coil_mass,
+    hook_bending_stress,
+    hook_torsion_stress,
+    initial_stress_band,
+    shear_stress,
+    spring_rate,
+    wahl_factor,
+)
 from springbalance.springs.helical_option import HELICAL_OPTION, Helical, helical_from_dict
-from springbalance.springs.materials import (KINDS, MATERIALS, PREFERRED_WIRE_DIAMETERS, Material, StrengthRange,
-                                             material_named, spring_kind)
+from springbalance.springs.materials import (
+    KINDS,
+    MATERIALS,
+    PREFERRED_WIRE_DIAMETERS,
+    Material,
+    StrengthRange,
+    material_named,
+    spring_kind,
+)
 
 #: the names of the helical spring's other modules that this module re-exports (its former contents)
 __all__ = ["HELICAL_OPTION", "HOOK_SIDE_BEND_INDEX", "KINDS", "MATERIALS", "MM", "MPA", "PREFERRED_WIRE_DIAMETERS",

@@ -14,7 +14,6 @@ import html
 import numpy as np
 import numpy.typing as npt
 
-
 #: Tension colours, from no tension to the scale's limit (RGB in [0, 1]).
 TENSION_STOPS = ((0.0, (1.0, 0.85, 0.35)), (0.5, (0.96, 0.43, 0.16)), (1.0, (0.65, 0.0, 0.15)))
 #: Compression colours (a spring that pushes), from none to the scale's limit.

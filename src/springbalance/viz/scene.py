@@ -33,16 +33,18 @@ from springbalance.viz.camera import CAMERA_FILL, CAMERA_FOV, camera_distance
 from springbalance.viz.colors import CLEARANCE_COLOR, CLEARANCE_RGB, ColorScale
 from springbalance.viz.design_scene import ANCHOR_COLOR, CABLE_COLOR, CABLE_RADIUS, LABEL_SIZE, DesignScene
 from springbalance.viz.helix import HelixStyle, helix_centerline, helix_tube, placement, spring_rotation
+
+# the private names below are the old module's, kept importable from here for one release
 from springbalance.viz.live import LiveScene, local_server
 from springbalance.viz.meshcat_glue import LABEL_FONT_SIZE, ROOT, meshcat_classes
-from springbalance.viz.meshcat_glue import insert_before_body_end as _insert_before_body_end
+from springbalance.viz.meshcat_glue import insert_before_body_end as _insert_before_body_end  # noqa: F401 (old name)
 from springbalance.viz.meshcat_import import import_meshcat
 from springbalance.viz.recorder import SceneRecorder
-from springbalance.viz.regions import _BOX_EDGES, REGION_COLOR, REGION_OPACITY, RegionShape, _box_mesh
-from springbalance.viz.regions import region_corners as _region_corners
-from springbalance.viz.regions import region_geometry as _region_geometry
-from springbalance.viz.regions import region_points as _region_points
-from springbalance.viz.regions import spring_anchors as _anchors
+from springbalance.viz.regions import _BOX_EDGES, REGION_COLOR, REGION_OPACITY, RegionShape, _box_mesh  # noqa: F401
+from springbalance.viz.regions import region_corners as _region_corners  # noqa: F401 (old name)
+from springbalance.viz.regions import region_geometry as _region_geometry  # noqa: F401 (old name)
+from springbalance.viz.regions import region_points as _region_points  # noqa: F401 (old name)
+from springbalance.viz.regions import spring_anchors as _anchors  # noqa: F401 (old name)
 from springbalance.viz.tracks import SpringTrack
 
 __all__ = ["ANCHOR_COLOR", "CABLE_COLOR", "CABLE_RADIUS", "CAMERA_FILL", "CAMERA_FOV", "CLEARANCE_COLOR",

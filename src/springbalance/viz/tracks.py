@@ -23,6 +23,7 @@ from springbalance.model.mechanism import Mechanism
 from springbalance.springs.laws.spring import Spring
 from springbalance.viz.helix import HelixStyle, helix_centerline, helix_tube, placement, spring_rotation
 
+
 @dataclasses.dataclass
 class SpringTrack:
     """One spring along the path of poses.

@@ -48,8 +48,7 @@ from __future__ import annotations
 
 from springbalance.design.exact.blocks import BalanceBlocks, CountCheck, count_check, residual_blocks
 from springbalance.design.exact.chain import PlanarChain
-from springbalance.design.exact.synthesis import (EXACT_TOLERANCE, ExactBalanceUnreachable, ExactSynthesis,
-                                                   synthesize)
+from springbalance.design.exact.synthesis import EXACT_TOLERANCE, ExactBalanceUnreachable, ExactSynthesis, synthesize
 
 __all__ = ["EXACT_TOLERANCE", "BalanceBlocks", "CountCheck", "ExactBalanceUnreachable", "ExactSynthesis",
            "PlanarChain", "count_check", "residual_blocks", "synthesize"]

@@ -44,7 +44,7 @@ class PlanarChain:
         return len(self.bodies)
 
     @classmethod
-    def from_mechanism(cls, mechanism: Mechanism) -> "PlanarChain":
+    def from_mechanism(cls, mechanism: Mechanism) -> PlanarChain:
         """Read a planar serial chain from a mechanism.
 
         Needs revolute (or continuous) joints in series (each joint's parent is the previous
@@ -175,7 +175,7 @@ def _chain_bodies(model: pin.Model) -> tuple[list[str], dict[str, int]]:
     and the joint index of every body frame."""
     bodies = [GROUND]
     joint_of_frame = {GROUND: 0}
-    for frame_id, frame in enumerate(model.frames):
+    for frame in model.frames:
         if frame.type == pin.FrameType.BODY:
             joint_of_frame.setdefault(frame.name, int(frame.parentJoint))
     for j in range(1, model.njoints):

@@ -178,7 +178,7 @@ def _synthesized_springs(chain: PlanarChain, entries: list[tuple], x: np.ndarray
     """The fixed zero-free-length springs of the topology ``entries`` with the anchors ``x`` (plane coordinates)."""
     z = x[0::2] + 1j * x[1::2]
     springs = []
-    for s, (body_a, body_b, a, b, stiffness) in enumerate(entries):
+    for s, (body_a, body_b, _, _, stiffness) in enumerate(entries):
         springs.append(ZeroFreeLengthSpring(Anchor(body_a, chain.to_body(body_a, z[2 * s])),
                                             Anchor(body_b, chain.to_body(body_b, z[2 * s + 1])),
                                             name=f"zfl{s + 1}", stiffness=stiffness))

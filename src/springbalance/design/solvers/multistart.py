@@ -18,8 +18,14 @@ from springbalance.design.evaluation import Evaluation
 from springbalance.design.solvers.ipopt import IpoptStarts
 from springbalance.design.solvers.least_squares import LeastSquaresStarts
 from springbalance.design.solvers.pool import _pool_workers, _StartRunner, check_workers
-from springbalance.design.solvers.records import (EPIGRAPH_TOLERANCE, FEASIBILITY_TOLERANCE, METHODS, Problem,
-                                                  Solution, StartRecord)
+from springbalance.design.solvers.records import (
+    EPIGRAPH_TOLERANCE,
+    FEASIBILITY_TOLERANCE,
+    METHODS,
+    Problem,
+    Solution,
+    StartRecord,
+)
 from springbalance.design.solvers.starts import start_points
 from springbalance.errors import InputError, Interrupted, SolverError
 

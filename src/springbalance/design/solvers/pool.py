@@ -13,7 +13,7 @@ import contextvars
 import os
 import sys
 import time
-from typing import TYPE_CHECKING, Any, Callable, Iterable, Iterator, Protocol
+from typing import TYPE_CHECKING, Callable, Iterable, Iterator, Protocol
 
 import numpy as np
 
@@ -31,7 +31,7 @@ _WORKER_SOLVER: _Solver | None = None  # the solver a forked worker runs its sta
 _IN_WORKER = False
 
 if TYPE_CHECKING:
-    from concurrent.futures import ProcessPoolExecutor   # imported when the pool opens
+    from concurrent.futures import ProcessPoolExecutor  # imported when the pool opens
 
 #: one start for the runner: (index, z0, prepare, the NLP multipliers to go on from or None)
 StartTask = tuple[int, np.ndarray, bool, "np.ndarray | None"]

@@ -281,7 +281,7 @@ class TorqueModel:
         zero = ~np.any(np.asarray(values) != 0.0, axis=1)
         return ca.vertcat(*[ca.SX(0) if zero[i] else data[i] for i in range(data.numel())])
 
-    @functools.lru_cache(maxsize=8)
+    @functools.lru_cache(maxsize=8)  # noqa: B019  (a model lives as long as its problem; 8 maps at most)
     def mapped(self, n: int) -> ca.Function:
         """``sample`` evaluated on ``n`` data columns (serial map: a loop in C)."""
         return self.sample.map(n, "serial")

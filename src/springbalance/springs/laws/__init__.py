@@ -8,6 +8,8 @@ it through the registry. tests/springs/test_law_modules.py checks that no module
 left out.
 """
 
+# ruff: noqa: I001  (the imports' order is the registry's order: the laws register themselves when imported)
+
 from springbalance.springs.laws.base import SPRING_TYPES, Contribution, Spring, TwoPointSpring
 from springbalance.springs.laws.compression import CompressionSpring
 from springbalance.springs.laws.constant_force import ConstantForceSpring
@@ -16,7 +18,7 @@ from springbalance.springs.laws.gas import GasSpring
 from springbalance.springs.laws.torsional import TorsionalSpring
 from springbalance.springs.laws.zero_free_length import ZeroFreeLengthSpring
 # the other laws register themselves when their module is imported (after the ones above: the registry's order)
-from springbalance.springs.laws import coil, helical_compression, helical_extension, tabulated  # noqa: F401, I001
+from springbalance.springs.laws import coil, helical_compression, helical_extension, tabulated  # noqa: F401
 
 __all__ = ["SPRING_TYPES", "CompressionSpring", "ConstantForceSpring", "Contribution", "ExtensionSpring", "GasSpring",
            "Spring", "TorsionalSpring", "TwoPointSpring", "ZeroFreeLengthSpring"]

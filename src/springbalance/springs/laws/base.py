@@ -6,8 +6,15 @@ where they are defined.
 
 from __future__ import annotations
 
-from springbalance.springs.laws.spring import (SPRING_TYPES, Contribution, PositiveNumber, Spring, StretchRatio,
-                                               _checked_parameter, _positive_option)
+from springbalance.springs.laws.spring import (
+                                               SPRING_TYPES,
+                                               Contribution,
+                                               PositiveNumber,
+                                               Spring,
+                                               StretchRatio,
+                                               _checked_parameter,
+                                               _positive_option,
+)
 from springbalance.springs.laws.two_point import HelicalSpringMixin, TwoPointSpring
 
 __all__ = ["SPRING_TYPES", "Contribution", "HelicalSpringMixin", "PositiveNumber", "Spring", "StretchRatio",

@@ -18,11 +18,11 @@ import annotated_types
 import numpy as np
 
 from springbalance.errors import InputError
+from springbalance.springs.helical_formulas import bergstrasser_factor
 from springbalance.springs.laws.spring import PositiveNumber
 from springbalance.springs.laws.two_point import TwoPointSpring
-from springbalance.springs.params import Anchor, Free
-from springbalance.springs.helical_formulas import bergstrasser_factor
 from springbalance.springs.materials import material_named
+from springbalance.springs.params import Anchor, Free
 from springbalance.springs.values import Parameters, Value, ValueT
 
 MPA = 1e6

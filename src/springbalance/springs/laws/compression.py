@@ -8,11 +8,10 @@ import numpy as np
 
 from springbalance.errors import InputError
 from springbalance.springs import constraints as practical
+from springbalance.springs.helical_option import HELICAL_OPTION, Helical
 from springbalance.springs.laws.spring import PositiveNumber, _positive_option
 from springbalance.springs.laws.two_point import HelicalSpringMixin, TwoPointSpring
 from springbalance.springs.params import Anchor
-from springbalance.springs.helical_option import HELICAL_OPTION
-from springbalance.springs.helical_option import Helical
 from springbalance.springs.values import Parameters, ValueT
 
 

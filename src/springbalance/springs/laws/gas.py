@@ -5,9 +5,9 @@ from __future__ import annotations
 from typing import Any
 
 from springbalance.errors import InputError
+from springbalance.springs.laws.compression import CompressionSpring
 from springbalance.springs.laws.spring import PositiveNumber
 from springbalance.springs.laws.two_point import TwoPointSpring
-from springbalance.springs.laws.compression import CompressionSpring
 from springbalance.springs.params import Anchor
 
 

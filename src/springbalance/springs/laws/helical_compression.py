@@ -36,7 +36,7 @@ class CompressionCoilRules:
 
     name = "coil"
 
-    def __init__(self, spring: "HelicalCompressionSpring"):
+    def __init__(self, spring: HelicalCompressionSpring):
         self.spring = spring
         parts = [("stays_compressed", "m", 0.01)] if spring.stays_compressed else []
         parts += [("solid", "m", 0.01), ("body_stress", "1", 0.1)]

@@ -25,15 +25,14 @@ The rules of a buildable coil are constraints of the optimisation, at every work
 
 from __future__ import annotations
 
-from typing import Any, Mapping
-
 import math
+from typing import Any, Mapping
 
 import numpy as np
 
+from springbalance.springs.helical_formulas import hook_bending_stress, hook_torsion_stress, initial_stress_band
 from springbalance.springs.laws.coil import CHECK_TOLERANCE, MPA, HelicalCoilSpring
 from springbalance.springs.params import Anchor
-from springbalance.springs.helical_formulas import hook_bending_stress, hook_torsion_stress, initial_stress_band
 from springbalance.springs.values import Parameters, ValueT
 
 
@@ -43,7 +42,7 @@ class ExtensionCoilRules:
 
     name = "coil"
 
-    def __init__(self, spring: "HelicalExtensionSpring"):
+    def __init__(self, spring: HelicalExtensionSpring):
         self.spring = spring
         parts = [("tension", "m", 0.01)] if spring.keep_tension else []
         parts += [("body_stress", "1", 0.1), ("hook_bending", "1", 0.1), ("hook_torsion", "1", 0.1)]

@@ -54,7 +54,7 @@ class Sample(Protocol):
 
 #: spring ``type`` name in configs and saved designs -> class. Every subclass of :class:`Spring`
 #: that sets ``kind`` adds itself; :mod:`springbalance.springs.laws` imports every law module.
-SPRING_TYPES: dict[str, type["Spring"]] = {}
+SPRING_TYPES: dict[str, type[Spring]] = {}
 
 #: option types of the config schema: a finite number > 0, a ratio > 1.
 PositiveNumber = Annotated[float, annotated_types.Gt(0)]
