@@ -37,7 +37,7 @@ import time
 import numpy as np
 
 import springbalance as sb
-import springbalance.design.problem as problem_module
+import springbalance.pipeline.sequence as sequence
 from springbalance.design.solvers import FEASIBILITY_TOLERANCE
 from springbalance.springs.laws.helical_extension import HelicalExtensionSpring
 
@@ -48,30 +48,43 @@ parser.add_argument("--starts", type=int, default=4)
 parser.add_argument("--seed", type=int, default=0)
 args = parser.parse_args()
 
-PAIRS = [("universe", "upper_arm_link"), ("universe", "forearm_link"),
-         ("upper_arm_link", "forearm_link"), ("shoulder_link", "forearm_link")]
+PAIRS = [
+    ("universe", "upper_arm_link"),
+    ("universe", "forearm_link"),
+    ("upper_arm_link", "forearm_link"),
+    ("shoulder_link", "forearm_link"),
+]
 MPA = 1e6
 
 
 def anchors(a, b):
     def box():
         return sb.Free([-0.3] * 3, [0.3] * 3)
+
     return sb.Anchor(a, box()), sb.Anchor(b, box())
 
 
 def ideal_springs():
-    return [sb.ExtensionSpring(*anchors(a, b), f"s{i + 1}", stiffness=sb.Free(0, 5000), free_length=sb.Free(0.05, 1.0))
-            for i, (a, b) in enumerate(PAIRS)]
+    return [
+        sb.ExtensionSpring(*anchors(a, b), f"s{i + 1}", stiffness=sb.Free(0, 5000), free_length=sb.Free(0.05, 1.0))
+        for i, (a, b) in enumerate(PAIRS)
+    ]
 
 
 def buildable_springs():
-    return [HelicalExtensionSpring(*anchors(a, b), f"s{i + 1}", material="music_wire", max_outer_diameter=0.06)
-            for i, (a, b) in enumerate(PAIRS)]
+    return [
+        HelicalExtensionSpring(*anchors(a, b), f"s{i + 1}", material="music_wire", max_outer_diameter=0.06)
+        for i, (a, b) in enumerate(PAIRS)
+    ]
 
 
-# Where the time goes: DesignProblem.solve calls these three steps; each call is timed (the wrappers only time)
-PHASES = {"coil_start": "warm start (ideal twin solve + winding)", "solve_problem": "multi-start solve",
-          "round_wires": "standard-wire rounding"}
+# Where the time goes: springbalance.solve runs these steps (springbalance.pipeline.steps); each is timed
+# (the wrappers only time)
+PHASES = {
+    "first_guess": "warm start (ideal twin solve + winding)",
+    "multi_start": "multi-start solve",
+    "round_wires": "standard-wire rounding",
+}
 phase_times = {}
 
 
@@ -82,11 +95,11 @@ def timed(name, function):
             return function(*args, **kwargs)
         finally:
             phase_times[name] = phase_times.get(name, 0.0) + time.perf_counter() - clock
+
     return wrapper
 
 
-for _name in PHASES:
-    setattr(problem_module, _name, timed(_name, getattr(problem_module, _name)))
+sequence.STEPS = tuple(timed(step.__name__, step) if step.__name__ in PHASES else step for step in sequence.STEPS)
 
 
 def percent(value, width):
@@ -107,47 +120,70 @@ def run(label, springs):
     rms, peak = metrics["objectives"]["rms"], metrics["objectives"]["peak"]
     start_times = [record.seconds for record in result.starts]
     print(f"\n=== {label}: {problem.variables.size} design variables, {args.starts} starts, seed {args.seed}")
-    print(f"wall time {seconds:.2f} s (problem build + solve; per start median "
-          f"{np.median(start_times) if start_times else float('nan'):.2f} s); method {result.method}; "
-          f"status: {result.status}")
-    print("  of which " + ", ".join(f"{PHASES[name]} {phase_times[name]:.2f} s" for name in PHASES if name in phase_times))
-    print(f"all joints: rms {rms['before']:.4f} → {rms['after']:.5f} N·m ({rms['reduction_percent']:.2f} % lower), "
-          f"peak {peak['before']:.4f} → {peak['after']:.4f} N·m ({peak['reduction_percent']:.2f} % lower)")
-    print(f"  {'joint':<24s}{'rms before':>11s}{'rms after':>11s}{'rms Δ%':>9s}{'peak before':>13s}"
-          f"{'peak after':>12s}{'peak Δ%':>9s}")
+    print(
+        f"wall time {seconds:.2f} s (problem build + solve; per start median "
+        f"{np.median(start_times) if start_times else float('nan'):.2f} s); method {result.method}; "
+        f"status: {result.status}"
+    )
+    print(
+        "  of which " + ", ".join(f"{PHASES[name]} {phase_times[name]:.2f} s" for name in PHASES if name in phase_times)
+    )
+    print(
+        f"all joints: rms {rms['before']:.4f} → {rms['after']:.5f} N·m ({rms['reduction_percent']:.2f} % lower), "
+        f"peak {peak['before']:.4f} → {peak['after']:.4f} N·m ({peak['reduction_percent']:.2f} % lower)"
+    )
+    print(
+        f"  {'joint':<24s}{'rms before':>11s}{'rms after':>11s}{'rms Δ%':>9s}{'peak before':>13s}"
+        f"{'peak after':>12s}{'peak Δ%':>9s}"
+    )
     for row in metrics["joints"]:
         name = f"{row['joint']} [{row['unit']}]"
-        print(f"  {name:<24s}{row['rms_before']:11.4f}{row['rms_after']:11.5f}{percent(row['rms_reduction_percent'], 9)}"
-              f"{row['peak_before']:13.4f}{row['peak_after']:12.4f}{percent(row['peak_reduction_percent'], 9)}")
+        print(
+            f"  {name:<24s}{row['rms_before']:11.4f}{row['rms_after']:11.5f}{percent(row['rms_reduction_percent'], 9)}"
+            f"{row['peak_before']:13.4f}{row['peak_after']:12.4f}{percent(row['peak_reduction_percent'], 9)}"
+        )
     if metrics["max_violation"] > FEASIBILITY_TOLERANCE:
-        print(f"!!! {label}: INFEASIBLE design, largest constraint violation {metrics['max_violation']:.3g} "
-              f"(tolerance {FEASIBILITY_TOLERANCE:g})")
+        print(
+            f"!!! {label}: INFEASIBLE design, largest constraint violation {metrics['max_violation']:.3g} "
+            f"(tolerance {FEASIBILITY_TOLERANCE:g})"
+        )
     return result, seconds, metrics
 
 
 ideal, ideal_time, ideal_metrics = run("ideal extension springs", ideal_springs())
-print("  springs: " + "; ".join(f"{r['name']} k {r['stiffness']:.1f} N/m, l0 {1e3 * r['free_length']:.1f} mm"
-                                for r in ideal.springs))
+print(
+    "  springs: "
+    + "; ".join(f"{r['name']} k {r['stiffness']:.1f} N/m, l0 {1e3 * r['free_length']:.1f} mm" for r in ideal.springs)
+)
 
-buildable, buildable_time, buildable_metrics = run("buildable helical extension springs (music wire, outer diameter "
-                                                   "≤ 60 mm)", buildable_springs())
+buildable, buildable_time, buildable_metrics = run(
+    "buildable helical extension springs (music wire, outer diameter ≤ 60 mm)", buildable_springs()
+)
 
 not_buildable = []
 print("  spec sheets (after rounding to standard wire; stress/allowable: body, hook bending, hook torsion):")
-print(f"  {'spring':<7s}{'wire d':>9s}{'D':>9s}{'D/d':>6s}{'n':>8s}{'free l0':>10s}{'F_i':>9s}{'k':>11s}"
-      f"{'max load':>10s}{'body':>7s}{'hook B':>7s}{'hook T':>7s}{'mass':>9s}  buildable")
+print(
+    f"  {'spring':<7s}{'wire d':>9s}{'D':>9s}{'D/d':>6s}{'n':>8s}{'free l0':>10s}{'F_i':>9s}{'k':>11s}"
+    f"{'max load':>10s}{'body':>7s}{'hook B':>7s}{'hook T':>7s}{'mass':>9s}  buildable"
+)
 for record in buildable.springs:
     sheet = record["helical"]
-    ratios = (sheet["max_stress"] / sheet["allowable_stress"],
-              sheet["hook_bending_stress"] / sheet["hook_bending_allowable"],
-              sheet["hook_torsion_stress"] / sheet["hook_torsion_allowable"])
-    print(f"  {record['name']:<7s}{1e3 * sheet['wire_diameter']:6.2f} mm{1e3 * sheet['mean_diameter']:6.2f} mm"
-          f"{sheet['index']:6.2f}{sheet['active_coils']:8.2f}{1e3 * sheet['free_length']:7.1f} mm"
-          f"{sheet['initial_tension']:7.1f} N{sheet['rate']:7.0f} N/m{sheet['max_load']:8.1f} N"
-          f"{ratios[0]:7.3f}{ratios[1]:7.3f}{ratios[2]:7.3f}{sheet['mass']:6.3f} kg  "
-          f"{'yes' if sheet['buildable'] else 'NO'}")
-    print(f"         length {1e3 * sheet['shortest_length']:.1f} … {1e3 * sheet['longest_length']:.1f} mm; body stress "
-          f"{sheet['max_stress'] / MPA:.0f} of {sheet['allowable_stress'] / MPA:.0f} MPa allowable")
+    ratios = (
+        sheet["max_stress"] / sheet["allowable_stress"],
+        sheet["hook_bending_stress"] / sheet["hook_bending_allowable"],
+        sheet["hook_torsion_stress"] / sheet["hook_torsion_allowable"],
+    )
+    print(
+        f"  {record['name']:<7s}{1e3 * sheet['wire_diameter']:6.2f} mm{1e3 * sheet['mean_diameter']:6.2f} mm"
+        f"{sheet['index']:6.2f}{sheet['active_coils']:8.2f}{1e3 * sheet['free_length']:7.1f} mm"
+        f"{sheet['initial_tension']:7.1f} N{sheet['rate']:7.0f} N/m{sheet['max_load']:8.1f} N"
+        f"{ratios[0]:7.3f}{ratios[1]:7.3f}{ratios[2]:7.3f}{sheet['mass']:6.3f} kg  "
+        f"{'yes' if sheet['buildable'] else 'NO'}"
+    )
+    print(
+        f"         length {1e3 * sheet['shortest_length']:.1f} … {1e3 * sheet['longest_length']:.1f} mm; body stress "
+        f"{sheet['max_stress'] / MPA:.0f} of {sheet['allowable_stress'] / MPA:.0f} MPa allowable"
+    )
     if not sheet["buildable"]:
         not_buildable.append(record["name"])
         print(f"  !!! SPRING {record['name']} IS NOT BUILDABLE: " + "; ".join(sheet["reasons"]))
@@ -157,12 +193,16 @@ unbalanced_rms = buildable_metrics["objectives"]["rms"]["before"]
 if rounding is None:
     print("!!! no standard-wire rounding was done (result.wire_rounding is None)")
 else:
-    wires = ", ".join(f"{name} {1e3 * continuous:.3f} → {1e3 * standard:.2f} mm"
-                      for name, (continuous, standard) in rounding.wires.items())
+    wires = ", ".join(
+        f"{name} {1e3 * continuous:.3f} → {1e3 * standard:.2f} mm"
+        for name, (continuous, standard) in rounding.wires.items()
+    )
     print(f"  standard wire: {wires or 'none rounded'}")
-    print(f"  rounding cost: rms {rounding.continuous_objective:.5f} → {rounding.objective:.5f} N·m "
-          f"({rounding.cost_percent:+.2f} %); rms reduction before rounding "
-          f"{100 * (1 - rounding.continuous_objective / unbalanced_rms):.2f} %")
+    print(
+        f"  rounding cost: rms {rounding.continuous_objective:.5f} → {rounding.objective:.5f} N·m "
+        f"({rounding.cost_percent:+.2f} %); rms reduction before rounding "
+        f"{100 * (1 - rounding.continuous_objective / unbalanced_rms):.2f} %"
+    )
     for name, reason in rounding.unrounded.items():
         print(f"  !!! wire of {name} left continuous: {reason}")
 
@@ -171,52 +211,75 @@ checks = {}
 if args.check_samples:
     check_workspace = sb.Workspace.sobol(mechanism, args.check_samples, seed=1)
     prefix = check_workspace.size >= workspace.size and np.allclose(
-        check_workspace.joint_values[:workspace.size], workspace.joint_values)
-    print(f"\n=== both designs evaluated on {check_workspace.size} Sobol samples (seed 1, as bench_ur5.py"
-          + (f"; the {workspace.size} design samples are the first of them, {check_workspace.size - workspace.size} "
-             "are unseen)" if prefix else ")"))
+        check_workspace.joint_values[: workspace.size], workspace.joint_values
+    )
+    print(
+        f"\n=== both designs evaluated on {check_workspace.size} Sobol samples (seed 1, as bench_ur5.py"
+        + (
+            f"; the {workspace.size} design samples are the first of them, {check_workspace.size - workspace.size} "
+            "are unseen)"
+            if prefix
+            else ")"
+        )
+    )
     for label, result in (("ideal", ideal), ("buildable", buildable)):
         check = result.on_workspace(check_workspace)
         objectives = check.metrics()["objectives"]
         checks[label] = objectives
         violation = check.evaluation.max_violation
-        print(f"{label:<10s}: rms {objectives['rms']['after']:.5f} N·m ({objectives['rms']['reduction_percent']:.2f} % lower), "
-              f"peak {objectives['peak']['after']:.4f} N·m ({objectives['peak']['reduction_percent']:.2f} % lower)")
+        print(
+            f"{label:<10s}: rms {objectives['rms']['after']:.5f} N·m ({objectives['rms']['reduction_percent']:.2f} % lower), "
+            f"peak {objectives['peak']['after']:.4f} N·m ({objectives['peak']['reduction_percent']:.2f} % lower)"
+        )
         if violation > FEASIBILITY_TOLERANCE:
             print(f"  !!! {label}: a constraint is violated on these samples, by up to {violation:.3g} (scaled units)")
             for flag in check.warnings():
-                if flag.kind == "law":   # a spring that leaves its law (slack, ...); coils: their spec sheets below
+                if flag.kind == "law":  # a spring that leaves its law (slack, ...); coils: their spec sheets below
                     print(f"    [{flag.kind}] {flag.message}")
         for record in check.springs:
             sheet = record.get("helical")
             if sheet is None:
                 continue
             if sheet["buildable"]:
-                print(f"  {record['name']}: buildable over these samples too (length {1e3 * sheet['shortest_length']:.1f} … "
-                      f"{1e3 * sheet['longest_length']:.1f} mm, body stress/allowable "
-                      f"{sheet['max_stress'] / sheet['allowable_stress']:.3f})")
+                print(
+                    f"  {record['name']}: buildable over these samples too (length {1e3 * sheet['shortest_length']:.1f} … "
+                    f"{1e3 * sheet['longest_length']:.1f} mm, body stress/allowable "
+                    f"{sheet['max_stress'] / sheet['allowable_stress']:.3f})"
+                )
             else:
-                print(f"  !!! SPRING {record['name']} IS NOT BUILDABLE over these samples: " + "; ".join(sheet["reasons"]))
+                print(
+                    f"  !!! SPRING {record['name']} IS NOT BUILDABLE over these samples: " + "; ".join(sheet["reasons"])
+                )
                 not_buildable.append(f"{record['name']} (on {check_workspace.size} samples)")
 
 # ---------------------------------------------------------------- the price of buildability
 ideal_rms, built_rms = ideal_metrics["objectives"]["rms"], buildable_metrics["objectives"]["rms"]
 ideal_peak, built_peak = ideal_metrics["objectives"]["peak"], buildable_metrics["objectives"]["peak"]
 print(f"\n=== price of buildability (UR5, {workspace.size} Sobol samples, {args.starts} starts, seed {args.seed})")
-print(f"rms reduction : ideal {ideal_rms['reduction_percent']:.2f} %, buildable {built_rms['reduction_percent']:.2f} % "
-      f"→ {ideal_rms['reduction_percent'] - built_rms['reduction_percent']:.2f} percentage points "
-      f"(residual rms {ideal_rms['after']:.5f} vs {built_rms['after']:.5f} N·m, "
-      f"{built_rms['after'] / ideal_rms['after']:.2f}×)")
-print(f"peak reduction: ideal {ideal_peak['reduction_percent']:.2f} %, buildable {built_peak['reduction_percent']:.2f} % "
-      f"→ {ideal_peak['reduction_percent'] - built_peak['reduction_percent']:.2f} percentage points")
+print(
+    f"rms reduction : ideal {ideal_rms['reduction_percent']:.2f} %, buildable {built_rms['reduction_percent']:.2f} % "
+    f"→ {ideal_rms['reduction_percent'] - built_rms['reduction_percent']:.2f} percentage points "
+    f"(residual rms {ideal_rms['after']:.5f} vs {built_rms['after']:.5f} N·m, "
+    f"{built_rms['after'] / ideal_rms['after']:.2f}×)"
+)
+print(
+    f"peak reduction: ideal {ideal_peak['reduction_percent']:.2f} %, buildable {built_peak['reduction_percent']:.2f} % "
+    f"→ {ideal_peak['reduction_percent'] - built_peak['reduction_percent']:.2f} percentage points"
+)
 if checks:
     ideal_check, built_check = checks["ideal"]["rms"], checks["buildable"]["rms"]
-    print(f"  on {args.check_samples} samples: ideal {ideal_check['reduction_percent']:.2f} %, buildable "
-          f"{built_check['reduction_percent']:.2f} % → {ideal_check['reduction_percent'] - built_check['reduction_percent']:.2f} "
-          f"percentage points")
-print(f"time          : ideal {ideal_time:.2f} s, buildable {buildable_time:.2f} s → {buildable_time / ideal_time:.1f}×")
+    print(
+        f"  on {args.check_samples} samples: ideal {ideal_check['reduction_percent']:.2f} %, buildable "
+        f"{built_check['reduction_percent']:.2f} % → {ideal_check['reduction_percent'] - built_check['reduction_percent']:.2f} "
+        f"percentage points"
+    )
+print(
+    f"time          : ideal {ideal_time:.2f} s, buildable {buildable_time:.2f} s → {buildable_time / ideal_time:.1f}×"
+)
 if not_buildable:
     print(f"!!! NOT BUILDABLE: {', '.join(not_buildable)} (see the spec sheets above)")
 else:
-    print(f"all {len(buildable.springs)} buildable springs pass their spec sheet"
-          + (f" (on the {workspace.size} design samples and on the {args.check_samples} check samples)" if checks else ""))
+    print(
+        f"all {len(buildable.springs)} buildable springs pass their spec sheet"
+        + (f" (on the {workspace.size} design samples and on the {args.check_samples} check samples)" if checks else "")
+    )

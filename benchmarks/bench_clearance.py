@@ -39,33 +39,53 @@ parser.add_argument("--seed", type=int, default=0)
 parser.add_argument("--margin", type=float, default=0.005)
 parser.add_argument("--rounds", type=int, default=12, help="most re-solves of the fitting loop")
 parser.add_argument("--fit-starts", type=int, default=1, help="clearance.starts: best designs the loop fits")
-parser.add_argument("--verify-samples", type=int, default=None,
-                    help="poses of the independent check (default 10 × --check-samples)")
+parser.add_argument(
+    "--verify-samples", type=int, default=None, help="poses of the independent check (default 10 × --check-samples)"
+)
 args = parser.parse_args()
 VERIFY = args.verify_samples or 10 * args.check_samples
 
-PAIRS = [("shoulder_link", "upper_arm_link"), ("shoulder_link", "forearm_link"),
-         ("upper_arm_link", "forearm_link"), ("shoulder_link", "upper_arm_link")]
+PAIRS = [
+    ("shoulder_link", "upper_arm_link"),
+    ("shoulder_link", "forearm_link"),
+    ("upper_arm_link", "forearm_link"),
+    ("shoulder_link", "upper_arm_link"),
+]
 
 
 def springs():
     def box():
         return sb.Free([-0.3] * 3, [0.3] * 3)
-    return [sb.ExtensionSpring(sb.Anchor(a, box()), sb.Anchor(b, box()), f"s{i + 1}", stiffness=sb.Free(0, 5000),
-                               free_length=sb.Free(0.05, 1.0)) for i, (a, b) in enumerate(PAIRS)]
+
+    return [
+        sb.ExtensionSpring(
+            sb.Anchor(a, box()),
+            sb.Anchor(b, box()),
+            f"s{i + 1}",
+            stiffness=sb.Free(0, 5000),
+            free_length=sb.Free(0.05, 1.0),
+        )
+        for i, (a, b) in enumerate(PAIRS)
+    ]
 
 
 mechanism = sb.Mechanism.from_robot("ur5")
 RANGES = {"shoulder_lift_joint": [-3.141592653589793, 0.0], "elbow_joint": [-2.6, 2.6]}
 workspace = sb.Workspace.sobol(mechanism, args.samples, seed=1, ranges=RANGES)
-print(f"UR5, 4 extension springs, {args.samples} Sobol samples, {args.starts} starts, seed {args.seed}; "
-      f"clearance margin {args.margin * 1e3:g} mm checked on {args.check_samples} poses while fitting, "
-      f"independent check on {VERIFY} poses (URDF meshes)\n")
+print(
+    f"UR5, 4 extension springs, {args.samples} Sobol samples, {args.starts} starts, seed {args.seed}; "
+    f"clearance margin {args.margin * 1e3:g} mm checked on {args.check_samples} poses while fitting, "
+    f"independent check on {VERIFY} poses (URDF meshes)\n"
+)
 
 results = {}
-for label, clearance in (("unconstrained", None),
-                         ("clearance", sb.Clearance(margin=args.margin, check_samples=args.check_samples,
-                                                      rounds=args.rounds, starts=args.fit_starts))):
+for label, clearance in (
+    ("unconstrained", None),
+    (
+        "clearance",
+        sb.Clearance(margin=args.margin, check_samples=args.check_samples, rounds=args.rounds, starts=args.fit_starts),
+    ),
+):
     clock = time.perf_counter()
     problem = sb.DesignProblem(mechanism, workspace, springs(), clearance=clearance)
     result = sb.solve(problem, starts=args.starts, seed=args.seed)
@@ -73,22 +93,41 @@ for label, clearance in (("unconstrained", None),
     rms = result.metrics()["objectives"]["rms"]
     check = result.clearance(samples=VERIFY, margin=args.margin)
     results[label] = (result, seconds, rms, check)
-    print(f"{label:>13}: {seconds:7.1f} s, rms {rms['before']:.4g} → {rms['after']:.4g} N·m "
-          f"({rms['reduction_percent']:.2f} % reduction)")
+    print(
+        f"{label:>13}: {seconds:7.1f} s, rms {rms['before']:.4g} → {rms['after']:.4g} N·m "
+        f"({rms['reduction_percent']:.2f} % reduction)"
+    )
     if result.fit is not None:
         fit = result.fit
-        print(f"{'':>15}fit: {fit.rounds} round(s), {fit.rows} rows, {fit.seconds:.1f} s, "
-              f"{'converged' if fit.converged else 'NOT CONVERGED'}")
+        print(
+            f"{'':>15}fit: {fit.rounds} round(s), {fit.rows} rows, {fit.seconds:.1f} s, "
+            f"{'converged' if fit.converged else 'NOT CONVERGED'}"
+        )
     for row in check.rows:
-        flag = "" if row.distance >= args.margin else ("   <-- BELOW THE MARGIN" if label == "clearance" else "   (overlap)"
-                                                        if row.distance < 0 else "   (below margin)")
-        print(f"{'':>15}{row.spring}: closest {row.distance * 1e3:8.1f} mm to {row.link} "
-              f"(radius {row.radius * 1e3:.0f} mm){flag}")
+        flag = (
+            ""
+            if row.distance >= args.margin
+            else (
+                "   <-- BELOW THE MARGIN"
+                if label == "clearance"
+                else "   (overlap)"
+                if row.distance < 0
+                else "   (below margin)"
+            )
+        )
+        print(
+            f"{'':>15}{row.spring}: closest {row.distance * 1e3:8.1f} mm to {row.link} "
+            f"(radius {row.radius * 1e3:.0f} mm){flag}"
+        )
     print()
 
 free, fitted = results["unconstrained"], results["clearance"]
-print(f"price of clearance: rms reduction {free[2]['reduction_percent']:.2f} % → {fitted[2]['reduction_percent']:.2f} % "
-      f"({fitted[2]['reduction_percent'] - free[2]['reduction_percent']:+.2f} points); "
-      f"time ×{fitted[1] / free[1]:.1f} ({free[1]:.1f} s → {fitted[1]:.1f} s)")
-print(f"independent check of the clearance design on {fitted[3].poses} poses: "
-      f"{'CLEAR (no spring below the margin)' if fitted[3].clear else 'NOT CLEAR'}")
+print(
+    f"price of clearance: rms reduction {free[2]['reduction_percent']:.2f} % → {fitted[2]['reduction_percent']:.2f} % "
+    f"({fitted[2]['reduction_percent'] - free[2]['reduction_percent']:+.2f} points); "
+    f"time ×{fitted[1] / free[1]:.1f} ({free[1]:.1f} s → {fitted[1]:.1f} s)"
+)
+print(
+    f"independent check of the clearance design on {fitted[3].poses} poses: "
+    f"{'CLEAR (no spring below the margin)' if fitted[3].clear else 'NOT CLEAR'}"
+)

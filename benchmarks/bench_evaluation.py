@@ -51,13 +51,26 @@ args = parser.parse_args()
 
 mechanism = sb.Mechanism.from_robot("ur5")
 box = lambda: sb.Free([-0.3] * 3, [0.3] * 3)  # noqa: E731
-pairs = [("universe", "upper_arm_link"), ("universe", "forearm_link"),
-         ("upper_arm_link", "forearm_link"), ("shoulder_link", "forearm_link")]
+pairs = [
+    ("universe", "upper_arm_link"),
+    ("universe", "forearm_link"),
+    ("upper_arm_link", "forearm_link"),
+    ("shoulder_link", "forearm_link"),
+]
 
 
 def problem_of(samples):
-    springs = [sb.ExtensionSpring(sb.Anchor(a, box()), sb.Anchor(b, box()), f"s{i + 1}", stiffness=sb.Free(0, 5000),
-                                  free_length=sb.Free(0.05, 1.0), keep_tension=False) for i, (a, b) in enumerate(pairs)]
+    springs = [
+        sb.ExtensionSpring(
+            sb.Anchor(a, box()),
+            sb.Anchor(b, box()),
+            f"s{i + 1}",
+            stiffness=sb.Free(0, 5000),
+            free_length=sb.Free(0.05, 1.0),
+            keep_tension=False,
+        )
+        for i, (a, b) in enumerate(pairs)
+    ]
     return sb.DesignProblem(mechanism, sb.Workspace.sobol(mechanism, samples, seed=1), springs)
 
 
@@ -109,13 +122,15 @@ def evaluation(residuals, z):
     def run():
         for _ in residuals.evaluator.blocks(z):
             pass
+
     return run
 
 
 def normal_pass(residuals, z):
     def run():
-        residuals._normal_key = None   # no cached answer
+        residuals._normal_key = None  # no cached answer
         residuals.normal_equations(z)
+
     return run
 
 
@@ -127,11 +142,14 @@ def same_normal_equations(a, b, z):
 def report(title, figures, samples, reference="CasADi map"):
     base = figures[reference][0]
     for name, (seconds, ratio) in figures.items():
-        print(f"  {title} {name:<18s}: {1e3 * seconds:8.3f} ms ({1e9 * seconds / samples:6.1f} ns/sample), "
-              f"{base / seconds:4.2f}× the CasADi map, CPU/wall {ratio:.2f}", flush=True)
+        print(
+            f"  {title} {name:<18s}: {1e3 * seconds:8.3f} ms ({1e9 * seconds / samples:6.1f} ns/sample), "
+            f"{base / seconds:4.2f}× the CasADi map, CPU/wall {ratio:.2f}",
+            flush=True,
+        )
 
 
-with threadpool_limits(limits=1, user_api="blas"):   # as DesignProblem.solve runs
+with threadpool_limits(limits=1, user_api="blas"):  # as DesignProblem.solve runs
     # ------------------------------------------------------------ 1, 2: --samples
     problem = problem_of(args.samples)
     clock = time.perf_counter()
@@ -143,14 +161,22 @@ with threadpool_limits(limits=1, user_api="blas"):   # as DesignProblem.solve ru
     if new.evaluator._kernel is None:
         raise SystemExit("no block kernel (no C compiler with vector extensions?)")
     z = np.random.default_rng(0).random(problem.variables.size)
-    print(f"UR5, 4 springs, {problem.variables.size} variables, blocks of {new.evaluator.block} samples; "
-          f"build (compile or cache load): residual {old_seconds:.2f} s, then with its kernel {new_seconds:.2f} s; "
-          f"{os.cpu_count()} cores, load average {os.getloadavg()[0]:.2f}")
+    print(
+        f"UR5, 4 springs, {problem.variables.size} variables, blocks of {new.evaluator.block} samples; "
+        f"build (compile or cache load): residual {old_seconds:.2f} s, then with its kernel {new_seconds:.2f} s; "
+        f"{os.cpu_count()} cores, load average {os.getloadavg()[0]:.2f}"
+    )
     figures = compare({"CasADi map": (1, evaluation(old, z)), "kernel": (1, evaluation(new, z))}, args.repeats)
     print(f"1. one evaluation of residual + Jacobian at {args.samples} samples (goal ≤ 1.6 ms):")
     report("evaluation", figures, args.samples)
-    figures = compare({"CasADi map": (1, normal_pass(old, z)), "kernel, 1 thread": (1, normal_pass(new, z)),
-                       "kernel, 2 threads": (2, normal_pass(new, z))}, args.repeats)
+    figures = compare(
+        {
+            "CasADi map": (1, normal_pass(old, z)),
+            "kernel, 1 thread": (1, normal_pass(new, z)),
+            "kernel, 2 threads": (2, normal_pass(new, z)),
+        },
+        args.repeats,
+    )
     print(f"2. one normal-equations pass at {args.samples} samples:")
     report("pass", figures, args.samples)
     with Threads(2):
@@ -174,23 +200,32 @@ with threadpool_limits(limits=1, user_api="blas"):   # as DesignProblem.solve ru
             buffer.set_res(i, memoryview(out))
         maps[mode] = (1, lambda trigger=trigger, keep=(buffer, shared, data, outputs): trigger())
     figures = compare(maps, max(args.repeats // 3, 3))
-    print(f"   (CasADi's map of all {n} samples: 2 threads {1e3 * figures['thread'][0]:.3f} ms, CPU/wall "
-          f"{figures['thread'][1]:.2f}, against serial {1e3 * figures['serial'][0]:.3f} ms: "
-          f"{figures['serial'][0] / figures['thread'][0]:.2f}×)")
+    print(
+        f"   (CasADi's map of all {n} samples: 2 threads {1e3 * figures['thread'][0]:.3f} ms, CPU/wall "
+        f"{figures['thread'][1]:.2f}, against serial {1e3 * figures['serial'][0]:.3f} ms: "
+        f"{figures['serial'][0] / figures['thread'][0]:.2f}×)"
+    )
     jacobian = next(iter(new.evaluator.blocks(z)))[2][1]
     J = jacobian.reshape(-1, problem.variables.size)
-    figures = compare({"matmul": (1, lambda: J.T @ J), "dsyrk": (1, lambda: dsyrk(1.0, J.T, trans=0))},
-                      args.repeats)
-    print(f"   (JᵀJ of one block of {jacobian.shape[0]} samples: NumPy matmul {1e6 * figures['matmul'][0]:.1f} µs, "
-          f"SciPy dsyrk {1e6 * figures['dsyrk'][0]:.1f} µs: {figures['matmul'][0] / figures['dsyrk'][0]:.2f}×; "
-          f"the summation is solvers.py's)")
+    figures = compare({"matmul": (1, lambda: J.T @ J), "dsyrk": (1, lambda: dsyrk(1.0, J.T, trans=0))}, args.repeats)
+    print(
+        f"   (JᵀJ of one block of {jacobian.shape[0]} samples: NumPy matmul {1e6 * figures['matmul'][0]:.1f} µs, "
+        f"SciPy dsyrk {1e6 * figures['dsyrk'][0]:.1f} µs: {figures['matmul'][0] / figures['dsyrk'][0]:.2f}×; "
+        f"the summation is solvers.py's)"
+    )
 
     # ------------------------------------------------------------ 2, 3: --large
     large = problem_of(args.large)
     old_large, new_large = residuals_of(large, kernel=False), residuals_of(large, kernel=True)
     z = np.random.default_rng(0).random(large.variables.size)
-    passes = compare({"CasADi map": (1, normal_pass(old_large, z)), "kernel, 1 thread": (1, normal_pass(new_large, z)),
-                      "kernel, 2 threads": (2, normal_pass(new_large, z))}, max(args.repeats // 6, 3))
+    passes = compare(
+        {
+            "CasADi map": (1, normal_pass(old_large, z)),
+            "kernel, 1 thread": (1, normal_pass(new_large, z)),
+            "kernel, 2 threads": (2, normal_pass(new_large, z)),
+        },
+        max(args.repeats // 6, 3),
+    )
     print(f"2. one normal-equations pass at {args.large} samples:")
     report("pass", passes, args.large)
     with Threads(2):
@@ -198,13 +233,18 @@ with threadpool_limits(limits=1, user_api="blas"):   # as DesignProblem.solve ru
     print(f"   JᵀJ, Jᵀr, rᵀr bit for bit the same: {identical}")
     print(f"3. one start at {args.large} samples, {args.iterations} iterations (goal ≤ 5 s):")
     for name, (seconds, _) in passes.items():
-        print(f"   projected {name:<18s}: {args.iterations} passes × {1e3 * seconds:.1f} ms = "
-              f"{args.iterations * seconds:.2f} s")
+        print(
+            f"   projected {name:<18s}: {args.iterations} passes × {1e3 * seconds:.1f} ms = "
+            f"{args.iterations * seconds:.2f} s"
+        )
     if not args.skip_start:
         start = start_points(large, 1, 0)[0]
         designs = {}
-        for name, residuals, threads in (("kernel, 2 threads", new_large, 2), ("kernel, 1 thread", new_large, 1),
-                                         ("CasADi map", old_large, 1)):
+        for name, residuals, threads in (
+            ("kernel, 2 threads", new_large, 2),
+            ("kernel, 1 thread", new_large, 1),
+            ("CasADi map", old_large, 1),
+        ):
             large.least_squares_cache = residuals
             residuals._normal_key = None
             solver = _MultiStartSolver(large, "least_squares", args.iterations, 1e-8)
@@ -214,9 +254,14 @@ with threadpool_limits(limits=1, user_api="blas"):   # as DesignProblem.solve ru
                 record = solver.run(0, start)
                 seconds, cpu = time.perf_counter() - clock, cpu_seconds() - used
             designs[name] = (record.x, record.objective)
-            print(f"   measured  {name:<18s}: {seconds:6.2f} s ({record.iterations} iterations, "
-                  f"{1e3 * seconds / max(record.iterations, 1):.1f} ms each), CPU/wall {cpu / seconds:.2f}, "
-                  f"rms {record.objective:.9f}", flush=True)
+            print(
+                f"   measured  {name:<18s}: {seconds:6.2f} s ({record.iterations} iterations, "
+                f"{1e3 * seconds / max(record.iterations, 1):.1f} ms each), CPU/wall {cpu / seconds:.2f}, "
+                f"rms {record.objective:.9f}",
+                flush=True,
+            )
         first = next(iter(designs.values()))
-        print(f"4. designs bit for bit the same on the three paths: "
-              f"{all(np.array_equal(x, first[0]) and value == first[1] for x, value in designs.values())}")
+        print(
+            f"4. designs bit for bit the same on the three paths: "
+            f"{all(np.array_equal(x, first[0]) and value == first[1] for x, value in designs.values())}"
+        )

@@ -39,15 +39,27 @@ def main() -> None:
 
     folder = Path(tempfile.mkdtemp(prefix="bench-explore-"))
     config = folder / "ur5_study.yaml"
-    config.write_text(yaml.safe_dump({
-        "mechanism": {"robot": "ur5"},
-        "workspace": {"kind": "sobol", "n": args.samples, "seed": 1},
-        "explore": {"candidates": "auto", "span": 1, "max_springs": 2, "starts": args.starts, "seed": 0,
-                    "spring": {"type": "zero_free_length", "stiffness": {"lower": 0, "upper": 5000}}},
-    }))
+    config.write_text(
+        yaml.safe_dump(
+            {
+                "mechanism": {"robot": "ur5"},
+                "workspace": {"kind": "sobol", "n": args.samples, "seed": 1},
+                "explore": {
+                    "candidates": "auto",
+                    "span": 1,
+                    "max_springs": 2,
+                    "starts": args.starts,
+                    "seed": 0,
+                    "spring": {"type": "zero_free_length", "stiffness": {"lower": 0, "upper": 5000}},
+                },
+            }
+        )
+    )
     study = load_study(config)
-    print(f"UR5 study: {len(study.candidates)} candidates, {len(study.tasks)} topologies (≤ 2 springs), "
-          f"{args.starts} start(s) each, {args.samples} samples; {os.cpu_count()} cores")
+    print(
+        f"UR5 study: {len(study.candidates)} candidates, {len(study.tasks)} topologies (≤ 2 springs), "
+        f"{args.starts} start(s) each, {args.samples} samples; {os.cpu_count()} cores"
+    )
 
     # each run compiles its residuals afresh (an empty compile cache of its own), so neither gains from
     # the other's compiled code; the cluster's workers inherit the variable when they start
@@ -68,17 +80,26 @@ def main() -> None:
     cluster = client.cluster
     client.close()
     cluster.close()
-    print(f"distributed: {t_distributed:7.1f} s on a LocalCluster of {workers} worker processes "
-          f"(+ {t_startup:.1f} s to start it)")
-    same = all(json.dumps(sequential.results[key].get("objective_value")) ==
-               json.dumps(distributed.results[key].get("objective_value")) for key in sequential.results)
-    print(f"speed-up: ×{t_sequential / t_distributed:.2f} (×{t_sequential / (t_distributed + t_startup):.2f} with the "
-          f"cluster's start-up); results identical: {same}")
+    print(
+        f"distributed: {t_distributed:7.1f} s on a LocalCluster of {workers} worker processes "
+        f"(+ {t_startup:.1f} s to start it)"
+    )
+    same = all(
+        json.dumps(sequential.results[key].get("objective_value"))
+        == json.dumps(distributed.results[key].get("objective_value"))
+        for key in sequential.results
+    )
+    print(
+        f"speed-up: ×{t_sequential / t_distributed:.2f} (×{t_sequential / (t_distributed + t_startup):.2f} with the "
+        f"cluster's start-up); results identical: {same}"
+    )
     best = distributed.best()
     for count, record in best.items():
-        print(f"  best with {count} spring(s): {' + '.join(record['springs'])}, residual "
-              f"{record['relative_residual']:.3g} of the unbalanced peak")
+        print(
+            f"  best with {count} spring(s): {' + '.join(record['springs'])}, residual "
+            f"{record['relative_residual']:.3g} of the unbalanced peak"
+        )
 
 
-if __name__ == "__main__":   # the worker processes of the cluster import this file again
+if __name__ == "__main__":  # the worker processes of the cluster import this file again
     main()

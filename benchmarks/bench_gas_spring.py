@@ -26,9 +26,13 @@ workspace = sb.Workspace.grid(mechanism, 121, ranges={"theta": (0, 60)}, degrees
 theta = workspace.joint_values[:, 0]
 
 clock = time.perf_counter()
-gas = sb.GasSpring(sb.Anchor("universe", (GROUND[0], 0, GROUND[1])),
-                   sb.Anchor("link1", sb.Segment((0.05, 0, 0), (0.3, 0, 0))),
-                   stiffness=sb.Free(*BOUNDS[1]), preload=sb.Free(*BOUNDS[0]), free_length=L0)
+gas = sb.GasSpring(
+    sb.Anchor("universe", (GROUND[0], 0, GROUND[1])),
+    sb.Anchor("link1", sb.Segment((0.05, 0, 0), (0.3, 0, 0))),
+    stiffness=sb.Free(*BOUNDS[1]),
+    preload=sb.Free(*BOUNDS[0]),
+    free_length=L0,
+)
 result = sb.solve(sb.DesignProblem(mechanism, workspace, [gas], objective="peak"), starts=8)
 optimiser_seconds = time.perf_counter() - clock
 values = result.spring("s1")
@@ -47,8 +51,10 @@ def peaks(preload, stiffness, b):
 clock = time.perf_counter()
 centre, width = None, None
 for stage in range(3):
-    axes = [np.linspace(*(bounds if stage == 0 else (max(bounds[0], c - w), min(bounds[1], c + w))), 41)
-            for bounds, c, w in zip(BOUNDS, centre or [0] * 3, width or [0] * 3)]
+    axes = [
+        np.linspace(*(bounds if stage == 0 else (max(bounds[0], c - w), min(bounds[1], c + w))), 41)
+        for bounds, c, w in zip(BOUNDS, centre or [0] * 3, width or [0] * 3)
+    ]
     grids = np.meshgrid(*axes, indexing="ij")
     table = peaks(*grids)
     best = np.unravel_index(np.argmin(table), table.shape)
@@ -59,8 +65,12 @@ bare = A * np.max(np.abs(np.cos(theta)))
 
 print(f"unbalanced peak {bare:.4f} N·m")
 print(f"{'':<11s}{'F0 [N]':>9s}{'k [N/m]':>10s}{'b [m]':>9s}{'peak [N·m]':>12s}{'reduction':>11s}{'time [s]':>10s}")
-print(f"{'optimiser':<11s}{values['preload']:9.3f}{values['stiffness']:10.2f}{values['b']['point'][0]:9.4f}"
-      f"{peak:12.5f}{bare - peak:11.4f}{optimiser_seconds:10.2f}")
-print(f"{'grid':<11s}{centre[0]:9.3f}{centre[1]:10.2f}{centre[2]:9.4f}{grid_peak:12.5f}{bare - grid_peak:11.4f}"
-      f"{grid_seconds:10.2f}")
+print(
+    f"{'optimiser':<11s}{values['preload']:9.3f}{values['stiffness']:10.2f}{values['b']['point'][0]:9.4f}"
+    f"{peak:12.5f}{bare - peak:11.4f}{optimiser_seconds:10.2f}"
+)
+print(
+    f"{'grid':<11s}{centre[0]:9.3f}{centre[1]:10.2f}{centre[2]:9.4f}{grid_peak:12.5f}{bare - grid_peak:11.4f}"
+    f"{grid_seconds:10.2f}"
+)
 print(f"reductions differ by {100 * abs((bare - peak) - (bare - grid_peak)) / (bare - grid_peak):.3f} %")

@@ -45,10 +45,22 @@ def ur5_problem():
     def box():
         return sb.Free([-0.3] * 3, [0.3] * 3)
 
-    pairs = [("universe", "upper_arm_link"), ("universe", "forearm_link"),
-             ("upper_arm_link", "forearm_link"), ("shoulder_link", "forearm_link")]
-    springs = [sb.ExtensionSpring(sb.Anchor(a, box()), sb.Anchor(b, box()), f"s{i + 1}", stiffness=sb.Free(0, 5000),
-                                  free_length=sb.Free(0.05, 1.0)) for i, (a, b) in enumerate(pairs)]
+    pairs = [
+        ("universe", "upper_arm_link"),
+        ("universe", "forearm_link"),
+        ("upper_arm_link", "forearm_link"),
+        ("shoulder_link", "forearm_link"),
+    ]
+    springs = [
+        sb.ExtensionSpring(
+            sb.Anchor(a, box()),
+            sb.Anchor(b, box()),
+            f"s{i + 1}",
+            stiffness=sb.Free(0, 5000),
+            free_length=sb.Free(0.05, 1.0),
+        )
+        for i, (a, b) in enumerate(pairs)
+    ]
     mechanism = sb.Mechanism.from_robot("ur5")
     workspace = sb.Workspace.sobol(mechanism, args.samples, seed=1)
     start = solve_problem(sb.DesignProblem(mechanism, workspace, springs), starts=1, workers=1, polish_iterations=0).x
@@ -76,13 +88,20 @@ def child(case, way):
     evaluation = problem.evaluate(x)
     before = problem.objective_value(evaluation)
     base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
-    options = {"print_time": False, "ipopt.print_level": 0, "ipopt.sb": "yes", "ipopt.tol": 1e-8,
-               "ipopt.acceptable_tol": 1e-8, "ipopt.mu_strategy": "adaptive"}
+    options = {
+        "print_time": False,
+        "ipopt.print_level": 0,
+        "ipopt.sb": "yes",
+        "ipopt.tol": 1e-8,
+        "ipopt.acceptable_tol": 1e-8,
+        "ipopt.mu_strategy": "adaptive",
+    }
     clock = time.perf_counter()
     if way == "plain":
         nlp = problem.build()
-        solver = ca.nlpsol("plain", "ipopt", {"x": nlp.z, "f": nlp.cost, "g": nlp.rows},
-                           {**options, "ipopt.max_iter": args.iterations})
+        solver = ca.nlpsol(
+            "plain", "ipopt", {"x": nlp.z, "f": nlp.cost, "g": nlp.rows}, {**options, "ipopt.max_iter": args.iterations}
+        )
     else:
         structured = StructuredNlp(problem)
         nlp = structured.nlp
@@ -98,15 +117,36 @@ def child(case, way):
         w, status, iterations, _ = structured.solve(start, nlp.lower, nlp.upper, options, args.iterations)
     seconds = time.perf_counter() - clock
     after = problem.evaluate(problem.scale(np.clip(w[: nlp.n_design], 0.0, 1.0)))
-    print(json.dumps({"seconds": seconds, "build": built, "status": status, "iterations": int(iterations),
-                      "before": before, "after": problem.objective_value(after),
-                      "violation": after.max_violation, "rows": nlp.n_rows, "variables": nlp.size,
-                      "rss_mib": (resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - base) / 1024}))
+    print(
+        json.dumps(
+            {
+                "seconds": seconds,
+                "build": built,
+                "status": status,
+                "iterations": int(iterations),
+                "before": before,
+                "after": problem.objective_value(after),
+                "violation": after.max_violation,
+                "rows": nlp.n_rows,
+                "variables": nlp.size,
+                "rss_mib": (resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - base) / 1024,
+            }
+        )
+    )
 
 
 def run(case, way):
-    command = [sys.executable, __file__, "--child", case, way, "--samples", str(args.samples),
-               "--iterations", str(args.iterations)]
+    command = [
+        sys.executable,
+        __file__,
+        "--child",
+        case,
+        way,
+        "--samples",
+        str(args.samples),
+        "--iterations",
+        str(args.iterations),
+    ]
     done = subprocess.run(command, capture_output=True, text=True, env={**os.environ, "SPRINGBALANCE_WORKERS": "1"})
     if done.returncode != 0:
         sys.exit(f"{case} {way} failed:\n{done.stderr[-3000:]}")
@@ -117,21 +157,27 @@ if args.child:
     child(*args.child)
     sys.exit(0)
 
-for case, title in (("ur5", f"UR5, 4 extension springs, objective peak, {args.samples} samples"),
-                    ("two_link", "examples/two_link.yaml, 3 helical coils with per-sample stress rows, objective rms")):
+for case, title in (
+    ("ur5", f"UR5, 4 extension springs, objective peak, {args.samples} samples"),
+    ("two_link", "examples/two_link.yaml, 3 helical coils with per-sample stress rows, objective rms"),
+):
     print(title)
     results = {}
     for way in ("structured", "plain"):
         if way == "plain" and case == "ur5" and args.skip_plain_ur5:
             continue
         result = results[way] = run(case, way)
-        print(f"  {way:10s}: {result['seconds']:7.2f} s (NLP built in {result['build']:.2f} s), "
-              f"{result['iterations']:4d} iterations, {result['status']}; objective {result['before']:.5g} -> "
-              f"{result['after']:.5g} (violation {result['violation']:.1e}); peak RSS +{result['rss_mib']:.0f} MiB; "
-              f"{result['rows']} rows, {result['variables']} variables")
+        print(
+            f"  {way:10s}: {result['seconds']:7.2f} s (NLP built in {result['build']:.2f} s), "
+            f"{result['iterations']:4d} iterations, {result['status']}; objective {result['before']:.5g} -> "
+            f"{result['after']:.5g} (violation {result['violation']:.1e}); peak RSS +{result['rss_mib']:.0f} MiB; "
+            f"{result['rows']} rows, {result['variables']} variables"
+        )
     if len(results) == 2:
         new, old = results["structured"], results["plain"]
         better = "the same or better" if new["after"] <= old["after"] * (1 + 1e-6) else "worse"
-        print(f"  -> {old['seconds'] / new['seconds']:.1f}x less time, {old['rss_mib'] / max(new['rss_mib'], 1):.1f}x "
-              f"less memory, objective {better} ({new['after']:.5g} vs {old['after']:.5g})"
-              + ("  [goal for UR5: >= 10x time, >= 5x memory, same or better peak]" if case == "ur5" else ""))
+        print(
+            f"  -> {old['seconds'] / new['seconds']:.1f}x less time, {old['rss_mib'] / max(new['rss_mib'], 1):.1f}x "
+            f"less memory, objective {better} ({new['after']:.5g} vs {old['after']:.5g})"
+            + ("  [goal for UR5: >= 10x time, >= 5x memory, same or better peak]" if case == "ur5" else "")
+        )

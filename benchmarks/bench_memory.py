@@ -58,8 +58,12 @@ RUN = textwrap.dedent("""
 
 
 def measure(samples, mode):
-    done = subprocess.run([sys.executable, "-c", RUN, str(samples), str(args.iterations), mode],
-                          capture_output=True, text=True, env=os.environ)
+    done = subprocess.run(
+        [sys.executable, "-c", RUN, str(samples), str(args.iterations), mode],
+        capture_output=True,
+        text=True,
+        env=os.environ,
+    )
     if done.returncode != 0:
         sys.exit(done.stderr)
     return json.loads(done.stdout.strip().splitlines()[-1])
@@ -70,8 +74,11 @@ for samples in args.samples:
     for mode in ("blocks",) + (() if args.skip_full else ("full",)):
         figures = measure(samples, mode)
         label = f"blocks of {figures['block']} samples" if mode == "blocks" else "one block (full Jacobian)"
-        print(f"{samples:>7} samples, {label:<26}: {figures['kib_per_sample']:5.2f} KiB/sample above the import "
-              f"baseline (peak {figures['peak_mib']:.0f} MiB, baseline {figures['baseline_mib']:.0f} MiB), "
-              f"{figures['seconds']:6.2f} s per start ({figures['iterations']} iterations, "
-              f"{1e6 * figures['seconds'] / (samples * max(figures['iterations'], 1)):.2f} µs/sample/iteration), "
-              f"rms {figures['rms']:.6f}", flush=True)
+        print(
+            f"{samples:>7} samples, {label:<26}: {figures['kib_per_sample']:5.2f} KiB/sample above the import "
+            f"baseline (peak {figures['peak_mib']:.0f} MiB, baseline {figures['baseline_mib']:.0f} MiB), "
+            f"{figures['seconds']:6.2f} s per start ({figures['iterations']} iterations, "
+            f"{1e6 * figures['seconds'] / (samples * max(figures['iterations'], 1)):.2f} µs/sample/iteration), "
+            f"rms {figures['rms']:.6f}",
+            flush=True,
+        )

@@ -27,17 +27,26 @@ MASSES = [0.0, 1.0, 2.0]
 
 
 def springs():
-    return [sb.ZeroFreeLengthSpring(sb.Anchor("universe", sb.Free([-0.1, 0, 0.02], [0.1, 0, 0.3])),
-                                    sb.Anchor("link1", sb.Segment([0.02, 0, 0], [0.5, 0, 0])),
-                                    stiffness=sb.Free(0, 5000), name="shoulder_spring"),
-            sb.ZeroFreeLengthSpring(sb.Anchor("universe", sb.Free([-0.3, 0, -0.1], [0.3, 0, 0.6])),
-                                    sb.Anchor("link2", sb.Segment([0.02, 0, 0], [0.4, 0, 0])),
-                                    stiffness=sb.Free(0, 5000), name="elbow_spring")]
+    return [
+        sb.ZeroFreeLengthSpring(
+            sb.Anchor("universe", sb.Free([-0.1, 0, 0.02], [0.1, 0, 0.3])),
+            sb.Anchor("link1", sb.Segment([0.02, 0, 0], [0.5, 0, 0])),
+            stiffness=sb.Free(0, 5000),
+            name="shoulder_spring",
+        ),
+        sb.ZeroFreeLengthSpring(
+            sb.Anchor("universe", sb.Free([-0.3, 0, -0.1], [0.3, 0, 0.6])),
+            sb.Anchor("link2", sb.Segment([0.02, 0, 0], [0.4, 0, 0])),
+            stiffness=sb.Free(0, 5000),
+            name="elbow_spring",
+        ),
+    ]
 
 
 mechanism = sb.Mechanism.from_urdf(URDF)
-workspace = sb.Workspace.grid(mechanism, {"shoulder": 9, "elbow": 9},
-                              ranges={"shoulder": (-90, 90), "elbow": (-120, 120)}, degrees=True)
+workspace = sb.Workspace.grid(
+    mechanism, {"shoulder": 9, "elbow": 9}, ranges={"shoulder": (-90, 90), "elbow": (-120, 120)}, degrees=True
+)
 payloads = sb.payload_scenarios("tool", MASSES)
 stacked = sb.DesignProblem(mechanism, workspace, springs(), scenarios=payloads).workspace  # N samples per payload
 bare_peaks = [float(np.max(np.abs(block))) for block in np.split(stacked.kinematics().gravity_torque, len(MASSES))]
@@ -45,10 +54,18 @@ bare_peaks = [float(np.max(np.abs(block))) for block in np.split(stacked.kinemat
 problems = {
     "tuned for 0 kg": sb.DesignProblem(mechanism, workspace, springs(), objective="peak"),
     "robust (fixed)": sb.DesignProblem(mechanism, workspace, springs(), objective="peak", scenarios=payloads),
-    "slider per payload": sb.DesignProblem(mechanism, workspace, springs(), objective="peak", scenarios=payloads,
-                                           per_scenario=["shoulder_spring.b", "elbow_spring.b"]),
+    "slider per payload": sb.DesignProblem(
+        mechanism,
+        workspace,
+        springs(),
+        objective="peak",
+        scenarios=payloads,
+        per_scenario=["shoulder_spring.b", "elbow_spring.b"],
+    ),
 }
-print(f"{'design':<22s}" + "".join(f"{f'peak @ {m:g} kg':>14s}" for m in MASSES) + f"{'worst case':>12s}{'time [s]':>10s}")
+print(
+    f"{'design':<22s}" + "".join(f"{f'peak @ {m:g} kg':>14s}" for m in MASSES) + f"{'worst case':>12s}{'time [s]':>10s}"
+)
 print(f"{'(no springs)':<22s}" + "".join(f"{p:14.4f}" for p in bare_peaks) + f"{max(bare_peaks):12.4f}")
 results = {}
 for label, problem in problems.items():
@@ -66,7 +83,11 @@ slider = problems["slider per payload"]
 print("\nslider positions along the links [m] and the shared springs")
 for row, scenario in zip(slider.scenario_table(results["slider per payload"].x), payloads):
     shoulder, elbow = row["variables"]["shoulder_spring.b.s"], row["variables"]["elbow_spring.b.s"]
-    print(f"  {scenario.name:>6s}: link1 anchor at {0.02 + 0.48 * shoulder:.4f} m, link2 anchor at {0.02 + 0.38 * elbow:.4f} m")
+    print(
+        f"  {scenario.name:>6s}: link1 anchor at {0.02 + 0.48 * shoulder:.4f} m, link2 anchor at {0.02 + 0.38 * elbow:.4f} m"
+    )
 values = results["slider per payload"].variables
-print(f"  stiffness: shoulder_spring {values['shoulder_spring.stiffness']:.1f} N/m, "
-      f"elbow_spring {values['elbow_spring.stiffness']:.1f} N/m")
+print(
+    f"  stiffness: shoulder_spring {values['shoulder_spring.stiffness']:.1f} N/m, "
+    f"elbow_spring {values['elbow_spring.stiffness']:.1f} N/m"
+)

@@ -78,12 +78,18 @@ with tempfile.TemporaryDirectory(prefix="springbalance-bench-pyc-") as bytecode:
     first_use, first_use_process = import_time("import springbalance; springbalance.DesignProblem", bytecode)
     needed, _ = import_time("import numpy, casadi, pinocchio", bytecode)
     dependencies, _ = import_time("import numpy, casadi, pinocchio, pydantic", bytecode)
-print(f"import springbalance                              : {lazy:.3f} s (lazy; median of {args.imports}, the process "
-      f"with interpreter start and exit {lazy_process:.3f} s)")
-print(f"import springbalance; springbalance.DesignProblem : {first_use:.3f} s (first use: the library; the process "
-      f"{first_use_process:.3f} s)")
-print(f"numpy+casadi+pinocchio alone                      : {needed:.3f} s (with pydantic, which the config schema "
-      f"needs: {dependencies:.3f} s)")
+print(
+    f"import springbalance                              : {lazy:.3f} s (lazy; median of {args.imports}, the process "
+    f"with interpreter start and exit {lazy_process:.3f} s)"
+)
+print(
+    f"import springbalance; springbalance.DesignProblem : {first_use:.3f} s (first use: the library; the process "
+    f"{first_use_process:.3f} s)"
+)
+print(
+    f"numpy+casadi+pinocchio alone                      : {needed:.3f} s (with pydantic, which the config schema "
+    f"needs: {dependencies:.3f} s)"
+)
 
 # ---------------------------------------------------------------- 2. compiled residual, cold and warm cache
 SETUP = textwrap.dedent(f"""
@@ -129,19 +135,25 @@ with tempfile.TemporaryDirectory(prefix="springbalance-bench-cache-") as cache:
     cold = json.loads(out.strip().splitlines()[-1])
     warm_wall, out = run([PYTHON, "-c", PROBLEM], environment)
     warm = json.loads(out.strip().splitlines()[-1])
-print(f"compiled residual, 1st process (empty cache): {cold['seconds']:.2f} s to build "
-      f"({cold['compiles']} compiled, compiler {cold['compiler']:.2f} s); process {cold_wall:.2f} s")
-print(f"compiled residual, 2nd process (warm cache) : {warm['seconds']:.2f} s to build "
-      f"({warm['compiles']} compiled, {warm['hits']} loaded from the cache); process {warm_wall:.2f} s "
-      f"-> {cold['seconds'] / warm['seconds']:.1f}x faster, compiler skipped: {warm['compiles'] == 0}")
+print(
+    f"compiled residual, 1st process (empty cache): {cold['seconds']:.2f} s to build "
+    f"({cold['compiles']} compiled, compiler {cold['compiler']:.2f} s); process {cold_wall:.2f} s"
+)
+print(
+    f"compiled residual, 2nd process (warm cache) : {warm['seconds']:.2f} s to build "
+    f"({warm['compiles']} compiled, {warm['hits']} loaded from the cache); process {warm_wall:.2f} s "
+    f"-> {cold['seconds'] / warm['seconds']:.1f}x faster, compiler skipped: {warm['compiles'] == 0}"
+)
 
 # ---------------------------------------------------------------- 3. evaluation time, cache flags vs -O2
 with tempfile.TemporaryDirectory(prefix="springbalance-bench-cache-") as cache:
     output = run([PYTHON, "-c", EVALUATE], {"SPRINGBALANCE_CACHE_DIR": cache})[1]
 new, old = json.loads(output.strip().splitlines()[-1])["evaluation"]
-print(f"residual + Jacobian at {args.samples} samples: {1e3 * new:.2f} ms with the cache's flags "
-      f"(-O3 -march=native -ffp-contract=off), {1e3 * old:.2f} ms with -O2 as before (ratio {new / old:.2f}; "
-      "best of 15×10, alternated)")
+print(
+    f"residual + Jacobian at {args.samples} samples: {1e3 * new:.2f} ms with the cache's flags "
+    f"(-O3 -march=native -ffp-contract=off), {1e3 * old:.2f} ms with -O2 as before (ratio {new / old:.2f}; "
+    "best of 15×10, alternated)"
+)
 
 # ---------------------------------------------------------------- 4. the CLI end to end
 IN_PROCESS = textwrap.dedent("""
@@ -158,26 +170,41 @@ IN_PROCESS = textwrap.dedent("""
     print(time.perf_counter() - clock)
 """)
 if not args.skip_cli:
-    with tempfile.TemporaryDirectory(prefix="springbalance-bench-cache-") as cache, \
-            tempfile.TemporaryDirectory(prefix="springbalance-bench-out-") as out, \
-            tempfile.TemporaryDirectory(prefix="springbalance-bench-pyc-") as bytecode, \
-            tempfile.TemporaryDirectory(prefix="springbalance-bench-fill-") as fill:
-        command = [str(Path(PYTHON).with_name("springbalance")), "design", "examples/two_link.yaml",
-                   "--out", str(Path(out) / "d.json"), "--quiet"]
-        run(command, with_bytecode(bytecode, SPRINGBALANCE_CACHE_DIR=fill), replace=True)   # fills the bytecode only
+    with (
+        tempfile.TemporaryDirectory(prefix="springbalance-bench-cache-") as cache,
+        tempfile.TemporaryDirectory(prefix="springbalance-bench-out-") as out,
+        tempfile.TemporaryDirectory(prefix="springbalance-bench-pyc-") as bytecode,
+        tempfile.TemporaryDirectory(prefix="springbalance-bench-fill-") as fill,
+    ):
+        command = [
+            str(Path(PYTHON).with_name("springbalance")),
+            "design",
+            "examples/two_link.yaml",
+            "--out",
+            str(Path(out) / "d.json"),
+            "--quiet",
+        ]
+        run(command, with_bytecode(bytecode, SPRINGBALANCE_CACHE_DIR=fill), replace=True)  # fills the bytecode only
         environment = with_bytecode(bytecode, SPRINGBALANCE_CACHE_DIR=cache)
         cold_cli = run(command, environment, replace=True)[0]
         warm_cli, in_process = [], {False: [], True: []}
-        for _ in range(args.cli_runs):   # alternately: the console script, then in one process without and with SciPy
+        for _ in range(args.cli_runs):  # alternately: the console script, then in one process without and with SciPy
             warm_cli.append(run(command, environment, replace=True)[0])
             for scipy_first in (False, True):
-                output = run([PYTHON, "-c", IN_PROCESS.format(scipy_first=scipy_first, argv=command[1:])], environment,
-                             replace=True)[1]
+                output = run(
+                    [PYTHON, "-c", IN_PROCESS.format(scipy_first=scipy_first, argv=command[1:])],
+                    environment,
+                    replace=True,
+                )[1]
                 in_process[scipy_first].append(float(output.strip().splitlines()[-1]))
-    print(f"springbalance design examples/two_link.yaml --out d.json: {cold_cli:.2f} s from an empty cache, "
-          f"{statistics.median(warm_cli):.2f} s from the warm cache (median of {args.cli_runs} runs; "
-          f"fastest {min(warm_cli):.2f} s, slowest {max(warm_cli):.2f} s)")
+    print(
+        f"springbalance design examples/two_link.yaml --out d.json: {cold_cli:.2f} s from an empty cache, "
+        f"{statistics.median(warm_cli):.2f} s from the warm cache (median of {args.cli_runs} runs; "
+        f"fastest {min(warm_cli):.2f} s, slowest {max(warm_cli):.2f} s)"
+    )
     plain, scipy_before = statistics.median(in_process[False]), statistics.median(in_process[True])
-    print(f"  the same in one process, from importing the CLI to its end: {plain:.2f} s; with scipy.optimize imported "
-          f"before the clock: {scipy_before:.2f} s (SciPy's optimize, which least squares needs, is {plain - scipy_before:.2f} s "
-          f"of the demo; medians of {args.cli_runs}, alternated)")
+    print(
+        f"  the same in one process, from importing the CLI to its end: {plain:.2f} s; with scipy.optimize imported "
+        f"before the clock: {scipy_before:.2f} s (SciPy's optimize, which least squares needs, is {plain - scipy_before:.2f} s "
+        f"of the demo; medians of {args.cli_runs}, alternated)"
+    )

@@ -20,13 +20,17 @@ import springbalance as sb
 URDF = Path(__file__).resolve().parents[1] / "urdf" / "single_link_r2.urdf"
 mechanism = sb.Mechanism.from_urdf(URDF, gravity=9.8)
 
-print(f"{'workspace':<16s}{'objective':<13s}{'k [N·m/rad]':>12s}{'theta0 [°]':>12s}{'peak [N·m]':>12s}"
-      f"{'rms [N·m]':>11s}{'time [s]':>10s}")
+print(
+    f"{'workspace':<16s}{'objective':<13s}{'k [N·m/rad]':>12s}{'theta0 [°]':>12s}{'peak [N·m]':>12s}"
+    f"{'rms [N·m]':>11s}{'time [s]':>10s}"
+)
 for label, (lower, upper) in (("0° … 180°", (0, 180)), ("-45° … 135°", (-45, 135)), ("full turn", (-180, 180))):
     workspace = sb.Workspace.grid(mechanism, 361, ranges={"theta": (lower, upper)}, degrees=True)
     bare = workspace.kinematics().gravity_torque[:, 0]
-    print(f"{label:<16s}{'(no spring)':<13s}{'':>12s}{'':>12s}{np.max(np.abs(bare)):12.4f}"
-          f"{np.sqrt(np.mean(bare**2)):11.4f}")
+    print(
+        f"{label:<16s}{'(no spring)':<13s}{'':>12s}{'':>12s}{np.max(np.abs(bare)):12.4f}"
+        f"{np.sqrt(np.mean(bare**2)):11.4f}"
+    )
     for objective in ("peak", "pe_variance"):
         spring = sb.TorsionalSpring("theta", stiffness=sb.Free(0, 20), neutral_angle=sb.Free(-2 * np.pi, 2 * np.pi))
         clock = time.perf_counter()
@@ -34,5 +38,7 @@ for label, (lower, upper) in (("0° … 180°", (0, 180)), ("-45° … 135°", (
         seconds = time.perf_counter() - clock
         row = result.metrics()["joints"][0]
         values = result.spring("s1")
-        print(f"{'':<16s}{objective:<13s}{values['stiffness']:12.4f}{np.degrees(values['neutral_angle']):12.2f}"
-              f"{row['peak_after']:12.4f}{row['rms_after']:11.4f}{seconds:10.2f}")
+        print(
+            f"{'':<16s}{objective:<13s}{values['stiffness']:12.4f}{np.degrees(values['neutral_angle']):12.2f}"
+            f"{row['peak_after']:12.4f}{row['rms_after']:11.4f}{seconds:10.2f}"
+        )

@@ -29,15 +29,30 @@ parser.add_argument("--repeats", type=int, default=1)
 args = parser.parse_args()
 
 box = lambda: sb.Free([-0.3] * 3, [0.3] * 3)  # noqa: E731
-pairs = [("universe", "upper_arm_link"), ("universe", "forearm_link"),
-         ("upper_arm_link", "forearm_link"), ("shoulder_link", "forearm_link")]
-springs = [sb.ExtensionSpring(sb.Anchor(a, box()), sb.Anchor(b, box()), f"s{i + 1}", stiffness=sb.Free(0, 5000),
-                              free_length=sb.Free(0.05, 1.0), keep_tension=True) for i, (a, b) in enumerate(pairs)]
+pairs = [
+    ("universe", "upper_arm_link"),
+    ("universe", "forearm_link"),
+    ("upper_arm_link", "forearm_link"),
+    ("shoulder_link", "forearm_link"),
+]
+springs = [
+    sb.ExtensionSpring(
+        sb.Anchor(a, box()),
+        sb.Anchor(b, box()),
+        f"s{i + 1}",
+        stiffness=sb.Free(0, 5000),
+        free_length=sb.Free(0.05, 1.0),
+        keep_tension=True,
+    )
+    for i, (a, b) in enumerate(pairs)
+]
 mechanism = sb.Mechanism.from_robot("ur5")
 problem = sb.DesignProblem(mechanism, sb.Workspace.sobol(mechanism, args.samples, seed=1), springs)
-_MultiStartSolver(problem, "auto", 100, 1e-8).prepare()   # compile (or load from the cache) before timing
-print(f"UR5, 4 springs, {problem.workspace.size} samples, {problem.variables.size} variables, {args.starts} starts; "
-      f"{os.cpu_count()} cores, pool of {args.workers} workers")
+_MultiStartSolver(problem, "auto", 100, 1e-8).prepare()  # compile (or load from the cache) before timing
+print(
+    f"UR5, 4 springs, {problem.workspace.size} samples, {problem.variables.size} variables, {args.starts} starts; "
+    f"{os.cpu_count()} cores, pool of {args.workers} workers"
+)
 
 
 def cpu_seconds() -> float:
@@ -57,14 +72,21 @@ for _ in range(args.repeats):
     pooled, pooled_wall, pooled_cpu = timed(args.workers)
     identical = np.array_equal(sequential.x, pooled.x) and all(
         np.array_equal(a.x, b.x) and a.objective == b.objective and a.status == b.status
-        for a, b in zip(sequential.starts, pooled.starts))
+        for a, b in zip(sequential.starts, pooled.starts)
+    )
     rows.append((sequential_wall, pooled_wall))
-    print(f"{args.starts} starts one after another: {sequential_wall:6.2f} s wall, {sequential_cpu:6.2f} s CPU "
-          f"(CPU/wall {sequential_cpu / sequential_wall:.2f})")
-    print(f"{args.starts} starts on {args.workers} workers    : {pooled_wall:6.2f} s wall, {pooled_cpu:6.2f} s CPU "
-          f"(CPU/wall {pooled_cpu / pooled_wall:.2f})")
-    print(f"pool / sequential wall time: {pooled_wall / sequential_wall:.2f} (goal ≤ 0.6); designs bit-identical: "
-          f"{identical}; best rms {problem.objective_value(problem.evaluate(pooled.x)):.6f} N·m")
+    print(
+        f"{args.starts} starts one after another: {sequential_wall:6.2f} s wall, {sequential_cpu:6.2f} s CPU "
+        f"(CPU/wall {sequential_cpu / sequential_wall:.2f})"
+    )
+    print(
+        f"{args.starts} starts on {args.workers} workers    : {pooled_wall:6.2f} s wall, {pooled_cpu:6.2f} s CPU "
+        f"(CPU/wall {pooled_cpu / pooled_wall:.2f})"
+    )
+    print(
+        f"pool / sequential wall time: {pooled_wall / sequential_wall:.2f} (goal ≤ 0.6); designs bit-identical: "
+        f"{identical}; best rms {problem.objective_value(problem.evaluate(pooled.x)):.6f} N·m"
+    )
 if len(rows) > 1:
     ratios = [pool / one for one, pool in rows]
     print(f"ratio over {len(rows)} pairs: median {np.median(ratios):.2f}, best {min(ratios):.2f}")

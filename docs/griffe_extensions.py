@@ -40,8 +40,7 @@ _DIRECTIVE = re.compile(r"^(?P<indent>[ \t]*)\.\. (?P<kind>code-block|math)::[ \
 def markdown_docstring(text: str) -> str:
     """The reStructuredText of a docstring made readable in Markdown: a role (``:func:`~a.b.c```) becomes
     inline code (`` `c` ``), a ``.. code-block:: python`` or ``.. math::`` block a fenced code block."""
-    text = _ROLE.sub(lambda match: f"`{match.group(2).rsplit('.', 1)[-1] if match.group(1) else match.group(2)}`",
-                     text)
+    text = _ROLE.sub(lambda match: f"`{match.group(2).rsplit('.', 1)[-1] if match.group(1) else match.group(2)}`", text)
     lines, out, index = text.splitlines(), [], 0
     while index < len(lines):
         match = _DIRECTIVE.match(lines[index])

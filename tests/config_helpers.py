@@ -22,7 +22,9 @@ def edited_record(base: dict, **changes) -> dict:
 #: One extension spring from just above the shoulder of urdf/two_link_planar.urdf to link1: with
 #: the elbow held straight the shoulder carries a single-link load that this spring balances well.
 SHOULDER_SPRING = {
-    "name": "s1", "type": "extension", "ideal": True,
+    "name": "s1",
+    "type": "extension",
+    "ideal": True,
     "a": {"body": "universe", "point": [0, 0, 0.1]},
     "b": {"body": "link1", "box": {"lower": [0.05, 0, 0], "upper": [0.5, 0, 0]}},
     "stiffness": {"lower": 0, "upper": 10000},

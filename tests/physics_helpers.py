@@ -34,8 +34,8 @@ class RefSpring:
     free_length: float = 0.0
     initial_tension: float = 0.0  # F0 of the law: initial tension, preload or constant force [N]
     zero_free_length: bool = False
-    law: str = "extension"        # "extension", "compression" (and gas) or "constant_force"
-    mass: float = 0.0             # the spring's own mass [kg], half at each end
+    law: str = "extension"  # "extension", "compression" (and gas) or "constant_force"
+    mass: float = 0.0  # the spring's own mass [kg], half at each end
 
     def potential(self, length: float) -> float:
         """Stored energy [J] at length ``length`` [m]."""
@@ -99,8 +99,12 @@ class ReferencePotential:
             return float(pin.computePotentialEnergy(self.model, self.data, q))
         pin.forwardKinematics(self.model, self.data, q)
         gravity = np.asarray(self.model.gravity.linear)
-        return float(-sum(inertia.mass * gravity @ self.data.oMi[i].act(inertia.lever)
-                          for i, inertia in enumerate(self.model.inertias)))
+        return float(
+            -sum(
+                inertia.mass * gravity @ self.data.oMi[i].act(inertia.lever)
+                for i, inertia in enumerate(self.model.inertias)
+            )
+        )
 
     def joint_angle(self, q: np.ndarray, joint: str) -> float:
         """Angle [rad] of a revolute (one coordinate) or continuous ((cos, sin) coordinates) joint."""
@@ -127,9 +131,11 @@ class ReferencePotential:
         nv = self.model.nv
         tau = np.empty(nv)
         for j in range(nv):
+
             def shifted(h, j=j):
                 dv = np.zeros(nv)
                 dv[j] = h
                 return self(pin.integrate(self.model, q, dv))
+
             tau[j] = (-shifted(2 * step) + 8 * shifted(step) - 8 * shifted(-step) + shifted(-2 * step)) / (12 * step)
         return tau

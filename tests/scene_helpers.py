@@ -29,7 +29,7 @@ from springbalance.viz import scene as viz
 from springbalance.viz.meshcat_import import import_meshcat
 from springbalance.viz.recorder import SceneRecorder
 
-meshcat = import_meshcat()   # silences meshcat's import-time deprecation warning
+meshcat = import_meshcat()  # silences meshcat's import-time deprecation warning
 from meshcat.servers.tree import walk  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -41,12 +41,21 @@ def two_link_design(n: int = 7) -> sb.DesignResult:
     mechanism = sb.Mechanism.from_urdf(URDF / "two_link_planar.urdf")
     workspace = sb.Workspace.grid(mechanism, n, ranges={"shoulder": [-80, 80], "elbow": [-100, 100]}, degrees=True)
     springs = [
-        sb.ExtensionSpring(sb.Anchor("universe", (0.0, 0.0, 0.15)),
-                           sb.Anchor("link1", sb.Segment((0.1, 0, 0), (0.45, 0, 0), lower=0.4, upper=0.8)),
-                           name="shoulder", stiffness=sb.Free(600, 800), free_length=0.05),
-        sb.ExtensionSpring(sb.Anchor("link1", sb.Free([0.05, 0, 0.03], [0.2, 0, 0.08])),
-                           sb.Anchor("link2", (0.25, 0, 0)),
-                           name="forearm", stiffness=20.0, free_length=0.05, keep_tension=False),
+        sb.ExtensionSpring(
+            sb.Anchor("universe", (0.0, 0.0, 0.15)),
+            sb.Anchor("link1", sb.Segment((0.1, 0, 0), (0.45, 0, 0), lower=0.4, upper=0.8)),
+            name="shoulder",
+            stiffness=sb.Free(600, 800),
+            free_length=0.05,
+        ),
+        sb.ExtensionSpring(
+            sb.Anchor("link1", sb.Free([0.05, 0, 0.03], [0.2, 0, 0.08])),
+            sb.Anchor("link2", (0.25, 0, 0)),
+            name="forearm",
+            stiffness=20.0,
+            free_length=0.05,
+            keep_tension=False,
+        ),
     ]
     problem = sb.DesignProblem(mechanism, workspace, springs, objective="rms")
     return sb.DesignResult(problem, np.array(problem.variables.start))
@@ -57,10 +66,20 @@ def ur5_design(n: int = 16) -> sb.DesignResult:
     mechanism = sb.Mechanism.from_robot("ur5")
     workspace = sb.Workspace.random(mechanism, n, seed=3)
     springs = [
-        sb.ExtensionSpring(sb.Anchor("universe", (0.05, 0.1, 0.4)), sb.Anchor("upper_arm_link", (0.02, 0.05, 0.2)),
-                           name="s1", stiffness=1500.0, free_length=0.05, keep_tension=False),
-        sb.ZeroFreeLengthSpring(sb.Anchor("shoulder_link", sb.Free([-0.1, -0.1, 0.0], [0.1, 0.1, 0.1])),
-                                sb.Anchor("forearm_link", (0.1, 0.0, 0.02)), name="s2", stiffness=800.0),
+        sb.ExtensionSpring(
+            sb.Anchor("universe", (0.05, 0.1, 0.4)),
+            sb.Anchor("upper_arm_link", (0.02, 0.05, 0.2)),
+            name="s1",
+            stiffness=1500.0,
+            free_length=0.05,
+            keep_tension=False,
+        ),
+        sb.ZeroFreeLengthSpring(
+            sb.Anchor("shoulder_link", sb.Free([-0.1, -0.1, 0.0], [0.1, 0.1, 0.1])),
+            sb.Anchor("forearm_link", (0.1, 0.0, 0.02)),
+            name="s2",
+            stiffness=800.0,
+        ),
     ]
     problem = sb.DesignProblem(mechanism, workspace, springs, objective="rms")
     return sb.DesignResult(problem, np.array(problem.variables.start))
@@ -92,8 +111,10 @@ def recorded_scene(result, path):
 
 def animation_clips(recorder):
     animation = next(umsgpack.unpackb(node.animation) for node in walk(recorder.tree) if node.animation is not None)
-    return {item["path"]: {track["name"]: [key["value"] for key in track["keys"]] for track in item["clip"]["tracks"]}
-            for item in animation["animations"]}
+    return {
+        item["path"]: {track["name"]: [key["value"] for key in track["keys"]] for track in item["clip"]["tracks"]}
+        for item in animation["animations"]
+    }
 
 
 def record_scene(scene):
@@ -104,8 +125,10 @@ def record_scene(scene):
 
 def require_chromium():
     if browser.find_chromium() is None:
-        pytest.skip("Chromium is not installed (Debian package `chromium`; `make chromium` installs it as root); "
-                    "run `make demo-check` where it is")
+        pytest.skip(
+            "Chromium is not installed (Debian package `chromium`; `make chromium` installs it as root); "
+            "run `make demo-check` where it is"
+        )
 
 
 def hue_distance(rgb_1, rgb_2) -> float:
@@ -120,9 +143,9 @@ def hue_distance(rgb_1, rgb_2) -> float:
 # shoulder at 0 the elbow sits at E = (0.5, 0, 0) and link2 points along (cos e, 0, sin e).
 COLLISION_URDF = URDF / "two_link_planar_collision.urdf"
 CROSSING_P, CROSSING_S, ELBOW = np.array([0.6, 0.0, 0.25]), np.array([0.4, 0.0, 0.0]), np.array([0.5, 0.0, 0.0])
-LINK2_LENGTH, LINK2_HALF_WIDTH = 0.4, 0.015                 # [m] of link2's box
-CAPSULE_RADIUS = 0.01                                      # [m] of a spring without a spec sheet
-MARGIN = 0.02                                              # [m]
+LINK2_LENGTH, LINK2_HALF_WIDTH = 0.4, 0.015  # [m] of link2's box
+CAPSULE_RADIUS = 0.01  # [m] of a spring without a spec sheet
+MARGIN = 0.02  # [m]
 
 
 def fixed_design(urdf, springs, path, **options):
@@ -133,8 +156,13 @@ def fixed_design(urdf, springs, path, **options):
 
 
 def crossing_spring():
-    return sb.ExtensionSpring(sb.Anchor("universe", tuple(CROSSING_P)), sb.Anchor("link1", tuple(CROSSING_S)),
-                              name="crossing", stiffness=300.0, free_length=0.05)
+    return sb.ExtensionSpring(
+        sb.Anchor("universe", tuple(CROSSING_P)),
+        sb.Anchor("link1", tuple(CROSSING_S)),
+        name="crossing",
+        stiffness=300.0,
+        free_length=0.05,
+    )
 
 
 def elbow_path(degrees):

@@ -16,9 +16,11 @@ import pytest
 SOURCE = Path(__file__).resolve().parents[1] / "src"
 PACKAGE = "springbalance"
 #: the deprecated shims of DesignProblem (removed in 0.3) reach up to the pipeline and the results
-DEPRECATED_SHIMS = {("springbalance.design.problem", "springbalance.pipeline.run"),
-                    ("springbalance.design.problem", "springbalance.results.result")}
-#: generated-code templates may be long
+DEPRECATED_SHIMS = {
+    ("springbalance.design.problem", "springbalance.pipeline.run"),
+    ("springbalance.design.problem", "springbalance.results.result"),
+}
+#: generated-code templates may be long (a function's length is its code, without signature and docstring)
 LONG_FUNCTIONS_ALLOWED = {("springbalance.design.block_kernel", "block_kernel_code")}
 MAX_MODULE_LINES = 450
 MAX_FUNCTION_LINES = 60
@@ -76,8 +78,11 @@ def _graph() -> dict[str, set[str]]:
     """Module → the modules it imports (a package's ``__init__`` only when imported as such)."""
     graph: dict[str, set[str]] = {}
     for module in MODULES:
-        graph[module] = {target for target, _, _ in _imports(module)
-                         if (module, target) not in DEPRECATED_SHIMS and MODULES[target].name != "__init__.py"}
+        graph[module] = {
+            target
+            for target, _, _ in _imports(module)
+            if (module, target) not in DEPRECATED_SHIMS and MODULES[target].name != "__init__.py"
+        }
     return graph
 
 
@@ -116,6 +121,15 @@ def _cycles(graph: dict[str, set[str]]) -> list[list[str]]:
     return components
 
 
+def _body_lines(function: ast.FunctionDef | ast.AsyncFunctionDef) -> int:
+    """Lines of a function's code: from its first statement after the docstring to its end (the docstring
+    states the math and the units, and the formatter puts one parameter per line of a long signature)."""
+    body = function.body
+    if len(body) > 1 and isinstance(body[0], ast.Expr) and isinstance(body[0].value, ast.Constant):
+        body = body[1:]
+    return (function.end_lineno or function.lineno) - body[0].lineno + 1
+
+
 def test_no_import_cycle_of_any_kind():
     assert _cycles(_graph()) == []
 
@@ -128,8 +142,12 @@ def test_a_cycle_through_a_type_checking_import_is_found():
 
 
 def test_no_first_party_import_inside_a_function():
-    inside = [(module, target, line) for module in MODULES for target, in_function, line in _imports(module)
-              if in_function and (module, target) not in DEPRECATED_SHIMS]
+    inside = [
+        (module, target, line)
+        for module in MODULES
+        for target, in_function, line in _imports(module)
+        if in_function and (module, target) not in DEPRECATED_SHIMS
+    ]
     assert inside == []
 
 
@@ -139,13 +157,16 @@ def test_importlib_only_in_the_lazy_package_init():
 
 
 def test_modules_and_functions_are_of_a_readable_size():
-    long_modules = {module: len(path.read_text().splitlines()) for module, path in MODULES.items()
-                    if len(path.read_text().splitlines()) > MAX_MODULE_LINES}
+    long_modules = {
+        module: len(path.read_text().splitlines())
+        for module, path in MODULES.items()
+        if len(path.read_text().splitlines()) > MAX_MODULE_LINES
+    }
     long_functions = []
     for module, path in MODULES.items():
         for node in ast.walk(ast.parse(path.read_text())):
             if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
-                length = node.end_lineno - node.lineno + 1
+                length = _body_lines(node)
                 if length > MAX_FUNCTION_LINES and (module, node.name) not in LONG_FUNCTIONS_ALLOWED:
                     long_functions.append((module, node.name, length))
     assert long_modules == {} and long_functions == []

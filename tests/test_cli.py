@@ -21,8 +21,13 @@ URDF = ROOT / "urdf" / "two_link_planar.urdf"
 # shoulder carries a single-link load that one extension spring balances well.
 BASE = {
     "mechanism": {"urdf": str(URDF)},
-    "workspace": {"kind": "sobol", "n": 64, "seed": 0, "degrees": True,
-                  "ranges": {"shoulder": [-90, 90], "elbow": [0, 0]}},
+    "workspace": {
+        "kind": "sobol",
+        "n": 64,
+        "seed": 0,
+        "degrees": True,
+        "ranges": {"shoulder": [-90, 90], "elbow": [0, 0]},
+    },
     "springs": [SHOULDER_SPRING],
     "objective": "rms",
     "weights": {"elbow": 0.0},
@@ -97,22 +102,37 @@ def broken_urdf(tmp_path: Path) -> dict:
 
 
 CASES = {
-    "unknown key": (lambda tmp: edited(workspace__nn=10),
-                    ["workspace: unknown key 'nn'; valid keys: kind, n, seed, degrees, ranges"]),
-    "unknown body": (lambda tmp: edited(springs__0__b__body="forearm"),
-                     ["springs[0] 's1'.b.body: unknown body 'forearm'", "bodies: universe, base, link1, link2, tool"]),
-    "unknown joint": (lambda tmp: edited(workspace__ranges={"wrist": [0, 90]}),
-                      ["workspace.ranges: unknown joint 'wrist'", "joints: shoulder, elbow"]),
-    "lower > upper": (lambda tmp: edited(springs__0__free_length={"lower": 1.0, "upper": 0.5}),
-                      ["springs[0] 's1'.free_length", "lower 1.0 > upper 0.5"]),
-    "nan bound": (lambda tmp: edited(springs__0__stiffness={"lower": 0, "upper": float("nan")}),
-                  ["springs[0].stiffness.upper: nan is not allowed"]),
+    "unknown key": (
+        lambda tmp: edited(workspace__nn=10),
+        ["workspace: unknown key 'nn'; valid keys: kind, n, seed, degrees, ranges"],
+    ),
+    "unknown body": (
+        lambda tmp: edited(springs__0__b__body="forearm"),
+        ["springs[0] 's1'.b.body: unknown body 'forearm'", "bodies: universe, base, link1, link2, tool"],
+    ),
+    "unknown joint": (
+        lambda tmp: edited(workspace__ranges={"wrist": [0, 90]}),
+        ["workspace.ranges: unknown joint 'wrist'", "joints: shoulder, elbow"],
+    ),
+    "lower > upper": (
+        lambda tmp: edited(springs__0__free_length={"lower": 1.0, "upper": 0.5}),
+        ["springs[0] 's1'.free_length", "lower 1.0 > upper 0.5"],
+    ),
+    "nan bound": (
+        lambda tmp: edited(springs__0__stiffness={"lower": 0, "upper": float("nan")}),
+        ["springs[0].stiffness.upper: nan is not allowed"],
+    ),
     "malformed urdf": (broken_urdf, ["mechanism.urdf: URDF file", "broken.urdf", "could not be parsed"]),
-    "missing urdf": (lambda tmp: edited(mechanism={"urdf": "missing.urdf"}),
-                     ["mechanism.urdf: URDF file", "missing.urdf' does not exist"]),
-    "zero-length spring": (lambda tmp: edited(springs__0__a={"body": "universe", "point": [0, 0, 0]},
-                                              springs__0__b={"body": "link1", "point": [0, 0, 0]}),
-                           ["spring 's1': its ends coincide (zero length)"]),
+    "missing urdf": (
+        lambda tmp: edited(mechanism={"urdf": "missing.urdf"}),
+        ["mechanism.urdf: URDF file", "missing.urdf' does not exist"],
+    ),
+    "zero-length spring": (
+        lambda tmp: edited(
+            springs__0__a={"body": "universe", "point": [0, 0, 0]}, springs__0__b={"body": "link1", "point": [0, 0, 0]}
+        ),
+        ["spring 's1': its ends coincide (zero length)"],
+    ),
 }
 
 
@@ -161,8 +181,12 @@ def test_solver_failure_exits_1_with_statuses(tmp_path, capsys):
     # a rate of at least 5000 N/m stretched at least 5 cm pulls with at least 250 N, but max_force is 1 N:
     # infeasible, which no single bound shows (a free length the ends cannot reach is refused up front,
     # exit 2: tests/io/test_bad_input_round_two.py)
-    record = edited(springs__0__b={"body": "link1", "point": [0.2, 0, 0]}, springs__0__free_length=0.05,
-                    springs__0__stiffness={"lower": 5000, "upper": 10000}, springs__0__max_force=1.0)
+    record = edited(
+        springs__0__b={"body": "link1", "point": [0.2, 0, 0]},
+        springs__0__free_length=0.05,
+        springs__0__stiffness={"lower": 5000, "upper": 10000},
+        springs__0__max_force=1.0,
+    )
     record["solve"] = {"starts": 1}
     out = tmp_path / "design.json"
     line = run_error(capsys, ["design", str(write_config(tmp_path, record)), "--out", str(out)], code=1)
@@ -202,16 +226,26 @@ def test_help(capsys, argv):
 
 @pytest.mark.parametrize("module", ["springbalance", "springbalance.cli"])
 def test_python_dash_m_runs_the_command(module):
-    completed = subprocess.run([sys.executable, "-m", module, "--version"], capture_output=True, text=True,
-                               timeout=120)
+    completed = subprocess.run([sys.executable, "-m", module, "--version"], capture_output=True, text=True, timeout=120)
     assert completed.returncode == 0, completed.stderr
     assert completed.stdout.startswith("springbalance ")
 
 
 def test_every_command_has_a_parser_and_a_handler():
     commands = build_parser()._subparsers._group_actions[0].choices
-    assert list(commands) == ["design", "evaluate", "clearance", "view", "report", "export", "payload-range",
-                              "robots", "inspect", "explore", "schema"]
+    assert list(commands) == [
+        "design",
+        "evaluate",
+        "clearance",
+        "view",
+        "report",
+        "export",
+        "payload-range",
+        "robots",
+        "inspect",
+        "explore",
+        "schema",
+    ]
     for name, parser in commands.items():
         assert callable(parser.get_default("handler")), name
 
@@ -230,8 +264,9 @@ def test_console_script_error_is_one_line_without_traceback(tmp_path):
     assert script.is_file(), "console script not installed: pip install -e ."
     config = write_config(tmp_path, edited(springs__0__b__body="forearm"))
     out = tmp_path / "design.json"
-    completed = subprocess.run([str(script), "design", str(config), "--out", str(out)],
-                               capture_output=True, text=True, timeout=120)
+    completed = subprocess.run(
+        [str(script), "design", str(config), "--out", str(out)], capture_output=True, text=True, timeout=120
+    )
     assert completed.returncode == 2
     lines = completed.stderr.splitlines()
     assert len(lines) == 1, completed.stderr
@@ -247,14 +282,17 @@ def test_console_script_exits_at_once_with_its_output_complete(tmp_path):
     script = Path(sys.executable).with_name("springbalance")
     config = write_config(tmp_path)
     out = tmp_path / "design.json"
-    completed = subprocess.run([str(script), "design", str(config), "--out", str(out)],
-                               capture_output=True, text=True, timeout=300)
+    completed = subprocess.run(
+        [str(script), "design", str(config), "--out", str(out)], capture_output=True, text=True, timeout=300
+    )
     assert completed.returncode == 0, completed.stderr
     assert completed.stdout.rstrip().endswith(f"design saved to {out}")
     assert json.loads(out.read_text())["design"]
-    probe = ("import atexit, sys\nfrom springbalance import cli\n"
-             "atexit.register(lambda: print('exit handler ran', flush=True))\n"
-             "sys.argv = ['springbalance', 'robots']\ncli.run()\nprint('not reached')")
+    probe = (
+        "import atexit, sys\nfrom springbalance import cli\n"
+        "atexit.register(lambda: print('exit handler ran', flush=True))\n"
+        "sys.argv = ['springbalance', 'robots']\ncli.run()\nprint('not reached')"
+    )
     completed = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=120)
     assert completed.returncode == 0, completed.stderr
     assert "ur5" in completed.stdout and completed.stdout.rstrip().endswith("exit handler ran")

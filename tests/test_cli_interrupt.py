@@ -22,13 +22,13 @@ from springbalance.results.result import DesignResult
 
 ROOT = Path(__file__).resolve().parents[1]
 
-pytestmark = pytest.mark.slow   # a real Ctrl-C to a solving process, after 6 s of its CPU time
+pytestmark = pytest.mark.slow  # a real Ctrl-C to a solving process, after 6 s of its CPU time
 
 
 def _config(tmp_path) -> Path:
     path = tmp_path / "slow.yaml"
     path.write_text(f"""
-mechanism: {{urdf: {ROOT / 'urdf' / 'two_link_planar.urdf'}}}
+mechanism: {{urdf: {ROOT / "urdf" / "two_link_planar.urdf"}}}
 workspace: {{kind: sobol, n: 64}}
 springs:
   - {{name: s1, type: zero_free_length, a: {{body: universe, box: {{lower: [-0.1, 0, 0.1], upper: [0.1, 0, 0.4]}}}},
@@ -46,9 +46,13 @@ def _cpu_seconds(pid: int) -> float:
 
 def _interrupt(tmp_path, *extra) -> tuple[int, str, Path]:
     out = tmp_path / "design.json"
-    process = subprocess.Popen([sys.executable, "-m", "springbalance", "design", str(_config(tmp_path)), "--out",
-                                str(out), *extra], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                               env={**os.environ, "SPRINGBALANCE_WORKERS": "1"})
+    process = subprocess.Popen(
+        [sys.executable, "-m", "springbalance", "design", str(_config(tmp_path)), "--out", str(out), *extra],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "SPRINGBALANCE_WORKERS": "1"},
+    )
     # start-up, compile and some starts: wait for 6 s of the process's own CPU time (not wall time, which a
     # loaded machine stretches), at most 120 s
     deadline = time.monotonic() + 120.0
@@ -59,7 +63,7 @@ def _interrupt(tmp_path, *extra) -> tuple[int, str, Path]:
     process.send_signal(signal.SIGINT)
     try:
         _, err = process.communicate(timeout=60)
-    finally:   # a process that outlives the test is killed, not left behind
+    finally:  # a process that outlives the test is killed, not left behind
         if process.poll() is None:
             process.kill()
             process.communicate()
@@ -76,13 +80,13 @@ def test_ctrl_c_stops_cleanly_and_partial_saves_the_best_so_far(tmp_path, partia
     assert match, lines[0]
     finished = int(match.group(1))
     assert 1 <= finished < 100000
-    assert "starts 0 (" in lines[0] and "best objective" in lines[0]   # the finished starts, and the best
+    assert "starts 0 (" in lines[0] and "best objective" in lines[0]  # the finished starts, and the best
     if partial:
         assert out.exists() and "saved to" in lines[0]
         result = DesignResult.load(out)
-        assert result.metrics()["objectives"]["rms"]["reduction_percent"] > 50   # a real design, not the start
+        assert result.metrics()["objectives"]["rms"]["reduction_percent"] > 50  # a real design, not the start
         saved = json.loads(out.read_text())
         assert len(saved["solver"]["starts"]) == finished and saved["solver"]["method"] == "interrupted"
     else:
         assert not out.exists() and "nothing is saved" in lines[0]
-        assert not list(tmp_path.glob(".design.json*"))   # no temporary file left either
+        assert not list(tmp_path.glob(".design.json*"))  # no temporary file left either

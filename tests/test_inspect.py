@@ -33,8 +33,10 @@ def urdf_links(path: Path) -> dict[str, tuple[float, list[float]]]:
         mass = link.find("inertial/mass")
         origin = link.find("inertial/origin")
         xyz = origin.get("xyz", "0 0 0") if origin is not None else "0 0 0"
-        links[link.get("name")] = (float(mass.get("value")) if mass is not None else 0.0,
-                                   [float(value) for value in xyz.split()])
+        links[link.get("name")] = (
+            float(mass.get("value")) if mass is not None else 0.0,
+            [float(value) for value in xyz.split()],
+        )
     return links
 
 
@@ -50,9 +52,13 @@ def urdf_joints(path: Path) -> dict[str, dict]:
             "axis": [float(value) for value in (axis.get("xyz") if axis is not None else "1 0 0").split()],
             "lower": float(limit.get("lower")) if limit is not None and limit.get("lower") else None,
             "upper": float(limit.get("upper")) if limit is not None and limit.get("upper") else None,
-            "mimic": None if mimic is None else {"joint": mimic.get("joint"),
-                                                 "multiplier": float(mimic.get("multiplier", "1")),
-                                                 "offset": float(mimic.get("offset", "0"))},
+            "mimic": None
+            if mimic is None
+            else {
+                "joint": mimic.get("joint"),
+                "multiplier": float(mimic.get("multiplier", "1")),
+                "offset": float(mimic.get("offset", "0")),
+            },
         }
     return joints
 
@@ -125,8 +131,11 @@ def test_json_of_two_link_planar_matches_the_urdf(capsys):
     assert [joint["name"] for joint in summary["joints"]] == list(joints) == ["shoulder", "elbow", "tool_mount"]
     for record in summary["joints"]:
         expected = joints[record["name"]]
-        assert (record["type"], record["parent"], record["child"]) == \
-            (expected["type"], expected["parent"], expected["child"])
+        assert (record["type"], record["parent"], record["child"]) == (
+            expected["type"],
+            expected["parent"],
+            expected["child"],
+        )
         if expected["type"] == "fixed":
             assert record["axis"] is None and record["lower"] is None and record["upper"] is None
             assert record["dof"] is False
@@ -217,7 +226,7 @@ def test_mimic_joints_with_and_without_mimic(capsys):
     assert main(["inspect", str(PARALLELOGRAM), "--json"]) == 0
     captured = capsys.readouterr()
     assert json.loads(captured.out)["dofs"] == 4
-    warning, = captured.err.splitlines()
+    (warning,) = captured.err.splitlines()
     assert warning.startswith("springbalance: warning: ") and "--mimic" in warning
 
 
@@ -249,13 +258,17 @@ def test_bad_paths_exit_2_with_one_line(tmp_path, capsys):
     assert "is a directory" in run_error(capsys, ["inspect", str(tmp_path)])
 
 
-@pytest.mark.parametrize("argv, expected", [
-    (["inspect", "pnda"], "did you mean 'panda'?"),
-    (["inspect", "urdf/absent.urdf"], "URDF file 'urdf/absent.urdf' does not exist"),
-])
+@pytest.mark.parametrize(
+    "argv, expected",
+    [
+        (["inspect", "pnda"], "did you mean 'panda'?"),
+        (["inspect", "urdf/absent.urdf"], "URDF file 'urdf/absent.urdf' does not exist"),
+    ],
+)
 def test_python_m_errors_are_one_line_without_traceback(argv, expected):
-    completed = subprocess.run([sys.executable, "-m", "springbalance", *argv], capture_output=True, text=True,
-                               cwd=ROOT, timeout=120)
+    completed = subprocess.run(
+        [sys.executable, "-m", "springbalance", *argv], capture_output=True, text=True, cwd=ROOT, timeout=120
+    )
     assert completed.returncode == 2
     assert completed.stdout == ""
     lines = completed.stderr.splitlines()
@@ -265,7 +278,8 @@ def test_python_m_errors_are_one_line_without_traceback(argv, expected):
 
 
 def test_python_m_version():
-    completed = subprocess.run([sys.executable, "-m", "springbalance", "--version"], capture_output=True, text=True,
-                               timeout=120)
+    completed = subprocess.run(
+        [sys.executable, "-m", "springbalance", "--version"], capture_output=True, text=True, timeout=120
+    )
     assert completed.returncode == 0, completed.stderr
     assert completed.stdout == f"springbalance {sb.__version__}\n"

@@ -21,8 +21,11 @@ NOTEBOOKS = sorted((ROOT / "notebooks").glob("*.ipynb"))
 
 
 def test_there_are_three_notebooks_stored_without_outputs():
-    assert [path.name for path in NOTEBOOKS] == ["01_quick_start_single_link.ipynb", "02_ur5_four_springs.ipynb",
-                                                 "03_comparing_objectives.ipynb"]
+    assert [path.name for path in NOTEBOOKS] == [
+        "01_quick_start_single_link.ipynb",
+        "02_ur5_four_springs.ipynb",
+        "03_comparing_objectives.ipynb",
+    ]
     for path in NOTEBOOKS:
         notebook = nbformat.read(path, as_version=4)
         nbformat.validate(notebook)
@@ -46,10 +49,11 @@ def test_notebook_runs_top_to_bottom(path, workspace):
     copy = workspace / path.name
     shutil.copy(path, copy)
     notebook = nbformat.read(copy, as_version=4)
-    client = nbclient.NotebookClient(notebook, timeout=240, kernel_name="python3",
-                                     resources={"metadata": {"path": str(workspace)}})
+    client = nbclient.NotebookClient(
+        notebook, timeout=240, kernel_name="python3", resources={"metadata": {"path": str(workspace)}}
+    )
     start = time.monotonic()
-    client.execute()        # raises CellExecutionError, with the cell and its traceback, on any error
+    client.execute()  # raises CellExecutionError, with the cell and its traceback, on any error
     elapsed = time.monotonic() - start
     assert elapsed < 120, f"{path.name} took {elapsed:.0f} s"
     outputs = [output for cell in notebook.cells if cell.cell_type == "code" for output in cell.outputs]

@@ -41,7 +41,9 @@ def test_errors_and_version_need_no_subpackage():
 def test_first_use_loads_what_it_needs():
     assert set(_loaded("import springbalance as sb\nsb.Mechanism")) >= {"numpy", "pinocchio"}
     # the design problem and the spring laws do not need pydantic (the config schema does)
-    assert "pydantic" not in _loaded("import springbalance as sb\nsb.DesignProblem, sb.ExtensionSpring, sb.DesignResult")
+    assert "pydantic" not in _loaded(
+        "import springbalance as sb\nsb.DesignProblem, sb.ExtensionSpring, sb.DesignResult"
+    )
 
 
 def test_the_command_line_help_loads_no_optional_dependency():

@@ -52,13 +52,52 @@ if TYPE_CHECKING:  # the real imports, for type checkers and IDEs
     from springbalance.springs.sizing import MATERIALS, Helical, HelicalDesign, Material, size_helical_spring
 
 __all__ = [
-    "Anchor", "Clearance", "CoilMass", "CompressionSpring", "ConfigError", "ConstantForceSpring", "Coupling", "DesignProblem",
-    "DesignResult", "EvaluatedDesign", "Evaluation", "ExtensionSpring", "Free", "GROUND", "GasSpring", "Helical", "HelicalCompressionSpring", "HelicalDesign",
+    "Anchor",
+    "Clearance",
+    "CoilMass",
+    "CompressionSpring",
+    "ConfigError",
+    "ConstantForceSpring",
+    "Coupling",
+    "DesignProblem",
+    "DesignResult",
+    "EvaluatedDesign",
+    "Evaluation",
+    "ExtensionSpring",
+    "Free",
+    "GROUND",
+    "GasSpring",
+    "Helical",
+    "HelicalCompressionSpring",
+    "HelicalDesign",
     "HelicalExtensionSpring",
-    "InputError", "Joint", "MATERIALS", "Material", "Mechanism", "OBJECTIVES", "Payload", "PayloadRange",
-    "PayloadSweep", "Plane", "Pulley", "Scenario", "Segment", "SolverError",
-    "Spring", "SpringBalanceError", "TorsionalSpring", "TwoPointSpring", "Workspace", "ZeroFreeLengthSpring",
-    "__version__", "constraints", "exact", "payload_range", "payload_scenarios", "residual_vs_payload", "solve",
+    "InputError",
+    "Joint",
+    "MATERIALS",
+    "Material",
+    "Mechanism",
+    "OBJECTIVES",
+    "Payload",
+    "PayloadRange",
+    "PayloadSweep",
+    "Plane",
+    "Pulley",
+    "Scenario",
+    "Segment",
+    "SolverError",
+    "Spring",
+    "SpringBalanceError",
+    "TorsionalSpring",
+    "TwoPointSpring",
+    "Workspace",
+    "ZeroFreeLengthSpring",
+    "__version__",
+    "constraints",
+    "exact",
+    "payload_range",
+    "payload_scenarios",
+    "residual_vs_payload",
+    "solve",
     "size_helical_spring",
 ]
 
@@ -78,8 +117,16 @@ _SOURCES = {
     "springbalance.results.payload": ("PayloadRange", "PayloadSweep", "residual_vs_payload"),
     "springbalance.results.result": ("DesignResult",),
     "springbalance.springs": {"constraints": None},
-    "springbalance.springs.laws": ("CompressionSpring", "ConstantForceSpring", "ExtensionSpring", "GasSpring", "Spring",
-                                   "TorsionalSpring", "TwoPointSpring", "ZeroFreeLengthSpring"),
+    "springbalance.springs.laws": (
+        "CompressionSpring",
+        "ConstantForceSpring",
+        "ExtensionSpring",
+        "GasSpring",
+        "Spring",
+        "TorsionalSpring",
+        "TwoPointSpring",
+        "ZeroFreeLengthSpring",
+    ),
     "springbalance.springs.laws.helical_compression": ("HelicalCompressionSpring",),
     "springbalance.springs.laws.helical_extension": ("HelicalExtensionSpring",),
     "springbalance.springs.mass": ("CoilMass",),
@@ -89,14 +136,31 @@ _SOURCES = {
 _LAZY = {name: module for module, names in _SOURCES.items() for name in names}
 #: The subpackages and modules reachable as attributes (``sb.springs.spring_from_dict``), as when
 #: the package imported them all.
-_SUBMODULES = ("cli", "design", "errors", "explore", "export", "files", "io", "loaders", "model", "pipeline", "results", "springs", "viz")
+_SUBMODULES = (
+    "cli",
+    "design",
+    "errors",
+    "explore",
+    "export",
+    "files",
+    "io",
+    "loaders",
+    "model",
+    "pipeline",
+    "results",
+    "springs",
+    "viz",
+)
 
 
 def __getattr__(name: str) -> Any:
     module = _LAZY.get(name)
     if module is not None:
-        value = (importlib.import_module(f"{module}.{name}") if isinstance(_SOURCES[module], dict)
-                 else getattr(importlib.import_module(module), name))
+        value = (
+            importlib.import_module(f"{module}.{name}")
+            if isinstance(_SOURCES[module], dict)
+            else getattr(importlib.import_module(module), name)
+        )
     elif name in _SUBMODULES:
         value = importlib.import_module(f"{__name__}.{name}")
     else:

@@ -17,8 +17,11 @@ REMOVED_IN = "0.3"
 
 def warn_deprecated(old: str, new: str, stacklevel: int = 3) -> None:
     """Warn that ``old`` is deprecated in favour of ``new`` (``stacklevel`` 3: the caller of the deprecated function)."""
-    warnings.warn(f"{old} is deprecated; use {new} ({old} goes in springbalance {REMOVED_IN})", DeprecationWarning,
-                  stacklevel=stacklevel)
+    warnings.warn(
+        f"{old} is deprecated; use {new} ({old} goes in springbalance {REMOVED_IN})",
+        DeprecationWarning,
+        stacklevel=stacklevel,
+    )
 
 
 def moved_names(module: str, names: Mapping[str, tuple[ModuleType, str]]) -> Callable[[str], Any]:

@@ -51,8 +51,14 @@ class Interrupted(SpringBalanceError):
         best_x: the best feasible design found so far (variables of ``problem``), or None.
     """
 
-    def __init__(self, message: str, problem: Any = None, starts: Iterable[Any] | None = None, total: int = 0,
-                 best_x: np.ndarray | None = None) -> None:
+    def __init__(
+        self,
+        message: str,
+        problem: Any = None,
+        starts: Iterable[Any] | None = None,
+        total: int = 0,
+        best_x: np.ndarray | None = None,
+    ) -> None:
         super().__init__(message)
         self.problem = problem
         self.starts = list(starts or [])

@@ -37,8 +37,9 @@ def write_json_atomic(path: str | Path, record: dict) -> Path:
     return write_text_atomic(path, json.dumps(record, indent=1, allow_nan=True) + "\n")
 
 
-def read_input_text(path: str | Path, what: str, error: type[Exception], encoding: str = "utf-8",
-                    max_bytes: int | None = None) -> str:
+def read_input_text(
+    path: str | Path, what: str, error: type[Exception], encoding: str = "utf-8", max_bytes: int | None = None
+) -> str:
     """The text of the input file ``path`` (a config, URDF, catalogue, design); raises ``error`` (one line
     naming ``what``, e.g. "config file", and the path) when the file is missing, a directory, not text in
     ``encoding``, unreadable (permission denied) or larger than ``max_bytes`` [bytes] (None: any size), and when

@@ -39,12 +39,15 @@ MAX_DEPTH = 64
 MAX_VALUES = 2_000_000
 
 #: YAML 1.1 floats (PyYAML's resolver), plus exponents without a dot or without a sign.
-FLOAT = re.compile(r"""^(?:[-+]?(?:[0-9][0-9_]*)\.[0-9_]*(?:[eE][-+]?[0-9]+)?
+FLOAT = re.compile(
+    r"""^(?:[-+]?(?:[0-9][0-9_]*)\.[0-9_]*(?:[eE][-+]?[0-9]+)?
                     |[-+]?(?:[0-9][0-9_]*)(?:[eE][-+]?[0-9]+)
                     |[-+]?\.[0-9][0-9_]*(?:[eE][-+]?[0-9]+)?
                     |[-+]?[0-9][0-9_]*(?::[0-5]?[0-9])+\.[0-9_]*
                     |[-+]?\.(?:inf|Inf|INF)
-                    |\.(?:nan|NaN|NAN))$""", re.X)
+                    |\.(?:nan|NaN|NAN))$""",
+    re.X,
+)
 
 
 class DuplicateKeyError(yaml.YAMLError):
@@ -68,8 +71,10 @@ class LimitError(yaml.YAMLError):
 class ConfigLoader(yaml.SafeLoader):
     """:class:`yaml.SafeLoader` with exponent-form floats, duplicate keys rejected and bounded documents."""
 
-    yaml_implicit_resolvers = {first: [(tag, regexp) for tag, regexp in resolvers if tag not in (FLOAT_TAG, BOOL_TAG)]
-                               for first, resolvers in yaml.SafeLoader.yaml_implicit_resolvers.items()}
+    yaml_implicit_resolvers = {
+        first: [(tag, regexp) for tag, regexp in resolvers if tag not in (FLOAT_TAG, BOOL_TAG)]
+        for first, resolvers in yaml.SafeLoader.yaml_implicit_resolvers.items()
+    }
 
     def compose_node(self, parent: yaml.Node | None, index: Any) -> yaml.Node | None:
         depth = getattr(self, "_depth", 0)
@@ -135,8 +140,10 @@ def _expanded_size(node: yaml.Node, sizes: dict[int, int], open_nodes: set[int])
         size += sum(_expanded_size(k, sizes, open_nodes) + _expanded_size(v, sizes, open_nodes) for k, v in node.value)
     open_nodes.discard(key)
     if size > MAX_VALUES:
-        raise LimitError(f"the document expands to more than {MAX_VALUES} values (through aliases at or below line "
-                         f"{node.start_mark.line + 1})")
+        raise LimitError(
+            f"the document expands to more than {MAX_VALUES} values (through aliases at or below line "
+            f"{node.start_mark.line + 1})"
+        )
     sizes[key] = size
     return size
 

@@ -28,8 +28,8 @@ def coil_problem(tmp_path_factory):
 def test_kernel_outputs_equal_casadi_bit_for_bit(coil_problem):
     residuals = _LeastSquaresResiduals(coil_problem)
     function = residuals.function
-    assert block_kernel(function, coil_problem.workspace.size) is not None   # it is built for this function
-    assert "vector_size(32)" in block_kernel_code(getattr(function, SOURCE_ATTRIBUTE))   # 4 doubles per vector
+    assert block_kernel(function, coil_problem.workspace.size) is not None  # it is built for this function
+    assert "vector_size(32)" in block_kernel_code(getattr(function, SOURCE_ATTRIBUTE))  # 4 doubles per vector
     with_kernel = BlockEvaluator(function, coil_problem.data, kernel=True)
     without = BlockEvaluator(function, coil_problem.data, kernel=False)
     rng = np.random.default_rng(3)
@@ -88,7 +88,7 @@ def test_a_function_the_kernel_cannot_take_keeps_casadi_map(coil_problem):
     from compiled() gets none either, and its evaluator runs CasADi's map."""
     from springbalance.design.block_kernel import Unsupported, _compile_kernel
 
-    function = _LeastSquaresResiduals(coil_problem).function   # a casadi.external
+    function = _LeastSquaresResiduals(coil_problem).function  # a casadi.external
     with pytest.raises(Unsupported, match="not an SX function"):
         block_kernel_code(function)
     assert _compile_kernel(function) is None

@@ -15,12 +15,21 @@ ROOT = Path(__file__).resolve().parents[2]
 @pytest.fixture(scope="module")
 def problem():
     mechanism = sb.Mechanism.from_urdf(ROOT / "urdf" / "two_link_planar.urdf")
-    springs = [sb.ExtensionSpring(sb.Anchor("universe", sb.Free([-0.2, 0, 0], [0.2, 0, 0.3])),
-                                  sb.Anchor("link1", sb.Free([0.05, 0, 0], [0.5, 0, 0])),
-                                  stiffness=sb.Free(0, 2000), free_length=sb.Free(0.02, 0.5), max_stretch=2.0),
-               sb.ExtensionSpring(sb.Anchor("universe", sb.Free([-0.3, 0, -0.1], [0.3, 0, 0.6])),
-                                  sb.Anchor("link2", sb.Free([0.02, 0, 0], [0.4, 0, 0])),
-                                  stiffness=sb.Free(0, 2000), free_length=sb.Free(0.02, 0.5))]
+    springs = [
+        sb.ExtensionSpring(
+            sb.Anchor("universe", sb.Free([-0.2, 0, 0], [0.2, 0, 0.3])),
+            sb.Anchor("link1", sb.Free([0.05, 0, 0], [0.5, 0, 0])),
+            stiffness=sb.Free(0, 2000),
+            free_length=sb.Free(0.02, 0.5),
+            max_stretch=2.0,
+        ),
+        sb.ExtensionSpring(
+            sb.Anchor("universe", sb.Free([-0.3, 0, -0.1], [0.3, 0, 0.6])),
+            sb.Anchor("link2", sb.Free([0.02, 0, 0], [0.4, 0, 0])),
+            stiffness=sb.Free(0, 2000),
+            free_length=sb.Free(0.02, 0.5),
+        ),
+    ]
     return sb.DesignProblem(mechanism, sb.Workspace.sobol(mechanism, 203, seed=5), springs)
 
 
@@ -38,7 +47,7 @@ def test_blocked_normal_equations_equal_the_full_jacobians(problem, block):
     for penalised in (False, True):
         z = rng.random(problem.variables.size)
         multipliers = None
-        if penalised:   # multipliers that make part of the rows active
+        if penalised:  # multipliers that make part of the rows active
             multipliers = np.where(rng.random(reference.constraint_rows(z).size) < 0.5, 0.3, 0.0)
         for residuals in (reference, blocked):
             residuals.set_penalty(multipliers, 10.0 if penalised else 0.0)
@@ -49,7 +58,7 @@ def test_blocked_normal_equations_equal_the_full_jacobians(problem, block):
         assert squares == pytest.approx(float(r @ r), rel=1e-12)
         assert np.array_equal(blocked.constraint_rows(z), reference.constraint_rows(z))
         if penalised:
-            assert np.any(r[problem.workspace.size * problem.mechanism.nv:] != 0)   # penalty rows took part
+            assert np.any(r[problem.workspace.size * problem.mechanism.nv :] != 0)  # penalty rows took part
 
 
 def test_linear_columns_are_the_full_jacobians_columns(problem):
@@ -63,14 +72,14 @@ def test_linear_columns_are_the_full_jacobians_columns(problem):
 
 
 def test_block_evaluator_reads_the_data_in_place(problem):
-    assert problem.data.flags.f_contiguous      # each sample's column is contiguous: blocks are views
+    assert problem.data.flags.f_contiguous  # each sample's column is contiguous: blocks are views
     evaluator = BlockEvaluator(problem.model.sample, problem.data, block=50)
     whole = SampleEvaluator(problem.model.sample, problem.data)
     x = problem.scale(np.full(problem.variables.size, 0.3))
     assert np.shares_memory(evaluator._data, problem.data) and np.shares_memory(whole._data, problem.data)
     for blocked, full in zip(evaluator.evaluate(x), whole(x)):
         assert np.array_equal(blocked, full)
-    numeric = problem.model.evaluate(x, problem.data)   # CasADi's own call on all samples
+    numeric = problem.model.evaluate(x, problem.data)  # CasADi's own call on all samples
     evaluation = problem.evaluate(x)
     assert np.array_equal(evaluation.tau, numeric["tau"]) and np.array_equal(evaluation.constraint_rows, numeric["C"])
 
@@ -80,9 +89,12 @@ def test_rows_no_variable_moves_are_left_out_of_the_jacobian():
     column of the elbow is zero at every sample). The solver's sums leave it out of J, keep it in rᵀr,
     and the full r is the weighted, scaled residual torque of every joint."""
     mechanism = sb.Mechanism.from_urdf(ROOT / "urdf" / "two_link_planar.urdf")
-    spring = sb.ExtensionSpring(sb.Anchor("universe", sb.Free([-0.2, 0, 0], [0.2, 0, 0.3])),
-                                sb.Anchor("link1", sb.Free([0.05, 0, 0], [0.5, 0, 0])),
-                                stiffness=sb.Free(0, 2000), free_length=sb.Free(0.02, 0.5))
+    spring = sb.ExtensionSpring(
+        sb.Anchor("universe", sb.Free([-0.2, 0, 0], [0.2, 0, 0.3])),
+        sb.Anchor("link1", sb.Free([0.05, 0, 0], [0.5, 0, 0])),
+        stiffness=sb.Free(0, 2000),
+        free_length=sb.Free(0.02, 0.5),
+    )
     problem = sb.DesignProblem(mechanism, sb.Workspace.sobol(mechanism, 97, seed=2), [spring])
     residuals = _LeastSquaresResiduals(problem, block=10)
     assert residuals.n_moving == 1 and residuals.order.tolist() == [0, 1]
@@ -95,4 +107,4 @@ def test_rows_no_variable_moves_are_left_out_of_the_jacobian():
     gram, projected, squares = residuals.normal_equations(z)
     assert np.allclose(gram, J.T @ J, rtol=1e-12) and np.allclose(projected, J.T @ r, rtol=1e-12)
     assert squares == pytest.approx(float(r @ r), rel=1e-12)
-    assert float(r.reshape(n, nv)[:, 1] @ r.reshape(n, nv)[:, 1]) > 0   # the elbow row (gravity alone) is in rᵀr
+    assert float(r.reshape(n, nv)[:, 1] @ r.reshape(n, nv)[:, 1]) > 0  # the elbow row (gravity alone) is in rᵀr

@@ -22,9 +22,9 @@ from springbalance.design.clearance_fit import fit_to_arm
 from springbalance.design.solvers import Solution
 
 URDF = Path(__file__).resolve().parents[2] / "urdf"
-LINK1_CENTRE, LINK1_HALF = np.array([0.25, 0.0, 0.0]), np.array([0.25, 0.02, 0.02])   # [m], link1 frame
-CHECK = 256                 # poses the design is fitted on
-DENSE = 10 * CHECK          # poses of the independent check
+LINK1_CENTRE, LINK1_HALF = np.array([0.25, 0.0, 0.0]), np.array([0.25, 0.02, 0.02])  # [m], link1 frame
+CHECK = 256  # poses the design is fitted on
+DENSE = 10 * CHECK  # poses of the independent check
 
 
 @pytest.fixture(scope="module")
@@ -40,12 +40,20 @@ def workspace(arm):
 def springs(width):
     """A ground→link1 spring whose in-plane optimum crosses the folded-back link2, and a link1→link2
     spring; the anchors may leave the arm's plane by ``width`` [m] (0: in the plane)."""
-    return [sb.ZeroFreeLengthSpring(sb.Anchor("universe", sb.Free([-0.1, -width, 0.2], [0.1, width, 0.4], init=[0, 0, 0.3])),
-                                    sb.Anchor("link1", sb.Free([0.3, -width, -0.05], [0.5, width, 0.05], init=[0.4, 0, 0])),
-                                    stiffness=sb.Free(0, 5000), name="s1"),
-            sb.ZeroFreeLengthSpring(sb.Anchor("link1", sb.Free([-0.1, -width, -0.1], [0.45, width, 0.1], init=[0.2, 0, 0])),
-                                    sb.Anchor("link2", sb.Free([0.02, -width, -0.05], [0.4, width, 0.05], init=[0.2, 0, 0])),
-                                    stiffness=sb.Free(0, 5000), name="s2")]
+    return [
+        sb.ZeroFreeLengthSpring(
+            sb.Anchor("universe", sb.Free([-0.1, -width, 0.2], [0.1, width, 0.4], init=[0, 0, 0.3])),
+            sb.Anchor("link1", sb.Free([0.3, -width, -0.05], [0.5, width, 0.05], init=[0.4, 0, 0])),
+            stiffness=sb.Free(0, 5000),
+            name="s1",
+        ),
+        sb.ZeroFreeLengthSpring(
+            sb.Anchor("link1", sb.Free([-0.1, -width, -0.1], [0.45, width, 0.1], init=[0.2, 0, 0])),
+            sb.Anchor("link2", sb.Free([0.02, -width, -0.05], [0.4, width, 0.05], init=[0.2, 0, 0])),
+            stiffness=sb.Free(0, 5000),
+            name="s2",
+        ),
+    ]
 
 
 @pytest.fixture(scope="module")
@@ -57,26 +65,36 @@ def in_plane(arm, workspace):
 def test_the_optimum_without_clearance_passes_through_link2(in_plane):
     report = in_plane.clearance(samples=DENSE)
     row = report.row("s1")
-    assert row.distance < 0                      # overlap: the spring passes through the arm
-    assert row.link in ("link2", "tool")         # link2, or the tool welded to its tip
+    assert row.distance < 0  # overlap: the spring passes through the arm
+    assert row.link in ("link2", "tool")  # link2, or the tool welded to its tip
 
 
 def test_clearance_fitted_from_a_design_through_link2_keeps_the_margin_at_10x_the_poses(arm, workspace, in_plane):
     margin = 0.005
     problem = sb.DesignProblem(arm, workspace, springs(0.1), clearance=sb.Clearance(margin=margin, check_samples=CHECK))
     start = np.array([in_plane.variables.get(name, 0.0) for name in problem.variables.names])
-    assert sb.DesignResult(problem, start).clearance(samples=DENSE).row("s1").distance < 0    # the same design, through link2
-    solution, fit, _ = fit_to_arm(problem, Solution(start, [], "auto", 0, "given"), method="auto", max_iterations=100,
-                               tolerance=1e-8, polish_iterations=None)
+    assert (
+        sb.DesignResult(problem, start).clearance(samples=DENSE).row("s1").distance < 0
+    )  # the same design, through link2
+    solution, fit, _ = fit_to_arm(
+        problem,
+        Solution(start, [], "auto", 0, "given"),
+        method="auto",
+        max_iterations=100,
+        tolerance=1e-8,
+        polish_iterations=None,
+    )
     result = sb.DesignResult(problem, solution.x, fit=fit)
     assert fit.converged and fit.rounds >= 1 and fit.rows > 0
-    report = result.clearance(samples=DENSE)     # the URDF's own shapes, 2,560 poses
+    report = result.clearance(samples=DENSE)  # the URDF's own shapes, 2,560 poses
     assert report.margin == margin and report.poses == DENSE
     for row in report.rows:
         assert row.distance >= margin, str(report)
-    print(f"\nprice of {margin * 1e3:g} mm clearance: rms {fit.objective_before:.6g} → {fit.objective:.6g} N·m "
-          f"({fit.cost_percent:+.3f} %), {fit.rounds} round(s), {fit.rows} rows, {fit.seconds:.2f} s")
-    assert fit.objective <= 1.05 * fit.objective_before   # stepping out of the plane costs (almost) nothing
+    print(
+        f"\nprice of {margin * 1e3:g} mm clearance: rms {fit.objective_before:.6g} → {fit.objective:.6g} N·m "
+        f"({fit.cost_percent:+.3f} %), {fit.rounds} round(s), {fit.rows} rows, {fit.seconds:.2f} s"
+    )
+    assert fit.objective <= 1.05 * fit.objective_before  # stepping out of the plane costs (almost) nothing
 
 
 def test_the_search_between_samples_clears_a_design_fitted_on_16_poses(arm, workspace, in_plane):
@@ -86,8 +104,14 @@ def test_the_search_between_samples_clears_a_design_fitted_on_16_poses(arm, work
     margin = 0.005
     problem = sb.DesignProblem(arm, workspace, springs(0.1), clearance=sb.Clearance(margin=margin, check_samples=16))
     start = np.array([in_plane.variables.get(name, 0.0) for name in problem.variables.names])
-    solution, fit, _ = fit_to_arm(problem, Solution(start, [], "auto", 0, "given"), method="auto", max_iterations=100,
-                               tolerance=1e-8, polish_iterations=None)
+    solution, fit, _ = fit_to_arm(
+        problem,
+        Solution(start, [], "auto", 0, "given"),
+        method="auto",
+        max_iterations=100,
+        tolerance=1e-8,
+        polish_iterations=None,
+    )
     assert fit.converged
     report = sb.DesignResult(problem, solution.x, fit=fit).clearance(samples=DENSE)
     for row in report.rows:
@@ -101,7 +125,9 @@ def test_fitting_more_starts_keeps_the_best_fit(arm, workspace):
     results = {}
     for starts in (1, 3):
         clearance = sb.Clearance(margin=margin, check_samples=64, starts=starts)
-        results[starts] = sb.solve(sb.DesignProblem(arm, workspace, springs(0.1), clearance=clearance), starts=4, seed=1)
+        results[starts] = sb.solve(
+            sb.DesignProblem(arm, workspace, springs(0.1), clearance=clearance), starts=4, seed=1
+        )
     assert results[1].fit.starts == 1 and results[3].fit.starts == 3
     assert results[3].fit.converged and results[3].fit.rounds >= results[1].fit.rounds
     assert results[3].fit.objective <= results[1].fit.objective * (1 + 1e-9)
@@ -113,9 +139,15 @@ def test_fitting_more_starts_keeps_the_best_fit(arm, workspace):
 def test_solve_with_clearance_keeps_springs_apart_and_saves_the_fit(arm, workspace, tmp_path):
     """Both springs start on link1 on top of each other; with between_springs they keep the margin
     from each other too (checked by brute force on the segments)."""
-    twins = [sb.ZeroFreeLengthSpring(sb.Anchor("universe", sb.Free([-0.1, -0.1, 0.2], [0.1, 0.1, 0.4], init=[0, 0, 0.3])),
-                                     sb.Anchor("link1", sb.Free([0.1, -0.1, -0.05], [0.5, 0.1, 0.05], init=[0.3, 0, 0])),
-                                     stiffness=sb.Free(0, 5000), name=name) for name in ("s1", "s2")]
+    twins = [
+        sb.ZeroFreeLengthSpring(
+            sb.Anchor("universe", sb.Free([-0.1, -0.1, 0.2], [0.1, 0.1, 0.4], init=[0, 0, 0.3])),
+            sb.Anchor("link1", sb.Free([0.1, -0.1, -0.05], [0.5, 0.1, 0.05], init=[0.3, 0, 0])),
+            stiffness=sb.Free(0, 5000),
+            name=name,
+        )
+        for name in ("s1", "s2")
+    ]
     clearance = sb.Clearance(margin=0.005, check_samples=64, between_springs=True)
     problem = sb.DesignProblem(arm, workspace, twins, clearance=clearance)
     result = sb.solve(problem, starts=1)
@@ -149,11 +181,14 @@ def box_distance(point):
 
 
 def write_config(tmp_path, a, b, clearance=None):
-    config = {"mechanism": {"urdf": str(URDF / "two_link_planar_collision.urdf")},
-              "workspace": {"kind": "sobol", "n": 64},
-              "springs": [{"name": "s1", "type": "zero_free_length", "a": a, "b": b,
-                           "stiffness": {"lower": 0, "upper": 5000}}],
-              "solve": {"starts": 2}}
+    config = {
+        "mechanism": {"urdf": str(URDF / "two_link_planar_collision.urdf")},
+        "workspace": {"kind": "sobol", "n": 64},
+        "springs": [
+            {"name": "s1", "type": "zero_free_length", "a": a, "b": b, "stiffness": {"lower": 0, "upper": 5000}}
+        ],
+        "solve": {"starts": 2},
+    }
     if clearance is not None:
         config["clearance"] = clearance
     path = tmp_path / "config.json"
@@ -163,37 +198,64 @@ def write_config(tmp_path, a, b, clearance=None):
 
 @pytest.mark.parametrize("offset", [0.0, 0.01])
 def test_an_anchor_on_collision_lies_on_its_bodys_surface_and_one_on_the_floor_on_the_floor(tmp_path, offset):
-    config = write_config(tmp_path, {"body": "universe", "on": "floor",
-                                     "box": {"lower": [-0.3, -0.1, -0.1], "upper": [0.3, 0.1, 0.1]}},
-                          {"body": "link1", "on": "collision", "offset": offset,
-                           "box": {"lower": [0.1, -0.1, -0.1], "upper": [0.5, 0.1, 0.1]}})
+    config = write_config(
+        tmp_path,
+        {"body": "universe", "on": "floor", "box": {"lower": [-0.3, -0.1, -0.1], "upper": [0.3, 0.1, 0.1]}},
+        {
+            "body": "link1",
+            "on": "collision",
+            "offset": offset,
+            "box": {"lower": [0.1, -0.1, -0.1], "upper": [0.5, 0.1, 0.1]},
+        },
+    )
     out = tmp_path / "design.json"
     assert main(["design", str(config), "--out", str(out)]) == 0
     record = json.loads(out.read_text())["design"][0]
-    assert record["a"]["point"][2] == pytest.approx(0.0, abs=1e-12)          # on the floor z = 0
-    assert abs(box_distance(record["b"]["point"]) - offset) <= 1e-3          # offset ± 1 mm from link1's box
+    assert record["a"]["point"][2] == pytest.approx(0.0, abs=1e-12)  # on the floor z = 0
+    assert abs(box_distance(record["b"]["point"]) - offset) <= 1e-3  # offset ± 1 mm from link1's box
 
 
 def test_an_anchor_on_collision_without_a_box_goes_around_the_geometry(arm, workspace):
-    spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", sb.Free([-0.1, -0.1, 0.1], [0.1, 0.1, 0.3])),
-                                     sb.Anchor("link1", None, on="collision", offset=0.005),
-                                     stiffness=sb.Free(0, 5000), name="s1")
+    spring = sb.ZeroFreeLengthSpring(
+        sb.Anchor("universe", sb.Free([-0.1, -0.1, 0.1], [0.1, 0.1, 0.3])),
+        sb.Anchor("link1", None, on="collision", offset=0.005),
+        stiffness=sb.Free(0, 5000),
+        name="s1",
+    )
     result = sb.solve(sb.DesignProblem(arm, workspace, [spring]), starts=2)
     assert abs(box_distance(result.springs[0]["b"]["point"]) - 0.005) <= 1e-3
     assert result.fit.converged
 
 
-@pytest.mark.parametrize("a, b, clearance, culprit", [
-    ({"body": "universe", "point": [0, 0, 0.3]}, {"body": "base", "on": "collision"}, None,
-     "body 'base' has no collision geometry"),
-    ({"body": "universe", "point": [0, 0, 0.3]}, {"body": "link1", "point": [0.3, 0, 0]}, {"margin": -0.001},
-     "clearance.margin"),
-    ({"body": "universe", "on": "floor", "box": {"lower": [-0.1, -0.1, 0.1], "upper": [0.1, 0.1, 0.2]}},
-     {"body": "link1", "point": [0.3, 0, 0]}, None, "no anchor can reach"),
-    ({"body": "universe", "point": [0, 0, 0.3]},
-     {"body": "link1", "on": "collision", "box": {"lower": [0.2, -0.3, 0.2], "upper": [0.3, 0.3, 0.3]}}, None,
-     "no anchor can reach the mounting surface"),
-])
+@pytest.mark.parametrize(
+    "a, b, clearance, culprit",
+    [
+        (
+            {"body": "universe", "point": [0, 0, 0.3]},
+            {"body": "base", "on": "collision"},
+            None,
+            "body 'base' has no collision geometry",
+        ),
+        (
+            {"body": "universe", "point": [0, 0, 0.3]},
+            {"body": "link1", "point": [0.3, 0, 0]},
+            {"margin": -0.001},
+            "clearance.margin",
+        ),
+        (
+            {"body": "universe", "on": "floor", "box": {"lower": [-0.1, -0.1, 0.1], "upper": [0.1, 0.1, 0.2]}},
+            {"body": "link1", "point": [0.3, 0, 0]},
+            None,
+            "no anchor can reach",
+        ),
+        (
+            {"body": "universe", "point": [0, 0, 0.3]},
+            {"body": "link1", "on": "collision", "box": {"lower": [0.2, -0.3, 0.2], "upper": [0.3, 0.3, 0.3]}},
+            None,
+            "no anchor can reach the mounting surface",
+        ),
+    ],
+)
 def test_bad_clearance_and_mounting_input_gets_one_line_naming_the_culprit(tmp_path, capsys, a, b, clearance, culprit):
     config = write_config(tmp_path, a, b, clearance)
     out = tmp_path / "design.json"

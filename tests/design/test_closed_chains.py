@@ -29,14 +29,15 @@ import springbalance as sb
 URDF = Path(__file__).resolve().parents[2] / "urdf"
 G = 9.81
 M1, R1, L1, M2, R2, M3, M4, B = 3.0, 0.3, 0.6, 2.0, 0.25, 0.5, 0.3, 0.1
-SEAT_MOMENT = 1.5 * 0.225 * 2 + 8.0 * 0.45   # [kg·m]
+SEAT_MOMENT = 1.5 * 0.225 * 2 + 8.0 * 0.45  # [kg·m]
 
 
 @pytest.fixture(scope="module")
 def arm():
     mechanism = sb.Mechanism.from_urdf(URDF / "parallelogram_arm.urdf", mimic=True)
-    workspace = sb.Workspace.random(mechanism, 50, ranges={"shoulder": [-180, 180], "elbow": [-180, 180]},
-                                    degrees=True, seed=7)
+    workspace = sb.Workspace.random(
+        mechanism, 50, ranges={"shoulder": [-180, 180], "elbow": [-180, 180]}, degrees=True, seed=7
+    )
     return mechanism, workspace
 
 
@@ -59,16 +60,19 @@ def test_parallelogram_loop_closes(arm):
         pin.framesForwardKinematics(model, data, q)
         # the crank's far end lands on the shoulder pivot O, and the coupler stays parallel to the upper arm
         np.testing.assert_allclose(data.oMf[mechanism.frame_id("crank")].act(np.array([B, 0.0, 0.0])), 0.0, atol=1e-12)
-        np.testing.assert_allclose(data.oMf[mechanism.frame_id("coupler")].rotation,
-                                   data.oMf[mechanism.frame_id("upper_arm")].rotation, atol=1e-12)
+        np.testing.assert_allclose(
+            data.oMf[mechanism.frame_id("coupler")].rotation,
+            data.oMf[mechanism.frame_id("upper_arm")].rotation,
+            atol=1e-12,
+        )
 
 
 def test_parallelogram_gravity_torque_matches_hand_formula(arm):
     _, workspace = arm
     theta1 = workspace.joint_values[:, 0]
     theta2 = theta1 + workspace.joint_values[:, 1]
-    c1 = G * (M1 * R1 + M2 * L1 + M3 * L1 / 2) * np.cos(theta1)     # [N·m]
-    c2 = G * (M2 * R2 - M3 * B - M4 * B / 2) * np.cos(theta2)       # [N·m]
+    c1 = G * (M1 * R1 + M2 * L1 + M3 * L1 / 2) * np.cos(theta1)  # [N·m]
+    c2 = G * (M2 * R2 - M3 * B - M4 * B / 2) * np.cos(theta2)  # [N·m]
     torque = workspace.kinematics().gravity_torque
     np.testing.assert_allclose(torque[:, 0], c1 + c2, rtol=0, atol=1e-9)
     np.testing.assert_allclose(torque[:, 1], c2, rtol=0, atol=1e-9)
@@ -79,7 +83,9 @@ def test_parallelogram_spring_torques_on_actuated_joints(arm):
     # on the actuated joints is dV/dq of V = k |x_b - x_a|^2 / 2, checked by finite differences.
     mechanism, workspace = arm
     k, ground_point, coupler_point = 120.0, np.array([0.0, 0.0, 0.2]), np.array([-0.3, 0.0, 0.0])
-    spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", ground_point), sb.Anchor("coupler", coupler_point), stiffness=k)
+    spring = sb.ZeroFreeLengthSpring(
+        sb.Anchor("universe", ground_point), sb.Anchor("coupler", coupler_point), stiffness=k
+    )
     evaluation = sb.DesignProblem(mechanism, workspace, [spring]).evaluate(np.zeros(0))
     model, data = mechanism.model, mechanism.model.createData()
     frame = mechanism.frame_id("coupler")
@@ -91,8 +97,9 @@ def test_parallelogram_spring_torques_on_actuated_joints(arm):
     gravity = workspace.kinematics().gravity_torque
     for i, values in enumerate(workspace.joint_values[:10]):
         step = 1e-6
-        derivative = [(spring_potential(values + step * e) - spring_potential(values - step * e)) / (2 * step)
-                      for e in np.eye(2)]
+        derivative = [
+            (spring_potential(values + step * e) - spring_potential(values - step * e)) / (2 * step) for e in np.eye(2)
+        ]
         np.testing.assert_allclose(evaluation.tau[i] - gravity[i], derivative, atol=1e-6)
 
 
@@ -102,9 +109,11 @@ def test_sit_to_stand_balances_exactly_with_one_spring(tmp_path):
     workspace = sb.Workspace.random(mechanism, 50, seed=3)
     lift = workspace.joint_values[:, 0]
     assert np.all((lift >= -np.pi / 6) & (lift <= np.pi / 3))
-    np.testing.assert_allclose(workspace.kinematics().gravity_torque[:, 0], G * SEAT_MOMENT * np.cos(lift), rtol=0, atol=1e-9)
+    np.testing.assert_allclose(
+        workspace.kinematics().gravity_torque[:, 0], G * SEAT_MOMENT * np.cos(lift), rtol=0, atol=1e-9
+    )
     a, b = 0.15, 0.3
-    k = G * SEAT_MOMENT / (a * b)                                    # k a b = m g c  [N/m]
+    k = G * SEAT_MOMENT / (a * b)  # k a b = m g c  [N/m]
     spring = sb.ZeroFreeLengthSpring(sb.Anchor("ground", (0, 0, a)), sb.Anchor("rear_arm", (b, 0, 0)), stiffness=k)
     result = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [spring]), np.zeros(0))
     assert result.exact_balance()["exact"]

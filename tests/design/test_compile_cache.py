@@ -33,8 +33,14 @@ SCRIPT = textwrap.dedent("""
 
 def _run(cache, name="s1", extra=None, wait=True):
     env = {**os.environ, "SPRINGBALANCE_CACHE_DIR": str(cache), **(extra or {})}
-    process = subprocess.Popen([sys.executable, "-c", SCRIPT, name], cwd=os.path.dirname(os.path.dirname(
-        os.path.dirname(os.path.abspath(__file__)))), env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    process = subprocess.Popen(
+        [sys.executable, "-c", SCRIPT, name],
+        cwd=os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))),
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     if not wait:
         return process
     return _result(process)
@@ -88,8 +94,11 @@ def test_the_compiled_function_matches_the_virtual_machine(monkeypatch, tmp_path
     monkeypatch.setenv("SPRINGBALANCE_CACHE_DIR", str(tmp_path))
     x = ca.SX.sym("x", 3)
     data = ca.SX.sym("d", 2)
-    function = ca.Function("cache_probe", [x, data], [ca.sin(x) * data[0] + ca.sqrt(data[1]) * x[0] ** 3,
-                                                      ca.jacobian(ca.sum1(ca.exp(x)) * data[1], x)])
+    function = ca.Function(
+        "cache_probe",
+        [x, data],
+        [ca.sin(x) * data[0] + ca.sqrt(data[1]) * x[0] ** 3, ca.jacobian(ca.sum1(ca.exp(x)) * data[1], x)],
+    )
     compiled = compile_cache.compile_function(function)
     assert compiled.class_name() == "External"
     arguments = [np.array([0.3, -1.2, 2.0]), np.array([1.5, 2.5])]
@@ -104,8 +113,9 @@ def test_the_cache_folder_is_the_users_unless_overridden(monkeypatch, tmp_path):
     monkeypatch.setenv("SPRINGBALANCE_CACHE_DIR", str(tmp_path))
     assert compile_cache.cache_dir() == os.path.join(str(tmp_path), "compiled")
     monkeypatch.delenv("SPRINGBALANCE_CACHE_DIR")
-    assert compile_cache.cache_dir() == os.path.join(platformdirs.user_cache_dir("springbalance", appauthor=False),
-                                                     "compiled")
+    assert compile_cache.cache_dir() == os.path.join(
+        platformdirs.user_cache_dir("springbalance", appauthor=False), "compiled"
+    )
 
 
 def test_the_key_covers_code_compiler_and_flags():

@@ -30,15 +30,16 @@ from springbalance import exact
 
 URDF = Path(__file__).resolve().parents[2] / "urdf"
 G = 9.81
-DISTAL_MOMENT = 1.0 * 0.2 + 0.5 * 0.4          # [kg·m]
-PROXIMAL_MOMENT = 2.0 * 0.25 + 1.5 * 0.5       # [kg·m]
+DISTAL_MOMENT = 1.0 * 0.2 + 0.5 * 0.4  # [kg·m]
+PROXIMAL_MOMENT = 2.0 * 0.25 + 1.5 * 0.5  # [kg·m]
 
 
 @pytest.fixture(scope="module")
 def pendulum():
     mechanism = sb.Mechanism.from_urdf(URDF / "two_link_planar.urdf")
-    workspace = sb.Workspace.sobol(mechanism, 512, ranges={"shoulder": [-180, 180], "elbow": [-180, 180]},
-                                   degrees=True, seed=1)
+    workspace = sb.Workspace.sobol(
+        mechanism, 512, ranges={"shoulder": [-180, 180], "elbow": [-180, 180]}, degrees=True, seed=1
+    )
     return mechanism, workspace
 
 
@@ -56,7 +57,7 @@ def test_count_check():
     assert exact.count_check(3, 2).minimum_springs == 2
     assert not exact.count_check(3, 1).enough
     assert exact.count_check(4, 3).conditions == 12 and exact.count_check(4, 3).minimum_springs == 3
-    assert exact.count_check(5, 4).minimum_springs == 5          # ⌈20/4⌉
+    assert exact.count_check(5, 4).minimum_springs == 5  # ⌈20/4⌉
 
 
 def test_double_pendulum_synthesis_balances_exactly(pendulum):
@@ -89,8 +90,10 @@ def test_consecutive_springs_cannot_balance_two_links(pendulum):
         synthesis.require()
     # the general optimiser, anchors free in a generous box and stiffness free, cannot get near zero
     box = sb.Free(lower=[-0.6, 0, -0.6], upper=[0.6, 0, 0.6])
-    springs = [sb.ZeroFreeLengthSpring(sb.Anchor(a, box), sb.Anchor(b, box), stiffness=sb.Free(0, 2000))
-               for a, b in (("universe", "link1"), ("link1", "link2"))]
+    springs = [
+        sb.ZeroFreeLengthSpring(sb.Anchor(a, box), sb.Anchor(b, box), stiffness=sb.Free(0, 2000))
+        for a, b in (("universe", "link1"), ("link1", "link2"))
+    ]
     best = sb.solve(sb.DesignProblem(mechanism, workspace, springs), starts=8)
     unbalanced = np.max(np.abs(workspace.kinematics().gravity_torque))
     relative = np.max(np.abs(best.residual_torque())) / unbalanced
@@ -99,19 +102,26 @@ def test_consecutive_springs_cannot_balance_two_links(pendulum):
     assert not best.exact_balance()["exact"]
     assert "Exactly balanced" not in best.table()
     # the same optimiser with the reachable topology does reach exact balance
-    springs = [sb.ZeroFreeLengthSpring(sb.Anchor(a, box), sb.Anchor(b, box), stiffness=sb.Free(0, 2000))
-               for a, b in (("universe", "link2"), ("link1", "link2"))]
+    springs = [
+        sb.ZeroFreeLengthSpring(sb.Anchor(a, box), sb.Anchor(b, box), stiffness=sb.Free(0, 2000))
+        for a, b in (("universe", "link2"), ("link1", "link2"))
+    ]
     assert sb.solve(sb.DesignProblem(mechanism, workspace, springs), starts=8).exact_balance()["exact"]
 
 
 def test_blocks_predict_the_pinocchio_potential(pendulum):
     mechanism, workspace = pendulum
-    springs = [sb.ZeroFreeLengthSpring(sb.Anchor("universe", (0.05, 0.02, 0.3)), sb.Anchor("link2", (0.1, 0.0, -0.05)),
-                                       stiffness=150.0),
-               sb.ZeroFreeLengthSpring(sb.Anchor("link1", (0.2, 0.0, 0.1)), sb.Anchor("link2", (-0.1, 0.03, 0.05)),
-                                       stiffness=80.0),
-               sb.ZeroFreeLengthSpring(sb.Anchor("universe", (-0.1, 0.0, 0.1)), sb.Anchor("link1", (0.3, 0.0, 0.0)),
-                                       stiffness=60.0)]
+    springs = [
+        sb.ZeroFreeLengthSpring(
+            sb.Anchor("universe", (0.05, 0.02, 0.3)), sb.Anchor("link2", (0.1, 0.0, -0.05)), stiffness=150.0
+        ),
+        sb.ZeroFreeLengthSpring(
+            sb.Anchor("link1", (0.2, 0.0, 0.1)), sb.Anchor("link2", (-0.1, 0.03, 0.05)), stiffness=80.0
+        ),
+        sb.ZeroFreeLengthSpring(
+            sb.Anchor("universe", (-0.1, 0.0, 0.1)), sb.Anchor("link1", (0.3, 0.0, 0.0)), stiffness=60.0
+        ),
+    ]
     potential = sb.DesignProblem(mechanism, workspace, springs).evaluate(np.zeros(0)).potential
     blocks = exact.residual_blocks(mechanism, springs).blocks
     q = workspace.joint_values
@@ -120,18 +130,20 @@ def test_blocks_predict_the_pinocchio_potential(pendulum):
     offset = potential - predicted
     assert np.ptp(offset) < 1e-9 * np.ptp(potential)
     matrices = exact.residual_blocks(mechanism, springs).matrices()
-    for (pair, value) in blocks.items():
+    for pair, value in blocks.items():
         e = np.array([np.cos(0.3), np.sin(0.3)]), np.array([np.cos(-1.1), np.sin(-1.1)])
         assert e[0] @ matrices[pair] @ e[1] == pytest.approx(np.real(np.exp(-0.3j) * value * np.exp(-1.1j)), abs=1e-12)
 
 
 def test_three_link_chain_synthesis():
-    links = "".join(f"""
+    links = "".join(
+        f"""
   <link name="l{i}"><inertial><origin xyz="{c} 0 0"/><mass value="{m}"/>
     <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
-  <joint name="j{i}" type="continuous"><parent link="{'base' if i == 1 else f'l{i - 1}'}"/><child link="l{i}"/>
+  <joint name="j{i}" type="continuous"><parent link="{"base" if i == 1 else f"l{i - 1}"}"/><child link="l{i}"/>
     <origin xyz="{0 if i == 1 else length} 0 0"/><axis xyz="0 -1 0"/></joint>"""
-                    for i, (m, c, length) in enumerate([(2.0, 0.2, 0.0), (1.5, 0.15, 0.4), (1.0, 0.1, 0.3)], start=1))
+        for i, (m, c, length) in enumerate([(2.0, 0.2, 0.0), (1.5, 0.15, 0.4), (1.0, 0.1, 0.3)], start=1)
+    )
     mechanism = sb.Mechanism.from_urdf_string(f'<robot name="three"><link name="base"/>{links}</robot>')
     topology = [("universe", "l3", 400.0), ("l1", "l3", 300.0), ("universe", "l2", 300.0), ("l2", "l3", 200.0)]
     synthesis = exact.synthesize(mechanism, topology)
@@ -147,14 +159,24 @@ def test_analysis_rejects_what_it_cannot_model():
         exact.PlanarChain.from_mechanism(sb.Mechanism.from_urdf(URDF / "parallelogram_arm.urdf", mimic=True))
     mechanism = sb.Mechanism.from_urdf(URDF / "two_link_planar.urdf")
     with pytest.raises(sb.InputError, match="zero-free-length"):
-        exact.residual_blocks(mechanism, [sb.ExtensionSpring(sb.Anchor("universe", (0, 0, 0.1)), sb.Anchor("link1", (0.2, 0, 0)),
-                                                             stiffness=10.0, free_length=0.05)])
+        exact.residual_blocks(
+            mechanism,
+            [
+                sb.ExtensionSpring(
+                    sb.Anchor("universe", (0, 0, 0.1)),
+                    sb.Anchor("link1", (0.2, 0, 0)),
+                    stiffness=10.0,
+                    free_length=0.05,
+                )
+            ],
+        )
     with pytest.raises(sb.InputError, match="unknown body"):
         exact.synthesize(mechanism, [("universe", "nowhere", 10.0)])
     text = (URDF / "two_link_planar.urdf").read_text()
     head, tail = text.split('<joint name="elbow"', 1)
-    spatial = sb.Mechanism.from_urdf_string(head + '<joint name="elbow"' + tail.replace('<axis xyz="0 -1 0"/>',
-                                                                                       '<axis xyz="1 0 0"/>', 1))
+    spatial = sb.Mechanism.from_urdf_string(
+        head + '<joint name="elbow"' + tail.replace('<axis xyz="0 -1 0"/>', '<axis xyz="1 0 0"/>', 1)
+    )
     with pytest.raises(sb.InputError, match="not planar"):
         exact.synthesize(spatial, [("universe", "link2", 10.0)])
 
@@ -167,8 +189,9 @@ def test_synthesis_with_opposite_joint_axes():
     flipped = head + '<joint name="elbow"' + tail.replace('<axis xyz="0 -1 0"/>', '<axis xyz="0 1 0"/>', 1)
     mechanism = sb.Mechanism.from_urdf_string(flipped)
     synthesis = exact.synthesize(mechanism, [("universe", "link2", 250.0), ("link1", "link2", 250.0)])
-    workspace = sb.Workspace.sobol(mechanism, 256, ranges={"shoulder": [-180, 180], "elbow": [-180, 180]},
-                                   degrees=True, seed=4)
+    workspace = sb.Workspace.sobol(
+        mechanism, 256, ranges={"shoulder": [-180, 180], "elbow": [-180, 180]}, degrees=True, seed=4
+    )
     result = sb.DesignResult(sb.DesignProblem(mechanism, workspace, synthesis.require()), np.zeros(0))
     assert result.exact_balance()["relative_residual"] < 1e-9
 
@@ -180,11 +203,12 @@ def test_exact_balance_judges_only_joints_with_weight():
 
     mechanism = sb.Mechanism.from_urdf("urdf/two_link_planar.urdf", gravity=9.81)
     workspace = sb.Workspace.grid(mechanism, {"shoulder": 91, "elbow": 1}, ranges={"elbow": [0, 0]})
-    moment = (2.0 * 0.25 + 1.0 * 0.7 + 0.5 * 0.9) * 9.81          # Σ m c g of link1, link2, tool [N·m]
-    spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", [0, 0, 0.1]), sb.Anchor("link1", [0.3, 0, 0]),
-                                     stiffness=moment / (0.1 * 0.3))
+    moment = (2.0 * 0.25 + 1.0 * 0.7 + 0.5 * 0.9) * 9.81  # Σ m c g of link1, link2, tool [N·m]
+    spring = sb.ZeroFreeLengthSpring(
+        sb.Anchor("universe", [0, 0, 0.1]), sb.Anchor("link1", [0.3, 0, 0]), stiffness=moment / (0.1 * 0.3)
+    )
     shoulder_only = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [spring], weights={"elbow": 0}), np.zeros(0))
     both = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [spring]), np.zeros(0))
     assert shoulder_only.exact_balance()["exact"]
     assert "Exactly balanced on the joints with weight > 0" in shoulder_only.table()
-    assert not both.exact_balance()["exact"]     # the elbow still carries link2's weight
+    assert not both.exact_balance()["exact"]  # the elbow still carries link2's weight

@@ -29,15 +29,26 @@ def arm():
     workspace = sb.Workspace.grid(mechanism, n=9, ranges={"shoulder": [-90, 90], "elbow": [-45, 45]}, degrees=True)
     unbalanced = np.max(np.abs(workspace.kinematics().gravity_torque), axis=0)
     weights = {joint: 1.0 / peak for joint, peak in zip(mechanism.joint_names, unbalanced)}
-    springs = [sb.ExtensionSpring(sb.Anchor("universe", sb.Free([-0.1, 0, 0.02], [0.1, 0, 0.3])),
-                                  sb.Anchor("link1", sb.Free([0.05, 0, -0.05], [0.45, 0, 0.05])),
-                                  stiffness=sb.Free(0, 5000), free_length=sb.Free(0.0, 0.5)),
-               sb.ExtensionSpring(sb.Anchor("link1", sb.Free([0.0, 0, -0.1], [0.45, 0, 0.1])),
-                                  sb.Anchor("link2", sb.Free([-0.1, 0, -0.05], [0.3, 0, 0.05])),
-                                  stiffness=sb.Free(0, 5000), free_length=sb.Free(0.0, 0.5))]
-    results = {objective: sb.solve(sb.DesignProblem(mechanism, workspace, springs, objective=objective,
-                                           weights=weights), starts=3)
-               for objective in ("peak", "peak_then_joints", "joint_peaks")}
+    springs = [
+        sb.ExtensionSpring(
+            sb.Anchor("universe", sb.Free([-0.1, 0, 0.02], [0.1, 0, 0.3])),
+            sb.Anchor("link1", sb.Free([0.05, 0, -0.05], [0.45, 0, 0.05])),
+            stiffness=sb.Free(0, 5000),
+            free_length=sb.Free(0.0, 0.5),
+        ),
+        sb.ExtensionSpring(
+            sb.Anchor("link1", sb.Free([0.0, 0, -0.1], [0.45, 0, 0.1])),
+            sb.Anchor("link2", sb.Free([-0.1, 0, -0.05], [0.3, 0, 0.05])),
+            stiffness=sb.Free(0, 5000),
+            free_length=sb.Free(0.0, 0.5),
+        ),
+    ]
+    results = {
+        objective: sb.solve(
+            sb.DesignProblem(mechanism, workspace, springs, objective=objective, weights=weights), starts=3
+        )
+        for objective in ("peak", "peak_then_joints", "joint_peaks")
+    }
     return mechanism, workspace, springs, weights, results
 
 
@@ -45,8 +56,8 @@ def test_values_follow_the_definitions():
     weighted = np.array([[1.0, -0.5], [-3.0, 0.25], [2.0, 0.75]])
     assert Peak().value(weighted, None, None) == 3.0
     assert JointPeaks().value(weighted, None, None) == 3.0 + 0.75
-    assert PeakThenJoints().value(weighted, None, None) == 3.0                 # the worst joint first,
-    assert PeakThenJoints().tiebreak(weighted, None, None) == 3.0 + 0.75       # then the sum of the peaks
+    assert PeakThenJoints().value(weighted, None, None) == 3.0  # the worst joint first,
+    assert PeakThenJoints().tiebreak(weighted, None, None) == 3.0 + 0.75  # then the sum of the peaks
     assert {"joint_peaks", "peak_then_joints"} <= set(sb.OBJECTIVES)
     with pytest.raises(sb.InputError, match="slack"):
         PeakThenJoints(slack=-1)
@@ -62,16 +73,18 @@ def test_peak_then_joints_keeps_the_worst_joint_and_lowers_the_others(arm):
     # ... and the other joint comes down: minimax alone leaves it where its solver stopped
     assert lexicographic.sum() < peak.sum() - 10 * slack * peak.max()
     assert results["peak_then_joints"].evaluation.max_violation == 0.0
-    assert results["peak_then_joints"].metrics()["objectives"]["peak_then_joints"]["after"] == \
-        pytest.approx(lexicographic.max(), rel=1e-12)
+    assert results["peak_then_joints"].metrics()["objectives"]["peak_then_joints"]["after"] == pytest.approx(
+        lexicographic.max(), rel=1e-12
+    )
 
 
 def test_joint_peaks_has_the_lowest_sum_of_joint_peaks(arm):
     *_, results = arm
     sums = {name: _peaks(result).sum() for name, result in results.items()}
     assert sums["joint_peaks"] <= min(sums.values()) * (1 + TOLERANCE)
-    assert results["joint_peaks"].metrics()["objectives"]["joint_peaks"]["after"] == \
-        pytest.approx(sums["joint_peaks"], rel=1e-12)
+    assert results["joint_peaks"].metrics()["objectives"]["joint_peaks"]["after"] == pytest.approx(
+        sums["joint_peaks"], rel=1e-12
+    )
 
 
 def test_joint_peaks_nlp_has_one_epigraph_variable_per_joint(arm):
@@ -91,9 +104,12 @@ def crossing():
     shoulder (weight 1) loads the elbow (weight 0.01), which ends up worse than without springs."""
     mechanism = sb.Mechanism.from_urdf(URDF)
     workspace = sb.Workspace.grid(mechanism, n=9, ranges={"shoulder": [-90, 90], "elbow": [-90, 90]}, degrees=True)
-    spring = sb.ExtensionSpring(sb.Anchor("universe", sb.Free([-0.1, 0, 0.02], [0.1, 0, 0.4])),
-                                sb.Anchor("link2", sb.Free([-0.1, 0, -0.05], [0.3, 0, 0.05])),
-                                stiffness=sb.Free(0, 5000), free_length=sb.Free(0.0, 0.8))
+    spring = sb.ExtensionSpring(
+        sb.Anchor("universe", sb.Free([-0.1, 0, 0.02], [0.1, 0, 0.4])),
+        sb.Anchor("link2", sb.Free([-0.1, 0, -0.05], [0.3, 0, 0.05])),
+        stiffness=sb.Free(0, 5000),
+        free_length=sb.Free(0.0, 0.8),
+    )
     unbalanced = np.max(np.abs(workspace.kinematics().gravity_torque), axis=0)
     return mechanism, workspace, [spring], {"shoulder": 1.0, "elbow": 0.01}, unbalanced
 
@@ -105,12 +121,13 @@ def test_without_the_constraint_a_joint_gets_worse(crossing):
     assert peaks[1] > 1.1 * unbalanced[1]
 
 
-@pytest.mark.parametrize("objective, method", [("rms", "least_squares"), ("rms", "ipopt"), ("rms", "auto"),
-                                               ("peak", "auto"), ("peak_then_joints", "auto")])
+@pytest.mark.parametrize(
+    "objective, method",
+    [("rms", "least_squares"), ("rms", "ipopt"), ("rms", "auto"), ("peak", "auto"), ("peak_then_joints", "auto")],
+)
 def test_no_joint_worse_keeps_every_joint_within_its_unbalanced_peak(crossing, objective, method):
     mechanism, workspace, springs, weights, unbalanced = crossing
-    problem = sb.DesignProblem(mechanism, workspace, springs, objective=objective, weights=weights,
-                               no_joint_worse=True)
+    problem = sb.DesignProblem(mechanism, workspace, springs, objective=objective, weights=weights, no_joint_worse=True)
     np.testing.assert_allclose(problem.joint_limits, unbalanced[None, :], rtol=1e-12)
     result = sb.solve(problem, starts=2, method=method)
     peaks = np.max(np.abs(result.evaluation.tau), axis=0)
@@ -124,7 +141,7 @@ def test_no_joint_worse_rows_only_for_weighted_joints(crossing):
     plain = sb.DesignProblem(mechanism, workspace, springs, weights={"elbow": 0})
     problem = sb.DesignProblem(mechanism, workspace, springs, weights={"elbow": 0}, no_joint_worse=True)
     names = [block.name for block in problem.model.constraint_blocks]
-    assert names[plain.model.n_constraints:] == ["no_joint_worse.shoulder"]
+    assert names[plain.model.n_constraints :] == ["no_joint_worse.shoulder"]
     assert np.isnan(problem.joint_limits[0, 1])
     # rows (P² − tau²)/P at the design's start: ≥ 0 exactly where |tau| ≤ P
     evaluation = problem.evaluate()
@@ -149,10 +166,14 @@ def test_no_joint_worse_from_config_and_saved_design(crossing, tmp_path):
     record = {
         "mechanism": {"urdf": URDF},
         "workspace": {"kind": "grid", "n": 5, "degrees": True, "ranges": {"shoulder": [-90, 90], "elbow": [-90, 90]}},
-        "springs": [{"type": "zero_free_length",
-                     "a": {"body": "universe", "box": {"lower": [-0.1, 0, 0.02], "upper": [0.1, 0, 0.4]}},
-                     "b": {"body": "link2", "box": {"lower": [-0.1, 0, -0.05], "upper": [0.3, 0, 0.05]}},
-                     "stiffness": {"lower": 0, "upper": 5000}}],
+        "springs": [
+            {
+                "type": "zero_free_length",
+                "a": {"body": "universe", "box": {"lower": [-0.1, 0, 0.02], "upper": [0.1, 0, 0.4]}},
+                "b": {"body": "link2", "box": {"lower": [-0.1, 0, -0.05], "upper": [0.3, 0, 0.05]}},
+                "stiffness": {"lower": 0, "upper": 5000},
+            }
+        ],
         "objective": "peak_then_joints",
         "weights": {"shoulder": 1, "elbow": 0.01},
         "no_joint_worse": True,
@@ -176,16 +197,25 @@ def test_joint_peaks_worst_scenario_and_peak_then_joints_needs_sum(crossing):
     mechanism, workspace, springs, weights, _ = crossing
     scenarios = [sb.Scenario("bare"), sb.Scenario("tool", payloads=[sb.Payload("tool", 0.5)])]
     with pytest.raises(sb.InputError, match="aggregate 'sum'"):
-        sb.DesignProblem(mechanism, workspace, springs, objective="peak_then_joints", weights=weights,
-                         scenarios=scenarios, aggregate="worst")
-    problem = sb.DesignProblem(mechanism, workspace, springs, objective="joint_peaks", weights=weights,
-                               scenarios=scenarios, aggregate="worst")
+        sb.DesignProblem(
+            mechanism,
+            workspace,
+            springs,
+            objective="peak_then_joints",
+            weights=weights,
+            scenarios=scenarios,
+            aggregate="worst",
+        )
+    problem = sb.DesignProblem(
+        mechanism, workspace, springs, objective="joint_peaks", weights=weights, scenarios=scenarios, aggregate="worst"
+    )
     nlp = problem.build()
-    assert nlp.size == nlp.n_design + 2 * mechanism.nv + 1   # t_sj per scenario and joint, and the worst
+    assert nlp.size == nlp.n_design + 2 * mechanism.nv + 1  # t_sj per scenario and joint, and the worst
     result = sb.solve(problem, starts=1)
     blocks = np.split(result.evaluation.tau * problem.weights, 2)
     per_scenario = [JointPeaks().value(block, None, None) for block in blocks]
     assert result.metrics()["optimised"] == "joint_peaks"
     assert problem.objective_value(result.evaluation) == pytest.approx(max(per_scenario), rel=1e-12)
-    assert max(per_scenario) < JointPeaks().value(problem.workspace.kinematics().gravity_torque * problem.weights,
-                                                  None, None)
+    assert max(per_scenario) < JointPeaks().value(
+        problem.workspace.kinematics().gravity_torque * problem.weights, None, None
+    )

@@ -51,8 +51,9 @@ def _assert_torque_is_potential_gradient(mechanism, workspace, tau, reference, p
     for i, q in enumerate(workspace.configurations):
         expected = reference.torque(q)
         scale = max(np.max(np.abs(expected)), 1.0)
-        np.testing.assert_allclose(tau[i], expected, rtol=0, atol=RELATIVE * scale,
-                                   err_msg=f"sample {i}, q = {workspace.joint_values[i]}")
+        np.testing.assert_allclose(
+            tau[i], expected, rtol=0, atol=RELATIVE * scale, err_msg=f"sample {i}, q = {workspace.joint_values[i]}"
+        )
         if potential is not None:
             v = reference(q)
             assert abs(potential[i] - v) <= 1e-10 * max(abs(v), 1.0), (i, potential[i], v)
@@ -66,8 +67,11 @@ def test_ur5_extension_springs_match_potential_gradient(ur5, seed):
     for a, b in UR5_PAIRS:
         pa, pb = _random_point(rng, a), _random_point(rng, b)
         k, l0, f0 = rng.uniform(100, 5000), rng.uniform(0.05, 0.5), rng.uniform(0, 50)
-        springs.append(sb.ExtensionSpring(sb.Anchor(a, pa), sb.Anchor(b, pb), stiffness=k, free_length=l0,
-                                          initial_tension=f0, keep_tension=False))
+        springs.append(
+            sb.ExtensionSpring(
+                sb.Anchor(a, pa), sb.Anchor(b, pb), stiffness=k, free_length=l0, initial_tension=f0, keep_tension=False
+            )
+        )
         reference_springs.append(RefSpring(a, tuple(pa), b, tuple(pb), k, l0, f0))
     problem = sb.DesignProblem(ur5, workspace, springs)
     assert problem.variables.size == 0
@@ -104,9 +108,11 @@ def test_ur5_zero_free_length_springs_match_potential_gradient(ur5, seed):
     tau = sb.DesignResult(problem, np.zeros(0)).residual_torque()
     reference = ReferencePotential(ur5.model, reference_springs)
     _assert_torque_is_potential_gradient(ur5, workspace, tau, reference, problem.evaluate(np.zeros(0)).potential)
-    np.testing.assert_allclose(problem.evaluate(np.zeros(0)).tensions,
-                               np.array([s.stiffness for s in reference_springs]) * problem.evaluate(np.zeros(0)).lengths,
-                               rtol=1e-12)
+    np.testing.assert_allclose(
+        problem.evaluate(np.zeros(0)).tensions,
+        np.array([s.stiffness for s in reference_springs]) * problem.evaluate(np.zeros(0)).lengths,
+        rtol=1e-12,
+    )
 
 
 @pytest.mark.parametrize("seed", [5, 6])
@@ -118,20 +124,33 @@ def test_ur5_free_design_at_random_x_matches_potential_gradient(ur5, seed):
     seg_start, seg_end = np.array([0.0, 0.0, 0.05]), np.array([0.0, 0.1, 0.4])
     plane_origin, plane_u, plane_v = np.array([0.05, 0.0, 0.0]), np.array([2.0, 0.0, 0.0]), np.array([0.0, 0.0, 3.0])
     springs = [
-        sb.ExtensionSpring(sb.Anchor("universe", sb.Free(box_lower, box_upper)),
-                           sb.Anchor("upper_arm_link", sb.Segment(seg_start, seg_end)),
-                           name="ext", stiffness=sb.Free(100, 3000), free_length=sb.Free(0.05, 0.4),
-                           initial_tension=sb.Free(0, 40), keep_tension=False),
-        sb.ZeroFreeLengthSpring(sb.Anchor("shoulder_link", sb.Plane(plane_origin, plane_u, plane_v, [-0.1, -0.1], [0.1, 0.2])),
-                                sb.Anchor("forearm_link", (0.0, 0.02, 0.2)), name="zfl", stiffness=sb.Free(50, 2000)),
+        sb.ExtensionSpring(
+            sb.Anchor("universe", sb.Free(box_lower, box_upper)),
+            sb.Anchor("upper_arm_link", sb.Segment(seg_start, seg_end)),
+            name="ext",
+            stiffness=sb.Free(100, 3000),
+            free_length=sb.Free(0.05, 0.4),
+            initial_tension=sb.Free(0, 40),
+            keep_tension=False,
+        ),
+        sb.ZeroFreeLengthSpring(
+            sb.Anchor("shoulder_link", sb.Plane(plane_origin, plane_u, plane_v, [-0.1, -0.1], [0.1, 0.2])),
+            sb.Anchor("forearm_link", (0.0, 0.02, 0.2)),
+            name="zfl",
+            stiffness=sb.Free(50, 2000),
+        ),
     ]
     problem = sb.DesignProblem(ur5, workspace, springs)
     chosen = {
-        "ext.a.x": rng.uniform(-0.2, 0.2), "ext.a.y": rng.uniform(-0.1, 0.1), "ext.a.z": rng.uniform(0.3, 0.6),
+        "ext.a.x": rng.uniform(-0.2, 0.2),
+        "ext.a.y": rng.uniform(-0.1, 0.1),
+        "ext.a.z": rng.uniform(0.3, 0.6),
         "ext.b.s": rng.uniform(0, 1),
-        "ext.stiffness": rng.uniform(100, 3000), "ext.free_length": rng.uniform(0.05, 0.4),
+        "ext.stiffness": rng.uniform(100, 3000),
+        "ext.free_length": rng.uniform(0.05, 0.4),
         "ext.initial_tension": rng.uniform(0, 40),
-        "zfl.a.u": rng.uniform(-0.1, 0.1), "zfl.a.v": rng.uniform(-0.1, 0.2),
+        "zfl.a.u": rng.uniform(-0.1, 0.1),
+        "zfl.a.v": rng.uniform(-0.1, 0.2),
         "zfl.stiffness": rng.uniform(50, 2000),
     }
     assert sorted(problem.variables.names) == sorted(chosen)
@@ -141,14 +160,33 @@ def test_ur5_free_design_at_random_x_matches_potential_gradient(ur5, seed):
 
     point_a = np.array([chosen["ext.a.x"], chosen["ext.a.y"], chosen["ext.a.z"]])
     point_b = seg_start + chosen["ext.b.s"] * (seg_end - seg_start)
-    plane_point = (plane_origin + chosen["zfl.a.u"] * plane_u / np.linalg.norm(plane_u)
-                   + chosen["zfl.a.v"] * plane_v / np.linalg.norm(plane_v))
-    reference = ReferencePotential(ur5.model, [
-        RefSpring("universe", tuple(point_a), "upper_arm_link", tuple(point_b), chosen["ext.stiffness"],
-                  chosen["ext.free_length"], chosen["ext.initial_tension"]),
-        RefSpring("shoulder_link", tuple(plane_point), "forearm_link", (0.0, 0.02, 0.2), chosen["zfl.stiffness"],
-                  zero_free_length=True),
-    ])
+    plane_point = (
+        plane_origin
+        + chosen["zfl.a.u"] * plane_u / np.linalg.norm(plane_u)
+        + chosen["zfl.a.v"] * plane_v / np.linalg.norm(plane_v)
+    )
+    reference = ReferencePotential(
+        ur5.model,
+        [
+            RefSpring(
+                "universe",
+                tuple(point_a),
+                "upper_arm_link",
+                tuple(point_b),
+                chosen["ext.stiffness"],
+                chosen["ext.free_length"],
+                chosen["ext.initial_tension"],
+            ),
+            RefSpring(
+                "shoulder_link",
+                tuple(plane_point),
+                "forearm_link",
+                (0.0, 0.02, 0.2),
+                chosen["zfl.stiffness"],
+                zero_free_length=True,
+            ),
+        ],
+    )
     evaluation = problem.evaluate(x)
     _assert_torque_is_potential_gradient(ur5, workspace, evaluation.tau, reference, evaluation.potential)
     result = sb.DesignResult(problem, x)
@@ -179,19 +217,23 @@ def test_zero_free_length_spring_balances_single_link_exactly(r2, a, b):
     """k a b = m g c makes the total potential constant: zero torque at every angle."""
     stiffness = R2_MASS * R2_GRAVITY * R2_COM / (a * b)
     workspace = sb.Workspace.grid(r2, 2001)  # every 0.18° of the full turn
-    spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", (0, 0, a)), sb.Anchor("link1", (b, 0, 0)),
-                                     stiffness=stiffness)
+    spring = sb.ZeroFreeLengthSpring(
+        sb.Anchor("universe", (0, 0, a)), sb.Anchor("link1", (b, 0, 0)), stiffness=stiffness
+    )
     problem = sb.DesignProblem(r2, workspace, [spring])
     evaluation = problem.evaluate(np.zeros(0))
     assert np.max(np.abs(evaluation.tau)) < 1e-9
     assert np.ptp(evaluation.potential) < 1e-9
     # The mechanism was not trivially balanced: gravity alone needs m g c = 2.45 N·m.
-    assert np.max(np.abs(workspace.kinematics().gravity_torque)) == pytest.approx(R2_MASS * R2_GRAVITY * R2_COM, rel=1e-9)
+    assert np.max(np.abs(workspace.kinematics().gravity_torque)) == pytest.approx(
+        R2_MASS * R2_GRAVITY * R2_COM, rel=1e-9
+    )
     # A 1 % stiffer spring is no longer a balance: residual (0.01 k a b) cos q.
     off = sb.DesignProblem(r2, workspace, [sb.ZeroFreeLengthSpring(spring.a, spring.b, stiffness=1.01 * stiffness)])
     theta = workspace.joint_values[:, 0]
-    np.testing.assert_allclose(off.evaluate(np.zeros(0)).tau[:, 0],
-                               -0.01 * R2_MASS * R2_GRAVITY * R2_COM * np.cos(theta), rtol=0, atol=1e-9)
+    np.testing.assert_allclose(
+        off.evaluate(np.zeros(0)).tau[:, 0], -0.01 * R2_MASS * R2_GRAVITY * R2_COM * np.cos(theta), rtol=0, atol=1e-9
+    )
 
 
 def test_gravity_torque_sign_and_spring_pulling_up_reduces_it(r2):
@@ -200,8 +242,13 @@ def test_gravity_torque_sign_and_spring_pulling_up_reduces_it(r2):
     gravity = R2_MASS * R2_GRAVITY * R2_COM * np.cos(workspace.joint_values[:, 0])  # ∂(m g c sin q)/∂q
     np.testing.assert_allclose(workspace.kinematics().gravity_torque[:, 0], gravity, rtol=1e-12)
     # Extension spring from above the pivot to the link: pulls the link up.
-    spring = sb.ExtensionSpring(sb.Anchor("universe", (0, 0, 0.1)), sb.Anchor("link1", (0.2, 0, 0)),
-                                stiffness=100.0, free_length=0.05, keep_tension=False)
+    spring = sb.ExtensionSpring(
+        sb.Anchor("universe", (0, 0, 0.1)),
+        sb.Anchor("link1", (0.2, 0, 0)),
+        stiffness=100.0,
+        free_length=0.05,
+        keep_tension=False,
+    )
     tau = sb.DesignProblem(r2, workspace, [spring]).evaluate(np.zeros(0)).tau[:, 0]
     # Independent: L² = a² + b² - 2ab sin q, dL/dq = -ab cos q / L, tau = g + k (L - l0) dL/dq.
     theta = workspace.joint_values[:, 0]
@@ -211,8 +258,13 @@ def test_gravity_torque_sign_and_spring_pulling_up_reduces_it(r2):
     assert np.all(np.abs(tau) < np.abs(gravity))
     assert tau[0] > 0  # reduced, not overturned (spring moment 1.53 N·m < 2.45 N·m)
     # The same spring below the pivot pulls the link down and increases the torque.
-    below = sb.ExtensionSpring(sb.Anchor("universe", (0, 0, -0.1)), sb.Anchor("link1", (0.2, 0, 0)),
-                               stiffness=100.0, free_length=0.05, keep_tension=False)
+    below = sb.ExtensionSpring(
+        sb.Anchor("universe", (0, 0, -0.1)),
+        sb.Anchor("link1", (0.2, 0, 0)),
+        stiffness=100.0,
+        free_length=0.05,
+        keep_tension=False,
+    )
     tau_below = sb.DesignProblem(r2, workspace, [below]).evaluate(np.zeros(0)).tau[:, 0]
     assert np.all(np.abs(tau_below) > np.abs(gravity))
 
@@ -222,9 +274,14 @@ def test_ur5_spring_on_link_welded_to_ground(ur5):
     rng = np.random.default_rng(8)
     workspace = _random_ur5_workspace(ur5, rng, n=10)
     point_a, point_b = (0.15, 0.05, 0.3), (0.02, 0.1, 0.25)
-    spring = sb.ExtensionSpring(sb.Anchor("base", point_a), sb.Anchor("upper_arm_link", point_b),
-                                stiffness=800.0, free_length=0.1, initial_tension=10.0, keep_tension=False)
+    spring = sb.ExtensionSpring(
+        sb.Anchor("base", point_a),
+        sb.Anchor("upper_arm_link", point_b),
+        stiffness=800.0,
+        free_length=0.1,
+        initial_tension=10.0,
+        keep_tension=False,
+    )
     evaluation = sb.DesignProblem(ur5, workspace, [spring]).evaluate(np.zeros(0))
     reference = ReferencePotential(ur5.model, [RefSpring("base", point_a, "upper_arm_link", point_b, 800.0, 0.1, 10.0)])
     _assert_torque_is_potential_gradient(ur5, workspace, evaluation.tau, reference, evaluation.potential)
-

@@ -34,17 +34,26 @@ def link_problem(*springs):
 
 def extension(name="s1", **options):
     """An ideal extension spring from the ground above the pivot to the link, anchors free in boxes."""
-    return sb.ExtensionSpring(sb.Anchor("ground", sb.Free([0, -0.1, 0.05], [0, 0.1, 0.3])),
-                              sb.Anchor("link1", sb.Free([0, 0, 0.05], [0, 0, 0.4])), name,
-                              stiffness=sb.Free(0, 1e4), free_length=sb.Free(0.02, 1.0),
-                              initial_tension=sb.Free(0, 200), **options)
+    return sb.ExtensionSpring(
+        sb.Anchor("ground", sb.Free([0, -0.1, 0.05], [0, 0.1, 0.3])),
+        sb.Anchor("link1", sb.Free([0, 0, 0.05], [0, 0, 0.4])),
+        name,
+        stiffness=sb.Free(0, 1e4),
+        free_length=sb.Free(0.02, 1.0),
+        initial_tension=sb.Free(0, 200),
+        **options,
+    )
 
 
 def compression(name="s2"):
     """A compression spring from the ground below the pivot to the link, on a guide rod (``guided``: the
     catalogue's long compression parts would buckle free-standing)."""
-    return sb.HelicalCompressionSpring(sb.Anchor("ground", sb.Free([0, -0.1, -0.3], [0, 0.1, -0.02])),
-                                       sb.Anchor("link1", sb.Free([0, 0, 0.05], [0, 0, 0.4])), name, guided=True)
+    return sb.HelicalCompressionSpring(
+        sb.Anchor("ground", sb.Free([0, -0.1, -0.3], [0, 0.1, -0.02])),
+        sb.Anchor("link1", sb.Free([0, 0, 0.05], [0, 0, 0.4])),
+        name,
+        guided=True,
+    )
 
 
 def row(parts, part_number):
@@ -56,7 +65,7 @@ def assert_is_part(record, spring, part):
     assert spring.part_number == part.part_number
     for key in ("wire_diameter", "mean_diameter", "active_coils"):
         assert record[key] == getattr(part, key)
-    assert record["stiffness"] == pytest.approx(part.rate, rel=1e-6)   # G d⁴/(8 D³ n); the CSV keeps 7 digits
+    assert record["stiffness"] == pytest.approx(part.rate, rel=1e-6)  # G d⁴/(8 D³ n); the CSV keeps 7 digits
     assert record["free_length"] == pytest.approx(part.free_length, rel=1e-6)
     if part.kind == "extension":
         assert record["initial_tension"] == part.initial_tension
@@ -65,7 +74,7 @@ def assert_is_part(record, spring, part):
         assert record["preload"] == 0.0 and record["free_length"] == part.free_length
         assert record["helical"]["solid_length"] == pytest.approx(part.min_length, rel=1e-6)
     assert spring.max_force == part.max_load
-    assert record["helical"]["part_number"] == part.part_number    # a spec sheet, as for a wound coil
+    assert record["helical"]["part_number"] == part.part_number  # a spec sheet, as for a wound coil
 
 
 # ---------------------------------------------------------------------- parts as springs
@@ -75,20 +84,28 @@ def test_part_spring_keeps_name_and_anchors_and_takes_the_parts_values(parts):
     stock = part_spring(part, spring)
     assert isinstance(stock, sb.HelicalExtensionSpring)
     assert stock.name == "s1" and stock.a is spring.a and stock.b is spring.b
-    assert stock.parameters == {"wire_diameter": part.wire_diameter, "mean_diameter": part.mean_diameter,
-                                "active_coils": part.active_coils, "initial_tension": part.initial_tension}
+    assert stock.parameters == {
+        "wire_diameter": part.wire_diameter,
+        "mean_diameter": part.mean_diameter,
+        "active_coils": part.active_coils,
+        "initial_tension": part.initial_tension,
+    }
     assert stock.rate(stock.parameters) == pytest.approx(part.rate, rel=1e-6)
     assert stock.free_length(stock.parameters) == pytest.approx(part.free_length, rel=1e-6)
     assert stock.part_number == part.part_number and stock.keep_tension
-    assert stock.max_force == part.max_load                 # the part's limit is stricter than 1e4 N
-    assert stock.max_length == 0.3 and stock.min_length == 0.1    # the arm's limits are stricter
+    assert stock.max_force == part.max_load  # the part's limit is stricter than 1e4 N
+    assert stock.max_length == 0.3 and stock.min_length == 0.1  # the arm's limits are stricter
     assert stock.to_dict()["part_number"] == part.part_number
 
     part = row(parts, "CMP-MW-d4.0-C8-n16")
     stock = part_spring(part, compression())
     assert isinstance(stock, sb.HelicalCompressionSpring)
-    assert stock.parameters == {"wire_diameter": part.wire_diameter, "mean_diameter": part.mean_diameter,
-                                "active_coils": part.active_coils, "free_length": part.free_length}
+    assert stock.parameters == {
+        "wire_diameter": part.wire_diameter,
+        "mean_diameter": part.mean_diameter,
+        "active_coils": part.active_coils,
+        "free_length": part.free_length,
+    }
     assert stock.rate(stock.parameters) == pytest.approx(part.rate, rel=1e-6) and stock.stays_compressed
 
     with pytest.raises(sb.InputError, match="is a compression spring; spring 's1' is a extension"):
@@ -103,10 +120,12 @@ def test_part_distance_is_zero_for_the_same_force_line_and_grows_with_shortfalls
     lengths = np.linspace(0.08, 0.12, 5)
     forces = part.initial_tension + part.rate * (lengths - part.free_length)
     assert part_distance(part, lengths, forces) == pytest.approx(0.0, abs=1e-12)
-    assert part_distance(part, lengths, 1.1 * forces) == pytest.approx(0.1 / 1.1 * np.sqrt(np.mean(forces**2)) / forces.max())
+    assert part_distance(part, lengths, 1.1 * forces) == pytest.approx(
+        0.1 / 1.1 * np.sqrt(np.mean(forces**2)) / forces.max()
+    )
     weak = dataclasses.replace(part, max_load=forces.max() / 2)
     assert part_distance(weak, lengths, forces) == pytest.approx(np.log(2.0))
-    short = dataclasses.replace(part, max_length=part.free_length + 0.02)      # stroke 20 mm of the 40 mm needed
+    short = dataclasses.replace(part, max_length=part.free_length + 0.02)  # stroke 20 mm of the 40 mm needed
     assert part_distance(short, lengths, forces) == pytest.approx(np.log(2.0))
 
 
@@ -129,16 +148,20 @@ def test_select_stock_replaces_each_coil_spring_by_a_catalogue_row(parts):
 
     assert [choice.spring for choice in selection.choices] == ["s1", "s2"]
     for spring, choice in zip(result.problem.springs, selection.choices):
-        part = row(parts, choice.part.part_number)        # the chosen part is a catalogue row, exactly
+        part = row(parts, choice.part.part_number)  # the chosen part is a catalogue row, exactly
         assert choice.part == part
         assert_is_part(result.spring(spring.name), spring, part)
-        assert len(choice.trials) == 3 and choice.objective == min(t.objective for t in choice.trials if t.objective is not None)
+        assert len(choice.trials) == 3 and choice.objective == min(
+            t.objective for t in choice.trials if t.objective is not None
+        )
         assert [trial.distance for trial in choice.trials] == sorted(trial.distance for trial in choice.trials)
     assert selection.parts() == {choice.spring: choice.part.part_number for choice in selection.choices}
 
     # the same objective, workspace and weights; only the anchors are left to optimise
     assert result.problem.objective.name == "rms"
-    assert result.problem.variables.names == [name for name in problem.variables.names if ".a." in name or ".b." in name]
+    assert result.problem.variables.names == [
+        name for name in problem.variables.names if ".a." in name or ".b." in name
+    ]
     assert result.evaluation.max_violation <= 1e-6
     assert selection.continuous_objective == pytest.approx(problem.objective_value(continuous.evaluation))
     assert selection.stock_objective == pytest.approx(result.problem.objective_value(result.evaluation))
@@ -150,7 +173,7 @@ def test_select_stock_replaces_each_coil_spring_by_a_catalogue_row(parts):
     summary = selection.summary()
     assert all(choice.part.part_number in summary for choice in selection.choices)
     assert "objective rms: continuous" in summary and "→ stock" in summary
-    json.dumps(selection.to_dict())                         # the record is plain JSON
+    json.dumps(selection.to_dict())  # the record is plain JSON
     record = result.to_dict()
     assert [spring["part_number"] for spring in record["springs"]] == list(selection.parts().values())
 
@@ -168,8 +191,13 @@ def test_no_part_fits_names_the_spring(parts):
 
 
 def test_nothing_to_take_from_the_catalogue(parts):
-    gas = sb.GasSpring(sb.Anchor("ground", [0, 0, -0.1]), sb.Anchor("link1", [0, 0, 0.2]), "g",
-                       stiffness=sb.Free(0, 1e3), free_length=sb.Free(0.3, 1.0))
+    gas = sb.GasSpring(
+        sb.Anchor("ground", [0, 0, -0.1]),
+        sb.Anchor("link1", [0, 0, 0.2]),
+        "g",
+        stiffness=sb.Free(0, 1e3),
+        free_length=sb.Free(0.3, 1.0),
+    )
     problem = link_problem(gas)
     with pytest.raises(sb.InputError, match=r"no spring to take from the catalogue.*g \(gas\)"):
         select_stock(problem, problem.variables.start, parts)
@@ -179,8 +207,12 @@ def test_nothing_to_take_from_the_catalogue(parts):
 
 # ---------------------------------------------------------------------- command line
 def test_cli_design_with_stock(tmp_path, capsys, parts):
-    config = {"mechanism": {"urdf": str(URDF)}, "workspace": {"kind": "grid", "n": 16},
-              "springs": [extension("lifter").to_dict()], "solve": {"starts": 2, "seed": 0}}
+    config = {
+        "mechanism": {"urdf": str(URDF)},
+        "workspace": {"kind": "grid", "n": 16},
+        "springs": [extension("lifter").to_dict()],
+        "solve": {"starts": 2, "seed": 0},
+    }
     path = tmp_path / "config.yaml"
     path.write_text(yaml.safe_dump(config, sort_keys=False))
     out = tmp_path / "design.json"
@@ -202,6 +234,6 @@ def test_cli_design_with_stock(tmp_path, capsys, parts):
     assert f"→ {number}" in printed
     assert "objective rms: continuous" in printed and f"design saved to {out}" in printed
 
-    loaded = sb.DesignResult.load(out)                       # a stock design loads back as a fixed spring
+    loaded = sb.DesignResult.load(out)  # a stock design loads back as a fixed spring
     assert loaded.problem.springs[0].part_number == number
     assert loaded.spring("lifter")["stiffness"] == pytest.approx(part.rate, rel=1e-6)

@@ -14,12 +14,20 @@ def _planar(objective, samples=96):
     mechanism = sb.Mechanism.from_urdf("urdf/two_link_planar.urdf")
     workspace = sb.Workspace.sobol(mechanism, samples, seed=2)
     springs = [
-        sb.ExtensionSpring(sb.Anchor("universe", sb.Free([-0.1, 0, 0.05], [0.1, 0, 0.3])),
-                           sb.Anchor("link1", sb.Free([0.05, 0, 0], [0.5, 0, 0])), "shoulder",
-                           stiffness=sb.Free(0, 3000), free_length=sb.Free(0.02, 0.3)),
-        sb.ExtensionSpring(sb.Anchor("link1", sb.Free([0.1, 0, -0.05], [0.5, 0, 0.05])),
-                           sb.Anchor("link2", sb.Free([-0.15, 0, -0.05], [0.4, 0, 0.05])), "elbow",
-                           stiffness=sb.Free(0, 3000), free_length=sb.Free(0.02, 0.3)),
+        sb.ExtensionSpring(
+            sb.Anchor("universe", sb.Free([-0.1, 0, 0.05], [0.1, 0, 0.3])),
+            sb.Anchor("link1", sb.Free([0.05, 0, 0], [0.5, 0, 0])),
+            "shoulder",
+            stiffness=sb.Free(0, 3000),
+            free_length=sb.Free(0.02, 0.3),
+        ),
+        sb.ExtensionSpring(
+            sb.Anchor("link1", sb.Free([0.1, 0, -0.05], [0.5, 0, 0.05])),
+            sb.Anchor("link2", sb.Free([-0.15, 0, -0.05], [0.4, 0, 0.05])),
+            "elbow",
+            stiffness=sb.Free(0, 3000),
+            free_length=sb.Free(0.02, 0.3),
+        ),
     ]
     return sb.DesignProblem(mechanism, workspace, springs, objective=objective)
 
@@ -32,20 +40,29 @@ def _dense(value):
     return np.array(ca.densify(value))
 
 
-@pytest.mark.parametrize("make", [lambda: _planar("peak"), lambda: _planar("joint_peaks"), lambda: _planar("rms"),
-                                  _coils], ids=["peak", "joint_peaks", "rms", "coil-rows"])
+@pytest.mark.parametrize(
+    "make",
+    [lambda: _planar("peak"), lambda: _planar("joint_peaks"), lambda: _planar("rms"), _coils],
+    ids=["peak", "joint_peaks", "rms", "coil-rows"],
+)
 def test_derivatives_equal_casadi_of_the_plain_nlp(make):
     problem = make()
     structured = StructuredNlp(problem)
     x, _, _, derivatives = structured.callbacks(np.arange(structured.n_rows))
     plain = problem.build()
-    solver = ca.nlpsol("plain", "ipopt", {"x": plain.z, "f": plain.cost, "g": plain.rows},
-                       {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes"})
+    solver = ca.nlpsol(
+        "plain",
+        "ipopt",
+        {"x": plain.z, "f": plain.cost, "g": plain.rows},
+        {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes"},
+    )
     rng = np.random.default_rng(7)
     point, multipliers = rng.random(plain.size), rng.normal(size=plain.n_rows)
-    for name, ours, arguments in (("nlp_grad_f", derivatives["grad_f"], (point, [])),
-                                  ("nlp_jac_g", derivatives["jac_g"], (point, [])),
-                                  ("nlp_hess_l", derivatives["hess_lag"], (point, [], 0.8, multipliers))):
+    for name, ours, arguments in (
+        ("nlp_grad_f", derivatives["grad_f"], (point, [])),
+        ("nlp_jac_g", derivatives["jac_g"], (point, [])),
+        ("nlp_hess_l", derivatives["hess_lag"], (point, [], 0.8, multipliers)),
+    ):
         theirs = solver.get_function(name)(*arguments)
         mine = ours(*arguments)
         theirs, mine = ([theirs], [mine]) if name == "nlp_hess_l" else (theirs, mine)
@@ -76,7 +93,7 @@ def test_working_set_ends_at_a_solution_of_the_full_nlp():
     options = {"print_time": False, "ipopt.print_level": 0, "ipopt.sb": "yes", "ipopt.tol": 1e-8}
     w, status, iterations, _ = structured.solve(w0, nlp.lower, nlp.upper, options, 200)
     assert status == "Solve_Succeeded"
-    assert max(seen) < nlp.n_rows / 2          # IPOPT never had most of the rows
+    assert max(seen) < nlp.n_rows / 2  # IPOPT never had most of the rows
     assert np.min(structured.row_values(w)) > -1e-7
     peak = problem.objective_value(problem.evaluate(problem.scale(w[: nlp.n_design])))
     assert peak < 0.9 * problem.objective_value(evaluation)
@@ -99,7 +116,7 @@ def test_least_squares_multipliers_map_onto_the_nlp_rows():
     residuals = _LeastSquaresResiduals(problem)
     z = np.full(problem.variables.size, 0.45)
     _, _, _, row_jacobian = residuals._full_outputs(z)
-    scaled_jacobian = row_jacobian.reshape(-1, problem.variables.size)       # (N·n_c) × n
+    scaled_jacobian = row_jacobian.reshape(-1, problem.variables.size)  # (N·n_c) × n
     nu = np.random.default_rng(3).random(scaled_jacobian.shape[0])
     nlp = problem.build()
     nlp_jacobian = _dense(ca.Function("j", [nlp.z], [ca.jacobian(nlp.rows, nlp.z)])(z))
@@ -131,7 +148,7 @@ def test_scaled_row_multipliers_invert_the_nlp_mapping():
     problem = _coils()
     nlp = problem.build()
     n_scaled = problem.workspace.size * len(problem.model.constraint_blocks)
-    assert not all(block.per_sample for block in problem.model.constraint_blocks)    # some rows of no sample
+    assert not all(block.per_sample for block in problem.model.constraint_blocks)  # some rows of no sample
     nu = np.random.default_rng(5).random(nlp.n_rows)
     # the constraint rows come first (those of a sample, then those of none), the objective's own rows after
     n_constraint_rows = problem.nlp_row_multipliers(np.ones(n_scaled), nlp.n_rows).nonzero()[0].size
@@ -154,7 +171,7 @@ def test_a_resolve_from_a_nearby_problems_multipliers_starts_warm():
     wire = problem.variables.names.index(name)
     assert solution.x[wire] > 0.0029
     start = solution.x.copy()
-    start[wire] = 0.0028                                  # below 3.0 mm: moves the optimum
+    start[wire] = 0.0028  # below 3.0 mm: moves the optimum
     options = {"starts": 1, "workers": 1, "initial": start, "fixed": [name]}
     cold = solve_problem(problem, **options)
     warm = solve_problem(problem, multipliers=solution.multipliers, **options)
@@ -164,7 +181,7 @@ def test_a_resolve_from_a_nearby_problems_multipliers_starts_warm():
         assert problem.evaluate(found.x).max_violation <= 1e-6
     cold_value, warm_value = (problem.objective_value(problem.evaluate(found.x)) for found in (cold, warm))
     assert warm_value == pytest.approx(cold_value, rel=1e-6)
-    assert warm_value > problem.objective_value(problem.evaluate(solution.x))   # the held wire costs something
+    assert warm_value > problem.objective_value(problem.evaluate(solution.x))  # the held wire costs something
 
 
 def test_fixed_names_a_design_variable():
@@ -193,7 +210,7 @@ def test_every_start_keeps_the_fixed_variables(objective):
             assert record.x[names.index(name)] == pytest.approx(value, rel=1e-9)
     free = solve_problem(problem, starts=3, seed=1, workers=1)
     value = lambda found: problem.objective_value(problem.evaluate(found.x))  # noqa: E731
-    assert value(free) < value(solution)                                       # holding them costs something
+    assert value(free) < value(solution)  # holding them costs something
 
 
 def test_a_start_continued_with_its_multipliers_picks_up_where_ipopt_stopped():
@@ -234,8 +251,9 @@ def test_several_given_starts_come_first_with_their_own_held_values():
     assert [record.x[held] for record in solution.starts] == pytest.approx([800.0, 1600.0, 800.0], rel=1e-9)
 
 
-@pytest.mark.parametrize("rows, columns", [(None, 3), (1, 7), (0, 0), (3, 0)], ids=["short", "narrow", "no-rows",
-                                                                                   "more-rows-than-starts"])
+@pytest.mark.parametrize(
+    "rows, columns", [(None, 3), (1, 7), (0, 0), (3, 0)], ids=["short", "narrow", "no-rows", "more-rows-than-starts"]
+)
 def test_initial_of_the_wrong_shape_is_refused(rows, columns):
     from springbalance.design.solvers import solve_problem
     from springbalance.errors import InputError

@@ -23,7 +23,7 @@ import springbalance as sb
 from springbalance.design.torque_model import TorqueModel
 
 ROOT = Path(__file__).resolve().parents[2]
-MASS, COM, GRAVITY = 8.0, 0.183, 9.81   # [kg], [m], [m/s²], as in the URDF
+MASS, COM, GRAVITY = 8.0, 0.183, 9.81  # [kg], [m], [m/s²], as in the URDF
 
 
 @pytest.fixture(scope="module")
@@ -35,15 +35,14 @@ def pendulum():
 
 def _outputs(mechanism, workspace, springs):
     model = TorqueModel(mechanism, springs)
-    assert model.variables.size == 0   # every parameter fixed: the model is a function of the samples only
+    assert model.variables.size == 0  # every parameter fixed: the model is a function of the samples only
     return model, model.evaluate(np.zeros(0), model.data_matrix(workspace.kinematics()))
 
 
 @pytest.mark.parametrize("k, a, b", [(500.0, 0.3, 0.16), (1200.0, 0.25, 0.05)])
 def test_a_zero_free_length_spring_on_a_pendulum(pendulum, k, a, b):
     mechanism, workspace, q = pendulum
-    spring = sb.ZeroFreeLengthSpring(sb.Anchor("ground", [0.0, 0.0, b]), sb.Anchor("link1", [0.0, 0.0, a]),
-                                     stiffness=k)
+    spring = sb.ZeroFreeLengthSpring(sb.Anchor("ground", [0.0, 0.0, b]), sb.Anchor("link1", [0.0, 0.0, a]), stiffness=k)
     model, out = _outputs(mechanism, workspace, [spring])
     length = np.sqrt(a * a + b * b - 2 * a * b * np.cos(q))
     np.testing.assert_allclose(out["L"][:, 0], length, rtol=1e-12, atol=1e-12)
@@ -56,9 +55,8 @@ def test_a_zero_free_length_spring_on_a_pendulum(pendulum, k, a, b):
 def test_the_balancing_stiffness_leaves_no_torque(pendulum):
     mechanism, workspace, q = pendulum
     a, b = 0.3, 0.16
-    k = MASS * GRAVITY * COM / (a * b)   # k a b = m g s
-    spring = sb.ZeroFreeLengthSpring(sb.Anchor("ground", [0.0, 0.0, b]), sb.Anchor("link1", [0.0, 0.0, a]),
-                                     stiffness=k)
+    k = MASS * GRAVITY * COM / (a * b)  # k a b = m g s
+    spring = sb.ZeroFreeLengthSpring(sb.Anchor("ground", [0.0, 0.0, b]), sb.Anchor("link1", [0.0, 0.0, a]), stiffness=k)
     _, out = _outputs(mechanism, workspace, [spring])
     np.testing.assert_allclose(out["tau"][:, 0], 0.0, atol=1e-10)
     # V = m g s cos q + k (a² + b²)/2 - k a b cos q: the cos q terms cancel
@@ -77,22 +75,32 @@ def test_a_free_anchor_is_a_design_variable(pendulum):
     model gives the fixed spring's numbers."""
     mechanism, workspace, q = pendulum
     k, a, b = 500.0, 0.3, 0.16
-    spring = sb.ZeroFreeLengthSpring(sb.Anchor("ground", [0.0, 0.0, b]),
-                                     sb.Anchor("link1", sb.Free([-0.1, -0.1, 0.0], [0.1, 0.1, 0.5])), stiffness=k)
+    spring = sb.ZeroFreeLengthSpring(
+        sb.Anchor("ground", [0.0, 0.0, b]), sb.Anchor("link1", sb.Free([-0.1, -0.1, 0.0], [0.1, 0.1, 0.5])), stiffness=k
+    )
     model = TorqueModel(mechanism, [spring])
     assert model.variables.size == 3 and all(unit == "m" for unit in model.variables.units)
     out = model.evaluate(np.array([0.0, 0.0, a]), model.data_matrix(workspace.kinematics()))
     np.testing.assert_allclose(out["tau"][:, 0], (k * a * b - MASS * GRAVITY * COM) * np.sin(q), rtol=1e-9, atol=1e-9)
 
 
-@pytest.mark.parametrize("name, module", [("_LeastSquaresResiduals", "residuals"), ("_MultiStartSolver", "multistart"),
-                                          ("_StartRunner", "pool"), ("_pool_workers", "pool")])
+@pytest.mark.parametrize(
+    "name, module",
+    [
+        ("_LeastSquaresResiduals", "residuals"),
+        ("_MultiStartSolver", "multistart"),
+        ("_StartRunner", "pool"),
+        ("_pool_workers", "pool"),
+    ],
+)
 def test_the_moved_solver_names_still_work_and_warn(name, module):
     import importlib
 
     from springbalance.design import solvers
 
-    with pytest.warns(DeprecationWarning, match=f"solvers.{name} is deprecated; use springbalance.design.solvers.{module}"):
+    with pytest.warns(
+        DeprecationWarning, match=f"solvers.{name} is deprecated; use springbalance.design.solvers.{module}"
+    ):
         value = getattr(solvers, name)
     assert value is getattr(importlib.import_module(f"springbalance.design.solvers.{module}"), name)
     with warnings.catch_warnings():

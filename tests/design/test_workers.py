@@ -17,8 +17,10 @@ from springbalance.design.solvers import multistart, pool, solve_problem
 from springbalance.io.config import config_from_dict
 
 ROOT = Path(__file__).resolve().parents[2]
-pytestmark = pytest.mark.skipif(sys.platform == "darwin" or "fork" not in multiprocessing.get_all_start_methods(),
-                                reason="the pool forks its workers")
+pytestmark = pytest.mark.skipif(
+    sys.platform == "darwin" or "fork" not in multiprocessing.get_all_start_methods(),
+    reason="the pool forks its workers",
+)
 
 
 @pytest.fixture(scope="module")
@@ -28,12 +30,22 @@ def arm():
 
 
 def _springs(keep_tension=True):
-    return [sb.ExtensionSpring(sb.Anchor("universe", sb.Free([-0.2, 0, 0], [0.2, 0, 0.3])),
-                               sb.Anchor("link1", sb.Free([0.05, 0, 0], [0.5, 0, 0])),
-                               stiffness=sb.Free(0, 2000), free_length=sb.Free(0.02, 0.5), keep_tension=keep_tension),
-            sb.ExtensionSpring(sb.Anchor("universe", sb.Free([-0.3, 0, -0.1], [0.3, 0, 0.6])),
-                               sb.Anchor("link2", sb.Free([0.02, 0, 0], [0.4, 0, 0])),
-                               stiffness=sb.Free(0, 2000), free_length=sb.Free(0.02, 0.5), keep_tension=keep_tension)]
+    return [
+        sb.ExtensionSpring(
+            sb.Anchor("universe", sb.Free([-0.2, 0, 0], [0.2, 0, 0.3])),
+            sb.Anchor("link1", sb.Free([0.05, 0, 0], [0.5, 0, 0])),
+            stiffness=sb.Free(0, 2000),
+            free_length=sb.Free(0.02, 0.5),
+            keep_tension=keep_tension,
+        ),
+        sb.ExtensionSpring(
+            sb.Anchor("universe", sb.Free([-0.3, 0, -0.1], [0.3, 0, 0.6])),
+            sb.Anchor("link2", sb.Free([0.02, 0, 0], [0.4, 0, 0])),
+            stiffness=sb.Free(0, 2000),
+            free_length=sb.Free(0.02, 0.5),
+            keep_tension=keep_tension,
+        ),
+    ]
 
 
 def _same(first, second):
@@ -41,15 +53,20 @@ def _same(first, second):
     assert first.status == second.status
     assert len(first.starts) == len(second.starts)
     for a, b in zip(first.starts, second.starts):
-        assert (a.index, a.objective, a.max_violation, a.status, a.iterations) == \
-               (b.index, b.objective, b.max_violation, b.status, b.iterations)
+        assert (a.index, a.objective, a.max_violation, a.status, a.iterations) == (
+            b.index,
+            b.objective,
+            b.max_violation,
+            b.status,
+            b.iterations,
+        )
         assert np.array_equal(a.x, b.x) and np.array_equal(a.z0, b.z0)
 
 
 def test_least_squares_starts_and_polish_on_two_workers_equal_the_sequential_run(arm):
     mechanism, workspace = arm
     problem = sb.DesignProblem(mechanism, workspace, _springs())
-    options = {"starts": 6, "seed": 4, "max_iterations": 8, "progress": False}   # a small budget: polish runs
+    options = {"starts": 6, "seed": 4, "max_iterations": 8, "progress": False}  # a small budget: polish runs
     sequential = solve_problem(problem, workers=1, **options)
     pooled = solve_problem(problem, workers=2, **options)
     assert any("polished" in record.status for record in sequential.starts)
@@ -58,8 +75,9 @@ def test_least_squares_starts_and_polish_on_two_workers_equal_the_sequential_run
 
 def test_ipopt_starts_on_two_workers_equal_the_sequential_run(arm):
     mechanism, workspace = arm
-    problem = sb.DesignProblem(mechanism, sb.Workspace.sobol(mechanism, 48, seed=1), _springs(keep_tension=False),
-                               objective="peak")
+    problem = sb.DesignProblem(
+        mechanism, sb.Workspace.sobol(mechanism, 48, seed=1), _springs(keep_tension=False), objective="peak"
+    )
     options = {"starts": 3, "seed": 0, "max_iterations": 30, "progress": False}
     _same(solve_problem(problem, workers=1, **options), solve_problem(problem, workers=2, **options))
 
@@ -88,9 +106,9 @@ def test_the_default_number_of_workers(arm, monkeypatch):
     problem = sb.DesignProblem(mechanism, workspace, _springs())
     monkeypatch.setenv("SPRINGBALANCE_WORKERS", "3")
     assert solvers.default_workers() == 3
-    assert pool._pool_workers(problem, None, tasks=8) == (3, False)   # the default, checked before use
-    assert pool._pool_workers(problem, None, tasks=2) == (2, False)   # no more workers than starts
-    assert pool._pool_workers(problem, 2, tasks=8) == (2, True)       # asked for
+    assert pool._pool_workers(problem, None, tasks=8) == (3, False)  # the default, checked before use
+    assert pool._pool_workers(problem, None, tasks=2) == (2, False)  # no more workers than starts
+    assert pool._pool_workers(problem, 2, tasks=8) == (2, True)  # asked for
     assert pool._pool_workers(problem, 4, tasks=1) == (1, False)
     monkeypatch.delenv("SPRINGBALANCE_WORKERS")
     assert solvers.default_workers() >= 1
@@ -117,7 +135,7 @@ def test_by_default_a_pool_opens_only_when_a_start_is_long(arm, monkeypatch):
     reference = solve_problem(quick, starts=4, progress=False, workers=1)
     _same(reference, solve_problem(quick, starts=4, progress=False))
     assert not opened
-    monkeypatch.setattr(pool, "POOL_MIN_SECONDS", 0.0)                # every start is worth a pool
+    monkeypatch.setattr(pool, "POOL_MIN_SECONDS", 0.0)  # every start is worth a pool
     _same(reference, solve_problem(quick, starts=4, progress=False))
     assert opened
 
@@ -131,12 +149,19 @@ def test_bad_workers_are_refused(arm, bad):
 
 
 def test_config_and_command_line_workers(tmp_path, capsys):
-    record = {"mechanism": {"urdf": str(ROOT / "urdf" / "two_link_planar.urdf")},
-              "workspace": {"kind": "sobol", "n": 64, "seed": 0, "degrees": True,
-                            "ranges": {"shoulder": [-90, 90], "elbow": [0, 0]}},
-              "springs": [SHOULDER_SPRING],
-              "weights": {"elbow": 0.0},
-              "solve": {"starts": 3, "seed": 0, "workers": 2}}
+    record = {
+        "mechanism": {"urdf": str(ROOT / "urdf" / "two_link_planar.urdf")},
+        "workspace": {
+            "kind": "sobol",
+            "n": 64,
+            "seed": 0,
+            "degrees": True,
+            "ranges": {"shoulder": [-90, 90], "elbow": [0, 0]},
+        },
+        "springs": [SHOULDER_SPRING],
+        "weights": {"elbow": 0.0},
+        "solve": {"starts": 3, "seed": 0, "workers": 2},
+    }
     assert config_from_dict(record).solve_options["workers"] == 2
     with pytest.raises(sb.ConfigError, match="workers"):
         config_from_dict({**record, "solve": {"workers": 0}})
@@ -166,7 +191,7 @@ def test_wire_rounding_candidates_on_two_workers_equal_the_sequential_run(monkey
 
     monkeypatch.setattr(pool._StartRunner, "_pool", spy)
     results = [sb.solve(problem, starts=2, seed=0, workers=workers, progress=False) for workers in (1, 2)]
-    assert any(pooled_with_held_wires)   # the rounding solves did run on the pool
+    assert any(pooled_with_held_wires)  # the rounding solves did run on the pool
     roundings = [result.wire_rounding for result in results]
     assert roundings[0].wires and not roundings[0].unrounded
     assert roundings[0].to_dict() == roundings[1].to_dict()

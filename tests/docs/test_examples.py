@@ -36,7 +36,7 @@ SOURCES = [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]
 LINKED = ("urdf", "examples", "docs", "notebooks")
 FENCE = re.compile(r"^(?P<indent>[ \t]*)```(?P<language>[A-Za-z0-9_+-]*)[ \t]*$")
 MARKER = re.compile(r"^\s*<!--\s*(?P<kind>fragment|no-run)\s*(?::\s*(?P<reason>.*?))?\s*-->\s*$")
-TIMEOUT = 600   # [s] for one Python block, compile cache empty, on a loaded machine
+TIMEOUT = 600  # [s] for one Python block, compile cache empty, on a loaded machine
 
 
 @dataclass(frozen=True)
@@ -44,11 +44,11 @@ class Block:
     """One fenced code block of a Markdown file."""
 
     path: Path
-    line: int            # 1-based line of the opening fence
+    line: int  # 1-based line of the opening fence
     language: str
     code: str
-    marker: str | None   # "fragment", "no-run" or None
-    reason: str | None   # the text after "no-run:"
+    marker: str | None  # "fragment", "no-run" or None
+    reason: str | None  # the text after "no-run:"
 
     @property
     def id(self) -> str:
@@ -69,11 +69,19 @@ def blocks(path: Path) -> list[Block]:
             end += 1
         if end == len(lines):
             raise AssertionError(f"{path.relative_to(ROOT)}:{number + 1}: code block never closed")
-        code = "\n".join(line[len(indent):] if line.startswith(indent) else line for line in lines[number + 1:end])
+        code = "\n".join(line[len(indent) :] if line.startswith(indent) else line for line in lines[number + 1 : end])
         previous = next((lines[k] for k in range(number - 1, -1, -1) if lines[k].strip()), "")
         marker = MARKER.match(previous)
-        found.append(Block(path, number + 1, opening["language"].lower(), code + "\n",
-                           marker["kind"] if marker else None, marker["reason"] if marker else None))
+        found.append(
+            Block(
+                path,
+                number + 1,
+                opening["language"].lower(),
+                code + "\n",
+                marker["kind"] if marker else None,
+                marker["reason"] if marker else None,
+            )
+        )
         number = end + 1
     return found
 
@@ -118,8 +126,13 @@ def test_python_example_is_marked_right_and_compiles(block: Block):
 def test_python_example_runs(block: Block, tmp_path: Path):
     for name in LINKED:
         (tmp_path / name).symlink_to(ROOT / name, target_is_directory=True)
-    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT / "src"), os.environ.get("PYTHONPATH", "")]),
-           "MPLBACKEND": "Agg", "PYTHONWARNINGS": "error::DeprecationWarning:__main__"}  # no deprecated API
-    process = subprocess.run([sys.executable, "-c", block.code], cwd=tmp_path, env=env, capture_output=True,
-                             text=True, timeout=TIMEOUT)
+    env = {
+        **os.environ,
+        "PYTHONPATH": os.pathsep.join([str(ROOT / "src"), os.environ.get("PYTHONPATH", "")]),
+        "MPLBACKEND": "Agg",
+        "PYTHONWARNINGS": "error::DeprecationWarning:__main__",
+    }  # no deprecated API
+    process = subprocess.run(
+        [sys.executable, "-c", block.code], cwd=tmp_path, env=env, capture_output=True, text=True, timeout=TIMEOUT
+    )
     assert process.returncode == 0, f"{block.id} failed:\n{process.stderr[-4000:]}"

@@ -22,7 +22,7 @@ from springbalance.explore.candidates import auto_candidates, candidates_from_re
 from springbalance.model.mechanism import Mechanism
 
 URDF = Path(__file__).resolve().parents[2] / "urdf"
-LINK1 = (np.array([0.0, -0.02, -0.02]), np.array([0.5, 0.02, 0.02]))     # collision bounds [m]
+LINK1 = (np.array([0.0, -0.02, -0.02]), np.array([0.5, 0.02, 0.02]))  # collision bounds [m]
 LINK2 = (np.array([0.0, -0.015, -0.015]), np.array([0.4, 0.015, 0.015]))
 
 
@@ -42,8 +42,12 @@ def test_auto_joins_the_ground_to_each_moving_body_and_neighbours_within_the_spa
 def test_auto_boxes_are_the_collision_bounds_grown_by_the_margin(arm):
     margin = 0.05
     by_label = {c.label: c for c in auto_candidates(arm, span=2, margin=margin, default=0.3)}
-    for label, end, bounds in (("universe→link1", "b", LINK1), ("link1→link2", "a", LINK1),
-                               ("universe→link2", "b", LINK2), ("link1→link2", "b", LINK2)):
+    for label, end, bounds in (
+        ("universe→link1", "b", LINK1),
+        ("link1→link2", "a", LINK1),
+        ("universe→link2", "b", LINK2),
+        ("link1→link2", "b", LINK2),
+    ):
         lower, upper = getattr(by_label[label], f"box_{end}")
         np.testing.assert_allclose(lower, bounds[0] - margin, atol=1e-12, err_msg=label)
         np.testing.assert_allclose(upper, bounds[1] + margin, atol=1e-12, err_msg=label)
@@ -78,8 +82,10 @@ def test_named_pairs_are_put_ground_side_first_and_welded_bodies_count_once(arm)
 
 def test_a_candidate_with_boxes_keeps_them():
     arm = Mechanism.from_urdf(URDF / "two_link_planar.urdf")
-    record = {"a": {"body": "universe", "box": {"lower": [-0.1, 0, 0], "upper": [0.1, 0, 0.2]}},
-              "b": {"body": "link2", "box": {"lower": [0, 0, 0], "upper": [0.3, 0, 0]}}}
+    record = {
+        "a": {"body": "universe", "box": {"lower": [-0.1, 0, 0], "upper": [0.1, 0, 0.2]}},
+        "b": {"body": "link2", "box": {"lower": [0, 0, 0], "upper": [0.3, 0, 0]}},
+    }
     (candidate,) = candidates_from_records(arm, [record])
     assert candidate.box_a == ((-0.1, 0.0, 0.0), (0.1, 0.0, 0.2))
     assert candidate.box_b == ((0.0, 0.0, 0.0), (0.3, 0.0, 0.0))

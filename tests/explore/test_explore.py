@@ -22,7 +22,7 @@ from springbalance.cli import main
 from springbalance.explore import load_study, make_client, solve_task
 from springbalance.results.result import DesignResult
 
-pytestmark = pytest.mark.slow   # every test here runs a whole study
+pytestmark = pytest.mark.slow  # every test here runs a whole study
 
 ROOT = Path(__file__).resolve().parents[2]
 THREE_LINK = ROOT / "examples" / "explore_three_link.yaml"
@@ -34,9 +34,17 @@ def small_study(tmp_path, **explore) -> Path:
     config = {
         "mechanism": {"urdf": str(ROOT / "urdf" / "two_link_planar.urdf")},
         "workspace": {"kind": "sobol", "n": 32, "seed": 0},
-        "explore": {"candidates": "auto", "span": 1, "max_springs": 2, "prune": False, "starts": 2, "seed": 3,
-                    "spring": {"type": "zero_free_length", "stiffness": {"lower": 0, "upper": 5000}},
-                    "grid": {"objective": ["rms", "pe_variance"]}, **explore},
+        "explore": {
+            "candidates": "auto",
+            "span": 1,
+            "max_springs": 2,
+            "prune": False,
+            "starts": 2,
+            "seed": 3,
+            "spring": {"type": "zero_free_length", "stiffness": {"lower": 0, "upper": 5000}},
+            "grid": {"objective": ["rms", "pe_variance"]},
+            **explore,
+        },
     }
     path = tmp_path / "study.yaml"
     path.write_text(yaml.safe_dump(config))
@@ -46,8 +54,14 @@ def small_study(tmp_path, **explore) -> Path:
 def _comparable(record: dict) -> str:
     """A result without its timings (the design's numbers stay), as JSON text (NaN compares equal)."""
     design = record.get("design") or {}
-    return json.dumps({"row": {key: value for key, value in record.items() if key not in ("seconds", "design")},
-                       "variables": design.get("variables"), "metrics": design.get("metrics")}, sort_keys=True)
+    return json.dumps(
+        {
+            "row": {key: value for key, value in record.items() if key not in ("seconds", "design")},
+            "variables": design.get("variables"),
+            "metrics": design.get("metrics"),
+        },
+        sort_keys=True,
+    )
 
 
 @pytest.fixture(scope="module")
@@ -66,10 +80,10 @@ def test_three_link_chain_exact_topology_found_and_unreachable_ones_listed(tmp_p
     best = result.best()[3]
     assert best["relative_residual"] < EXACT and best["exact"]
     assert set(best["springs"]) == {"universe→link2", "universe→link3", "link1→link3"}
-    assert best["buildable"] is False      # ideal zero-free-length springs: no coil spec sheet says they can be wound
+    assert best["buildable"] is False  # ideal zero-free-length springs: no coil spec sheet says they can be wound
     summary = json.loads((tmp_path / "study" / "study.json").read_text())
     unreachable = [set(item["springs"]) for item in summary["unreachable"]]
-    assert {"universe→link1", "link1→link2", "link2→link3"} in unreachable   # the chain of neighbours
+    assert {"universe→link1", "link1→link2", "link2→link3"} in unreachable  # the chain of neighbours
     # the best design is a design file like any other
     loaded = DesignResult.load(tmp_path / "study" / "best_3_springs.json")
     assert loaded.exact_balance()["relative_residual"] < EXACT
@@ -78,10 +92,20 @@ def test_three_link_chain_exact_topology_found_and_unreachable_ones_listed(tmp_p
     # every pruned topology really is worse: solving the neighbour chain leaves a residual
     unpruned = load_study(THREE_LINK, max_springs=3)
     unpruned.prune = False
-    chain = next(task for task in unpruned._tasks({}) if set(task.labels) == {"universe→link1", "link1→link2",
-                                                                               "link2→link3"})
-    record = solve_task({"id": chain.id, "labels": list(chain.labels), "grid": {}, "record": chain.record,
-                         "base_dir": str(THREE_LINK.parent), "starts": 2, "seed": 0})
+    chain = next(
+        task for task in unpruned._tasks({}) if set(task.labels) == {"universe→link1", "link1→link2", "link2→link3"}
+    )
+    record = solve_task(
+        {
+            "id": chain.id,
+            "labels": list(chain.labels),
+            "grid": {},
+            "record": chain.record,
+            "base_dir": str(THREE_LINK.parent),
+            "starts": 2,
+            "seed": 0,
+        }
+    )
     assert record["relative_residual"] > 1e-3
 
 
@@ -138,8 +162,10 @@ def test_bad_study_input_gets_one_line(tmp_path, capsys):
         assert "Traceback" not in err and len(err.strip().splitlines()) == 1
 
     clock = time.perf_counter()
-    fails(["explore", str(config), "--out", str(out), "--scheduler", "tcp://127.0.0.1:9", "--timeout", "2"],
-          "cannot reach the Dask scheduler at 'tcp://127.0.0.1:9' within 2 s")
+    fails(
+        ["explore", str(config), "--out", str(out), "--scheduler", "tcp://127.0.0.1:9", "--timeout", "2"],
+        "cannot reach the Dask scheduler at 'tcp://127.0.0.1:9' within 2 s",
+    )
     assert time.perf_counter() - clock < 30
     fails(["explore", str(config), "--out", str(out), "--max-springs", "0"], "--max-springs")
     bad = yaml.safe_load(config.read_text())
@@ -152,9 +178,10 @@ def test_bad_study_input_gets_one_line(tmp_path, capsys):
     other["workspace"]["n"] = 16
     (tmp_path / "other.yaml").write_text(yaml.safe_dump(other))
     before = sorted(path.name for path in (out / "results").iterdir())
-    fails(["explore", str(tmp_path / "other.yaml"), "--out", str(out), "--sequential"], "holds the results of a "
-                                                                                         "different config")
+    fails(
+        ["explore", str(tmp_path / "other.yaml"), "--out", str(out), "--sequential"],
+        "holds the results of a different config",
+    )
     assert sorted(path.name for path in (out / "results").iterdir()) == before
-    assert main(["explore", str(tmp_path / "other.yaml"), "--out", str(out), "--sequential", "--quiet",
-                 "--force"]) == 0
+    assert main(["explore", str(tmp_path / "other.yaml"), "--out", str(out), "--sequential", "--quiet", "--force"]) == 0
     assert sorted(path.name for path in (out / "results").iterdir()) != before

@@ -22,10 +22,18 @@ def test_make_client_is_still_re_exported_by_study():
 
 
 def test_write_report_of_a_study_result_still_writes_report_html_and_warns(tmp_path):
-    summary = {"candidates": [], "topologies": 0, "orderings": 0, "grid_points": 1, "reachability": "not applied",
-               "unreachable": [], "degenerate": []}
-    fake_study = types.SimpleNamespace(mechanism=types.SimpleNamespace(name="arm"), summary=lambda: summary,
-                                       max_springs=2)
+    summary = {
+        "candidates": [],
+        "topologies": 0,
+        "orderings": 0,
+        "grid_points": 1,
+        "reachability": "not applied",
+        "unreachable": [],
+        "degenerate": [],
+    }
+    fake_study = types.SimpleNamespace(
+        mechanism=types.SimpleNamespace(name="arm"), summary=lambda: summary, max_springs=2
+    )
     result = types.SimpleNamespace(study=fake_study, folder=tmp_path, results={}, dominated=[], best=lambda: {})
     with pytest.warns(DeprecationWarning, match="write_study_report"):
         report.write_report(result)

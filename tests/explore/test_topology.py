@@ -29,14 +29,15 @@ def _candidates(*pairs: tuple[str, str]) -> list[Candidate]:
     return [Candidate(a, b, BOX, BOX, 1) for a, b in pairs]
 
 
-@pytest.mark.parametrize(("count", "max_springs", "expected"), [
-    (1, 1, 1), (3, 1, 3), (4, 2, 4 + 6), (6, 3, 6 + 15 + 20), (3, 5, 3 + 3 + 1)])
+@pytest.mark.parametrize(
+    ("count", "max_springs", "expected"), [(1, 1, 1), (3, 1, 3), (4, 2, 4 + 6), (6, 3, 6 + 15 + 20), (3, 5, 3 + 3 + 1)]
+)
 def test_topologies_are_the_subsets_of_up_to_max_springs_candidates(count, max_springs, expected):
     topologies = enumerate_topologies(count, max_springs)
     assert len(topologies) == expected == sum(comb(count, k) for k in range(1, min(count, max_springs) + 1))
-    assert len(set(topologies)) == len(topologies)                       # each set once, no orderings
+    assert len(set(topologies)) == len(topologies)  # each set once, no orderings
     assert all(list(t) == sorted(set(t)) for t in topologies)
-    assert [len(t) for t in topologies] == sorted(len(t) for t in topologies)   # fewer springs first
+    assert [len(t) for t in topologies] == sorted(len(t) for t in topologies)  # fewer springs first
 
 
 @pytest.mark.parametrize("bad", [0, -1, True, 1.5])
@@ -55,8 +56,7 @@ def test_the_three_link_chain_of_neighbours_is_unreachable():
     chain = Mechanism.from_urdf(URDF / "three_link_planar.urdf")
     candidates = auto_candidates(chain, span=2)
     labels = [c.label for c in candidates]
-    assert labels == ["universe→link1", "universe→link2", "universe→link3", "link1→link2", "link2→link3",
-                      "link1→link3"]
+    assert labels == ["universe→link1", "universe→link2", "universe→link3", "link1→link2", "link2→link3", "link1→link3"]
     test = Reachability(chain, candidates)
     index = {label: i for i, label in enumerate(labels)}
     # n = 4 bodies: n(n-1) = 12 conditions need ⌈12/4⌉ = 3 springs

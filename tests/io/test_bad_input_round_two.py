@@ -36,8 +36,13 @@ SENTINEL = "an earlier design, to be left alone\n"
 
 BASE = {
     "mechanism": {"urdf": str(URDF)},
-    "workspace": {"kind": "sobol", "n": 16, "seed": 0, "degrees": True,
-                  "ranges": {"shoulder": [-90, 90], "elbow": [0, 0]}},
+    "workspace": {
+        "kind": "sobol",
+        "n": 16,
+        "seed": 0,
+        "degrees": True,
+        "ranges": {"shoulder": [-90, 90], "elbow": [0, 0]},
+    },
     "springs": [SHOULDER_SPRING],
     "weights": {"elbow": 0.0},
     "solve": {"starts": 1, "seed": 0},
@@ -105,15 +110,18 @@ def design_file(tmp_path_factory) -> Path:
 
 # ---------------------------------------------------------------------- physically impossible arms
 IMPOSSIBLE = {
-    "negative mass": (('<mass value="2.0"/>', '<mass value="-2"/>'),
-                      ["link 'link1'", "<mass value='-2'> is negative"]),
+    "negative mass": (('<mass value="2.0"/>', '<mass value="-2"/>'), ["link 'link1'", "<mass value='-2'> is negative"]),
     "nan mass": (('<mass value="2.0"/>', '<mass value="nan"/>'), ["link 'link1'", "<mass> value='nan'"]),
     "infinite mass": (('<mass value="2.0"/>', '<mass value="inf"/>'), ["link 'link1'", "<mass> value='inf'"]),
     "negative ixx": (('ixx="0.0005"', 'ixx="-1"'), ["link 'link1'", "inertia ixx=-1 is negative"]),
-    "triangle inequality": (('iyy="0.042"', 'iyy="0.01"'),
-                            ["link 'link1'", "iyy=0.01", "izz=0.042", "violates the triangle inequality"]),
-    "lower > upper": (('lower="-1.5707963267948966"', 'lower="2"'),
-                      ["joint 'shoulder'", "<limit lower='2' upper='1.5707963267948966'>: lower > upper"]),
+    "triangle inequality": (
+        ('iyy="0.042"', 'iyy="0.01"'),
+        ["link 'link1'", "iyy=0.01", "izz=0.042", "violates the triangle inequality"],
+    ),
+    "lower > upper": (
+        ('lower="-1.5707963267948966"', 'lower="2"'),
+        ["joint 'shoulder'", "<limit lower='2' upper='1.5707963267948966'>: lower > upper"],
+    ),
     "zero axis": (('<axis xyz="0 -1 0"/>', '<axis xyz="0 0 0"/>'), ["joint 'shoulder'", "<axis xyz='0 0 0'>"]),
 }
 
@@ -165,8 +173,9 @@ def test_malformed_numbers_are_named_even_with_the_opt_out(tmp_path, capsys):
     urdf = urdf_with(tmp_path, '<origin xyz="0.5 0 0" rpy="0 0 0"/>', '<origin xyz="0.5 0" rpy="0 0 0"/>')
     assert "joint 'elbow': <origin> xyz='0.5 0' is not 3 finite numbers" in run_error(capsys, ["inspect", str(urdf)])
     with pytest.raises(InputError, match=r"link 'link1': <mass> value='nan'"):
-        Mechanism.from_urdf_string(URDF.read_text().replace('<mass value="2.0"/>', '<mass value="nan"/>'),
-                                   validate=False)
+        Mechanism.from_urdf_string(
+            URDF.read_text().replace('<mass value="2.0"/>', '<mass value="nan"/>'), validate=False
+        )
 
 
 def test_a_pinocchio_model_with_a_negative_mass_is_refused():
@@ -179,10 +188,17 @@ def test_a_pinocchio_model_with_a_negative_mass_is_refused():
 
 def test_massless_links_the_urdf_means_stay_allowed(tmp_path):
     # base has no <inertial>; a massless tool link with mass 0 and a zero inertia; a point mass (zero inertia)
-    text = URDF.read_text().replace(
-        '<mass value="0.5"/>\n      <inertia ixx="0.0001" ixy="0" ixz="0" iyy="0.0001" iyz="0" izz="0.0001"/>',
-        '<mass value="0"/>\n      <inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/>').replace(
-        'ixx="0.0003" ixy="0" ixz="0" iyy="0.0135" iyz="0" izz="0.0135"', 'ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"')
+    text = (
+        URDF.read_text()
+        .replace(
+            '<mass value="0.5"/>\n      <inertia ixx="0.0001" ixy="0" ixz="0" iyy="0.0001" iyz="0" izz="0.0001"/>',
+            '<mass value="0"/>\n      <inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/>',
+        )
+        .replace(
+            'ixx="0.0003" ixy="0" ixz="0" iyy="0.0135" iyz="0" izz="0.0135"',
+            'ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"',
+        )
+    )
     mechanism = Mechanism.from_urdf_string(text)
     masses = {body["name"]: body["mass"] for body in mechanism.summary()["bodies"]}
     assert masses["base"] == 0.0 and masses["tool"] == 0.0 and masses["link2"] == 1.0
@@ -195,9 +211,27 @@ def test_every_shipped_urdf_loads_with_the_checks(urdf):
 
 
 @pytest.mark.filterwarnings("ignore:.*declares mimic joints")
-@pytest.mark.parametrize("robot", ["ur5", "ur3", "ur10", "panda", "talos_arm", "solo", "solo12", "kinova", "z1",
-                                   "xarm7", "so100", "so101", "double_pendulum", "double_pendulum_continuous",
-                                   "finger_edu", "asr_twodof"])
+@pytest.mark.parametrize(
+    "robot",
+    [
+        "ur5",
+        "ur3",
+        "ur10",
+        "panda",
+        "talos_arm",
+        "solo",
+        "solo12",
+        "kinova",
+        "z1",
+        "xarm7",
+        "so100",
+        "so101",
+        "double_pendulum",
+        "double_pendulum_continuous",
+        "finger_edu",
+        "asr_twodof",
+    ],
+)
 def test_example_robot_data_arms_load_with_the_checks(robot):
     if robot not in available_robots():
         pytest.fail(f"example-robot-data lacks {robot!r}")
@@ -225,8 +259,13 @@ def test_an_unreadable_urdf_says_permission_denied(tmp_path, capsys, monkeypatch
             return real(self)
 
         monkeypatch.setattr(Path, "read_bytes", read_bytes)
-    line = design_fails(tmp_path, capsys, edited(mechanism={"urdf": str(urdf)}), "mechanism.urdf",
-                        "locked.urdf' cannot be read: permission denied")
+    line = design_fails(
+        tmp_path,
+        capsys,
+        edited(mechanism={"urdf": str(urdf)}),
+        "mechanism.urdf",
+        "locked.urdf' cannot be read: permission denied",
+    )
     assert "valid URDF model" not in line
 
 
@@ -234,18 +273,28 @@ def test_an_unreadable_urdf_says_permission_denied(tmp_path, capsys, monkeypatch
 RESOURCE_CASES = {
     "sobol 1e8": ("design", {"workspace__n": 100_000_000}, "a sobol workspace of 100000000 samples"),
     "n 1e20": ("design", {"workspace__n": 1.0e20}, "a sobol workspace of 100000000000000000000 samples"),
-    "sweep 1e9": ("design", {"workspace": {"kind": "sweep", "joint": "shoulder", "n": 1_000_000_000}},
-                  "a sweep of 1000000000 samples"),
-    "grid 100000": ("design", {"workspace": {"kind": "grid", "n": 100_000}},
-                    "a grid workspace of 100000 × 100000 = 10000000000 samples"),
-    "evaluate --workspace 1e8": ("evaluate", {"workspace": {"kind": "sobol", "n": 100_000_000}},
-                                 "a sobol workspace of 100000000 samples"),
+    "sweep 1e9": (
+        "design",
+        {"workspace": {"kind": "sweep", "joint": "shoulder", "n": 1_000_000_000}},
+        "a sweep of 1000000000 samples",
+    ),
+    "grid 100000": (
+        "design",
+        {"workspace": {"kind": "grid", "n": 100_000}},
+        "a grid workspace of 100000 × 100000 = 10000000000 samples",
+    ),
+    "evaluate --workspace 1e8": (
+        "evaluate",
+        {"workspace": {"kind": "sobol", "n": 100_000_000}},
+        "a sobol workspace of 100000000 samples",
+    ),
     "alias bomb": ("design", None, "expands to more than"),
     "Workspace.sobol(n=10**12)": ("python", None, "a sobol workspace of 1000000000000 samples"),
 }
 
 ALIAS_BOMB = "a: &a [1, 2, 3, 4, 5, 6, 7, 8, 9]\n" + "".join(
-    f"{chr(98 + i)}: &{chr(98 + i)} [{', '.join(['*' + chr(97 + i)] * 9)}]\n" for i in range(8))
+    f"{chr(98 + i)}: &{chr(98 + i)} [{', '.join(['*' + chr(97 + i)] * 9)}]\n" for i in range(8)
+)
 
 CHILD = textwrap.dedent("""
     import json, resource, sys, time
@@ -291,8 +340,14 @@ def test_resource_exhaustion_is_refused_under_a_hard_memory_limit(tmp_path, desi
     argv = resource_argv(tmp_path, case, design_file)
     environment = {**os.environ, "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MPLBACKEND": "Agg"}
     environment.pop(budget.ENV, None)  # the default limit: half the memory available (here: under the rlimit)
-    completed = subprocess.run([sys.executable, "-c", CHILD, str(limit), json.dumps(argv), str(URDF)],
-                               capture_output=True, text=True, timeout=120, env=environment, cwd=tmp_path)
+    completed = subprocess.run(
+        [sys.executable, "-c", CHILD, str(limit), json.dumps(argv), str(URDF)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env=environment,
+        cwd=tmp_path,
+    )
     assert "Traceback" not in completed.stderr and "MemoryError" not in completed.stderr, completed.stderr
     report = json.loads(completed.stdout.splitlines()[-1])
     assert report["code"] == 2, completed.stderr
@@ -315,11 +370,13 @@ def test_max_memory_option_and_environment_variable(tmp_path, capsys, monkeypatc
     assert "more than the limit of 2 MiB (--max-memory)" in line
     line = run_error(capsys, ["--max-memory", "3MiB", "design", str(config), "--out", str(out)])
     assert "more than the limit of 3 MiB (--max-memory)" in line
-    assert "--max-memory: expected a size" in run_error(capsys, ["design", str(config), "--out", str(out),
-                                                                 "--max-memory", "lots"])
+    assert "--max-memory: expected a size" in run_error(
+        capsys, ["design", str(config), "--out", str(out), "--max-memory", "lots"]
+    )
     monkeypatch.setenv(budget.ENV, "-5")
     assert "environment variable SPRINGBALANCE_MAX_MEMORY: expected a size" in run_error(
-        capsys, ["design", str(config), "--out", str(out)])
+        capsys, ["design", str(config), "--out", str(out)]
+    )
     assert not out.exists()
 
 
@@ -389,12 +446,18 @@ def test_json_deep_nesting_and_oversized_files_are_refused(tmp_path, capsys):
     assert "is larger than 16 MiB" in design_fails(tmp_path, capsys, big)
 
 
-@pytest.mark.parametrize("name, text, expected", [
-    ("config.yaml", "mechanism: {urdf: a.urdf}\nmechanism: {robot: ur5}\n", "duplicate key 'mechanism' at line 2"),
-    ("config.yaml", "solve:\n  starts: 1\n  starts: 2\n", "solve: duplicate key 'starts' at line 3"),
-    ("config.json", '{"mechanism": {"robot": "ur5"}, "mechanism": {"robot": "panda"}}',
-     "duplicate key 'mechanism' in a JSON object"),
-])
+@pytest.mark.parametrize(
+    "name, text, expected",
+    [
+        ("config.yaml", "mechanism: {urdf: a.urdf}\nmechanism: {robot: ur5}\n", "duplicate key 'mechanism' at line 2"),
+        ("config.yaml", "solve:\n  starts: 1\n  starts: 2\n", "solve: duplicate key 'starts' at line 3"),
+        (
+            "config.json",
+            '{"mechanism": {"robot": "ur5"}, "mechanism": {"robot": "panda"}}',
+            "duplicate key 'mechanism' in a JSON object",
+        ),
+    ],
+)
 def test_duplicate_keys_are_refused(tmp_path, capsys, name, text, expected):
     config = tmp_path / name
     config.write_text(text)
@@ -407,19 +470,31 @@ def spring(**options) -> dict:
 
 
 CONTRADICTIONS = {
-    "min_length > max_length": (spring(min_length=2.0, max_length=1.0),
-                                ["spring 's1': min_length 2 m > max_length 1 m"]),
-    "initial tension above max_force": (spring(initial_tension={"lower": 50, "upper": 60}, max_force=20),
-                                        ["initial_tension is at least 50 N, above max_force 20 N"]),
+    "min_length > max_length": (
+        spring(min_length=2.0, max_length=1.0),
+        ["spring 's1': min_length 2 m > max_length 1 m"],
+    ),
+    "initial tension above max_force": (
+        spring(initial_tension={"lower": 50, "upper": 60}, max_force=20),
+        ["initial_tension is at least 50 N, above max_force 20 N"],
+    ),
     "max_length the anchors never reach": (spring(max_length=0.01), ["max_length 0.01 m", "at least 0.149"]),
     "min_length the anchors never reach": (spring(min_length=5.0), ["min_length 5 m", "at most"]),
     "free length the anchors cannot reach": (
         spring(b={"body": "link1", "point": [0.2, 0, 0]}, free_length=1.0),
-        ["free_length [1, 1] m", "keep_tension", "allow a free length of at most 0.10"]),
+        ["free_length [1, 1] m", "keep_tension", "allow a free length of at most 0.10"],
+    ),
     "constant force above max_force": (
-        {"name": "f", "type": "constant_force", "a": {"body": "universe", "point": [0, 0, 0.1]},
-         "b": {"body": "link1", "point": [0.3, 0, 0]}, "force": {"lower": 40, "upper": 50}, "max_force": 10},
-        ["spring 'f': force is at least 40 N, above max_force 10 N"]),
+        {
+            "name": "f",
+            "type": "constant_force",
+            "a": {"body": "universe", "point": [0, 0, 0.1]},
+            "b": {"body": "link1", "point": [0.3, 0, 0]},
+            "force": {"lower": 40, "upper": 50},
+            "max_force": 10,
+        },
+        ["spring 'f': force is at least 40 N, above max_force 10 N"],
+    ),
 }
 
 
@@ -431,8 +506,16 @@ def test_contradictions_between_bounds_are_named_before_solving(tmp_path, capsys
 
 
 def test_a_real_solver_failure_still_exits_1(tmp_path, capsys):
-    record = edited(springs=[spring(b={"body": "link1", "point": [0.2, 0, 0]}, free_length=0.05,
-                                    stiffness={"lower": 5000, "upper": 10000}, max_force=1.0)])
+    record = edited(
+        springs=[
+            spring(
+                b={"body": "link1", "point": [0.2, 0, 0]},
+                free_length=0.05,
+                stiffness={"lower": 5000, "upper": 10000},
+                max_force=1.0,
+            )
+        ]
+    )
     assert "no start gave a feasible design" in design_fails(tmp_path, capsys, record, code=1)
 
 
@@ -451,30 +534,50 @@ def first_variable(record) -> str:
 
 DAMAGE = {
     "workspace as a list": (lambda r: r.update(workspace=[1, 2]), "workspace: expected a mapping, got [1, 2]"),
-    "variable 'x'": (lambda r: r["variables"].update({first_variable(r): "x"}),
-                     "variables.s1.b.x: expected a finite number, got 'x'"),
-    "nan variable": (lambda r: r["variables"].update({first_variable(r): float("nan")}),
-                     "variables.s1.b.x: expected a finite number, got nan"),
-    "ragged samples": (lambda r: r["workspace"]["joint_values"][1].append(0.0),
-                       "workspace.joint_values[1]: 3 values, the rows before have 2"),
-    "infinite sample": (lambda r: r["workspace"]["joint_values"][0].__setitem__(0, float("inf")),
-                        "workspace.joint_values[0]: expected a row of finite numbers"),
-    "negative weight": (lambda r: r["weights"].update(elbow=-1), "weights.elbow: expected a finite number from 0 to 1e+12"),
+    "variable 'x'": (
+        lambda r: r["variables"].update({first_variable(r): "x"}),
+        "variables.s1.b.x: expected a finite number, got 'x'",
+    ),
+    "nan variable": (
+        lambda r: r["variables"].update({first_variable(r): float("nan")}),
+        "variables.s1.b.x: expected a finite number, got nan",
+    ),
+    "ragged samples": (
+        lambda r: r["workspace"]["joint_values"][1].append(0.0),
+        "workspace.joint_values[1]: 3 values, the rows before have 2",
+    ),
+    "infinite sample": (
+        lambda r: r["workspace"]["joint_values"][0].__setitem__(0, float("inf")),
+        "workspace.joint_values[0]: expected a row of finite numbers",
+    ),
+    "negative weight": (
+        lambda r: r["weights"].update(elbow=-1),
+        "weights.elbow: expected a finite number from 0 to 1e+12",
+    ),
     "unknown mechanism kind": (lambda r: r["mechanism"].update(kind="mystery"), "mechanism.kind: expected one of"),
     "springs not a list": (lambda r: r.update(springs={"s1": {}}), "springs: expected a non-empty list"),
     "missing variables": (lambda r: r.pop("variables"), "lacks key 'variables'"),
-    "another mechanism": (lambda r: r["mechanism"].update(path=str(ROOT / "urdf" / "single_link_r1.urdf")),
-                          "this design was made for a different mechanism (joints shoulder, elbow); "
-                          "mechanism 'single_link_r1'"),
-    "huge variable": (lambda r: r["variables"].update({first_variable(r): 1e300}),
-                      "variables.s1.b.x: 1e+300 is beyond ±1e+12 (SI units)"),
-    "huge joint value": (lambda r: r["workspace"]["joint_values"][0].__setitem__(1, 1e300),
-                         "workspace sample 0 has a joint value beyond ±1e+06 rad or m"),
-    "huge anchor": (lambda r: r["springs"][0]["a"].update(point=[0, 0, 1e300]),
-                    "spring 's1': anchor a has a coordinate of 1e+300 m in the frame of 'universe'"),
+    "another mechanism": (
+        lambda r: r["mechanism"].update(path=str(ROOT / "urdf" / "single_link_r1.urdf")),
+        "this design was made for a different mechanism (joints shoulder, elbow); mechanism 'single_link_r1'",
+    ),
+    "huge variable": (
+        lambda r: r["variables"].update({first_variable(r): 1e300}),
+        "variables.s1.b.x: 1e+300 is beyond ±1e+12 (SI units)",
+    ),
+    "huge joint value": (
+        lambda r: r["workspace"]["joint_values"][0].__setitem__(1, 1e300),
+        "workspace sample 0 has a joint value beyond ±1e+06 rad or m",
+    ),
+    "huge anchor": (
+        lambda r: r["springs"][0]["a"].update(point=[0, 0, 1e300]),
+        "spring 's1': anchor a has a coordinate of 1e+300 m in the frame of 'universe'",
+    ),
     "huge gravity": (lambda r: r["mechanism"].update(gravity=1e300), "gravity 1e+300 is beyond 1000 m/s²"),
-    "a body of another arm": (lambda r: r["springs"][0]["b"].update(body="forearm"),
-                              "springs[0].b.body: this design was made for a different mechanism: body 'forearm'"),
+    "a body of another arm": (
+        lambda r: r["springs"][0]["b"].update(body="forearm"),
+        "springs[0].b.body: this design was made for a different mechanism: body 'forearm'",
+    ),
 }
 
 
@@ -499,13 +602,16 @@ def test_duplicate_key_in_a_design_file(tmp_path, capsys, design_file):
 
 
 # ---------------------------------------------------------------------- payload-range
-@pytest.mark.parametrize("argv, expected", [
-    (["--masses", "nan"], "payload mass nan kg"),
-    (["--masses", "1", "-1"], "payload mass -1 kg"),
-    (["--masses", "inf"], "payload mass inf kg"),
-    (["--point", "1e9", "0", "0"], "is 1e+09 m from the origin of 'link2'"),
-    (["--point", "nan", "0", "0"], "payload point must be three finite numbers"),
-])
+@pytest.mark.parametrize(
+    "argv, expected",
+    [
+        (["--masses", "nan"], "payload mass nan kg"),
+        (["--masses", "1", "-1"], "payload mass -1 kg"),
+        (["--masses", "inf"], "payload mass inf kg"),
+        (["--point", "1e9", "0", "0"], "is 1e+09 m from the origin of 'link2'"),
+        (["--point", "nan", "0", "0"], "payload point must be three finite numbers"),
+    ],
+)
 def test_payload_range_refuses_impossible_masses_and_points(tmp_path, capsys, design_file, argv, expected):
     plot = tmp_path / "plot"
     line = run_error(capsys, ["payload-range", str(design_file), "--body", "link2", *argv, "--plot", str(plot)])

@@ -41,22 +41,23 @@ def test_example_catalogue_reads_and_every_row_follows_the_coil_formulas():
         assert part.material == "music_wire"
         assert 0.8e-3 - 1e-12 <= d <= 4.0e-3 + 1e-12
         assert round(D / d, 9) in (6, 8, 10)
-        rate = G_MUSIC_WIRE * d**4 / (8 * D**3 * n)                    # Shigley Eq. 10-9, recomputed here
+        rate = G_MUSIC_WIRE * d**4 / (8 * D**3 * n)  # Shigley Eq. 10-9, recomputed here
         assert part.rate == pytest.approx(rate, rel=0.01), part.part_number
         if part.kind == "extension":
             assert part.free_length == pytest.approx(2 * (D - d) + d * (n + 1), rel=1e-6), part.part_number
             assert part.min_length == part.free_length
             C = D / d
-            middle = 231e6 / math.exp(0.105 * C)                          # τ_i [Pa], Shigley Eq. 10-40
+            middle = 231e6 / math.exp(0.105 * C)  # τ_i [Pa], Shigley Eq. 10-40
             half = 6.9e6 * (4 - (C - 3) / 6.5)
             tau_i = 8 * part.initial_tension * D / (math.pi * d**3)
             assert middle - half < tau_i < middle + half
             assert tau_i == pytest.approx(middle, rel=1e-3)
-            assert part.max_length == pytest.approx(part.free_length + (part.max_load - part.initial_tension) / part.rate,
-                                                    abs=2e-6)
+            assert part.max_length == pytest.approx(
+                part.free_length + (part.max_load - part.initial_tension) / part.rate, abs=2e-6
+            )
         else:
             assert part.initial_tension == 0
-            assert part.min_length == pytest.approx(d * (n + 2), rel=1e-6)     # squared and ground: solid length
+            assert part.min_length == pytest.approx(d * (n + 2), rel=1e-6)  # squared and ground: solid length
             assert part.max_length == part.free_length
             assert part.max_load <= part.rate * (part.free_length - part.min_length) * (1 + 1e-4)  # not beyond solid
 
@@ -80,24 +81,31 @@ def test_columns_in_any_order_extra_columns_comments_and_blank_lines(tmp_path):
 
 
 # ---------------------------------------------------------------------- bad catalogues
-@pytest.mark.parametrize("lines, expected", [
-    ((HEADER.replace(",rate", "").replace(",max_load", ""), EXTENSION_ROW),
-     ["line 1", "missing column(s) rate, max_load"]),
-    ((HEADER, EXTENSION_ROW.replace(",1977.539,", ",-1977.539,")), ["line 2", "part 'E1'", "column 'rate'", "> 0"]),
-    ((HEADER, "# comment", EXTENSION_ROW, COMPRESSION_ROW.replace("music_wire", "unobtainium")),
-     ["line 4", "part 'C1'", "column 'material'", "unknown material 'unobtainium'", "music_wire"]),
-    ((HEADER, EXTENSION_ROW.replace("extension", "torsion")), ["line 2", "column 'type'", "'torsion'"]),
-    ((HEADER, EXTENSION_ROW.replace(",0.07,10,", ",0.07,ten,")), ["line 2", "column 'initial_tension'", "'ten'"]),
-    ((HEADER, EXTENSION_ROW.replace(",0.07,10,", ",0.07,nan,")), ["line 2", "column 'initial_tension'", "finite"]),
-    ((HEADER, EXTENSION_ROW.replace(",120,", ",0,")), ["line 2", "column 'max_load'", "> 0"]),
-    ((HEADER, EXTENSION_ROW.replace(",1977.539,", ",2100,")), ["line 2", "column 'rate'", "G d⁴/(8 D³ n)", "2 %"]),
-    ((HEADER, COMPRESSION_ROW.replace(",0,4943", ",5,4943")), ["line 2", "column 'initial_tension'", "must be 0"]),
-    ((HEADER, COMPRESSION_ROW.replace(",0.0552,0.02", ",0.0552,0.06")), ["line 2", "column 'min_length'", "solid"]),
-    ((HEADER, EXTENSION_ROW, EXTENSION_ROW), ["line 3", "column 'part_number'", "'E1'", "line 2"]),
-    ((HEADER, EXTENSION_ROW + ",extra"), ["line 2", "13 cells", "12 columns"]),
-    ((HEADER,), ["holds no parts"]),
-    (("# only a comment",), ["empty stock catalogue"]),
-])
+@pytest.mark.parametrize(
+    "lines, expected",
+    [
+        (
+            (HEADER.replace(",rate", "").replace(",max_load", ""), EXTENSION_ROW),
+            ["line 1", "missing column(s) rate, max_load"],
+        ),
+        ((HEADER, EXTENSION_ROW.replace(",1977.539,", ",-1977.539,")), ["line 2", "part 'E1'", "column 'rate'", "> 0"]),
+        (
+            (HEADER, "# comment", EXTENSION_ROW, COMPRESSION_ROW.replace("music_wire", "unobtainium")),
+            ["line 4", "part 'C1'", "column 'material'", "unknown material 'unobtainium'", "music_wire"],
+        ),
+        ((HEADER, EXTENSION_ROW.replace("extension", "torsion")), ["line 2", "column 'type'", "'torsion'"]),
+        ((HEADER, EXTENSION_ROW.replace(",0.07,10,", ",0.07,ten,")), ["line 2", "column 'initial_tension'", "'ten'"]),
+        ((HEADER, EXTENSION_ROW.replace(",0.07,10,", ",0.07,nan,")), ["line 2", "column 'initial_tension'", "finite"]),
+        ((HEADER, EXTENSION_ROW.replace(",120,", ",0,")), ["line 2", "column 'max_load'", "> 0"]),
+        ((HEADER, EXTENSION_ROW.replace(",1977.539,", ",2100,")), ["line 2", "column 'rate'", "G d⁴/(8 D³ n)", "2 %"]),
+        ((HEADER, COMPRESSION_ROW.replace(",0,4943", ",5,4943")), ["line 2", "column 'initial_tension'", "must be 0"]),
+        ((HEADER, COMPRESSION_ROW.replace(",0.0552,0.02", ",0.0552,0.06")), ["line 2", "column 'min_length'", "solid"]),
+        ((HEADER, EXTENSION_ROW, EXTENSION_ROW), ["line 3", "column 'part_number'", "'E1'", "line 2"]),
+        ((HEADER, EXTENSION_ROW + ",extra"), ["line 2", "13 cells", "12 columns"]),
+        ((HEADER,), ["holds no parts"]),
+        (("# only a comment",), ["empty stock catalogue"]),
+    ],
+)
 def test_bad_catalogue_one_line_error_naming_file_line_and_column(tmp_path, lines, expected):
     path = write(tmp_path, *lines)
     with pytest.raises(InputError) as error:
@@ -114,10 +122,13 @@ def test_missing_catalogue_file(tmp_path):
         read_catalogue(tmp_path / "nope.csv")
 
 
-@pytest.mark.parametrize("row, column", [
-    (EXTENSION_ROW.replace(",1977.539,", ",-1977.539,"), "rate"),
-    (EXTENSION_ROW.replace("music_wire", "unobtainium"), "material"),
-])
+@pytest.mark.parametrize(
+    "row, column",
+    [
+        (EXTENSION_ROW.replace(",1977.539,", ",-1977.539,"), "rate"),
+        (EXTENSION_ROW.replace("music_wire", "unobtainium"), "material"),
+    ],
+)
 def test_cli_rejects_a_bad_catalogue_before_solving(tmp_path, capsys, row, column):
     catalogue = write(tmp_path, HEADER, row)
     out = tmp_path / "design.json"

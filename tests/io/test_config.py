@@ -21,8 +21,13 @@ EXAMPLE = ROOT / "examples" / "two_link.yaml"
 
 BASE = {
     "mechanism": {"urdf": str(URDF), "gravity": 9.81},
-    "workspace": {"kind": "sobol", "n": 32, "seed": 0, "degrees": True,
-                  "ranges": {"shoulder": [-90, 90], "elbow": [0, 0]}},
+    "workspace": {
+        "kind": "sobol",
+        "n": 32,
+        "seed": 0,
+        "degrees": True,
+        "ranges": {"shoulder": [-90, 90], "elbow": [0, 0]},
+    },
     "springs": [SHOULDER_SPRING],
     "objective": "rms",
     "weights": {"shoulder": 1.0, "elbow": 0.0},
@@ -130,17 +135,26 @@ def test_grid_with_counts_per_joint(mechanism):
 
 
 def test_couplings_in_degrees_filter_samples(mechanism):
-    workspace = workspace_from_dict(mechanism, {
-        "kind": "random", "n": 200, "seed": 1, "degrees": True,
-        "couplings": [{"expression": "elbow - shoulder", "range": [-60, 0]}]})
+    workspace = workspace_from_dict(
+        mechanism,
+        {
+            "kind": "random",
+            "n": 200,
+            "seed": 1,
+            "degrees": True,
+            "couplings": [{"expression": "elbow - shoulder", "range": [-60, 0]}],
+        },
+    )
     difference = np.rad2deg(workspace.joint_values[:, 1] - workspace.joint_values[:, 0])
     assert workspace.size == 200
     assert difference.min() >= -60 - 1e-9 and difference.max() <= 1e-9
 
 
 def test_sweep(mechanism):
-    workspace = workspace_from_dict(mechanism, {"kind": "sweep", "joint": "elbow", "n": 7, "degrees": True,
-                                                "ranges": {"elbow": [-30, 30], "shoulder": 10}})
+    workspace = workspace_from_dict(
+        mechanism,
+        {"kind": "sweep", "joint": "elbow", "n": 7, "degrees": True, "ranges": {"elbow": [-30, 30], "shoulder": 10}},
+    )
     np.testing.assert_allclose(np.rad2deg(workspace.joint_values[:, 1]), np.linspace(-30, 30, 7))
     np.testing.assert_allclose(np.rad2deg(workspace.joint_values[:, 0]), 10)
 
@@ -181,8 +195,9 @@ def test_unknown_key_names_the_path_and_lists_valid_keys(tmp_path):
 
 
 def test_unknown_top_level_and_spring_keys(tmp_path):
-    assert "unknown key 'solver'; valid keys: mechanism, workspace, springs, objective, weights, solve" in \
-        config_error(tmp_path, edited(solver={"starts": 2}))
+    assert "unknown key 'solver'; valid keys: mechanism, workspace, springs, objective, weights, solve" in config_error(
+        tmp_path, edited(solver={"starts": 2})
+    )
     message = config_error(tmp_path, edited(springs__0__b__box__uper=[0.5, 0, 0]))
     assert "springs[0] 's1'.b.box: unknown key 'uper'; valid keys: lower, upper, init" in message
     assert "solve: unknown key 'restarts'" in config_error(tmp_path, edited(solve__restarts=3))
@@ -217,14 +232,17 @@ def test_nan_is_rejected_with_its_key_path(tmp_path):
 
 def test_wrong_types(tmp_path):
     assert "workspace.n: expected an integer" in config_error(tmp_path, edited(workspace__n="many"))
-    assert "workspace.degrees: expected true or false, got 'yes please'" in \
-        config_error(tmp_path, edited(workspace__degrees="yes please"))
+    assert "workspace.degrees: expected true or false, got 'yes please'" in config_error(
+        tmp_path, edited(workspace__degrees="yes please")
+    )
     assert "solve.starts: must be ≥ 1, got 0" in config_error(tmp_path, edited(solve__starts=0))
-    assert "objective: unknown objective 'rmse'; valid: rms, peak, pe_variance, energy" in \
-        config_error(tmp_path, edited(objective="rmse"))
+    assert "objective: unknown objective 'rmse'; valid: rms, peak, pe_variance, energy" in config_error(
+        tmp_path, edited(objective="rmse")
+    )
     assert "springs: expected a non-empty list of springs" in config_error(tmp_path, edited(springs=[]))
-    assert "springs[0].type: unknown spring type ['extension']" in \
-        config_error(tmp_path, edited(springs__0__type=["extension"]))
+    assert "springs[0].type: unknown spring type ['extension']" in config_error(
+        tmp_path, edited(springs__0__type=["extension"])
+    )
 
 
 def test_key_of_another_workspace_kind(tmp_path):
@@ -233,8 +251,9 @@ def test_key_of_another_workspace_kind(tmp_path):
 
 
 def test_missing_section_and_source(tmp_path):
-    assert "missing section 'springs' (required: mechanism, workspace, springs)" in \
-        config_error(tmp_path, edited(springs=None))
+    assert "missing section 'springs' (required: mechanism, workspace, springs)" in config_error(
+        tmp_path, edited(springs=None)
+    )
     message = config_error(tmp_path, edited(mechanism={"urdf": str(URDF), "robot": "ur5"}))
     assert "mechanism: give exactly one of 'urdf'" in message and "(got urdf and robot)" in message
 
@@ -248,8 +267,9 @@ def test_missing_and_malformed_urdf(tmp_path):
 
 
 def test_zero_length_spring(tmp_path):
-    record = edited(springs__0__a={"body": "universe", "point": [0, 0, 0]},
-                    springs__0__b={"body": "link1", "point": [0, 0, 0]})
+    record = edited(
+        springs__0__a={"body": "universe", "point": [0, 0, 0]}, springs__0__b={"body": "link1", "point": [0, 0, 0]}
+    )
     assert "spring 's1': its ends coincide (zero length)" in config_error(tmp_path, record)
 
 

@@ -17,7 +17,9 @@ from springbalance.springs import SPRING_TYPES, TwoPointSpring
 
 ROOT = Path(__file__).resolve().parents[2]
 URDF = ROOT / "urdf" / "two_link_planar.urdf"
-EXAMPLES = sorted(path for path in (ROOT / "examples").iterdir() if path.suffix in (".yaml", ".yml", ".json"))  # configs
+EXAMPLES = sorted(
+    path for path in (ROOT / "examples").iterdir() if path.suffix in (".yaml", ".yml", ".json")
+)  # configs
 COMMITTED_SCHEMA = ROOT / "docs" / "config.schema.json"
 
 # the shoulder spring of config_helpers.SHOULDER_SPRING, as YAML text (exponents, a quoted name)
@@ -87,14 +89,17 @@ def test_the_schema_rejects_what_the_loader_rejects(schema):
     validator = jsonschema.Draft202012Validator(schema)
     record = read_config_file(ROOT / "examples" / "two_link.yaml")
     assert validator.is_valid(record)
-    for section, key, value in [("workspace", "nn", 5), ("workspace", "joint", "elbow"),  # not a key of sobol
-                                ("mechanism", "robot", "ur5"),  # urdf and robot
-                                ("workspace", "kind", "halton")]:
+    for section, key, value in [
+        ("workspace", "nn", 5),
+        ("workspace", "joint", "elbow"),  # not a key of sobol
+        ("mechanism", "robot", "ur5"),  # urdf and robot
+        ("workspace", "kind", "halton"),
+    ]:
         bad = json.loads(json.dumps(record))
         bad[section][key] = value
         assert not validator.is_valid(bad), (section, key)
     bad = json.loads(json.dumps(record))
-    bad["springs"][0]["stiffness"] = "1e4"   # a quoted number is a string
+    bad["springs"][0]["stiffness"] = "1e4"  # a quoted number is a string
     assert not validator.is_valid(bad)
 
 
@@ -102,8 +107,9 @@ def test_committed_schema_is_the_commands_output(capsys, tmp_path):
     assert main(["schema"]) == 0
     printed = capsys.readouterr().out
     assert printed == schema_text()
-    assert COMMITTED_SCHEMA.read_text(encoding="utf-8") == printed, \
+    assert COMMITTED_SCHEMA.read_text(encoding="utf-8") == printed, (
         "docs/config.schema.json is stale: run `springbalance schema --out docs/config.schema.json`"
+    )
     out = tmp_path / "schemas" / "config.schema.json"
     assert main(["schema", "--out", str(out)]) == 0
     assert out.read_text(encoding="utf-8") == printed
@@ -186,7 +192,8 @@ def test_integral_floats_are_integers(tmp_path):
     config = load_config(write(tmp_path, CONFIG.replace("n: 32", "n: 3.2e1")))
     assert config.workspace.size == 32
     assert "workspace.n: expected an integer, got 32.5" in config_error(
-        write(tmp_path, CONFIG.replace("n: 32", "n: 32.5")))
+        write(tmp_path, CONFIG.replace("n: 32", "n: 32.5"))
+    )
 
 
 # ---------------------------------------------------------------------- duplicate and unknown keys
@@ -201,8 +208,9 @@ def test_duplicate_spring_key_names_its_path_and_lines(tmp_path):
     path = write(tmp_path, text)
     lines = text.splitlines()
     first = next(i for i, line in enumerate(lines, 1) if line.strip().startswith("stiffness: {"))
-    assert config_error(path) == (f"{path}: springs[0]: duplicate key 'stiffness' at line {first + 1} "
-                                  f"(first at line {first})")
+    assert config_error(path) == (
+        f"{path}: springs[0]: duplicate key 'stiffness' at line {first + 1} (first at line {first})"
+    )
 
 
 def test_duplicate_key_in_json(tmp_path):
@@ -211,27 +219,30 @@ def test_duplicate_key_in_json(tmp_path):
 
 
 def test_merge_keys_and_aliases_still_work(tmp_path):
-    text = ("springs:\n"
-            "  - {name: s1, a: &top {body: universe, point: [0, 0, 0.1]}}\n"
-            "  - {name: s2, a: {<<: *top, point: [0, 0, 0.2]}, b: *top}\n")
+    text = (
+        "springs:\n"
+        "  - {name: s1, a: &top {body: universe, point: [0, 0, 0.1]}}\n"
+        "  - {name: s2, a: {<<: *top, point: [0, 0, 0.2]}, b: *top}\n"
+    )
     springs = read_config_file(write(tmp_path, text))["springs"]
-    assert springs[1]["a"] == {"body": "universe", "point": [0, 0, 0.2]}   # a key may override a merged one
+    assert springs[1]["a"] == {"body": "universe", "point": [0, 0, 0.2]}  # a key may override a merged one
     assert springs[1]["b"] == springs[0]["a"]
 
 
 def test_unknown_spring_key_lists_the_valid_keys(tmp_path):
     message = config_error(write(tmp_path, CONFIG.replace("free_length:", "free_lenght:")))
-    assert message.endswith("springs[0] '2e3': unknown key 'free_lenght'; valid keys: name, type, a, b, stiffness, "
-                            "free_length, initial_tension, max_force, max_length, min_length, mass, part_number, ideal, "
-                            "keep_tension, max_stretch, helical")
+    assert message.endswith(
+        "springs[0] '2e3': unknown key 'free_lenght'; valid keys: name, type, a, b, stiffness, "
+        "free_length, initial_tension, max_force, max_length, min_length, mass, part_number, ideal, "
+        "keep_tension, max_stretch, helical"
+    )
 
 
 def test_errors_inside_option_records(tmp_path):
     spring = "    free_length: {lower: 5e-2, upper: 1.0}\n"
     cases = {
-        "    mass: {coil_diameter: 0.02, diameter: 3}\n":
-            "springs[0] '2e3'.mass: unknown key 'diameter'; valid keys: coil_diameter, active_coils, wire_length, "
-            "material, shear_modulus, density",
+        "    mass: {coil_diameter: 0.02, diameter: 3}\n": "springs[0] '2e3'.mass: unknown key 'diameter'; valid keys: coil_diameter, active_coils, wire_length, "
+        "material, shear_modulus, density",
         "    mass: heavy\n": "springs[0] '2e3'.mass: expected a number or a mapping, got 'heavy'",
         "    helical: {index: 3}\n": "springs[0] '2e3'.helical.index: must be ≥ 4, got 3",
         "    max_force: -1\n": "springs[0] '2e3'.max_force: must be > 0, got -1",

@@ -12,9 +12,28 @@ import pytest
 from springbalance.export import common, mjcf, urdf
 from springbalance.io import schema
 
-OLD_RECORDS = ["Free", "NonNegativeFree", "Box", "Segment", "Plane", "MountPlane", "Anchor", "PulleySize", "PathPoint",
-               "RoutedSpring", "Clearance", "Mechanism", "Coupling", "Workspace", "Solve", "Payload", "LoadCase",
-               "PayloadRange", "Scenarios", "WorkspaceFile"]
+OLD_RECORDS = [
+    "Free",
+    "NonNegativeFree",
+    "Box",
+    "Segment",
+    "Plane",
+    "MountPlane",
+    "Anchor",
+    "PulleySize",
+    "PathPoint",
+    "RoutedSpring",
+    "Clearance",
+    "Mechanism",
+    "Coupling",
+    "Workspace",
+    "Solve",
+    "Payload",
+    "LoadCase",
+    "PayloadRange",
+    "Scenarios",
+    "WorkspaceFile",
+]
 
 
 @pytest.mark.parametrize("name", OLD_RECORDS)
@@ -22,7 +41,7 @@ def test_old_record_name_warns_and_is_the_record(name):
     with pytest.warns(DeprecationWarning, match=f"io.schema.{name} is deprecated; use .*{name}Record"):
         record = getattr(schema, name)
     assert record is getattr(schema, f"{name}Record")
-    assert record.model_config["title"] == name   # the JSON Schema keeps the old name
+    assert record.model_config["title"] == name  # the JSON Schema keeps the old name
 
 
 def test_old_record_names_are_all_covered():
@@ -34,11 +53,17 @@ def test_from_import_of_an_old_record_name_warns():
         from springbalance.io.schema import Anchor  # noqa: F401
 
 
-MOVED = [("springbalance.io.urdf", urdf, name) for name in
-         ("SIDECAR_FORMAT", "URDF_NAMESPACE", "export_urdf", "sidecar_path", "urdf_strings")] + \
-        [("springbalance.io.mjcf", mjcf, name) for name in ("MUJOCO_MESH_FORMATS", "export_mjcf", "mjcf_string")] + \
-        [("springbalance.io.export", common, name) for name in
-         ("ExportReport", "GROUND", "anchor_link_name", "law_warnings")]
+MOVED = (
+    [
+        ("springbalance.io.urdf", urdf, name)
+        for name in ("SIDECAR_FORMAT", "URDF_NAMESPACE", "export_urdf", "sidecar_path", "urdf_strings")
+    ]
+    + [("springbalance.io.mjcf", mjcf, name) for name in ("MUJOCO_MESH_FORMATS", "export_mjcf", "mjcf_string")]
+    + [
+        ("springbalance.io.export", common, name)
+        for name in ("ExportReport", "GROUND", "anchor_link_name", "law_warnings")
+    ]
+)
 
 
 @pytest.mark.parametrize(("old", "new", "name"), MOVED)
@@ -55,8 +80,9 @@ def test_springs_from_urdf_keeps_its_place_without_a_warning():
         from springbalance.io.urdf import springs_from_urdf  # noqa: F401
 
 
-@pytest.mark.parametrize("module", ["springbalance.io.schema", "springbalance.io.urdf", "springbalance.io.mjcf",
-                                    "springbalance.io.export"])
+@pytest.mark.parametrize(
+    "module", ["springbalance.io.schema", "springbalance.io.urdf", "springbalance.io.mjcf", "springbalance.io.export"]
+)
 def test_unknown_names_are_attribute_errors(module):
     with pytest.raises(AttributeError):
         _ = importlib.import_module(module).no_such_name

@@ -55,11 +55,22 @@ def ur5():
     mechanism = sb.Mechanism.from_robot("ur5")
     workspace = sb.Workspace.sobol(mechanism, 256, seed=1)
     box = lambda: sb.Free([-0.3] * 3, [0.3] * 3)  # noqa: E731
-    pairs = [("universe", "upper_arm_link"), ("universe", "forearm_link"),
-             ("upper_arm_link", "forearm_link"), ("shoulder_link", "forearm_link")]
-    springs = [sb.ExtensionSpring(sb.Anchor(a, box()), sb.Anchor(b, box()), f"s{i + 1}",
-                                  stiffness=sb.Free(0, 5000), free_length=sb.Free(0.05, 1.0))
-               for i, (a, b) in enumerate(pairs)]
+    pairs = [
+        ("universe", "upper_arm_link"),
+        ("universe", "forearm_link"),
+        ("upper_arm_link", "forearm_link"),
+        ("shoulder_link", "forearm_link"),
+    ]
+    springs = [
+        sb.ExtensionSpring(
+            sb.Anchor(a, box()),
+            sb.Anchor(b, box()),
+            f"s{i + 1}",
+            stiffness=sb.Free(0, 5000),
+            free_length=sb.Free(0.05, 1.0),
+        )
+        for i, (a, b) in enumerate(pairs)
+    ]
     result = sb.solve(sb.DesignProblem(mechanism, workspace, springs), starts=2, progress=False)
     assert result.metrics()["objectives"]["rms"]["reduction_percent"] > 90
     return result
@@ -98,43 +109,76 @@ def test_ur5_four_springs_mujoco_holding_torque_matches(ur5, tmp_path):
 def test_every_law_matches_mujoco(tmp_path):
     """Each spring law, preloads, k = 0 cases and spring mass, against MuJoCo's inverse dynamics."""
     mechanism = sb.Mechanism.from_urdf(TWO_LINK)
-    up, link1, link2 = (lambda p: sb.Anchor("universe", p)), (lambda p: sb.Anchor("link1", p)), \
-        (lambda p: sb.Anchor("link2", p))
+    up, link1, link2 = (
+        (lambda p: sb.Anchor("universe", p)),
+        (lambda p: sb.Anchor("link1", p)),
+        (lambda p: sb.Anchor("link2", p)),
+    )
     springs = [
         sb.ZeroFreeLengthSpring(up([0, 0, 0.2]), link1([0.3, 0, 0]), "zfl", stiffness=80.0, mass=0.3),
-        sb.ExtensionSpring(up([0.05, 0, 0.4]), link2([0.2, 0, 0.01]), "ext", stiffness=120.0, free_length=0.1,
-                           initial_tension=15.0, keep_tension=False),
-        sb.ExtensionSpring(link1([0.1, 0, 0.05]), link2([0.1, 0, 0.0]), "ext0", stiffness=0.0, free_length=0.1,
-                           initial_tension=4.0, keep_tension=False),
-        sb.CompressionSpring(up([-0.1, 0, -0.2]), link1([0.2, 0, 0]), "comp", stiffness=300.0, free_length=0.9,
-                             preload=20.0, stays_compressed=False),
-        sb.GasSpring(link1([0.05, 0, -0.05]), link2([0.15, 0, 0]), "gas", stiffness=50.0, free_length=0.6,
-                     preload=40.0, stays_compressed=False),
+        sb.ExtensionSpring(
+            up([0.05, 0, 0.4]),
+            link2([0.2, 0, 0.01]),
+            "ext",
+            stiffness=120.0,
+            free_length=0.1,
+            initial_tension=15.0,
+            keep_tension=False,
+        ),
+        sb.ExtensionSpring(
+            link1([0.1, 0, 0.05]),
+            link2([0.1, 0, 0.0]),
+            "ext0",
+            stiffness=0.0,
+            free_length=0.1,
+            initial_tension=4.0,
+            keep_tension=False,
+        ),
+        sb.CompressionSpring(
+            up([-0.1, 0, -0.2]),
+            link1([0.2, 0, 0]),
+            "comp",
+            stiffness=300.0,
+            free_length=0.9,
+            preload=20.0,
+            stays_compressed=False,
+        ),
+        sb.GasSpring(
+            link1([0.05, 0, -0.05]),
+            link2([0.15, 0, 0]),
+            "gas",
+            stiffness=50.0,
+            free_length=0.6,
+            preload=40.0,
+            stays_compressed=False,
+        ),
         sb.ConstantForceSpring(up([0.3, 0, 0.5]), link2([0.35, 0, 0]), "cf", force=6.0),
         sb.TorsionalSpring("elbow", "tor", stiffness=3.0, neutral_angle=0.4, preload=-1.5),
-        sb.TorsionalSpring("elbow", "tor2", stiffness=1.0, neutral_angle=-0.7, preload=0.5),   # two on one joint
+        sb.TorsionalSpring("elbow", "tor2", stiffness=1.0, neutral_angle=-0.7, preload=0.5),  # two on one joint
         sb.TorsionalSpring("shoulder", "tor0", stiffness=0.0, neutral_angle=0.0, preload=2.5),
     ]
     poses = random_inside(mechanism, {"shoulder": (-1.5, 1.5), "elbow": (-2.5, 2.5)}, seed=2)
     result = fixed_design(mechanism, springs, poses)
     report = result.to_mjcf(tmp_path / "laws.xml")
     model = mujoco.MjModel.from_xml_path(str(tmp_path / "laws.xml"))
-    assert model.ntendon == 6 and model.nu == 3   # ext0 and cf: constant forces; tor0: constant torque
+    assert model.ntendon == 6 and model.nu == 3  # ext0 and cf: constant forces; tor0: constant torque
     assert_same_holding_torque(result, tmp_path / "laws.xml", poses)
     # the extension springs shorter than l0 somewhere, and the compression/gas springs longer, are reported
     reported = " ".join(report.warnings)
     for name in ("'ext'", "'ext0'", "'comp'", "'gas'"):
         lengths = result.evaluation.lengths[:, [s.name for s in springs].index(name.strip("'"))]
-        assert (name in reported) == bool(np.any(lengths < 0.1) if "ext" in name else
-                                           np.any(lengths > result.spring(name.strip("'"))["free_length"]))
+        assert (name in reported) == bool(
+            np.any(lengths < 0.1) if "ext" in name else np.any(lengths > result.spring(name.strip("'"))["free_length"])
+        )
 
 
 def test_exactly_balanced_link_is_balanced_in_mujoco(tmp_path):
     """R2 link, zero-free-length spring with k a b = m g c (docs/model.md §9): MuJoCo holds it with no torque."""
     mechanism = sb.Mechanism.from_urdf(R2, gravity=9.8)
     a, b, m, c, g = 0.1, 0.2, 1.0, 0.25, 9.8
-    spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", [0, 0, a]), sb.Anchor("link1", [b, 0, 0]), "s1",
-                                     stiffness=m * g * c / (a * b))
+    spring = sb.ZeroFreeLengthSpring(
+        sb.Anchor("universe", [0, 0, a]), sb.Anchor("link1", [b, 0, 0]), "s1", stiffness=m * g * c / (a * b)
+    )
     poses = np.linspace(-np.pi, np.pi, 37)[:, None]
     result = fixed_design(mechanism, [spring], poses)
     result.to_mjcf(tmp_path / "r2.xml")
@@ -149,8 +193,15 @@ def test_exactly_balanced_link_is_balanced_in_mujoco(tmp_path):
 
 def test_gas_spring_beyond_its_stroke_is_reported(tmp_path):
     mechanism = sb.Mechanism.from_urdf(TWO_LINK)
-    gas = sb.GasSpring(sb.Anchor("universe", [-0.1, 0, -0.2]), sb.Anchor("link1", [0.2, 0, 0]), "g1",
-                       stiffness=50.0, free_length=0.5, preload=40.0, stroke=0.05)
+    gas = sb.GasSpring(
+        sb.Anchor("universe", [-0.1, 0, -0.2]),
+        sb.Anchor("link1", [0.2, 0, 0]),
+        "g1",
+        stiffness=50.0,
+        free_length=0.5,
+        preload=40.0,
+        stroke=0.05,
+    )
     poses = random_inside(mechanism, {"shoulder": (-1.5, 1.5), "elbow": (0, 0)}, n=20)
     result = fixed_design(mechanism, [gas], poses)
     report = result.to_mjcf(tmp_path / "gas.xml")
@@ -165,13 +216,15 @@ def test_mimic_joint_becomes_an_equality_constraint(tmp_path):
     text = TWO_LINK.read_text().replace(
         '<axis xyz="0 -1 0"/>\n    <limit lower="-2.6179938779914944"',
         '<axis xyz="0 -1 0"/>\n    <mimic joint="shoulder" multiplier="-1.0" offset="0.0"/>\n'
-        '    <limit lower="-2.6179938779914944"')
+        '    <limit lower="-2.6179938779914944"',
+    )
     path = tmp_path / "mimic.urdf"
     path.write_text(text)
     mechanism = sb.Mechanism.from_urdf(path, mimic=True)
     assert mechanism.joint_names == ["shoulder"]
-    spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", [0, 0, 0.1]), sb.Anchor("link2", [0.3, 0, 0]), "s1",
-                                     stiffness=200.0)
+    spring = sb.ZeroFreeLengthSpring(
+        sb.Anchor("universe", [0, 0, 0.1]), sb.Anchor("link2", [0.3, 0, 0]), "s1", stiffness=200.0
+    )
     poses = np.linspace(-1.4, 1.4, 15)[:, None]
     result = fixed_design(mechanism, [spring], poses)
     report = result.to_mjcf(tmp_path / "mimic.xml")
@@ -200,7 +253,7 @@ def test_urdf_anchors_load_back_in_pinocchio_and_yourdfpy(ur5, tmp_path):
     urdf = yourdfpy.URDF.load(str(path), build_scene_graph=True, load_meshes=False)
     original = pin.buildModelFromUrdf(str(robots.robot_urdf("ur5")))
     assert model.nv == original.nv
-    for exported, source in zip(model.inertias, original.inertias):   # the anchor links carry no mass
+    for exported, source in zip(model.inertias, original.inertias):  # the anchor links carry no mass
         assert exported.mass == source.mass
         # (Pinocchio merges each fixed link's inertia into its joint body: round-off only)
         np.testing.assert_allclose(exported.lever, source.lever, rtol=0, atol=1e-15)
@@ -227,38 +280,54 @@ def test_urdf_meshes_keep_working(ur5, tmp_path):
     directories = robots.package_directories()
 
     def resolve(name):
-        relative = name[len("package://"):]
+        relative = name[len("package://") :]
         for directory in directories:
             if (Path(directory) / relative).is_file():
                 return str(Path(directory) / relative)
         return name
 
     urdf = yourdfpy.URDF.load(str(kept), filename_handler=resolve, load_meshes=False, build_scene_graph=False)
-    meshes = [geometry.geometry.mesh.filename for link in urdf.robot.links
-              for geometry in link.visuals + link.collisions if geometry.geometry.mesh is not None]
+    meshes = [
+        geometry.geometry.mesh.filename
+        for link in urdf.robot.links
+        for geometry in link.visuals + link.collisions
+        if geometry.geometry.mesh is not None
+    ]
     assert meshes and all(Path(resolve(name)).is_file() for name in meshes)
     resolved = tmp_path / "resolved.urdf"
     ur5.to_urdf(resolved, resolve_packages=True)
     text = resolved.read_text()
     assert "package://" not in text
     urdf = yourdfpy.URDF.load(str(resolved), load_meshes=False, build_scene_graph=False)
-    assert all(Path(geometry.geometry.mesh.filename).is_file() for link in urdf.robot.links
-               for geometry in link.visuals + link.collisions if geometry.geometry.mesh is not None)
+    assert all(
+        Path(geometry.geometry.mesh.filename).is_file()
+        for link in urdf.robot.links
+        for geometry in link.visuals + link.collisions
+        if geometry.geometry.mesh is not None
+    )
 
 
 def test_urdf_round_trip_gives_identical_metrics(two_link, tmp_path):
     path = tmp_path / "two_link.urdf"
     two_link.to_urdf(path)
     mechanism = sb.Mechanism.from_urdf(path, gravity=two_link.problem.mechanism.gravity)
-    workspace = sb.Workspace(mechanism, two_link.problem.workspace.joint_values,
-                             ordered=two_link.problem.workspace.ordered)
+    workspace = sb.Workspace(
+        mechanism, two_link.problem.workspace.joint_values, ordered=two_link.problem.workspace.ordered
+    )
     springs = springs_from_urdf(path)
     for spring, record in zip(springs, two_link.springs):
         for end in ("a", "b"):
             assert spring.anchors[end].body == record[end]["body"]
-    rebuilt = DesignResult(DesignProblem(mechanism, workspace, springs, objective=two_link.problem.objective.name,
-                                         weights=dict(zip(mechanism.joint_names, two_link.problem.weights))),
-                           np.zeros(0))
+    rebuilt = DesignResult(
+        DesignProblem(
+            mechanism,
+            workspace,
+            springs,
+            objective=two_link.problem.objective.name,
+            weights=dict(zip(mechanism.joint_names, two_link.problem.weights)),
+        ),
+        np.zeros(0),
+    )
     before, after = two_link.metrics(), rebuilt.metrics()
     # the same numbers to round-off (a coil's rate G d⁴/(8 D³ n) is folded differently when its
     # values are constants rather than variables); NaN where an objective does not apply
@@ -293,11 +362,18 @@ def test_ur5_urdf_round_trip_gives_the_same_metrics(ur5, tmp_path):
 # ---------------------------------------------------------------------- CLI
 def test_cli_export_writes_both_files_and_warns(two_link, tmp_path, capsys):
     mechanism = two_link.problem.mechanism
-    slack = sb.ExtensionSpring(sb.Anchor("universe", [0, 0, 0.1]), sb.Anchor("link1", [0.3, 0, 0]), "loose",
-                               stiffness=100.0, free_length=0.35, keep_tension=False)
+    slack = sb.ExtensionSpring(
+        sb.Anchor("universe", [0, 0, 0.1]),
+        sb.Anchor("link1", [0.3, 0, 0]),
+        "loose",
+        stiffness=100.0,
+        free_length=0.35,
+        keep_tension=False,
+    )
     design = tmp_path / "design.json"
-    fixed_design(mechanism, [slack], random_inside(mechanism, {"shoulder": (-1.5, 1.5), "elbow": (0, 0)}, n=32)) \
-        .save(design)
+    fixed_design(mechanism, [slack], random_inside(mechanism, {"shoulder": (-1.5, 1.5), "elbow": (0, 0)}, n=32)).save(
+        design
+    )
     urdf, mjcf = tmp_path / "out" / "balanced.urdf", tmp_path / "out" / "balanced.xml"
     assert main(["export", str(design), "--urdf", str(urdf), "--mjcf", str(mjcf)]) == 0
     captured = capsys.readouterr()
@@ -312,12 +388,19 @@ def test_cli_export_errors_leave_no_file(tmp_path, capsys):
     assert not (tmp_path / "m.xml").exists()
     assert main(["export", str(tmp_path / "missing.json")]) == 2
     # a model MuJoCo cannot build (a floating base): nothing written, URDF included
-    text = TWO_LINK.read_text().replace('<joint name="shoulder" type="revolute">',
-                                        '<joint name="shoulder" type="floating">')
+    text = TWO_LINK.read_text().replace(
+        '<joint name="shoulder" type="revolute">', '<joint name="shoulder" type="floating">'
+    )
     mechanism = sb.Mechanism.from_urdf(TWO_LINK)
-    result = fixed_design(mechanism, [sb.ZeroFreeLengthSpring(sb.Anchor("universe", [0, 0, 0.1]),
-                                                              sb.Anchor("link1", [0.2, 0, 0]), "s1", stiffness=1.0)],
-                          np.zeros((1, 2)))
+    result = fixed_design(
+        mechanism,
+        [
+            sb.ZeroFreeLengthSpring(
+                sb.Anchor("universe", [0, 0, 0.1]), sb.Anchor("link1", [0.2, 0, 0]), "s1", stiffness=1.0
+            )
+        ],
+        np.zeros((1, 2)),
+    )
     record = result.to_dict()
     record["mechanism"] = {"kind": "urdf_string", "text": text, "gravity": [0, 0, -9.81], "mimic": False}
     design = tmp_path / "floating.json"
@@ -327,16 +410,25 @@ def test_cli_export_errors_leave_no_file(tmp_path, capsys):
     assert not any(tmp_path.glob("f.*"))
     # the URDF is fine but MuJoCo cannot read one of its meshes: neither file is written
     (tmp_path / "broken.stl").write_text("not a mesh")
-    text = TWO_LINK.read_text().replace('<geometry><sphere radius="0.03"/></geometry>',
-                                        '<geometry><mesh filename="broken.stl"/></geometry>')
+    text = TWO_LINK.read_text().replace(
+        '<geometry><sphere radius="0.03"/></geometry>', '<geometry><mesh filename="broken.stl"/></geometry>'
+    )
     broken = tmp_path / "broken.urdf"
     broken.write_text(text)
-    result = fixed_design(sb.Mechanism.from_urdf(broken), [sb.ZeroFreeLengthSpring(
-        sb.Anchor("universe", [0, 0, 0.1]), sb.Anchor("link1", [0.2, 0, 0]), "s1", stiffness=1.0)], np.zeros((1, 2)))
+    result = fixed_design(
+        sb.Mechanism.from_urdf(broken),
+        [
+            sb.ZeroFreeLengthSpring(
+                sb.Anchor("universe", [0, 0, 0.1]), sb.Anchor("link1", [0.2, 0, 0]), "s1", stiffness=1.0
+            )
+        ],
+        np.zeros((1, 2)),
+    )
     result.save(tmp_path / "broken.json")
     capsys.readouterr()
-    code = main(["export", str(tmp_path / "broken.json"), "--urdf", str(tmp_path / "g.urdf"),
-                 "--mjcf", str(tmp_path / "g.xml")])
+    code = main(
+        ["export", str(tmp_path / "broken.json"), "--urdf", str(tmp_path / "g.urdf"), "--mjcf", str(tmp_path / "g.xml")]
+    )
     error = capsys.readouterr().err
     assert code == 2 and error.startswith("springbalance: error: ") and error.count("\n") == 1
     assert not any(tmp_path.glob("g.*"))
@@ -358,13 +450,16 @@ def test_inertia_that_mujoco_rejects_is_balanced_and_reported(tmp_path):
     """An URDF inertia that breaks the triangle inequality (Pinocchio accepts it, MuJoCo does not):
     the export switches balanceinertia on and says so; mass and centre of mass, hence the static
     holding torque, are unchanged."""
-    text = TWO_LINK.read_text().replace('ixx="0.0005" ixy="0" ixz="0" iyy="0.042" iyz="0" izz="0.042"',
-                                        'ixx="0.0005" ixy="0" ixz="0" iyy="0.042" iyz="0" izz="0.09"')
+    text = TWO_LINK.read_text().replace(
+        'ixx="0.0005" ixy="0" ixz="0" iyy="0.042" iyz="0" izz="0.042"',
+        'ixx="0.0005" ixy="0" ixz="0" iyy="0.042" iyz="0" izz="0.09"',
+    )
     path = tmp_path / "bad_inertia.urdf"
     path.write_text(text)
     mechanism = sb.Mechanism.from_urdf(path, validate=False)  # springbalance refuses it too, unless told not to
-    spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", [0, 0, 0.1]), sb.Anchor("link1", [0.2, 0, 0]), "s1",
-                                     stiffness=300.0)
+    spring = sb.ZeroFreeLengthSpring(
+        sb.Anchor("universe", [0, 0, 0.1]), sb.Anchor("link1", [0.2, 0, 0]), "s1", stiffness=300.0
+    )
     poses = random_inside(mechanism, {"shoulder": (-1.5, 1.5), "elbow": (-2.5, 2.5)}, n=20, seed=3)
     result = fixed_design(mechanism, [spring], poses)
     report = result.to_mjcf(tmp_path / "bad.xml")

@@ -36,8 +36,13 @@ TIME_BUDGET = 120.0  # [s], the whole fuzz
 
 BASE = {
     "mechanism": {"urdf": str(URDF)},
-    "workspace": {"kind": "sobol", "n": 8, "seed": 0, "degrees": True,
-                  "ranges": {"shoulder": [-90, 90], "elbow": [0, 0]}},
+    "workspace": {
+        "kind": "sobol",
+        "n": 8,
+        "seed": 0,
+        "degrees": True,
+        "ranges": {"shoulder": [-90, 90], "elbow": [0, 0]},
+    },
     "springs": [SHOULDER_SPRING],
     "objective": "rms",
     "weights": {"elbow": 0.0},
@@ -45,13 +50,64 @@ BASE = {
 }
 
 HOSTILE_VALUES = [
-    -1, 0, 1, 2.5, -1e-300, 1e20, 10**30, 1e308, float("nan"), float("inf"), -float("inf"), True, False, None, "",
-    "x", "nan", "1e400", "../../etc/passwd", [], {}, [1, 2, 3], [[1, 2], [3]], {"lower": 1, "upper": 0},
-    {"lower": 0, "upper": 1}, {"kind": "grid", "n": 100000}, {"kind": "sweep", "joint": "elbow", "n": 1000000000},
-    {"kind": "sobol", "n": 1e20}, "universe", "link1", "shoulder", "ur5", [0, 0, 0], {"body": "link1"},
+    -1,
+    0,
+    1,
+    2.5,
+    -1e-300,
+    1e20,
+    10**30,
+    1e308,
+    float("nan"),
+    float("inf"),
+    -float("inf"),
+    True,
+    False,
+    None,
+    "",
+    "x",
+    "nan",
+    "1e400",
+    "../../etc/passwd",
+    [],
+    {},
+    [1, 2, 3],
+    [[1, 2], [3]],
+    {"lower": 1, "upper": 0},
+    {"lower": 0, "upper": 1},
+    {"kind": "grid", "n": 100000},
+    {"kind": "sweep", "joint": "elbow", "n": 1000000000},
+    {"kind": "sobol", "n": 1e20},
+    "universe",
+    "link1",
+    "shoulder",
+    "ur5",
+    [0, 0, 0],
+    {"body": "link1"},
 ]
-HOSTILE_NUMBERS = ["nan", "-2", "inf", "-inf", "1e400", "", "abc", "1 2", "0", "-0", "1e-300", "1e300", "0x10",
-                   " 1", "1,5", "+.5", "1e", "--1", "2 3 4 5", "NaN", "1_0"]
+HOSTILE_NUMBERS = [
+    "nan",
+    "-2",
+    "inf",
+    "-inf",
+    "1e400",
+    "",
+    "abc",
+    "1 2",
+    "0",
+    "-0",
+    "1e-300",
+    "1e300",
+    "0x10",
+    " 1",
+    "1,5",
+    "+.5",
+    "1e",
+    "--1",
+    "2 3 4 5",
+    "NaN",
+    "1_0",
+]
 
 
 # ---------------------------------------------------------------------- config mutations
@@ -88,8 +144,9 @@ def mutate_record(rng: random.Random, record: dict) -> dict:
         elif action < 0.8 and isinstance(parent, dict):
             del parent[key]
         elif isinstance(parent, dict):
-            parent[rng.choice(["nn", "kind", "extra", "min_length", "max_length", "max_force", "validate"])] = \
+            parent[rng.choice(["nn", "kind", "extra", "min_length", "max_length", "max_force", "validate"])] = (
                 copy.deepcopy(rng.choice(HOSTILE_VALUES))
+            )
         else:
             parent.append(copy.deepcopy(rng.choice(HOSTILE_VALUES)))
     return record
@@ -107,39 +164,59 @@ def config_text(rng: random.Random) -> tuple[str, str]:
         name = "config.yaml"
     damage = rng.random()
     if damage < 0.12:
-        text = text[:rng.randrange(len(text) + 1)]                      # truncated
+        text = text[: rng.randrange(len(text) + 1)]  # truncated
     elif damage < 0.22:
-        position = rng.randrange(len(text) + 1)                         # garbled
-        text = text[:position] + rng.choice(["{", "]", ":", "&a", "*a", "\t", "\x00", "é", "'", '"', "- -"]) + \
-            text[position:]
+        position = rng.randrange(len(text) + 1)  # garbled
+        text = (
+            text[:position]
+            + rng.choice(["{", "]", ":", "&a", "*a", "\t", "\x00", "é", "'", '"', "- -"])
+            + text[position:]
+        )
     elif damage < 0.3 and name.endswith(".yaml"):
         text += rng.choice(["mechanism: {robot: ur5}\n", "springs: []\n", "solve: {starts: 2}\n"])  # a key twice
     elif damage < 0.35 and name.endswith(".yaml"):
-        text = "a: &a [1, 2, 3, 4, 5, 6, 7, 8, 9]\n" + "".join(
-            f"{chr(98 + i)}: &{chr(98 + i)} [{', '.join(['*' + chr(97 + i)] * 9)}]\n" for i in range(8)) + text
+        text = (
+            "a: &a [1, 2, 3, 4, 5, 6, 7, 8, 9]\n"
+            + "".join(f"{chr(98 + i)}: &{chr(98 + i)} [{', '.join(['*' + chr(97 + i)] * 9)}]\n" for i in range(8))
+            + text
+        )
     return name, text
 
 
 # ---------------------------------------------------------------------- URDF mutations
 URDF_ATTRIBUTES = [
-    ('<mass value="2.0"/>', 'value="2.0"'), ('<mass value="1.0"/>', 'value="1.0"'), ('ixx="0.0005"', 'ixx="0.0005"'),
-    ('iyy="0.042"', 'iyy="0.042"'), ('izz="0.0135"', 'izz="0.0135"'), ('ixy="0"', 'ixy="0"'),
-    ('lower="-1.5707963267948966"', 'lower="-1.5707963267948966"'), ('upper="2.6179938779914944"',
-                                                                     'upper="2.6179938779914944"'),
-    ('effort="50"', 'effort="50"'), ('velocity="3"', 'velocity="3"'),
-    ('<origin xyz="0.5 0 0" rpy="0 0 0"/>', 'xyz="0.5 0 0"'), ('<origin xyz="0.25 0 0" rpy="0 0 0"/>', 'rpy="0 0 0"'),
-    ('<axis xyz="0 -1 0"/>', 'xyz="0 -1 0"'), ('<box size="0.5 0.04 0.04"/>', 'size="0.5 0.04 0.04"'),
+    ('<mass value="2.0"/>', 'value="2.0"'),
+    ('<mass value="1.0"/>', 'value="1.0"'),
+    ('ixx="0.0005"', 'ixx="0.0005"'),
+    ('iyy="0.042"', 'iyy="0.042"'),
+    ('izz="0.0135"', 'izz="0.0135"'),
+    ('ixy="0"', 'ixy="0"'),
+    ('lower="-1.5707963267948966"', 'lower="-1.5707963267948966"'),
+    ('upper="2.6179938779914944"', 'upper="2.6179938779914944"'),
+    ('effort="50"', 'effort="50"'),
+    ('velocity="3"', 'velocity="3"'),
+    ('<origin xyz="0.5 0 0" rpy="0 0 0"/>', 'xyz="0.5 0 0"'),
+    ('<origin xyz="0.25 0 0" rpy="0 0 0"/>', 'rpy="0 0 0"'),
+    ('<axis xyz="0 -1 0"/>', 'xyz="0 -1 0"'),
+    ('<box size="0.5 0.04 0.04"/>', 'size="0.5 0.04 0.04"'),
     ('<sphere radius="0.03"/>', 'radius="0.03"'),
 ]
 URDF_EDITS = [
-    ('type="revolute"', 'type="floating"'), ('type="revolute"', 'type="planar"'), ('type="revolute"', 'type="hinge"'),
-    ('type="fixed"', 'type="continuous"'), ('<child link="link2"/>', '<child link="nowhere"/>'),
-    ('<parent link="link1"/>', '<parent link="link1"/><parent link="base"/>'), ('<link name="base"/>', ''),
-    ('<robot name="two_link_planar">', '<robot>'), ('<robot name="two_link_planar">', '<robt name="x">'),
-    ('<inertial>', '<inertial><mass value="3"/>'), ('<mass value="2.0"/>', ''),
+    ('type="revolute"', 'type="floating"'),
+    ('type="revolute"', 'type="planar"'),
+    ('type="revolute"', 'type="hinge"'),
+    ('type="fixed"', 'type="continuous"'),
+    ('<child link="link2"/>', '<child link="nowhere"/>'),
+    ('<parent link="link1"/>', '<parent link="link1"/><parent link="base"/>'),
+    ('<link name="base"/>', ""),
+    ('<robot name="two_link_planar">', "<robot>"),
+    ('<robot name="two_link_planar">', '<robt name="x">'),
+    ("<inertial>", '<inertial><mass value="3"/>'),
+    ('<mass value="2.0"/>', ""),
     ('lower="-1.5707963267948966" upper="1.5707963267948966"', 'lower="1.5707963267948966" upper="-1.5"'),
-    ('<limit lower="-1.5707963267948966" upper="1.5707963267948966" effort="50" velocity="3"/>', ''),
-    ('<axis xyz="0 -1 0"/>', '<axis xyz="0 0 0"/>'), ('iyy="0.042"', 'iyy="0.001"'),
+    ('<limit lower="-1.5707963267948966" upper="1.5707963267948966" effort="50" velocity="3"/>', ""),
+    ('<axis xyz="0 -1 0"/>', '<axis xyz="0 0 0"/>'),
+    ('iyy="0.042"', 'iyy="0.001"'),
 ]
 
 
@@ -156,7 +233,7 @@ def urdf_text(rng: random.Random) -> str:
             old, new = rng.choice(URDF_EDITS)
             text = text.replace(old, new, 1)
         else:
-            text = text[:rng.randrange(len(text) + 1)]
+            text = text[: rng.randrange(len(text) + 1)]
     return text
 
 
@@ -165,7 +242,7 @@ def run(argv, capsys) -> tuple[int | None, str]:
     """Exit status of ``main(argv)`` and a problem description (empty when it behaved)."""
     try:
         code = main(argv)
-    except SystemExit as stop:   # argparse's usage errors
+    except SystemExit as stop:  # argparse's usage errors
         code = stop.code
     except BaseException as error:
         capsys.readouterr()
@@ -194,8 +271,12 @@ def test_fuzzed_configs_urdfs_and_designs_never_crash_the_command_line(tmp_path,
         out = folder / "design.json"
         if index >= CONFIG_CASES + URDF_CASES:
             (folder / "damaged.json").write_text(json.dumps(mutate_record(rng, design), allow_nan=True))
-            argv = rng.choice([["evaluate", str(folder / "damaged.json")],
-                               ["export", str(folder / "damaged.json"), "--mjcf", str(folder / "arm.xml")]])
+            argv = rng.choice(
+                [
+                    ["evaluate", str(folder / "damaged.json")],
+                    ["export", str(folder / "damaged.json"), "--mjcf", str(folder / "arm.xml")],
+                ]
+            )
             what = f"design {index}: {argv[0]}"
         elif index < CONFIG_CASES:
             name, text = config_text(rng)

@@ -18,8 +18,12 @@ def _loop(model, configurations):
     for q in configurations:
         torques.append(np.array(pin.computeGeneralizedGravity(model, data, q)))
         pin.forwardKinematics(model, data, q)
-        potentials.append(-sum(model.inertias[j].mass * float(gravity @ data.oMi[j].act(model.inertias[j].lever))
-                               for j in range(1, model.njoints)))
+        potentials.append(
+            -sum(
+                model.inertias[j].mass * float(gravity @ data.oMi[j].act(model.inertias[j].lever))
+                for j in range(1, model.njoints)
+            )
+        )
     return np.array(torques), np.array(potentials)
 
 
@@ -33,7 +37,9 @@ def _mechanisms():
         yield "parallelogram_mimic", sb.Mechanism.from_urdf("urdf/parallelogram_arm.urdf", mimic=True)
 
 
-@pytest.mark.parametrize("name,mechanism", list(_mechanisms()), ids=lambda value: value if isinstance(value, str) else "")
+@pytest.mark.parametrize(
+    "name,mechanism", list(_mechanisms()), ids=lambda value: value if isinstance(value, str) else ""
+)
 def test_batched_gravity_and_potential_equal_the_loop(name, mechanism):
     configurations = sb.Workspace.sobol(mechanism, 300, seed=2).configurations
     torque, potential = gravity_and_potential(mechanism.model, configurations)

@@ -21,16 +21,22 @@ def _link(name, mass=None, com=(0, 0, 0)):
     if mass is None:
         return f'<link name="{name}"/>'
     xyz = " ".join(str(v) for v in com)
-    return (f'<link name="{name}"><inertial><origin xyz="{xyz}" rpy="0 0 0"/><mass value="{mass}"/>'
-            f'{INERTIA}</inertial></link>')
+    return (
+        f'<link name="{name}"><inertial><origin xyz="{xyz}" rpy="0 0 0"/><mass value="{mass}"/>'
+        f"{INERTIA}</inertial></link>"
+    )
 
 
 def _joint(name, kind, parent, child, xyz=(0, 0, 0), axis=(0, -1, 0), limits=(-3.0, 3.0)):
     origin = " ".join(str(v) for v in xyz)
     axis_text = " ".join(str(v) for v in axis)
-    limit = f'<limit lower="{limits[0]}" upper="{limits[1]}" effort="100" velocity="1"/>' if kind != "continuous" else ""
-    return (f'<joint name="{name}" type="{kind}"><parent link="{parent}"/><child link="{child}"/>'
-            f'<origin xyz="{origin}" rpy="0 0 0"/><axis xyz="{axis_text}"/>{limit}</joint>')
+    limit = (
+        f'<limit lower="{limits[0]}" upper="{limits[1]}" effort="100" velocity="1"/>' if kind != "continuous" else ""
+    )
+    return (
+        f'<joint name="{name}" type="{kind}"><parent link="{parent}"/><child link="{child}"/>'
+        f'<origin xyz="{origin}" rpy="0 0 0"/><axis xyz="{axis_text}"/>{limit}</joint>'
+    )
 
 
 def _robot(name, *parts):
@@ -58,15 +64,20 @@ def test_from_urdf_string_equals_file():
     from_file = sb.Mechanism.from_urdf(URDF / "two_link_planar.urdf")
     assert from_text.joint_names == from_file.joint_names
     values = [[0.3, -1.0], [-1.2, 2.0]]
-    np.testing.assert_array_equal(sb.Workspace.from_array(from_text, values).kinematics().gravity_torque,
-                                  sb.Workspace.from_array(from_file, values).kinematics().gravity_torque)
+    np.testing.assert_array_equal(
+        sb.Workspace.from_array(from_text, values).kinematics().gravity_torque,
+        sb.Workspace.from_array(from_file, values).kinematics().gravity_torque,
+    )
     # Gravity torque of the planar arm, closed form (masses 2, 1 + 0.5 tool; COMs 0.25, 0.2, tip 0.4).
     s, e = np.array(values).T
     g = 9.81
     elbow = g * (1.0 * 0.2 + 0.5 * 0.4) * np.cos(s + e)
     shoulder = g * (2.0 * 0.25 + 1.5 * 0.5) * np.cos(s) + elbow
-    np.testing.assert_allclose(sb.Workspace.from_array(from_text, values).kinematics().gravity_torque,
-                               np.column_stack([shoulder, elbow]), rtol=1e-12)
+    np.testing.assert_allclose(
+        sb.Workspace.from_array(from_text, values).kinematics().gravity_torque,
+        np.column_stack([shoulder, elbow]),
+        rtol=1e-12,
+    )
 
 
 def test_from_robot_name():
@@ -98,8 +109,9 @@ def test_gravity_override_scalar():
     mechanism = sb.Mechanism.from_urdf(R2, gravity=9.8)
     np.testing.assert_array_equal(mechanism.gravity, [0, 0, -9.8])
     workspace = sb.Workspace.from_array(mechanism, [[0.0], [np.pi / 3]])
-    np.testing.assert_allclose(workspace.kinematics().gravity_torque[:, 0], 9.8 * 0.25 * np.cos([0.0, np.pi / 3]),
-                               rtol=1e-12)
+    np.testing.assert_allclose(
+        workspace.kinematics().gravity_torque[:, 0], 9.8 * 0.25 * np.cos([0.0, np.pi / 3]), rtol=1e-12
+    )
     robot = sb.Mechanism.from_robot("ur5", gravity=1.62)
     np.testing.assert_array_equal(robot.gravity, [0, 0, -1.62])
 
@@ -110,8 +122,9 @@ def test_gravity_override_vector():
     np.testing.assert_array_equal(mechanism.gravity, [-9.81, 0, 0])
     theta = np.array([0.0, np.pi / 2, -np.pi / 4])
     workspace = sb.Workspace.from_array(mechanism, theta[:, None])
-    np.testing.assert_allclose(workspace.kinematics().gravity_torque[:, 0], -9.81 * 0.25 * np.sin(theta),
-                               rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(
+        workspace.kinematics().gravity_torque[:, 0], -9.81 * 0.25 * np.sin(theta), rtol=1e-12, atol=1e-15
+    )
     # Gravity is saved in the source record and rebuilt from it.
     rebuilt = sb.Mechanism.from_source(mechanism.source)
     np.testing.assert_array_equal(rebuilt.gravity, [-9.81, 0, 0])
@@ -147,8 +160,9 @@ def test_unknown_body_named():
     with pytest.raises(sb.InputError, match="forearm"):
         mechanism.frame_id("forearm")
     workspace = sb.Workspace.grid(mechanism, 5)
-    spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", (0, 0, 0.1)), sb.Anchor("forearm", (0.2, 0, 0)),
-                                     stiffness=100.0)
+    spring = sb.ZeroFreeLengthSpring(
+        sb.Anchor("universe", (0, 0, 0.1)), sb.Anchor("forearm", (0.2, 0, 0)), stiffness=100.0
+    )
     with pytest.raises(sb.InputError, match="forearm"):
         sb.DesignProblem(mechanism, workspace, [spring])
 
@@ -158,15 +172,20 @@ def test_unknown_joint_named():
     with pytest.raises(sb.InputError, match="elbow"):
         mechanism.joint("elbow")
     workspace = sb.Workspace.grid(mechanism, 5)
-    spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", (0, 0, 0.1)), sb.Anchor("link1", (0.2, 0, 0)),
-                                     stiffness=100.0)
+    spring = sb.ZeroFreeLengthSpring(
+        sb.Anchor("universe", (0, 0, 0.1)), sb.Anchor("link1", (0.2, 0, 0)), stiffness=100.0
+    )
     with pytest.raises(sb.InputError, match="elbow"):
         sb.DesignProblem(mechanism, workspace, [spring], weights={"elbow": 1.0})
 
 
 # ---------------------------------------------------------------------- joint kinds
-CONTINUOUS = _robot("continuous_link", _link("ground"), _link("link1", 1.0, (0.25, 0, 0)),
-                    _joint("theta", "continuous", "ground", "link1"))
+CONTINUOUS = _robot(
+    "continuous_link",
+    _link("ground"),
+    _link("link1", 1.0, (0.25, 0, 0)),
+    _joint("theta", "continuous", "ground", "link1"),
+)
 
 
 def test_continuous_joint_uses_cos_sin_and_balances():
@@ -182,8 +201,9 @@ def test_continuous_joint_uses_cos_sin_and_balances():
     gravity = workspace.kinematics().gravity_torque[:, 0]
     np.testing.assert_allclose(gravity, 9.8 * 0.25 * np.cos(workspace.joint_values[:, 0]), rtol=0, atol=1e-12)
     # The zero-free-length balance of docs/model.md §9 holds on a continuous joint too.
-    spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", (0, 0, 0.1)), sb.Anchor("link1", (0.2, 0, 0)),
-                                     stiffness=9.8 * 0.25 / (0.1 * 0.2))
+    spring = sb.ZeroFreeLengthSpring(
+        sb.Anchor("universe", (0, 0, 0.1)), sb.Anchor("link1", (0.2, 0, 0)), stiffness=9.8 * 0.25 / (0.1 * 0.2)
+    )
     tau = sb.DesignProblem(mechanism, workspace, [spring]).evaluate(np.zeros(0)).tau
     assert np.max(np.abs(tau)) < 1e-9
 
@@ -194,10 +214,20 @@ def test_continuous_robot_from_example_robot_data():
     assert mechanism.model.nq == 4
     workspace = sb.Workspace.random(mechanism, 6, seed=0)
     spring = RefSpring("universe", (0.0, 0.05, 0.3), "link2", (0.0, 0.0, 0.1), 300.0, 0.05, 2.0)
-    problem = sb.DesignProblem(mechanism, workspace, [
-        sb.ExtensionSpring(sb.Anchor(spring.body_a, spring.point_a), sb.Anchor(spring.body_b, spring.point_b),
-                           stiffness=spring.stiffness, free_length=spring.free_length,
-                           initial_tension=spring.initial_tension, keep_tension=False)])
+    problem = sb.DesignProblem(
+        mechanism,
+        workspace,
+        [
+            sb.ExtensionSpring(
+                sb.Anchor(spring.body_a, spring.point_a),
+                sb.Anchor(spring.body_b, spring.point_b),
+                stiffness=spring.stiffness,
+                free_length=spring.free_length,
+                initial_tension=spring.initial_tension,
+                keep_tension=False,
+            )
+        ],
+    )
     tau = problem.evaluate(np.zeros(0)).tau
     reference = ReferencePotential(mechanism.model, [spring])
     for i, q in enumerate(workspace.configurations):
@@ -205,8 +235,12 @@ def test_continuous_robot_from_example_robot_data():
         np.testing.assert_allclose(tau[i], expected, rtol=0, atol=1e-6 * max(np.max(np.abs(expected)), 1.0))
 
 
-SLIDER = _robot("slider", _link("base"), _link("carriage", 2.5),
-                _joint("lift", "prismatic", "base", "carriage", axis=(0, 0, 1), limits=(-0.5, 0.5)))
+SLIDER = _robot(
+    "slider",
+    _link("base"),
+    _link("carriage", 2.5),
+    _joint("lift", "prismatic", "base", "carriage", axis=(0, 0, 1), limits=(-0.5, 0.5)),
+)
 
 
 def test_prismatic_vertical_slider():
@@ -220,8 +254,9 @@ def test_prismatic_vertical_slider():
     # Holding force of a vertical slider: m g upwards, whatever the height.
     np.testing.assert_allclose(workspace.kinematics().gravity_torque[:, 0], 2.5 * 9.81, rtol=1e-12)
     # A zero-free-length spring from 1 m above pulls up with k (1 - z): holding force m g - k (1 - z).
-    spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", (0, 0, 1.0)), sb.Anchor("carriage", (0, 0, 0)),
-                                     stiffness=20.0)
+    spring = sb.ZeroFreeLengthSpring(
+        sb.Anchor("universe", (0, 0, 1.0)), sb.Anchor("carriage", (0, 0, 0)), stiffness=20.0
+    )
     result = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [spring]), np.zeros(0))
     z = workspace.joint_values[:, 0]
     np.testing.assert_allclose(result.residual_torque()[:, 0], 2.5 * 9.81 - 20.0 * (1.0 - z), rtol=1e-12)
@@ -234,8 +269,10 @@ def test_prismatic_vertical_slider():
 TREE = _robot(
     "two_branches",
     _link("base"),
-    _link("left_upper", 1.5, (0.15, 0, 0)), _link("left_lower", 0.8, (0.12, 0, 0)),
-    _link("right_upper", 1.2, (0.14, 0, 0)), _link("right_lower", 0.6, (0.1, 0.02, 0)),
+    _link("left_upper", 1.5, (0.15, 0, 0)),
+    _link("left_lower", 0.8, (0.12, 0, 0)),
+    _link("right_upper", 1.2, (0.14, 0, 0)),
+    _link("right_lower", 0.6, (0.1, 0.02, 0)),
     _joint("left_shoulder", "revolute", "base", "left_upper", xyz=(0, 0.2, 0.5)),
     _joint("left_elbow", "revolute", "left_upper", "left_lower", xyz=(0.3, 0, 0)),
     _joint("right_shoulder", "revolute", "base", "right_upper", xyz=(0, -0.2, 0.5), axis=(0, -1, 0.3)),
@@ -255,9 +292,15 @@ def test_tree_shaped_model_in_design_problem():
     ]
     springs = [
         sb.ZeroFreeLengthSpring(sb.Anchor(s.body_a, s.point_a), sb.Anchor(s.body_b, s.point_b), stiffness=s.stiffness)
-        if s.zero_free_length else
-        sb.ExtensionSpring(sb.Anchor(s.body_a, s.point_a), sb.Anchor(s.body_b, s.point_b), stiffness=s.stiffness,
-                           free_length=s.free_length, initial_tension=s.initial_tension, keep_tension=False)
+        if s.zero_free_length
+        else sb.ExtensionSpring(
+            sb.Anchor(s.body_a, s.point_a),
+            sb.Anchor(s.body_b, s.point_b),
+            stiffness=s.stiffness,
+            free_length=s.free_length,
+            initial_tension=s.initial_tension,
+            keep_tension=False,
+        )
         for s in reference_springs
     ]
     problem = sb.DesignProblem(mechanism, workspace, springs)
@@ -269,10 +312,16 @@ def test_tree_shaped_model_in_design_problem():
         assert evaluation.potential[i] == pytest.approx(reference(q), rel=1e-10, abs=1e-10)
     # A free design on the tree solves and reduces the gravity torque of both branches.
     free = [
-        sb.ZeroFreeLengthSpring(sb.Anchor("base", (0, 0.2, 0.7)), sb.Anchor("left_upper", sb.Free([0, 0, 0], [0.3, 0, 0])),
-                                stiffness=sb.Free(0, 2000)),
-        sb.ZeroFreeLengthSpring(sb.Anchor("base", (0, -0.2, 0.7)), sb.Anchor("right_upper", sb.Free([0, 0, 0], [0.3, 0, 0])),
-                                stiffness=sb.Free(0, 2000)),
+        sb.ZeroFreeLengthSpring(
+            sb.Anchor("base", (0, 0.2, 0.7)),
+            sb.Anchor("left_upper", sb.Free([0, 0, 0], [0.3, 0, 0])),
+            stiffness=sb.Free(0, 2000),
+        ),
+        sb.ZeroFreeLengthSpring(
+            sb.Anchor("base", (0, -0.2, 0.7)),
+            sb.Anchor("right_upper", sb.Free([0, 0, 0], [0.3, 0, 0])),
+            stiffness=sb.Free(0, 2000),
+        ),
     ]
     result = sb.solve(sb.DesignProblem(mechanism, workspace, free), starts=2)
     rows = {row["joint"]: row for row in result.metrics()["joints"]}
@@ -284,10 +333,13 @@ def test_tree_shaped_model_in_design_problem():
 # joint mimics the shoulder with multiplier -1, so the forearm keeps its orientation.
 MIMIC = _robot(
     "mimic_arm",
-    _link("base"), _link("upper", 1.0, (0.2, 0, 0)), _link("fore", 0.5, (0.1, 0, 0)),
+    _link("base"),
+    _link("upper", 1.0, (0.2, 0, 0)),
+    _link("fore", 0.5, (0.1, 0, 0)),
     _joint("shoulder", "revolute", "base", "upper", limits=(-1.2, 1.2)),
     _joint("wrist", "revolute", "upper", "fore", xyz=(0.4, 0, 0), limits=(-1.2, 1.2)).replace(
-        "</joint>", '<mimic joint="shoulder" multiplier="-1" offset="0"/></joint>'),
+        "</joint>", '<mimic joint="shoulder" multiplier="-1" offset="0"/></joint>'
+    ),
 )
 
 
@@ -300,9 +352,17 @@ def test_mimic_joint_mechanism_evaluates():
     # plus 0.1 m along a forearm that stays horizontal: V = g (0.2 + 0.2) sin s.
     np.testing.assert_allclose(workspace.kinematics().gravity_torque[:, 0], 9.81 * 0.4 * np.cos(s), rtol=1e-12)
     spring = RefSpring("universe", (0.0, 0.0, 0.1), "fore", (0.1, 0.0, 0.0), 50.0, zero_free_length=True)
-    problem = sb.DesignProblem(mechanism, workspace, [
-        sb.ZeroFreeLengthSpring(sb.Anchor(spring.body_a, spring.point_a), sb.Anchor(spring.body_b, spring.point_b),
-                                stiffness=spring.stiffness)])
+    problem = sb.DesignProblem(
+        mechanism,
+        workspace,
+        [
+            sb.ZeroFreeLengthSpring(
+                sb.Anchor(spring.body_a, spring.point_a),
+                sb.Anchor(spring.body_b, spring.point_b),
+                stiffness=spring.stiffness,
+            )
+        ],
+    )
     evaluation = problem.evaluate(np.zeros(0))
     reference = ReferencePotential(mechanism.model, [spring])
     for i, q in enumerate(workspace.configurations):
@@ -320,4 +380,4 @@ def test_mimic_joints_loaded_without_mimic_warn():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         coupled = sb.Mechanism.from_urdf(urdf, mimic=True)
-    assert independent.nv > coupled.nv   # without mimic the follower joints become degrees of freedom
+    assert independent.nv > coupled.nv  # without mimic the follower joints become degrees of freedom

@@ -47,9 +47,12 @@ def test_workspace_and_start_points_are_unchanged():
     expected = lower + sampler.random(1024) * (upper - lower)
     assert np.array_equal(workspace.joint_values, expected[:1000])
 
-    spring = sb.ExtensionSpring(sb.Anchor("universe", sb.Free([-0.3] * 3, [0.3] * 3)),
-                                sb.Anchor("forearm_link", sb.Free([-0.3] * 3, [0.3] * 3)),
-                                stiffness=sb.Free(0, 5000), free_length=sb.Free(0.05, 1.0))
+    spring = sb.ExtensionSpring(
+        sb.Anchor("universe", sb.Free([-0.3] * 3, [0.3] * 3)),
+        sb.Anchor("forearm_link", sb.Free([-0.3] * 3, [0.3] * 3)),
+        stiffness=sb.Free(0, 5000),
+        free_length=sb.Free(0.05, 1.0),
+    )
     problem = sb.DesignProblem(mechanism, sb.Workspace.sobol(mechanism, 16, seed=1), [spring])
     points = start_points(problem, 8, seed=7)
     assert np.array_equal(points[1:], _scipy(problem.variables.size, 7).random(8)[:7])
@@ -59,8 +62,10 @@ def test_import_does_not_load_scipy_stats_or_optimize():
     import subprocess
     import sys
 
-    code = ("import sys, springbalance; springbalance.DesignProblem, springbalance.DesignResult; "  # the lazy names loaded
-            "print(sorted(m for m in ('scipy.stats', 'scipy.optimize') if m in sys.modules))")
+    code = (
+        "import sys, springbalance; springbalance.DesignProblem, springbalance.DesignResult; "  # the lazy names loaded
+        "print(sorted(m for m in ('scipy.stats', 'scipy.optimize') if m in sys.modules))"
+    )
     run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert run.returncode == 0, run.stderr
     assert run.stdout.strip() == "[]"

@@ -10,8 +10,8 @@ import pytest
 import springbalance as sb
 
 URDF = Path(__file__).resolve().parents[2] / "urdf"
-SHOULDER = (-np.pi / 2, np.pi / 2)          # URDF range of two_link_planar's shoulder [rad]
-ELBOW = (-5 * np.pi / 6, 5 * np.pi / 6)     # and of its elbow (±150°)
+SHOULDER = (-np.pi / 2, np.pi / 2)  # URDF range of two_link_planar's shoulder [rad]
+ELBOW = (-5 * np.pi / 6, 5 * np.pi / 6)  # and of its elbow (±150°)
 
 
 @pytest.fixture(scope="module")

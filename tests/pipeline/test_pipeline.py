@@ -22,15 +22,22 @@ ROOT = Path(__file__).resolve().parents[2]
 def pendulum():
     mechanism = sb.Mechanism.from_urdf(ROOT / "urdf/single_link_r2.urdf", gravity=9.8)
     workspace = sb.Workspace.grid(mechanism, 61)
-    spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", sb.Free([-0.2, 0, 0.0], [0.2, 0, 0.3])),
-                                     sb.Anchor("link1", sb.Free([0.0, 0, 0], [0.4, 0, 0])),
-                                     stiffness=sb.Free(0, 2000))
+    spring = sb.ZeroFreeLengthSpring(
+        sb.Anchor("universe", sb.Free([-0.2, 0, 0.0], [0.2, 0, 0.3])),
+        sb.Anchor("link1", sb.Free([0.0, 0, 0], [0.4, 0, 0])),
+        stiffness=sb.Free(0, 2000),
+    )
     return sb.DesignProblem(mechanism, workspace, [spring])
 
 
 def test_the_steps_run_in_the_documented_order():
-    assert [step.__name__ for step in STEPS] == ["first_guess", "mount_rows", "multi_start", "fit_to_arm",
-                                                 "round_wires"]
+    assert [step.__name__ for step in STEPS] == [
+        "first_guess",
+        "mount_rows",
+        "multi_start",
+        "fit_to_arm",
+        "round_wires",
+    ]
 
 
 def test_solve_of_a_problem_balances_a_pendulum_exactly(pendulum):
@@ -72,13 +79,23 @@ def test_solve_names_what_it_was_given_when_it_is_neither_a_problem_nor_a_config
 
 def test_solve_leaves_the_problem_unchanged_and_the_result_carries_the_rows():
     """A mounted anchor adds linear rows: they live on the state's copy of the problem, not on the caller's."""
-    config = config_from_dict({
-        "mechanism": {"urdf": "urdf/two_link_planar_collision.urdf"},
-        "workspace": {"kind": "sobol", "n": 32, "seed": 0},
-        "springs": [{"name": "s1", "type": "zero_free_length", "stiffness": {"lower": 0, "upper": 3000},
-                     "a": {"body": "universe", "box": {"lower": [-0.1, 0, 0.05], "upper": [0.1, 0, 0.3]}},
-                     "b": {"body": "link1", "on": "collision", "offset": 0.005}}],
-        "solve": {"starts": 1}}, base_dir=ROOT)
+    config = config_from_dict(
+        {
+            "mechanism": {"urdf": "urdf/two_link_planar_collision.urdf"},
+            "workspace": {"kind": "sobol", "n": 32, "seed": 0},
+            "springs": [
+                {
+                    "name": "s1",
+                    "type": "zero_free_length",
+                    "stiffness": {"lower": 0, "upper": 3000},
+                    "a": {"body": "universe", "box": {"lower": [-0.1, 0, 0.05], "upper": [0.1, 0, 0.3]}},
+                    "b": {"body": "link1", "on": "collision", "offset": 0.005},
+                }
+            ],
+            "solve": {"starts": 1},
+        },
+        base_dir=ROOT,
+    )
     problem = config.problem
     result = sb.solve(config, progress=False)
     assert problem.linear_rows is None
@@ -89,10 +106,14 @@ def test_solve_leaves_the_problem_unchanged_and_the_result_carries_the_rows():
 def test_stock_parts_are_chosen_when_a_catalogue_is_given():
     """The R1 link (8 kg) with an ideal extension spring: solve, then the nearest catalogue parts."""
     mechanism = sb.Mechanism.from_urdf(ROOT / "urdf/single_link_r1.urdf")
-    spring = sb.ExtensionSpring(sb.Anchor("ground", sb.Free([0, -0.1, 0.05], [0, 0.1, 0.3])),
-                                sb.Anchor("link1", sb.Free([0, 0, 0.05], [0, 0, 0.4])), "s1",
-                                stiffness=sb.Free(0, 1e4), free_length=sb.Free(0.02, 1.0),
-                                initial_tension=sb.Free(0, 200))
+    spring = sb.ExtensionSpring(
+        sb.Anchor("ground", sb.Free([0, -0.1, 0.05], [0, 0.1, 0.3])),
+        sb.Anchor("link1", sb.Free([0, 0, 0.05], [0, 0, 0.4])),
+        "s1",
+        stiffness=sb.Free(0, 1e4),
+        free_length=sb.Free(0.02, 1.0),
+        initial_tension=sb.Free(0, 200),
+    )
     problem = sb.DesignProblem(mechanism, sb.Workspace.grid(mechanism, n=16), [spring])
     parts = read_catalogue(ROOT / "examples/stock_springs.csv")
     with warnings.catch_warnings():

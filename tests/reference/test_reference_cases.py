@@ -48,8 +48,9 @@ def _r1_anchors():
 def test_r1_gravity_torque_matches_paper_geometry(r1):
     mechanism, workspace = r1
     phi = workspace.joint_values[:, 0]
-    np.testing.assert_allclose(workspace.kinematics().gravity_torque[:, 0], -M1 * G1 * S1 * np.sin(phi),
-                               rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(
+        workspace.kinematics().gravity_torque[:, 0], -M1 * G1 * S1 * np.sin(phi), rtol=1e-12, atol=1e-12
+    )
 
 
 def test_r1a_zero_free_length_spring(r1):

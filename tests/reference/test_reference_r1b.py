@@ -36,8 +36,9 @@ def test_r1b_spring_mass_coupled_to_stiffness():
     mechanism = sb.Mechanism.from_urdf(URDF / "single_link_r1.urdf")
     workspace = sb.Workspace.grid(mechanism, 241, ranges={"pivot": (2 * np.pi / 3, np.pi)})  # every 0.25°
     coil = sb.CoilMass(coil_diameter=COIL, active_coils=COILS, wire_length=WIRE, shear_modulus=SHEAR, density=RHO)
-    spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", (0, 0, Y_B)), sb.Anchor("link1", (0, 0, R_A)),
-                                     stiffness=sb.Free(1, 2000), mass=coil)
+    spring = sb.ZeroFreeLengthSpring(
+        sb.Anchor("universe", (0, 0, Y_B)), sb.Anchor("link1", (0, 0, R_A)), stiffness=sb.Free(1, 2000), mass=coil
+    )
     result = sb.solve(sb.DesignProblem(mechanism, workspace, [spring]), starts=2)
     record = result.spring("s1")
     k, mass = record["stiffness"], record["mass"]

@@ -30,7 +30,7 @@ import springbalance as sb
 
 URDF = Path(__file__).resolve().parents[2] / "urdf"
 M1, R1, M2, L1, G = 100.0, 0.6, 40.0, 1.2, 9.8
-C1MAX = (M1 * R1 + M2 * L1) * G      # 1058.4 N·m
+C1MAX = (M1 * R1 + M2 * L1) * G  # 1058.4 N·m
 B1 = 0.2
 
 
@@ -53,17 +53,24 @@ def _pivot(r5: float, alpha5_degrees: float) -> sb.Anchor:
 
 def test_r3_gravity_torque_is_the_parallelogram_load(r3):
     _, workspace, theta = r3
-    np.testing.assert_allclose(workspace.kinematics().gravity_torque[:, 0], C1MAX * np.cos(theta),
-                               rtol=0, atol=1e-9 * C1MAX)
+    np.testing.assert_allclose(
+        workspace.kinematics().gravity_torque[:, 0], C1MAX * np.cos(theta), rtol=0, atol=1e-9 * C1MAX
+    )
 
 
 @pytest.mark.parametrize("r5", [6 * B1, 3 * B1, 10 * B1])
 def test_r3a_linear_spring_balances_exactly(r3, r5):
     mechanism, workspace, _ = r3
     k = C1MAX / (r5 * B1)
-    free_length = np.hypot(r5, B1)                       # a10 [m]
-    spring = sb.ExtensionSpring(_pivot(r5, 90.0), sb.Anchor("link1", (B1, 0.0, 0.0)), stiffness=k,
-                                free_length=free_length, initial_tension=k * free_length, keep_tension=False)
+    free_length = np.hypot(r5, B1)  # a10 [m]
+    spring = sb.ExtensionSpring(
+        _pivot(r5, 90.0),
+        sb.Anchor("link1", (B1, 0.0, 0.0)),
+        stiffness=k,
+        free_length=free_length,
+        initial_tension=k * free_length,
+        keep_tension=False,
+    )
     result = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [spring]), np.zeros(0))
     if r5 == 6 * B1:
         assert k == pytest.approx(4410.0, rel=1e-12)
@@ -121,17 +128,24 @@ def test_single_link_zero_free_length_condition(mass, com, a, b):
     mechanism = sb.Mechanism.from_urdf_string(_single_link(mass, com), gravity=9.81)
     workspace = sb.Workspace.grid(mechanism, 721)  # the full turn, every 0.5°
     anchors = sb.Anchor("universe", (0, 0, a)), sb.Anchor("link", (b, 0, 0))
-    k = mass * 9.81 * com / (a * b)                                   # [N/m]
-    exact = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [sb.ZeroFreeLengthSpring(*anchors, stiffness=k)]), np.zeros(0))
+    k = mass * 9.81 * com / (a * b)  # [N/m]
+    exact = sb.DesignResult(
+        sb.DesignProblem(mechanism, workspace, [sb.ZeroFreeLengthSpring(*anchors, stiffness=k)]), np.zeros(0)
+    )
     peak = mass * 9.81 * com
     assert np.max(np.abs(exact.residual_torque())) < 1e-9 * peak
     assert exact.exact_balance()["exact"]
     # a stiffness 1 % off is not exact: the residual is 1 % of the weight moment
-    off = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [sb.ZeroFreeLengthSpring(*anchors, stiffness=1.01 * k)]), np.zeros(0))
+    off = sb.DesignResult(
+        sb.DesignProblem(mechanism, workspace, [sb.ZeroFreeLengthSpring(*anchors, stiffness=1.01 * k)]), np.zeros(0)
+    )
     assert np.max(np.abs(off.residual_torque())) == pytest.approx(0.01 * peak, rel=1e-6)
     assert not off.exact_balance()["exact"]
     # the optimiser finds k from free stiffness, and so does the exact synthesis (anchors for k)
-    fitted = sb.solve(sb.DesignProblem(mechanism, workspace, [sb.ZeroFreeLengthSpring(*anchors, stiffness=sb.Free(0, 3 * k))]), starts=1)
+    fitted = sb.solve(
+        sb.DesignProblem(mechanism, workspace, [sb.ZeroFreeLengthSpring(*anchors, stiffness=sb.Free(0, 3 * k))]),
+        starts=1,
+    )
     assert fitted.variables["s1.stiffness"] == pytest.approx(k, rel=1e-8)
     synthesis = sb.exact.synthesize(mechanism, [("universe", "link", k)])
     assert synthesis.reachable

@@ -22,8 +22,9 @@ M, C, K, A, G = 3.0, 0.2, 981.0, 0.1, 9.81
 
 
 def adjustable_design(mechanism, workspace, w, scenarios):
-    spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", (0, 0, A)), sb.Anchor("link1", sb.Segment((0, 0, 0), (w, 0, 0))),
-                                     stiffness=K)
+    spring = sb.ZeroFreeLengthSpring(
+        sb.Anchor("universe", (0, 0, A)), sb.Anchor("link1", sb.Segment((0, 0, 0), (w, 0, 0))), stiffness=K
+    )
     problem = sb.DesignProblem(mechanism, workspace, [spring], scenarios=scenarios, per_scenario=["s1.b"])
     return sb.solve(problem, starts=1)
 
@@ -50,7 +51,7 @@ def test_r4_anchor_moves_35_mm_for_1_kg_at_035_m(setup):
     print(f"[R4] peak residuals  project {peaks[0]:.3g}, {peaks[1]:.3g} N·m   published 0")
     assert b[0] == pytest.approx(M * C * G / (K * A), abs=1e-9) and b[0] == pytest.approx(0.06, abs=1e-9)
     assert b[1] == pytest.approx(0.095, abs=1e-9)
-    assert b[1] - b[0] == pytest.approx(1.0 * w * G / (K * A), abs=1e-9)        # Δb = Δm w g / (k a)
+    assert b[1] - b[0] == pytest.approx(1.0 * w * G / (K * A), abs=1e-9)  # Δb = Δm w g / (k a)
     assert max(peaks) < 1e-9 * unbalanced
     # the scenarios share the spring and differ only in the slider: the design has two anchor copies
     assert sorted(result.variables) == ["s1.b.s[1 kg at 0.35 m]", "s1.b.s[bare]"]
@@ -70,7 +71,7 @@ def test_r4_largest_payload_for_anchor_travel_up_to_w(setup, w, tmp_path):
         expected = min(b + row.mass * w * G / (K * A), w)
         assert row.anchors["s1.b"][0] == pytest.approx(expected, abs=1e-7)
         assert row.balanced == (row.mass <= published)
-        if row.mass > published:   # saturated slider: the excess payload's moment is left over
+        if row.mass > published:  # saturated slider: the excess payload's moment is left over
             assert row.peak == pytest.approx((row.mass - published) * G * w, rel=1e-6)
     figure = study.plot(tmp_path / "payload_range")
     assert (tmp_path / "payload_range.png").stat().st_size > 0 and figure.axes

@@ -21,8 +21,8 @@ from springbalance.cli import main
 from springbalance.results.clearance import ClearanceReport
 
 URDF = Path(__file__).resolve().parents[2] / "urdf"
-LINK2_HALF = np.array([0.2, 0.015, 0.015])     # half extents of link2's box [m]
-TOOL_RADIUS = 0.03                             # [m]
+LINK2_HALF = np.array([0.2, 0.015, 0.015])  # half extents of link2's box [m]
+TOOL_RADIUS = 0.03  # [m]
 
 
 @pytest.fixture(scope="module")
@@ -76,8 +76,10 @@ def analytic_clearance(start, end, shoulder, elbow):
         local = r2.T @ (p - box_centre)
         return float(np.linalg.norm(local - np.clip(local, -LINK2_HALF, LINK2_HALF)))
 
-    return {"link2": segment_distance(start, end, to_box),
-            "tool": segment_distance(start, end, lambda p: float(np.linalg.norm(p - tool_centre)) - TOOL_RADIUS)}
+    return {
+        "link2": segment_distance(start, end, to_box),
+        "tool": segment_distance(start, end, lambda p: float(np.linalg.norm(p - tool_centre)) - TOOL_RADIUS),
+    }
 
 
 # ---------------------------------------------------------------------- a spring through link 2
@@ -85,8 +87,9 @@ THROUGH = dict(a=("universe", [0.7, 0.0, 0.2]), b=("link1", [0.45, 0.0, -0.1]))
 
 
 def through_spring():
-    return sb.ExtensionSpring(sb.Anchor(*THROUGH["a"]), sb.Anchor(*THROUGH["b"]), "through",
-                              stiffness=100.0, free_length=0.05)
+    return sb.ExtensionSpring(
+        sb.Anchor(*THROUGH["a"]), sb.Anchor(*THROUGH["b"]), "through", stiffness=100.0, free_length=0.05
+    )
 
 
 def test_a_spring_through_link2_overlaps_it(arm):
@@ -117,7 +120,7 @@ def test_a_clear_spring_reports_the_segment_box_distance_minus_its_radius(arm):
     radius = 0.007
     report = design(arm, [spring], poses).clearance(radius=radius, margin=0.01)
 
-    expected = []   # (distance, link, sample)
+    expected = []  # (distance, link, sample)
     for sample, (shoulder, elbow) in enumerate(poses):
         distances = analytic_clearance(world(*a, shoulder, elbow), world(*b, shoulder, elbow), shoulder, elbow)
         expected += [(distance - radius, link, sample) for link, distance in distances.items()]
@@ -136,8 +139,9 @@ def test_a_clear_spring_reports_the_segment_box_distance_minus_its_radius(arm):
 def test_the_anchor_bodies_are_exempt(arm):
     # along the links' axis from link1 to link2: the segment runs inside both boxes (exempt), and
     # the tool, welded to link2 but a body of its own, is 0.4 - 0.2 m beyond the b end at every pose
-    spring = sb.ExtensionSpring(sb.Anchor("link1", [0.1, 0, 0]), sb.Anchor("link2", [0.2, 0, 0]), "along",
-                                stiffness=100.0, free_length=0.05)
+    spring = sb.ExtensionSpring(
+        sb.Anchor("link1", [0.1, 0, 0]), sb.Anchor("link2", [0.2, 0, 0]), "along", stiffness=100.0, free_length=0.05
+    )
     report = design(arm, [spring], [[0.0, 0.0], [0.5, -1.2], [-1.0, 2.0]]).clearance()
     row = report.row("along")
     assert row.exempt == ("link1", "link2")
@@ -155,12 +159,19 @@ def test_samples_check_a_sobol_sample_of_the_workspace_ranges(arm):
 
 
 def test_a_helical_spring_uses_half_its_outer_diameter(arm):
-    coil = sb.HelicalExtensionSpring(sb.Anchor(*THROUGH["a"]), sb.Anchor(*THROUGH["b"]), "coil",
-                                     wire_diameter=2e-3, mean_diameter=16e-3, active_coils=20, initial_tension=5.0)
+    coil = sb.HelicalExtensionSpring(
+        sb.Anchor(*THROUGH["a"]),
+        sb.Anchor(*THROUGH["b"]),
+        "coil",
+        wire_diameter=2e-3,
+        mean_diameter=16e-3,
+        active_coils=20,
+        initial_tension=5.0,
+    )
     result = design(arm, [coil], [[0.0, 0.0]])
     outer = result.spring("coil")["helical"]["outer_diameter"]
     assert outer == pytest.approx(18e-3)
-    row = result.clearance(radius=0.05).row("coil")      # the radius argument is for springs without a sheet
+    row = result.clearance(radius=0.05).row("coil")  # the radius argument is for springs without a sheet
     assert row.radius == pytest.approx(outer / 2)
     assert row.distance == pytest.approx(-(LINK2_HALF[1] + outer / 2), abs=1e-6)
 
@@ -177,8 +188,9 @@ def test_report_text_and_dict(arm):
 
 def test_a_mechanism_without_collision_geometry_is_refused():
     bare = sb.Mechanism.from_urdf(URDF / "two_link_planar.urdf")
-    spring = sb.ExtensionSpring(sb.Anchor("universe", [0, 0, 0.1]), sb.Anchor("link1", [0.3, 0, 0]), "s1",
-                                stiffness=100.0, free_length=0.05)
+    spring = sb.ExtensionSpring(
+        sb.Anchor("universe", [0, 0, 0.1]), sb.Anchor("link1", [0.3, 0, 0]), "s1", stiffness=100.0, free_length=0.05
+    )
     with pytest.raises(sb.InputError, match="'two_link_planar' has no collision geometry"):
         design(bare, [spring], [[0.0, 0.0]]).clearance()
     model_only = sb.Mechanism.from_model(bare.model)
@@ -188,8 +200,13 @@ def test_a_mechanism_without_collision_geometry_is_refused():
 
 def test_bad_arguments_are_input_errors(arm):
     result = design(arm, [through_spring()], [[0.0, 0.0]])
-    for options in ({"radius": 0.0}, {"radius": float("nan")}, {"margin": float("inf")}, {"margin": -0.001},
-                    {"samples": 0}):
+    for options in (
+        {"radius": 0.0},
+        {"radius": float("nan")},
+        {"margin": float("inf")},
+        {"margin": -0.001},
+        {"samples": 0},
+    ):
         with pytest.raises(sb.InputError):
             result.clearance(**options)
 

@@ -22,9 +22,9 @@ import springbalance as sb
 from springbalance.cli import main
 
 URDF = Path(__file__).resolve().parents[2] / "urdf"
-M, C, G = 8.0, 0.183, 9.81          # link mass [kg], centre of mass [m], gravity [m/s²]
-A, B = 0.16, 0.3                    # ground anchor height, link anchor distance [m]
-K_STAR = M * G * C / (A * B)        # exact balance [N/m]
+M, C, G = 8.0, 0.183, 9.81  # link mass [kg], centre of mass [m], gravity [m/s²]
+A, B = 0.16, 0.3  # ground anchor height, link anchor distance [m]
+K_STAR = M * G * C / (A * B)  # exact balance [N/m]
 
 
 @pytest.fixture(scope="module")
@@ -63,7 +63,7 @@ def assert_flagged(result, tmp_path: Path, kind: str, subject: str) -> dict:
 
     # (a) the text report: a Warnings section after the tables, the flag with its hint
     table = result.table()
-    section = table[table.index("\nWarnings ("):]
+    section = table[table.index("\nWarnings (") :]
     assert table.index("Actuator torque") < table.index("\nWarnings (")
     assert f"[{kind}] {flag.message}" in section
     assert f"hint: {flag.hint}" in section
@@ -140,7 +140,7 @@ def test_balanced_link_has_no_warnings(link, tmp_path):
     mechanism, workspace = link
     spring = sb.ZeroFreeLengthSpring(*_anchors(), name="s1", stiffness=sb.Free(0, 1000))
     result = sb.solve(sb.DesignProblem(mechanism, workspace, [spring]), starts=2)
-    assert result.variables["s1.stiffness"] == pytest.approx(K_STAR, rel=1e-6)   # inside its bounds
+    assert result.variables["s1.stiffness"] == pytest.approx(K_STAR, rel=1e-6)  # inside its bounds
     assert_clean(result, tmp_path)
 
 
@@ -148,9 +148,12 @@ def test_fixed_coordinates_of_a_box_are_not_variables(link):
     # a box anchor free only along z: x and y (equal bounds) are no variables and are never flagged,
     # z stops strictly inside [0.2, 0.4] at b = m g c / (k a) = 0.3 m for k = k*
     mechanism, workspace = link
-    spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", (0, 0, A)),
-                                     sb.Anchor("link1", sb.Free([0, 0, 0.2], [0, 0, 0.4])),
-                                     name="s1", stiffness=K_STAR)
+    spring = sb.ZeroFreeLengthSpring(
+        sb.Anchor("universe", (0, 0, A)),
+        sb.Anchor("link1", sb.Free([0, 0, 0.2], [0, 0, 0.4])),
+        name="s1",
+        stiffness=K_STAR,
+    )
     result = sb.solve(sb.DesignProblem(mechanism, workspace, [spring]), starts=2)
     assert result.problem.variables.names == ["s1.b.z"]
     assert result.variables["s1.b.z"] == pytest.approx(B, rel=1e-6)
@@ -201,8 +204,9 @@ def test_joint_gravity_does_not_load_is_worse_when_a_spring_loads_it(tmp_path):
     path.write_text(SLIDER_URDF)
     mechanism = sb.Mechanism.from_urdf(path)
     workspace = sb.Workspace.grid(mechanism, 5)
-    spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", (0, 0, 0)), sb.Anchor("cart", (0, 0, 0)),
-                                     name="pull", stiffness=100.0)
+    spring = sb.ZeroFreeLengthSpring(
+        sb.Anchor("universe", (0, 0, 0)), sb.Anchor("cart", (0, 0, 0)), name="pull", stiffness=100.0
+    )
     result = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [spring]), np.zeros(0))
     rows = {row["joint"]: row for row in result.metrics()["joints"]}
     assert rows["slide"]["peak_before"] == pytest.approx(0, abs=1e-12)
@@ -221,8 +225,7 @@ def test_slack_extension_spring_is_a_law_warning(link, tmp_path):
     lengths = _lengths(workspace)
     slack = int(np.sum(lengths < free_length))
     assert 0 < slack < workspace.size
-    spring = sb.ExtensionSpring(*_anchors(), name="loose", stiffness=100.0, free_length=free_length,
-                                keep_tension=False)
+    spring = sb.ExtensionSpring(*_anchors(), name="loose", stiffness=100.0, free_length=free_length, keep_tension=False)
     result = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [spring]), np.zeros(0))
     record = assert_flagged(result, tmp_path, "law", "loose")
     assert f"{slack} of {workspace.size} workspace samples" in record["message"]
@@ -246,7 +249,7 @@ def _strongest_music_wire_force() -> float:
     index C = 4, allowable shear 0.45 S_ut with S_ut = 2211 MPa·mm^0.145 / d^0.145 and the Wahl
     factor (Shigley ch. 10): F = π (0.45 S_ut) d² / (8 K_W C)."""
     d_mm, index = 6.5, 4.0
-    strength = 2211e6 / d_mm**0.145                                    # [Pa]
+    strength = 2211e6 / d_mm**0.145  # [Pa]
     wahl = (4 * index - 1) / (4 * index - 4) + 0.615 / index
     return np.pi * 0.45 * strength * (d_mm * 1e-3) ** 2 / (8 * wahl * index)
 
@@ -270,8 +273,10 @@ def test_compression_is_sized_but_gas_springs_are_not(link):
     # any music-wire coil. A gas spring of the same law is no coil and is not sized.
     shortest = float(_lengths(workspace, 0.34).min())
     assert 20000.0 * (0.6 - shortest) > _strongest_music_wire_force()
-    springs = [sb.CompressionSpring(*_anchors(0.34), name="coil", stiffness=20000.0, free_length=0.6),
-               sb.GasSpring(*_anchors(0.34), name="gas", stiffness=20000.0, free_length=0.6)]
+    springs = [
+        sb.CompressionSpring(*_anchors(0.34), name="coil", stiffness=20000.0, free_length=0.6),
+        sb.GasSpring(*_anchors(0.34), name="gas", stiffness=20000.0, free_length=0.6),
+    ]
     result = sb.DesignResult(sb.DesignProblem(mechanism, workspace, springs), np.zeros(0))
     assert [flag.subject for flag in _of_kind(result, "unbuildable_ideal")] == ["coil"]
 

@@ -43,8 +43,9 @@ def test_sweep_panels_show_the_model_torques(design):
 def test_a_joint_held_still_gets_no_panel():
     mechanism = sb.Mechanism.from_urdf(URDF / "two_link_planar.urdf")
     workspace = sb.Workspace.sobol(mechanism, 64, ranges={"shoulder": [-90, 90], "elbow": [0, 0]}, degrees=True)
-    spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", (0, 0, 0.1)), sb.Anchor("link1", (0.3, 0, 0)),
-                                     stiffness=500.0)
+    spring = sb.ZeroFreeLengthSpring(
+        sb.Anchor("universe", (0, 0, 0.1)), sb.Anchor("link1", (0.3, 0, 0)), stiffness=500.0
+    )
     result = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [spring]), np.zeros(0))
     figure = plots.plot_torques(result, points=21)
     assert [a.get_xlabel() for a in figure.axes if a.lines] == ["shoulder [deg]"]
@@ -76,7 +77,7 @@ def test_figures_are_written_as_png_and_svg(design, tmp_path):
         assert width > 400 and height > 200
         colours = np.asarray(image.convert("RGB")).reshape(-1, 3)
     # the "with springs" curve is drawn in its colour (#d7301f)
-    assert np.count_nonzero(np.all(np.abs(colours.astype(int) - [0xd7, 0x30, 0x1f]) < 30, axis=1)) > 100
+    assert np.count_nonzero(np.all(np.abs(colours.astype(int) - [0xD7, 0x30, 0x1F]) < 30, axis=1)) > 100
 
 
 def test_importing_the_results_does_not_import_matplotlib():

@@ -80,7 +80,7 @@ def test_design_table_holds_the_design_values(design, report_folder):
     evaluation = design.evaluation
     for column, name in enumerate(["shoulder", "forearm"]):
         record = design.spring(name)
-        row = cells[cells.index(name):cells.index(name) + 9]
+        row = cells[cells.index(name) : cells.index(name) + 9]
         assert row[1] == "extension"
         assert f"{record['a']['body']} (" in row[2] and f"{record['b']['body']} (" in row[2]
         assert f"{record['b']['point'][0]:+.4f}" in row[2]
@@ -97,9 +97,18 @@ def test_metrics_tables_hold_the_metrics(design, report_folder):
     metrics = design.metrics()
     for row in metrics["joints"]:
         start = cells.index(f"{row['joint']} [{row['unit']}]")
-        values = [float(v) for v in cells[start + 1:start + 7]]
-        assert values == pytest.approx([row["peak_before"], row["peak_after"], row["peak_reduction_percent"],
-                                        row["rms_before"], row["rms_after"], row["rms_reduction_percent"]], rel=2e-3)
+        values = [float(v) for v in cells[start + 1 : start + 7]]
+        assert values == pytest.approx(
+            [
+                row["peak_before"],
+                row["peak_after"],
+                row["peak_reduction_percent"],
+                row["rms_before"],
+                row["rms_after"],
+                row["rms_reduction_percent"],
+            ],
+            rel=2e-3,
+        )
     for name, row in metrics["objectives"].items():
         start = cells.index(f"{name} [{row['unit']}]")
         if np.isfinite(row["before"]):
@@ -146,5 +155,6 @@ def test_the_views_take_the_numbers_of_a_design(design, tmp_path):
     assert report.result_table(bare) == design.table()
     assert flags.flags(bare) == design.warnings()
     assert html_report.report_html(bare) == html_report.report_html(design)
-    assert html_report.write_report(bare, tmp_path / "bare", scene=False).read_text() == \
-        html_report.report_html(bare, scene=None, exports=[])
+    assert html_report.write_report(bare, tmp_path / "bare", scene=False).read_text() == html_report.report_html(
+        bare, scene=None, exports=[]
+    )

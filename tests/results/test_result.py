@@ -22,12 +22,21 @@ def arm():
 
 def _springs():
     return [
-        sb.ZeroFreeLengthSpring(sb.Anchor("universe", sb.Free([0, 0, 0.05], [0, 0, 0.3])),
-                                sb.Anchor("link1", sb.Segment((0.05, 0, 0), (0.45, 0, 0))),
-                                name="shoulder_spring", stiffness=sb.Free(0, 3000)),
-        sb.ExtensionSpring(sb.Anchor("link1", (0.1, 0, 0.05)), sb.Anchor("link2", sb.Free([0.02, 0, 0], [0.3, 0, 0])),
-                           name="elbow_spring", stiffness=sb.Free(0, 2000), free_length=sb.Free(0.05, 0.3),
-                           initial_tension=sb.Free(0, 20), keep_tension=False),
+        sb.ZeroFreeLengthSpring(
+            sb.Anchor("universe", sb.Free([0, 0, 0.05], [0, 0, 0.3])),
+            sb.Anchor("link1", sb.Segment((0.05, 0, 0), (0.45, 0, 0))),
+            name="shoulder_spring",
+            stiffness=sb.Free(0, 3000),
+        ),
+        sb.ExtensionSpring(
+            sb.Anchor("link1", (0.1, 0, 0.05)),
+            sb.Anchor("link2", sb.Free([0.02, 0, 0], [0.3, 0, 0])),
+            name="elbow_spring",
+            stiffness=sb.Free(0, 2000),
+            free_length=sb.Free(0.05, 0.3),
+            initial_tension=sb.Free(0, 20),
+            keep_tension=False,
+        ),
     ]
 
 
@@ -58,10 +67,10 @@ def test_save_load_round_trip_is_exact(solved, tmp_path):
     assert json.loads(path.read_text())["format"].startswith("springbalance-design")
     loaded = sb.DesignResult.load(path)
     assert loaded.problem.variables.names == solved.problem.variables.names
-    assert loaded.variables == solved.variables                      # exact float equality
+    assert loaded.variables == solved.variables  # exact float equality
     np.testing.assert_array_equal(loaded.x, solved.x)
     assert loaded.springs == solved.springs
-    assert loaded.metrics() == solved.metrics()                      # every number identical
+    assert loaded.metrics() == solved.metrics()  # every number identical
     np.testing.assert_array_equal(loaded.residual_torque(), solved.residual_torque())
     np.testing.assert_array_equal(loaded.problem.workspace.joint_values, solved.problem.workspace.joint_values)
     np.testing.assert_array_equal(loaded.problem.weights, solved.problem.weights)
@@ -77,8 +86,13 @@ def test_save_load_round_trip_is_exact(solved, tmp_path):
 def test_save_load_robot_with_gravity_override(tmp_path):
     mechanism = sb.Mechanism.from_robot("ur5", gravity=9.8)
     workspace = sb.Workspace.random(mechanism, 10, seed=4)
-    spring = sb.ExtensionSpring(sb.Anchor("universe", (0.05, 0.1, 0.4)), sb.Anchor("upper_arm_link", (0, 0.05, 0.2)),
-                                stiffness=sb.Free(0, 4000), free_length=0.1, keep_tension=False)
+    spring = sb.ExtensionSpring(
+        sb.Anchor("universe", (0.05, 0.1, 0.4)),
+        sb.Anchor("upper_arm_link", (0, 0.05, 0.2)),
+        stiffness=sb.Free(0, 4000),
+        free_length=0.1,
+        keep_tension=False,
+    )
     problem = sb.DesignProblem(mechanism, workspace, [spring], objective="peak")
     result = sb.DesignResult(problem, [1234.5678901234567])
     loaded = sb.DesignResult.load(result.save(tmp_path / "ur5.json"))
@@ -127,8 +141,9 @@ def test_residual_torque_at_given_configurations(solved, arm):
     # On the design's own workspace, the default is the stored evaluation.
     np.testing.assert_array_equal(solved.residual_torque(), solved.problem.evaluate(solved.x).tau)
     # And re-evaluating on the workspace's configurations reproduces it.
-    np.testing.assert_allclose(solved.residual_torque(solved.problem.workspace.joint_values), solved.residual_torque(),
-                               rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(
+        solved.residual_torque(solved.problem.workspace.joint_values), solved.residual_torque(), rtol=1e-12, atol=1e-12
+    )
 
 
 def test_metrics_cover_every_joint_and_objective(solved, arm):
@@ -183,8 +198,12 @@ def test_springs_can_be_reused_in_another_problem():
     """
     r2 = sb.Mechanism.from_urdf(URDF / "single_link_r2.urdf")
     workspace = sb.Workspace.grid(r2, 5)
-    first = sb.ZeroFreeLengthSpring(sb.Anchor("universe", (0, 0, 0.1)), sb.Anchor("link1", (0.2, 0, 0)), stiffness=100.0)
-    second = sb.ZeroFreeLengthSpring(sb.Anchor("universe", (0, 0, 0.2)), sb.Anchor("link1", (0.1, 0, 0)), stiffness=50.0)
+    first = sb.ZeroFreeLengthSpring(
+        sb.Anchor("universe", (0, 0, 0.1)), sb.Anchor("link1", (0.2, 0, 0)), stiffness=100.0
+    )
+    second = sb.ZeroFreeLengthSpring(
+        sb.Anchor("universe", (0, 0, 0.2)), sb.Anchor("link1", (0.1, 0, 0)), stiffness=50.0
+    )
     alone = sb.DesignProblem(r2, workspace, [first]).evaluate(np.zeros(0)).tau
     both = sb.DesignProblem(r2, workspace, [second, first]).evaluate(np.zeros(0)).tau
     # ZFL springs from (0, 0, a) to (b, 0, 0) each add -k a b cos q.

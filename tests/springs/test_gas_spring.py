@@ -23,9 +23,9 @@ import pytest
 import springbalance as sb
 
 URDF = Path(__file__).resolve().parents[2] / "urdf"
-A = 1.0 * 9.8 * 0.25                     # m g c [N·m]
-GROUND = np.array([0.05, -0.05])        # (x, z) [m]
-L0 = 0.3                                 # extended length [m]
+A = 1.0 * 9.8 * 0.25  # m g c [N·m]
+GROUND = np.array([0.05, -0.05])  # (x, z) [m]
+L0 = 0.3  # extended length [m]
 BOUNDS = {"preload": (0.0, 100.0), "stiffness": (0.0, 1000.0), "b": (0.05, 0.3)}
 
 
@@ -35,7 +35,7 @@ def holding_torque(theta, preload, stiffness, b):
     px, pz = b * np.cos(theta), b * np.sin(theta)
     dx, dz = px - GROUND[0], pz - GROUND[1]
     length = np.hypot(dx, dz)
-    rate = (dx * -pz + dz * px) / length                     # dL/dθ [m/rad]
+    rate = (dx * -pz + dz * px) / length  # dL/dθ [m/rad]
     tau = A * np.cos(theta) - (preload + stiffness * (L0 - length)) * rate
     return np.where(np.all(length <= L0, axis=-1, keepdims=True), tau, np.inf)
 
@@ -63,9 +63,13 @@ def test_gas_spring_peak_reduction_matches_grid_search():
     mechanism = sb.Mechanism.from_urdf(URDF / "single_link_r2.urdf", gravity=9.8)
     workspace = sb.Workspace.grid(mechanism, 121, ranges={"theta": (0, 60)}, degrees=True)
     theta = workspace.joint_values[:, 0]
-    gas = sb.GasSpring(sb.Anchor("universe", (GROUND[0], 0, GROUND[1])),
-                       sb.Anchor("link1", sb.Segment((0.05, 0, 0), (0.3, 0, 0))),
-                       stiffness=sb.Free(*BOUNDS["stiffness"]), preload=sb.Free(*BOUNDS["preload"]), free_length=L0)
+    gas = sb.GasSpring(
+        sb.Anchor("universe", (GROUND[0], 0, GROUND[1])),
+        sb.Anchor("link1", sb.Segment((0.05, 0, 0), (0.3, 0, 0))),
+        stiffness=sb.Free(*BOUNDS["stiffness"]),
+        preload=sb.Free(*BOUNDS["preload"]),
+        free_length=L0,
+    )
     result = sb.solve(sb.DesignProblem(mechanism, workspace, [gas], objective="peak"), starts=8)
     values = result.spring("s1")
     design = (values["preload"], values["stiffness"], values["b"]["point"][0])
@@ -77,10 +81,14 @@ def test_gas_spring_peak_reduction_matches_grid_search():
     grid_peak, grid_design = grid_search(theta)
     ours = result.metrics()["joints"][0]["peak_after"]
     reduction, grid_reduction = bare - ours, bare - grid_peak
-    print(f"[gas spring] optimiser: F0 {design[0]:.3f} N, k {design[1]:.2f} N/m, b {design[2]:.4f} m, "
-          f"peak {ours:.5f} N·m (reduction {reduction:.4f} N·m)")
-    print(f"[gas spring] grid:      F0 {grid_design['preload']:.3f} N, k {grid_design['stiffness']:.2f} N/m, "
-          f"b {grid_design['b']:.4f} m, peak {grid_peak:.5f} N·m (reduction {grid_reduction:.4f} N·m)")
+    print(
+        f"[gas spring] optimiser: F0 {design[0]:.3f} N, k {design[1]:.2f} N/m, b {design[2]:.4f} m, "
+        f"peak {ours:.5f} N·m (reduction {reduction:.4f} N·m)"
+    )
+    print(
+        f"[gas spring] grid:      F0 {grid_design['preload']:.3f} N, k {grid_design['stiffness']:.2f} N/m, "
+        f"b {grid_design['b']:.4f} m, peak {grid_peak:.5f} N·m (reduction {grid_reduction:.4f} N·m)"
+    )
     assert reduction == pytest.approx(grid_reduction, rel=0.01)
-    assert ours <= grid_peak * (1 + 1e-6)      # a continuous optimum is at least as good as the grid
+    assert ours <= grid_peak * (1 + 1e-6)  # a continuous optimum is at least as good as the grid
     assert grid_design["stiffness"] > 0 and BOUNDS["b"][0] < grid_design["b"] < BOUNDS["b"][1]  # interior

@@ -62,7 +62,7 @@ def test_type_extension_is_a_coil_unless_ideal():
     assert SPRING_TYPES["compression"] is HelicalCompressionSpring
     ends = {"a": {"body": "universe", "point": [0, 0, 0.1]}, "b": {"body": "link1", "point": [0.3, 0, 0]}}
     assert type(spring_from_dict({"type": "extension", **ends})) is HelicalExtensionSpring
-    assert type(spring_from_dict({**ends})) is HelicalExtensionSpring                  # the default type
+    assert type(spring_from_dict({**ends})) is HelicalExtensionSpring  # the default type
     ideal = spring_from_dict({"type": "extension", "ideal": True, **ends, "stiffness": 100.0, "free_length": 0.1})
     assert type(ideal) is sb.ExtensionSpring and ideal.to_dict()["ideal"] is True
     with pytest.raises(sb.InputError, match="no ideal variant"):
@@ -72,13 +72,20 @@ def test_type_extension_is_a_coil_unless_ideal():
 
 
 def test_extension_coil_law_and_spec_sheet_from_shigley():
-    d, D, n, initial = 2.0e-3, 16.0e-3, 20.0, 20.0                     # [m], [m], [1], [N]
-    spring = HelicalExtensionSpring(sb.Anchor("universe", [0, 0, 0.1]), sb.Anchor("link1", [0.3, 0, 0]), "e",
-                                    wire_diameter=d, mean_diameter=D, active_coils=n, initial_tension=initial)
+    d, D, n, initial = 2.0e-3, 16.0e-3, 20.0, 20.0  # [m], [m], [1], [N]
+    spring = HelicalExtensionSpring(
+        sb.Anchor("universe", [0, 0, 0.1]),
+        sb.Anchor("link1", [0.3, 0, 0]),
+        "e",
+        wire_diameter=d,
+        mean_diameter=D,
+        active_coils=n,
+        initial_tension=initial,
+    )
     values = {"wire_diameter": d, "mean_diameter": D, "active_coils": n, "initial_tension": initial}
-    rate = G_MUSIC * d**4 / (8 * D**3 * n)                              # 1977 N/m
-    free = d * (n + 1) + 2 * (D - d)                                    # 70 mm
-    lengths = np.linspace(free, free + 0.03, 9)           # up to 79 N
+    rate = G_MUSIC * d**4 / (8 * D**3 * n)  # 1977 N/m
+    free = d * (n + 1) + 2 * (D - d)  # 70 mm
+    lengths = np.linspace(free, free + 0.03, 9)  # up to 79 N
     np.testing.assert_allclose(spring.tension(lengths, values), initial + rate * (lengths - free), rtol=1e-12)
     step = 1e-7
     derivative = (spring.potential(lengths + step, values) - spring.potential(lengths - step, values)) / (2 * step)
@@ -93,7 +100,7 @@ def test_extension_coil_law_and_spec_sheet_from_shigley():
     assert sheet["mass"] == pytest.approx(RHO_MUSIC * math.pi * d**2 / 4 * math.pi * D * (n + 2), rel=1e-12)
     c = D / d
     band = 231e6 * math.exp(-0.105 * c), 6.9e6 * (4 - (c - 3) / 6.5)
-    initial_stress = 8 * initial * D / (math.pi * d**3)                 # 102 MPa, inside 99 ± 22 MPa
+    initial_stress = 8 * initial * D / (math.pi * d**3)  # 102 MPa, inside 99 ± 22 MPa
     assert abs(initial_stress - band[0]) < band[1]
     assert sheet["buildable"], sheet["reasons"]
     assert check_extension_sheet(sheet) == []
@@ -106,23 +113,39 @@ def test_extension_coil_law_and_spec_sheet_from_shigley():
 
 
 def test_compression_coil_solid_length_and_buckling():
-    d, D, n, free = 3.0e-3, 24.0e-3, 10.0, 0.1                         # [m], [m], [1], [m]
-    spring = HelicalCompressionSpring(sb.Anchor("universe", [0, 0, -0.1]), sb.Anchor("link1", [0.2, 0, 0]), "c",
-                                      wire_diameter=d, mean_diameter=D, active_coils=n, free_length=free)
+    d, D, n, free = 3.0e-3, 24.0e-3, 10.0, 0.1  # [m], [m], [1], [m]
+    spring = HelicalCompressionSpring(
+        sb.Anchor("universe", [0, 0, -0.1]),
+        sb.Anchor("link1", [0.2, 0, 0]),
+        "c",
+        wire_diameter=d,
+        mean_diameter=D,
+        active_coils=n,
+        free_length=free,
+    )
     values = {"wire_diameter": d, "mean_diameter": D, "active_coils": n, "free_length": free}
     rate = G_MUSIC * d**4 / (8 * D**3 * n)
     lengths = np.linspace(0.05, 0.09, 5)
     np.testing.assert_allclose(spring.tension(lengths, values), -rate * (free - lengths), rtol=1e-12)
     sheet = spring.spec_sheet(values, lengths, spring.tension(lengths, values))
-    assert sheet["solid_length"] == pytest.approx(d * (n + 2))          # 36 mm, below the shortest 50 mm
-    assert sheet["buckling_length"] == pytest.approx(2.63 * D / 0.5)    # 126 mm > free length
+    assert sheet["solid_length"] == pytest.approx(d * (n + 2))  # 36 mm, below the shortest 50 mm
+    assert sheet["buckling_length"] == pytest.approx(2.63 * D / 0.5)  # 126 mm > free length
     assert sheet["buildable"], sheet["reasons"]
-    short = np.linspace(0.03, 0.09, 5)                                 # closes solid at 36 mm
+    short = np.linspace(0.03, 0.09, 5)  # closes solid at 36 mm
     sheet = spring.spec_sheet(values, short, spring.tension(short, values))
     assert any("solid length" in reason for reason in sheet["reasons"])
-    tall = HelicalCompressionSpring(sb.Anchor("universe", [0, 0, -0.1]), sb.Anchor("link1", [0.2, 0, 0]), "t",
-                                    wire_diameter=d, mean_diameter=D, active_coils=n, free_length=0.2)
-    sheet = tall.spec_sheet({**values, "free_length": 0.2}, lengths, tall.tension(lengths, {**values, "free_length": 0.2}))
+    tall = HelicalCompressionSpring(
+        sb.Anchor("universe", [0, 0, -0.1]),
+        sb.Anchor("link1", [0.2, 0, 0]),
+        "t",
+        wire_diameter=d,
+        mean_diameter=D,
+        active_coils=n,
+        free_length=0.2,
+    )
+    sheet = tall.spec_sheet(
+        {**values, "free_length": 0.2}, lengths, tall.tension(lengths, {**values, "free_length": 0.2})
+    )
     assert any("buckling" in reason for reason in sheet["reasons"])
 
 
@@ -133,8 +156,15 @@ def test_coil_mass_matches_r1b():
     the case's 1 % tolerance of 0.81 kg."""
     D, n, k = 0.04, 80.0, 324.5
     d = (8 * D**3 * n * k / G_MUSIC) ** 0.25
-    spring = HelicalExtensionSpring(sb.Anchor("universe", [0, 0, 0.16]), sb.Anchor("link1", [0, 0, 0.3]), "r1b",
-                                    wire_diameter=d, mean_diameter=D, active_coils=n, initial_tension=0.0)
+    spring = HelicalExtensionSpring(
+        sb.Anchor("universe", [0, 0, 0.16]),
+        sb.Anchor("link1", [0, 0, 0.3]),
+        "r1b",
+        wire_diameter=d,
+        mean_diameter=D,
+        active_coils=n,
+        initial_tension=0.0,
+    )
     values = {"wire_diameter": d, "mean_diameter": D, "active_coils": n, "initial_tension": 0.0}
     assert spring.rate(values) == pytest.approx(k, rel=1e-12)
     assert spring.coil_mass(values) == pytest.approx(0.81, rel=0.01)
@@ -151,10 +181,18 @@ def test_bad_coil_input_names_the_culprit():
 
 
 def test_unknown_material_in_a_config_exits_2(tmp_path, capsys):
-    config = {"mechanism": {"urdf": str(URDF / "single_link_r1.urdf")},
-              "workspace": {"kind": "grid", "n": 11},
-              "springs": [{"name": "s", "a": {"body": "universe", "point": [0, 0, 0.16]},
-                           "b": {"body": "link1", "point": [0, 0, 0.3]}, "material": "unobtainium"}]}
+    config = {
+        "mechanism": {"urdf": str(URDF / "single_link_r1.urdf")},
+        "workspace": {"kind": "grid", "n": 11},
+        "springs": [
+            {
+                "name": "s",
+                "a": {"body": "universe", "point": [0, 0, 0.16]},
+                "b": {"body": "link1", "point": [0, 0, 0.3]},
+                "material": "unobtainium",
+            }
+        ],
+    }
     path = tmp_path / "config.json"
     path.write_text(json.dumps(config))
     assert main(["design", str(path), "--out", str(tmp_path / "design.json"), "--quiet"]) == 2
@@ -177,8 +215,19 @@ def test_make_demo_design_is_buildable(demo):
         sheet = spring["helical"]
         assert sheet["buildable"], (spring["name"], sheet["reasons"])
         assert check_extension_sheet(sheet) == [], spring["name"]
-        for key in ("material", "wire_diameter", "mean_diameter", "active_coils", "free_length", "body_length",
-                    "initial_tension", "max_stress", "allowable_stress", "buildable", "reasons"):
+        for key in (
+            "material",
+            "wire_diameter",
+            "mean_diameter",
+            "active_coils",
+            "free_length",
+            "body_length",
+            "initial_tension",
+            "max_stress",
+            "allowable_stress",
+            "buildable",
+            "reasons",
+        ):
             assert key in sheet
         # standard wire: the preferred series
         assert min(abs(sheet["wire_diameter"] - d) for d in PREFERRED_WIRE_DIAMETERS) < 1e-12, spring["name"]
@@ -204,8 +253,15 @@ def test_an_overloaded_coil_is_flagged_in_every_report(tmp_path):
     workspace = sb.Workspace.grid(mechanism, 31, ranges={"pivot": (2 * np.pi / 3, np.pi)})
     # 1 mm wire, D = 8 mm, 10 coils: k = 81e9 · 1e-12 / (8 · 5.12e-7 · 10) ≈ 1978 N/m, free length 25 mm,
     # stretched to about 0.43 m: ≈ 800 N on a wire whose body allows 45 % · 2211 MPa ≈ 1 GPa at ≈ 20 N
-    coil = HelicalExtensionSpring(sb.Anchor("universe", [0, 0, 0.16]), sb.Anchor("link1", [0, 0, 0.3]), "thin",
-                                  wire_diameter=1e-3, mean_diameter=8e-3, active_coils=10.0, initial_tension=5.0)
+    coil = HelicalExtensionSpring(
+        sb.Anchor("universe", [0, 0, 0.16]),
+        sb.Anchor("link1", [0, 0, 0.3]),
+        "thin",
+        wire_diameter=1e-3,
+        mean_diameter=8e-3,
+        active_coils=10.0,
+        initial_tension=5.0,
+    )
     result = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [coil]), np.zeros(0))
     assert not result.spring("thin")["helical"]["buildable"]
     kinds = [flag.kind for flag in result.warnings()]

@@ -33,16 +33,21 @@ from springbalance.springs.routing import path_length
 ROOT = Path(__file__).resolve().parents[2]
 R2 = ROOT / "urdf" / "single_link_r2.urdf"
 TWO_LINK = ROOT / "urdf" / "two_link_planar.urdf"
-EXACT = 1e-6          # residual peak / unbalanced peak of an exact design (must-hold)
+EXACT = 1e-6  # residual peak / unbalanced peak of an exact design (must-hold)
 F = sb.Free
 
 
 def routed_zfl(name, spring_end, guide, cable_end, radius=0.0):
     """A zero-free-length law on a routed path: the spring from ``spring_end`` towards ``guide``, the
     cable on to ``cable_end`` (each a ``(body, point or Free)`` pair)."""
-    return sb.ZeroFreeLengthSpring(sb.Anchor(*spring_end), sb.Anchor(*cable_end), name,
-                                   via=[sb.Pulley(sb.Anchor(*guide), radius)], cable_length=F(0, 3),
-                                   stiffness=F(0, 5000))
+    return sb.ZeroFreeLengthSpring(
+        sb.Anchor(*spring_end),
+        sb.Anchor(*cable_end),
+        name,
+        via=[sb.Pulley(sb.Anchor(*guide), radius)],
+        cable_length=F(0, 3),
+        stiffness=F(0, 5000),
+    )
 
 
 # ---------------------------------------------------------------------- must-hold 1: one link
@@ -53,8 +58,13 @@ def single_link():
     ground point 0.1 m above the pivot (so the cable's free part is 0.06 … 0.14 m long)."""
     mechanism = sb.Mechanism.from_urdf(R2, gravity=9.8)
     workspace = sb.Workspace.sobol(mechanism, n=256, seed=0)
-    coil = sb.HelicalExtensionSpring(sb.Anchor("link1", [-0.35, 0, 0]), sb.Anchor("ground", [0, 0, 0.1]), "s1",
-                                     via=[sb.Pulley(sb.Anchor("link1", [0.04, 0, 0]))], cable_length=F(0, 1))
+    coil = sb.HelicalExtensionSpring(
+        sb.Anchor("link1", [-0.35, 0, 0]),
+        sb.Anchor("ground", [0, 0, 0.1]),
+        "s1",
+        via=[sb.Pulley(sb.Anchor("link1", [0.04, 0, 0]))],
+        cable_length=F(0, 1),
+    )
     return sb.solve(DesignProblem(mechanism, workspace, [coil]), starts=4, progress=False)
 
 
@@ -65,13 +75,14 @@ def test_one_routed_coil_balances_r2_exactly_and_is_buildable(single_link):
     sheet = record["helical"]
     assert sheet["buildable"], sheet["reasons"]
     tensions = single_link.evaluation.tensions[:, 0]
-    assert np.all(tensions > 0)                                   # the cable never goes slack
+    assert np.all(tensions > 0)  # the cable never goes slack
     # the coil fits on its segment (0.39 m from its end to the guide point) at every sample
     assert np.max(single_link.evaluation.lengths[:, 0]) <= 0.39 + 1e-9
     # and it is the spring the law says: F = F_i + k (L - l0) with L = path - cable
     lengths = single_link.evaluation.lengths[:, 0]
-    np.testing.assert_allclose(tensions, record["initial_tension"] + record["stiffness"] * (lengths - record["free_length"]),
-                               rtol=1e-9)
+    np.testing.assert_allclose(
+        tensions, record["initial_tension"] + record["stiffness"] * (lengths - record["free_length"]), rtol=1e-9
+    )
     assert "Exactly balanced" in single_link.table()
 
 
@@ -84,12 +95,24 @@ def two_link():
     mechanism = sb.Mechanism.from_urdf(TWO_LINK)
     workspace = sb.Workspace.sobol(mechanism, n=256, seed=0)
     springs = [
-        routed_zfl("s1", ("base", [0, 0, 1.0]), ("base", F([-0.05, 0, 0.05], [0.05, 0, 0.3], init=[0, 0, 0.2])),
-                   ("link1", F([0.05, 0, -0.05], [0.5, 0, 0.05], init=[0.3, 0, 0]))),
-        routed_zfl("s2", ("base", [0.05, 0, 1.6]), ("base", F([-0.05, 0, 0.05], [0.05, 0, 0.3], init=[0, 0, 0.15])),
-                   ("link2", F([0.02, 0, -0.05], [0.4, 0, 0.05], init=[0.2, 0, 0]))),
-        routed_zfl("s3", ("link1", [-0.3, 0, 0]), ("link1", F([0.35, 0, -0.1], [0.6, 0, 0.1], init=[0.45, 0, 0.05])),
-                   ("link2", F([0.02, 0, -0.05], [0.4, 0, 0.05], init=[0.1, 0, 0]))),
+        routed_zfl(
+            "s1",
+            ("base", [0, 0, 1.0]),
+            ("base", F([-0.05, 0, 0.05], [0.05, 0, 0.3], init=[0, 0, 0.2])),
+            ("link1", F([0.05, 0, -0.05], [0.5, 0, 0.05], init=[0.3, 0, 0])),
+        ),
+        routed_zfl(
+            "s2",
+            ("base", [0.05, 0, 1.6]),
+            ("base", F([-0.05, 0, 0.05], [0.05, 0, 0.3], init=[0, 0, 0.15])),
+            ("link2", F([0.02, 0, -0.05], [0.4, 0, 0.05], init=[0.2, 0, 0])),
+        ),
+        routed_zfl(
+            "s3",
+            ("link1", [-0.3, 0, 0]),
+            ("link1", F([0.35, 0, -0.1], [0.6, 0, 0.1], init=[0.45, 0, 0.05])),
+            ("link2", F([0.02, 0, -0.05], [0.4, 0, 0.05], init=[0.1, 0, 0])),
+        ),
     ]
     return sb.solve(DesignProblem(mechanism, workspace, springs), starts=8, progress=False)
 
@@ -97,7 +120,7 @@ def two_link():
 def test_routed_springs_alone_balance_the_two_link_arm_exactly(two_link):
     balance = two_link.exact_balance()
     assert balance["relative_residual"] < EXACT
-    assert balance["exact"]                                       # the report's own verdict
+    assert balance["exact"]  # the report's own verdict
     assert "Exactly balanced" in two_link.table()
     # the forearm spring's cable runs over the guide point near the elbow (on link 1) to link 2
     elbow_guide = np.array(two_link.spring("s3")["via1"]["point"])
@@ -111,8 +134,9 @@ def test_saved_routed_design_loads_back_with_the_same_residual(two_link, tmp_pat
     loaded = DesignResult.load(path)
     assert [spring.via[0].anchor.body for spring in loaded.problem.springs] == ["base", "base", "link1"]
     np.testing.assert_allclose(loaded.evaluation.tau, two_link.evaluation.tau, atol=1e-12)
-    np.testing.assert_allclose(loaded.residual_torque(two_link.problem.workspace.joint_values),
-                               two_link.evaluation.tau, atol=1e-12)
+    np.testing.assert_allclose(
+        loaded.residual_torque(two_link.problem.workspace.joint_values), two_link.evaluation.tau, atol=1e-12
+    )
     # the exported URDF carries a link at every point of each path, and its springs load back
     from springbalance.io.urdf import springs_from_urdf
 
@@ -163,10 +187,19 @@ def test_wrapping_pulleys_export_with_their_length_error_stated(tmp_path):
     mechanism = sb.Mechanism.from_urdf(TWO_LINK)
     poses = np.column_stack([np.linspace(-1.2, 1.2, 25), np.linspace(-2.0, 2.0, 25)])
     via = [sb.Pulley(sb.Anchor(body, point), radius) for body, point, radius in PATHS[2]]
-    spring = sb.ExtensionSpring(sb.Anchor("base", [0.1, 0.05, 1.2]), sb.Anchor("link2", [0.35, 0.0, -0.03]), "r",
-                                via=via, cable_length=0.4, stiffness=300.0, free_length=0.2, keep_tension=False)
-    result = DesignResult(DesignProblem(mechanism, sb.Workspace.from_array(mechanism, poses, ordered=False),
-                                        [spring]), np.zeros(0))
+    spring = sb.ExtensionSpring(
+        sb.Anchor("base", [0.1, 0.05, 1.2]),
+        sb.Anchor("link2", [0.35, 0.0, -0.03]),
+        "r",
+        via=via,
+        cable_length=0.4,
+        stiffness=300.0,
+        free_length=0.2,
+        keep_tension=False,
+    )
+    result = DesignResult(
+        DesignProblem(mechanism, sb.Workspace.from_array(mechanism, poses, ordered=False), [spring]), np.zeros(0)
+    )
     report = result.to_mjcf(tmp_path / "wrap.xml")
     model = mujoco.MjModel.from_xml_path(str(tmp_path / "wrap.xml"))
     assert model.ntendon == 1 and model.ngeom >= 2
@@ -174,10 +207,12 @@ def test_wrapping_pulleys_export_with_their_length_error_stated(tmp_path):
     stated = float(warning.split("by up to ")[1].split(" m")[0])
     # the same path through the centres (radius 0) is what MuJoCo measures; the stated error is the largest gap
     centres = [sb.Pulley(pulley.anchor, 0.0) for pulley in via]
-    straight = sb.ExtensionSpring(spring.a, spring.b, "r", via=centres, cable_length=0.4, stiffness=300.0,
-                                  free_length=0.2, keep_tension=False)
-    through = DesignResult(DesignProblem(mechanism, sb.Workspace.from_array(mechanism, poses, ordered=False),
-                                         [straight]), np.zeros(0))
+    straight = sb.ExtensionSpring(
+        spring.a, spring.b, "r", via=centres, cable_length=0.4, stiffness=300.0, free_length=0.2, keep_tension=False
+    )
+    through = DesignResult(
+        DesignProblem(mechanism, sb.Workspace.from_array(mechanism, poses, ordered=False), [straight]), np.zeros(0)
+    )
     gap = np.max(np.abs(result.evaluation.lengths - through.evaluation.lengths))
     assert stated == pytest.approx(gap, rel=1e-2)
     data = mujoco.MjData(model)
@@ -220,9 +255,18 @@ def test_torque_is_the_derivative_of_the_potential(pulleys, wrapping):
     """A 3-D path from a ground mast over 1, 2 or 3 pulleys (guide points, or wrapping pulleys of
     10–20 mm) to link 2, with an extension law, initial tension and the spring's own mass."""
     via = [sb.Pulley(sb.Anchor(body, point), radius if wrapping else 0.0) for body, point, radius in PATHS[pulleys]]
-    spring = sb.ExtensionSpring(sb.Anchor("base", [0.1, 0.05, 1.2]), sb.Anchor("link2", [0.35, 0.0, -0.03]), "r",
-                                via=via, cable_length=0.4, stiffness=300.0, free_length=0.2, initial_tension=12.0,
-                                keep_tension=False, mass=0.2)
+    spring = sb.ExtensionSpring(
+        sb.Anchor("base", [0.1, 0.05, 1.2]),
+        sb.Anchor("link2", [0.35, 0.0, -0.03]),
+        "r",
+        via=via,
+        cable_length=0.4,
+        stiffness=300.0,
+        free_length=0.2,
+        initial_tension=12.0,
+        keep_tension=False,
+        mass=0.2,
+    )
     rng = np.random.default_rng(pulleys)
     poses = np.column_stack([rng.uniform(-1.2, 1.2, 20), rng.uniform(-2.2, 2.2, 20)])
     torque, derivative, mechanism, lengths = _torque_and_potential_derivative([spring], poses)
@@ -231,8 +275,11 @@ def test_torque_is_the_derivative_of_the_potential(pulleys, wrapping):
         # guide points: the potential from Pinocchio alone, path = sum of the segments
         model = mechanism.model
         data = model.createData()
-        points = [("base", [0.1, 0.05, 1.2])] + [(body, point) for body, point, _ in PATHS[pulleys]] + \
-                 [("link2", [0.35, 0.0, -0.03])]
+        points = (
+            [("base", [0.1, 0.05, 1.2])]
+            + [(body, point) for body, point, _ in PATHS[pulleys]]
+            + [("link2", [0.35, 0.0, -0.03])]
+        )
         for row, q in zip(lengths, poses):
             pin.framesForwardKinematics(model, data, mechanism.configurations(q[None])[0])
             world = [data.oMf[model.getFrameId(body)].act(np.array(point, dtype=float)) for body, point in points]
@@ -242,10 +289,17 @@ def test_torque_is_the_derivative_of_the_potential(pulleys, wrapping):
 
 def test_reference_potential_agrees_on_a_straight_cable():
     """A routed spring with no pulley is a spring in series with a cable: L = |x_b - x_a| - cable."""
-    spring = sb.ExtensionSpring(sb.Anchor("base", [0.0, 0.0, 0.4]), sb.Anchor("link1", [0.3, 0.0, 0.0]), "r",
-                                cable_length=0.1, stiffness=200.0, free_length=0.05)
-    plain = sb.ExtensionSpring(sb.Anchor("base", [0.0, 0.0, 0.4]), sb.Anchor("link1", [0.3, 0.0, 0.0]), "p",
-                               stiffness=200.0, free_length=0.15)
+    spring = sb.ExtensionSpring(
+        sb.Anchor("base", [0.0, 0.0, 0.4]),
+        sb.Anchor("link1", [0.3, 0.0, 0.0]),
+        "r",
+        cable_length=0.1,
+        stiffness=200.0,
+        free_length=0.05,
+    )
+    plain = sb.ExtensionSpring(
+        sb.Anchor("base", [0.0, 0.0, 0.4]), sb.Anchor("link1", [0.3, 0.0, 0.0]), "p", stiffness=200.0, free_length=0.15
+    )
     poses = np.column_stack([np.linspace(-1.0, 1.0, 9), np.zeros(9)])
     torque, derivative, mechanism, _ = _torque_and_potential_derivative([spring], poses)
     reference, *_ = _torque_and_potential_derivative([plain], poses)
@@ -261,6 +315,7 @@ def test_reference_potential_agrees_on_a_straight_cable():
 def test_wrap_lengths_in_closed_form(r, d):
     """Quarter wrap: from (-d, r) along y = r, over the pulley at the origin, down x = r to (r, -d):
     2 d + π r / 2. Half wrap: up from (-r, -d), over the top, down to (r, -d): 2 d + π r."""
+
     def length(a, b):
         points = [ca.DM(np.array(a, dtype=float)), ca.DM.zeros(3, 1), ca.DM(np.array(b, dtype=float))]
         value, _ = path_length(points, [0.0, r, 0.0])
@@ -289,12 +344,13 @@ springs:
     return config
 
 
-GOOD_PATH = ("[{body: link1, point: [-0.35, 0, 0]}, {body: link1, point: [0.04, 0, 0]}, "
-             "{body: ground, point: [0, 0, 0.1]}]")
+GOOD_PATH = (
+    "[{body: link1, point: [-0.35, 0, 0]}, {body: link1, point: [0.04, 0, 0]}, {body: ground, point: [0, 0, 0.1]}]"
+)
 
 
 def test_example_config_designs_saves_reports_and_draws(tmp_path, capsys):
-    config = ROOT / "examples" / "routed_link.yaml"      # the routed spring of docs/guides/routed-springs.md
+    config = ROOT / "examples" / "routed_link.yaml"  # the routed spring of docs/guides/routed-springs.md
     out = tmp_path / "design.json"
     assert main(["design", str(config), "--out", str(out), "--starts", "2"]) == 0
     text = capsys.readouterr().out
@@ -308,8 +364,9 @@ def test_example_config_designs_saves_reports_and_draws(tmp_path, capsys):
     track = scene.springs[0]
     assert track.cable is not None and track.cable.shape[1:] == (3, 3)
     # the helix lies on the first segment, as long as the spring, and the cable starts where it ends
-    np.testing.assert_allclose(np.linalg.norm(track.ends - track.starts, axis=1), scene.evaluation.lengths[:, 0],
-                               atol=1e-12)
+    np.testing.assert_allclose(
+        np.linalg.norm(track.ends - track.starts, axis=1), scene.evaluation.lengths[:, 0], atol=1e-12
+    )
     np.testing.assert_allclose(track.cable[:, 0], track.ends, atol=1e-12)
     np.testing.assert_allclose(track.cable[:, -1], track.points_by_end()["b"], atol=1e-12)
     # what meshcat receives: each cable segment, a unit cylinder along y, spans its two points in every frame
@@ -329,24 +386,40 @@ def test_example_config_designs_saves_reports_and_draws(tmp_path, capsys):
         tracks = {track["name"]: [key["value"] for key in track["keys"]] for track in clip["tracks"]}
         for frame in range(scene.size):
             x, y, z, w = tracks[".quaternion"][frame]
-            rotation = np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                                 [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                                 [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+            rotation = np.array(
+                [
+                    [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                    [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                    [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+                ]
+            )
             scale, position = np.array(tracks[".scale"][frame]), np.array(tracks[".position"][frame])
-            ends = sorted([position + rotation @ (scale * [0, -0.5, 0]), position + rotation @ (scale * [0, 0.5, 0])],
-                          key=lambda p: np.linalg.norm(p - track.cable[frame, segment]))
+            ends = sorted(
+                [position + rotation @ (scale * [0, -0.5, 0]), position + rotation @ (scale * [0, 0.5, 0])],
+                key=lambda p: np.linalg.norm(p - track.cable[frame, segment]),
+            )
             np.testing.assert_allclose(ends[0], track.cable[frame, segment], atol=1e-9)
             np.testing.assert_allclose(ends[1], track.cable[frame, segment + 1], atol=1e-9)
 
 
-@pytest.mark.parametrize("path_text, cable, expected", [
-    ("[{body: link1, point: [-0.35, 0, 0]}]", "0.1", "at least two points"),
-    ("[{body: link1, point: [-0.35, 0, 0]}, {body: link1, point: [-0.35, 0, 0]}, {body: ground, point: [0, 0, 0.1]}]",
-     "0.1", "coincide on body 'link1'"),
-    ("[{body: link1, point: [-0.35, 0, 0]}, {body: link1, point: [0.04, 0, 0], pulley: {radius: -0.01}}, "
-     "{body: ground, point: [0, 0, 0.1]}]", "0.1", "path[1].pulley.radius"),
-    (GOOD_PATH, "2.0", "would be slack everywhere"),
-])
+@pytest.mark.parametrize(
+    "path_text, cable, expected",
+    [
+        ("[{body: link1, point: [-0.35, 0, 0]}]", "0.1", "at least two points"),
+        (
+            "[{body: link1, point: [-0.35, 0, 0]}, {body: link1, point: [-0.35, 0, 0]}, {body: ground, point: [0, 0, 0.1]}]",
+            "0.1",
+            "coincide on body 'link1'",
+        ),
+        (
+            "[{body: link1, point: [-0.35, 0, 0]}, {body: link1, point: [0.04, 0, 0], pulley: {radius: -0.01}}, "
+            "{body: ground, point: [0, 0, 0.1]}]",
+            "0.1",
+            "path[1].pulley.radius",
+        ),
+        (GOOD_PATH, "2.0", "would be slack everywhere"),
+    ],
+)
 def test_bad_routed_springs_get_one_line_naming_the_culprit(tmp_path, capsys, path_text, cable, expected):
     config = _config(tmp_path, path_text, cable)
     out = tmp_path / "design.json"

@@ -42,14 +42,15 @@ SHIGLEY_CASES = {
 @pytest.mark.parametrize("case", SHIGLEY_CASES)
 def test_shigley_spring_rate_index_and_strength(case):
     d, outside, active, shear_modulus, sut, ssy, index, kb, force, rate = SHIGLEY_CASES[case]
-    mean = outside - d                                                   # D = OD - d [in]
+    mean = outside - d  # D = OD - d [in]
     assert mean / d == pytest.approx(index, rel=0.01)
     assert sizing.bergstrasser_factor(mean / d) == pytest.approx(kb, rel=0.01)
     # k = G d^4 / (8 D^3 n) in the book's units [lbf/in]
     assert sizing.spring_rate(shear_modulus, d, mean, active) == pytest.approx(rate, rel=0.01)
     # the same spring in SI units
-    assert sizing.spring_rate(shear_modulus * KPSI / 1e3, d * INCH, mean * INCH, active) == \
-        pytest.approx(rate * LBF / INCH, rel=0.01)
+    assert sizing.spring_rate(shear_modulus * KPSI / 1e3, d * INCH, mean * INCH, active) == pytest.approx(
+        rate * LBF / INCH, rel=0.01
+    )
     # S_ut = A / d^m of music wire (Table 10-4, SI constants) and 45 % allowable (Table 10-6)
     music_wire = sb.MATERIALS["music_wire"]
     assert music_wire.tensile_strength(d * INCH) / KPSI == pytest.approx(sut, rel=0.01)
@@ -57,7 +58,7 @@ def test_shigley_spring_rate_index_and_strength(case):
     # the book's yield load with K_B, and the Wahl-corrected stress at that load
     bergstrasser = sizing.shear_stress(force, d, mean, factor=sizing.bergstrasser_factor)  # [psi]
     assert bergstrasser / 1e3 == pytest.approx(ssy, rel=0.01)
-    wahl = sizing.shear_stress(force * LBF, d * INCH, mean * INCH)                          # [Pa]
+    wahl = sizing.shear_stress(force * LBF, d * INCH, mean * INCH)  # [Pa]
     assert wahl / KPSI == pytest.approx(ssy, rel=0.01)
     assert sizing.wahl_factor(mean / d) == pytest.approx(kb, rel=0.01)
 
@@ -72,25 +73,29 @@ def test_sizing_proposal_realises_the_designed_spring():
     """Problem 10-3's spring as a design target: k, yield load, free length; the proposal must
     have exactly that rate, a Wahl stress within the allowable, an index in 4–15 and a
     solid length below the shortest working length."""
-    k = 11.55 * LBF / INCH                     # [N/m]
-    force = 45.2 * LBF                         # [N]
-    free_length = 5.17 * INCH                  # [m]
-    min_length = free_length - force / k       # [m]
+    k = 11.55 * LBF / INCH  # [N/m]
+    force = 45.2 * LBF  # [N]
+    free_length = 5.17 * INCH  # [m]
+    min_length = free_length - force / k  # [m]
     design = sb.size_helical_spring(k, free_length, free_length, force, material="music_wire", kind="compression")
     assert design.feasible, design.reasons
     G = sb.MATERIALS["music_wire"].shear_modulus
-    assert sizing.spring_rate(G, design.wire_diameter, design.mean_diameter, design.active_coils) == \
-        pytest.approx(k, rel=1e-9)
+    assert sizing.spring_rate(G, design.wire_diameter, design.mean_diameter, design.active_coils) == pytest.approx(
+        k, rel=1e-9
+    )
     assert design.rate == pytest.approx(k, rel=1e-9)
     assert 4 <= design.index <= 15 and design.index == pytest.approx(design.mean_diameter / design.wire_diameter)
-    assert design.stress == pytest.approx(sizing.wahl_factor(design.index) * 8 * force * design.mean_diameter
-                                          / (np.pi * design.wire_diameter**3), rel=1e-12)
+    assert design.stress == pytest.approx(
+        sizing.wahl_factor(design.index) * 8 * force * design.mean_diameter / (np.pi * design.wire_diameter**3),
+        rel=1e-12,
+    )
     assert design.stress <= design.allowable_stress
     assert design.solid_length == pytest.approx(design.wire_diameter * (design.active_coils + 2), rel=1e-12)
     assert design.solid_length <= min_length
     assert design.wire_diameter * 1e3 in [pytest.approx(v * 1e3) for v in sizing.PREFERRED_WIRE_DIAMETERS]
-    assert design.mass == pytest.approx(7800 * np.pi * design.mean_diameter * design.total_coils
-                                        * np.pi * design.wire_diameter**2 / 4, rel=1e-12)
+    assert design.mass == pytest.approx(
+        7800 * np.pi * design.mean_diameter * design.total_coils * np.pi * design.wire_diameter**2 / 4, rel=1e-12
+    )
     assert "music wire" in design.summary()
 
 
@@ -112,13 +117,13 @@ def _exists_by_scan(k, l0, length, force, kind, index=8.0, min_coils=3.0, fracti
     """Is there a wire 0.10–6.5 mm with which a music-wire spring of this index works?
     Scans d finely using only the textbook relations."""
     d = np.linspace(0.10e-3, 6.5e-3, 100_001)
-    coils = G_MUSIC * d / (8 * index**3 * k)                                       # n from k = G d / (8 C³ n)
+    coils = G_MUSIC * d / (8 * index**3 * k)  # n from k = G d / (8 C³ n)
     if kind == "extension":
-        fits = 2 * (index * d - d) + d * (coils + 1) <= l0                         # hooks + closed body
+        fits = 2 * (index * d - d) + d * (coils + 1) <= l0  # hooks + closed body
     else:
-        fits = d * (coils + 2) <= length                                           # solid length
+        fits = d * (coils + 2) <= length  # solid length
     wahl = (4 * index - 1) / (4 * index - 4) + 0.615 / index
-    stress = wahl * 8 * abs(force) * index * d / (np.pi * d**3)                     # D = C d
+    stress = wahl * 8 * abs(force) * index * d / (np.pi * d**3)  # D = C d
     strong = stress <= fraction * A_MUSIC * 1e6 / (d * 1e3) ** M_MUSIC
     return bool(np.any(fits & strong & (coils >= min_coils)))
 
@@ -130,10 +135,10 @@ def test_helical_rows_are_exact(kind):
     constraint = sb.springs.constraints.HelicalSpringExists(sb.Helical("music_wire", 8.0, 3.0), kind)
     agree = 0
     for _ in range(200):
-        k = 10 ** rng.uniform(1, 4.5)                   # [N/m]
-        l0 = rng.uniform(0.01, 0.4)                     # [m]
-        length = rng.uniform(0.01, 0.4)                 # [m]
-        force = 10 ** rng.uniform(-0.5, 3)              # [N]
+        k = 10 ** rng.uniform(1, 4.5)  # [N/m]
+        l0 = rng.uniform(0.01, 0.4)  # [m]
+        length = rng.uniform(0.01, 0.4)  # [m]
+        force = 10 ** rng.uniform(-0.5, 3)  # [N]
         rows = constraint.rows(length, force, {"stiffness": k, "free_length": l0})
         margin = min(float(row) / scale for row, (_, _, scale) in zip(rows, constraint.parts))
         if abs(margin) < 1e-2:
@@ -142,8 +147,10 @@ def test_helical_rows_are_exact(kind):
         agree += 1
     assert agree > 170
     # the rows that random draws rarely make binding: the thickest and the thinnest wire
-    for k, room, force, binding in ((2000.0, 5.0, 3000.0, "helical_max_wire"),   # 6.5 mm cannot carry 3 kN
-                                    (10.0, 0.001, 0.1, "helical_min_wire")):     # no 0.1 mm coil fits in 1 mm
+    for k, room, force, binding in (
+        (2000.0, 5.0, 3000.0, "helical_max_wire"),  # 6.5 mm cannot carry 3 kN
+        (10.0, 0.001, 0.1, "helical_min_wire"),
+    ):  # no 0.1 mm coil fits in 1 mm
         rows = constraint.rows(room, force, {"stiffness": k, "free_length": room})
         names = [name for name, _, _ in constraint.parts]
         assert float(rows[names.index(binding)]) < 0
@@ -157,8 +164,13 @@ def test_helical_option_in_the_optimisation(tmp_path):
     workspace = sb.Workspace.grid(mechanism, 181)
 
     def design(helical):
-        spring = sb.ExtensionSpring(sb.Anchor("universe", (0, 0, 0.1)), sb.Anchor("link1", (0.2, 0, 0)),
-                                    stiffness=sb.Free(1, 500), free_length=sb.Free(0.02, 0.2), helical=helical)
+        spring = sb.ExtensionSpring(
+            sb.Anchor("universe", (0, 0, 0.1)),
+            sb.Anchor("link1", (0.2, 0, 0)),
+            stiffness=sb.Free(1, 500),
+            free_length=sb.Free(0.02, 0.2),
+            helical=helical,
+        )
         return sb.solve(sb.DesignProblem(mechanism, workspace, [spring], objective="rms"), starts=2)
 
     def exists(result, relief=1e-3):

@@ -32,7 +32,8 @@ def test_coil_mass_formula_matches_wire_volume():
     from_material = sb.CoilMass(coil_diameter=0.04, active_coils=80, material="music_wire")
     assert from_material.wire_length == pytest.approx(np.pi * 0.04 * 82)
     assert from_material.value({"stiffness": 324.0}) == pytest.approx(
-        coil_mass(324.0, 0.04, 80, np.pi * 0.04 * 82, 81.0e9, 7800.0), rel=1e-12)
+        coil_mass(324.0, 0.04, 80, np.pi * 0.04 * 82, 81.0e9, 7800.0), rel=1e-12
+    )
 
 
 def test_half_mass_at_each_end_of_a_single_link():
@@ -42,14 +43,16 @@ def test_half_mass_at_each_end_of_a_single_link():
     mechanism = sb.Mechanism.from_urdf(URDF / "single_link_r1.urdf")
     workspace = sb.Workspace.grid(mechanism, 37, ranges={"pivot": (-np.pi, np.pi)})
     phi = workspace.joint_values[:, 0]
-    spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", (0, 0, 0.16)), sb.Anchor("link1", (0, 0, 0.3)),
-                                     stiffness=0.0, mass=0.5)
+    spring = sb.ZeroFreeLengthSpring(
+        sb.Anchor("universe", (0, 0, 0.16)), sb.Anchor("link1", (0, 0, 0.3)), stiffness=0.0, mass=0.5
+    )
     evaluation = sb.DesignProblem(mechanism, workspace, [spring]).evaluate(np.zeros(0))
     g = 9.81
     np.testing.assert_allclose(evaluation.tau[:, 0], -(8.0 * 0.183 + 0.25 * 0.3) * g * np.sin(phi), atol=1e-12)
     # potential: link, then m/2 at A = (0, -0.3 sin phi, 0.3 cos phi) and m/2 at B = (0, 0, 0.16)
-    np.testing.assert_allclose(evaluation.potential,
-                               g * (8.0 * 0.183 * np.cos(phi) + 0.25 * 0.3 * np.cos(phi) + 0.25 * 0.16), atol=1e-12)
+    np.testing.assert_allclose(
+        evaluation.potential, g * (8.0 * 0.183 * np.cos(phi) + 0.25 * 0.3 * np.cos(phi) + 0.25 * 0.16), atol=1e-12
+    )
 
 
 @pytest.mark.parametrize("coupled", [False, True])
@@ -71,15 +74,34 @@ def test_spring_mass_on_ur5_matches_potential_gradient(coupled):
             mass = value = rng.uniform(0.1, 1.5)
         kind = ("extension", "compression", "zero_free_length")[index]
         if kind == "extension":
-            springs.append(sb.ExtensionSpring(sb.Anchor(body_a, pa), sb.Anchor(body_b, pb), stiffness=k, free_length=l0,
-                                              keep_tension=False, mass=mass))
+            springs.append(
+                sb.ExtensionSpring(
+                    sb.Anchor(body_a, pa),
+                    sb.Anchor(body_b, pb),
+                    stiffness=k,
+                    free_length=l0,
+                    keep_tension=False,
+                    mass=mass,
+                )
+            )
             reference.append(RefSpring(body_a, tuple(pa), body_b, tuple(pb), k, l0, mass=value))
         elif kind == "compression":
-            springs.append(sb.CompressionSpring(sb.Anchor(body_a, pa), sb.Anchor(body_b, pb), stiffness=k,
-                                                free_length=l0, preload=5.0, stays_compressed=False, mass=mass))
+            springs.append(
+                sb.CompressionSpring(
+                    sb.Anchor(body_a, pa),
+                    sb.Anchor(body_b, pb),
+                    stiffness=k,
+                    free_length=l0,
+                    preload=5.0,
+                    stays_compressed=False,
+                    mass=mass,
+                )
+            )
             reference.append(RefSpring(body_a, tuple(pa), body_b, tuple(pb), k, l0, 5.0, law="compression", mass=value))
         else:
-            springs.append(sb.ZeroFreeLengthSpring(sb.Anchor(body_a, pa), sb.Anchor(body_b, pb), stiffness=k, mass=mass))
+            springs.append(
+                sb.ZeroFreeLengthSpring(sb.Anchor(body_a, pa), sb.Anchor(body_b, pb), stiffness=k, mass=mass)
+            )
             reference.append(RefSpring(body_a, tuple(pa), body_b, tuple(pb), k, zero_free_length=True, mass=value))
     problem = sb.DesignProblem(ur5, workspace, springs)
     evaluation = problem.evaluate(np.zeros(0))
@@ -98,8 +120,9 @@ def test_coupled_mass_follows_k_inside_the_optimisation():
     mechanism = sb.Mechanism.from_urdf(URDF / "single_link_r1.urdf")
     workspace = sb.Workspace.grid(mechanism, 9, ranges={"pivot": (2 * np.pi / 3, np.pi)})
     coil = sb.CoilMass(coil_diameter=0.04, active_coils=80, wire_length=10.38, shear_modulus=81e9, density=7800)
-    spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", (0, 0, 0.16)), sb.Anchor("link1", (0, 0, 0.3)),
-                                     stiffness=sb.Free(1, 2000), mass=coil)
+    spring = sb.ZeroFreeLengthSpring(
+        sb.Anchor("universe", (0, 0, 0.16)), sb.Anchor("link1", (0, 0, 0.3)), stiffness=sb.Free(1, 2000), mass=coil
+    )
     problem = sb.DesignProblem(mechanism, workspace, [spring])
     import casadi as ca
 
@@ -111,6 +134,6 @@ def test_coupled_mass_follows_k_inside_the_optimisation():
     assert derivative == pytest.approx(finite, rel=1e-6)
     # and it differs from the massless slope by the mass term -(1/2) dm/dk g r sin(phi)
     phi = workspace.joint_values[3, 0]
-    massless = 0.16 * 0.3 * np.sin(phi)                               # d/dk of k Y_B r sin(phi)
+    massless = 0.16 * 0.3 * np.sin(phi)  # d/dk of k Y_B r sin(phi)
     dm_dk = coil_mass(324.0, 0.04, 80, 10.38, 81e9, 7800) / (2 * 324.0)
     assert derivative == pytest.approx(massless - 0.5 * dm_dk * 9.81 * 0.3 * np.sin(phi), rel=1e-9)

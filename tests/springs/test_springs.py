@@ -45,22 +45,50 @@ def test_mixed_springs_on_ur5_match_potential_gradient(ur5, seed):
     ground = rng.uniform([-0.4, -0.4, 0.0], [0.4, 0.4, 0.8], size=(4, 3))
     k, l0, f0 = rng.uniform(100, 3000, 4), rng.uniform(0.3, 1.5, 4), rng.uniform(5, 80, 4)
     springs = [
-        sb.ExtensionSpring(sb.Anchor("universe", ground[0]), sb.Anchor("upper_arm_link", pb[0]), stiffness=k[0],
-                           free_length=l0[0], initial_tension=f0[0], keep_tension=False),
-        sb.CompressionSpring(sb.Anchor("universe", ground[1]), sb.Anchor("forearm_link", pb[1]), stiffness=k[1],
-                             free_length=l0[1], preload=f0[1], stays_compressed=False),
-        sb.GasSpring(sb.Anchor("shoulder_link", pa[2]), sb.Anchor("forearm_link", pb[2]), stiffness=k[2],
-                     free_length=l0[2], preload=f0[2], stays_compressed=False),
+        sb.ExtensionSpring(
+            sb.Anchor("universe", ground[0]),
+            sb.Anchor("upper_arm_link", pb[0]),
+            stiffness=k[0],
+            free_length=l0[0],
+            initial_tension=f0[0],
+            keep_tension=False,
+        ),
+        sb.CompressionSpring(
+            sb.Anchor("universe", ground[1]),
+            sb.Anchor("forearm_link", pb[1]),
+            stiffness=k[1],
+            free_length=l0[1],
+            preload=f0[1],
+            stays_compressed=False,
+        ),
+        sb.GasSpring(
+            sb.Anchor("shoulder_link", pa[2]),
+            sb.Anchor("forearm_link", pb[2]),
+            stiffness=k[2],
+            free_length=l0[2],
+            preload=f0[2],
+            stays_compressed=False,
+        ),
         sb.ConstantForceSpring(sb.Anchor("upper_arm_link", pa[3]), sb.Anchor("wrist_1_link", pb[3]), force=-f0[3]),
         sb.TorsionalSpring("elbow_joint", stiffness=12.0, neutral_angle=0.4, preload=-3.0),
         sb.TorsionalSpring("shoulder_lift_joint", stiffness=40.0, neutral_angle=-1.2),
     ]
-    reference = ReferencePotential(ur5.model, [
-        RefSpring("universe", tuple(ground[0]), "upper_arm_link", tuple(pb[0]), k[0], l0[0], f0[0]),
-        RefSpring("universe", tuple(ground[1]), "forearm_link", tuple(pb[1]), k[1], l0[1], f0[1], law="compression"),
-        RefSpring("shoulder_link", tuple(pa[2]), "forearm_link", tuple(pb[2]), k[2], l0[2], f0[2], law="compression"),
-        RefSpring("upper_arm_link", tuple(pa[3]), "wrist_1_link", tuple(pb[3]), 0.0, 0.0, -f0[3], law="constant_force"),
-    ], [RefTorsional("elbow_joint", 12.0, 0.4, -3.0), RefTorsional("shoulder_lift_joint", 40.0, -1.2)])
+    reference = ReferencePotential(
+        ur5.model,
+        [
+            RefSpring("universe", tuple(ground[0]), "upper_arm_link", tuple(pb[0]), k[0], l0[0], f0[0]),
+            RefSpring(
+                "universe", tuple(ground[1]), "forearm_link", tuple(pb[1]), k[1], l0[1], f0[1], law="compression"
+            ),
+            RefSpring(
+                "shoulder_link", tuple(pa[2]), "forearm_link", tuple(pb[2]), k[2], l0[2], f0[2], law="compression"
+            ),
+            RefSpring(
+                "upper_arm_link", tuple(pa[3]), "wrist_1_link", tuple(pb[3]), 0.0, 0.0, -f0[3], law="constant_force"
+            ),
+        ],
+        [RefTorsional("elbow_joint", 12.0, 0.4, -3.0), RefTorsional("shoulder_lift_joint", 40.0, -1.2)],
+    )
     problem = sb.DesignProblem(ur5, workspace, springs)
     evaluation = problem.evaluate(np.zeros(0))
     _assert_gradient(ur5, workspace, evaluation, reference)
@@ -91,16 +119,26 @@ def test_torsional_spring_on_continuous_joint():
 def _linear_cases():
     a, b = sb.Anchor("universe", (0.02, 0.01, 0.12)), sb.Anchor("link1", (0.2, 0.0, 0.03))
     return [
-        (sb.ExtensionSpring(a, b, stiffness=sb.Free(0, 500), free_length=0.05, initial_tension=sb.Free(0, 20),
-                            keep_tension=False), ("stiffness", "initial_tension")),
-        (sb.CompressionSpring(a, b, stiffness=sb.Free(0, 500), free_length=0.5, preload=sb.Free(0, 20)),
-         ("stiffness", "preload")),
-        (sb.GasSpring(a, b, stiffness=sb.Free(0, 500), free_length=0.5, preload=sb.Free(0, 20), mass=0.3),
-         ("stiffness", "preload")),
+        (
+            sb.ExtensionSpring(
+                a, b, stiffness=sb.Free(0, 500), free_length=0.05, initial_tension=sb.Free(0, 20), keep_tension=False
+            ),
+            ("stiffness", "initial_tension"),
+        ),
+        (
+            sb.CompressionSpring(a, b, stiffness=sb.Free(0, 500), free_length=0.5, preload=sb.Free(0, 20)),
+            ("stiffness", "preload"),
+        ),
+        (
+            sb.GasSpring(a, b, stiffness=sb.Free(0, 500), free_length=0.5, preload=sb.Free(0, 20), mass=0.3),
+            ("stiffness", "preload"),
+        ),
         (sb.ConstantForceSpring(a, b, force=sb.Free(-20, 20)), ("force",)),
         (sb.ZeroFreeLengthSpring(a, b, stiffness=sb.Free(0, 500), mass=0.2), ("stiffness",)),
-        (sb.TorsionalSpring("theta", stiffness=sb.Free(0, 5), neutral_angle=0.3, preload=sb.Free(-1, 1)),
-         ("stiffness", "preload")),
+        (
+            sb.TorsionalSpring("theta", stiffness=sb.Free(0, 5), neutral_angle=0.3, preload=sb.Free(-1, 1)),
+            ("stiffness", "preload"),
+        ),
     ]
 
 
@@ -130,8 +168,9 @@ def test_coupled_mass_makes_stiffness_nonlinear():
     """m_s ∝ √k (docs/model.md §5): the torque is no longer linear in k, so k leaves the linear fit."""
     a, b = sb.Anchor("universe", (0, 0, 0.16)), sb.Anchor("link1", (0, 0, 0.3))
     coil = sb.CoilMass(coil_diameter=0.04, active_coils=80, wire_length=10.38, shear_modulus=81e9, density=7800)
-    spring = sb.ExtensionSpring(a, b, stiffness=sb.Free(1, 500), free_length=0.1, initial_tension=sb.Free(0, 5),
-                                mass=coil)
+    spring = sb.ExtensionSpring(
+        a, b, stiffness=sb.Free(1, 500), free_length=0.1, initial_tension=sb.Free(0, 5), mass=coil
+    )
     assert spring.linear_parameters == ("initial_tension",)
     spring.mass = None
     assert spring.linear_parameters == ("stiffness", "initial_tension")
@@ -142,23 +181,62 @@ def test_coupled_mass_makes_stiffness_nonlinear():
 # ---------------------------------------------------------------------- records
 def _record_cases():
     return [
-        {"name": "g", "type": "gas", "a": {"body": "universe", "point": [0.05, 0, -0.05]},
-         "b": {"body": "link1", "segment": {"start": [0.05, 0, 0], "end": [0.3, 0, 0]}},
-         "stiffness": {"lower": 0, "upper": 1000}, "free_length": 0.3, "preload": {"lower": 0, "upper": 100},
-         "stays_compressed": True, "stroke": 0.2, "mass": 0.25, "max_force": 150.0},
-        {"name": "c", "type": "compression", "ideal": True, "a": {"body": "universe", "point": [0, 0, -0.1]},
-         "b": {"body": "link1", "point": [0.1, 0, 0]}, "stiffness": {"lower": 10, "upper": 5000},
-         "free_length": 0.3, "preload": 0.0, "stays_compressed": False,
-         "mass": {"coil_diameter": 0.03, "active_coils": 12, "material": "chrome_silicon"},
-         "helical": {"material": "chrome_silicon", "index": 7, "min_active_coils": 4}},
-        {"name": "e", "type": "extension", "ideal": True, "a": {"body": "universe", "point": [0, 0, 0.1]},
-         "b": {"body": "link1", "point": [0.2, 0, 0]}, "stiffness": {"lower": 1, "upper": 500},
-         "free_length": {"lower": 0.03, "upper": 0.1}, "initial_tension": 0.0, "keep_tension": True,
-         "helical": {"material": "stainless_302"}},
-        {"name": "f", "type": "constant_force", "a": {"body": "universe", "point": [0, 0, 0.2]},
-         "b": {"body": "link1", "point": [0.2, 0, 0]}, "force": {"lower": -30, "upper": 30}, "min_length": 0.05},
-        {"name": "t", "type": "torsional", "joint": "theta", "stiffness": {"lower": 0, "upper": 5},
-         "neutral_angle": {"lower": -3, "upper": 3}, "preload": 0.0, "max_torque": 4.0, "max_deflection": 2.0},
+        {
+            "name": "g",
+            "type": "gas",
+            "a": {"body": "universe", "point": [0.05, 0, -0.05]},
+            "b": {"body": "link1", "segment": {"start": [0.05, 0, 0], "end": [0.3, 0, 0]}},
+            "stiffness": {"lower": 0, "upper": 1000},
+            "free_length": 0.3,
+            "preload": {"lower": 0, "upper": 100},
+            "stays_compressed": True,
+            "stroke": 0.2,
+            "mass": 0.25,
+            "max_force": 150.0,
+        },
+        {
+            "name": "c",
+            "type": "compression",
+            "ideal": True,
+            "a": {"body": "universe", "point": [0, 0, -0.1]},
+            "b": {"body": "link1", "point": [0.1, 0, 0]},
+            "stiffness": {"lower": 10, "upper": 5000},
+            "free_length": 0.3,
+            "preload": 0.0,
+            "stays_compressed": False,
+            "mass": {"coil_diameter": 0.03, "active_coils": 12, "material": "chrome_silicon"},
+            "helical": {"material": "chrome_silicon", "index": 7, "min_active_coils": 4},
+        },
+        {
+            "name": "e",
+            "type": "extension",
+            "ideal": True,
+            "a": {"body": "universe", "point": [0, 0, 0.1]},
+            "b": {"body": "link1", "point": [0.2, 0, 0]},
+            "stiffness": {"lower": 1, "upper": 500},
+            "free_length": {"lower": 0.03, "upper": 0.1},
+            "initial_tension": 0.0,
+            "keep_tension": True,
+            "helical": {"material": "stainless_302"},
+        },
+        {
+            "name": "f",
+            "type": "constant_force",
+            "a": {"body": "universe", "point": [0, 0, 0.2]},
+            "b": {"body": "link1", "point": [0.2, 0, 0]},
+            "force": {"lower": -30, "upper": 30},
+            "min_length": 0.05,
+        },
+        {
+            "name": "t",
+            "type": "torsional",
+            "joint": "theta",
+            "stiffness": {"lower": 0, "upper": 5},
+            "neutral_angle": {"lower": -3, "upper": 3},
+            "preload": 0.0,
+            "max_torque": 4.0,
+            "max_deflection": 2.0,
+        },
     ]
 
 
@@ -175,31 +253,69 @@ def test_record_errors_name_the_key():
     with pytest.raises(sb.InputError, match="missing key 'joint'"):
         sb.springs.spring_from_dict({"type": "torsional", "stiffness": 1.0, "neutral_angle": 0.0})
     with pytest.raises(sb.InputError, match="unknown key 'helical'"):
-        sb.springs.spring_from_dict({"type": "gas", "a": {"body": "universe"}, "b": {"body": "link1"},
-                                     "stiffness": 1.0, "free_length": 0.3, "helical": {}})
+        sb.springs.spring_from_dict(
+            {
+                "type": "gas",
+                "a": {"body": "universe"},
+                "b": {"body": "link1"},
+                "stiffness": 1.0,
+                "free_length": 0.3,
+                "helical": {},
+            }
+        )
     with pytest.raises(sb.InputError, match="mass: unknown key 'diameter'"):
-        sb.springs.spring_from_dict({"type": "zero_free_length", "a": {"body": "universe"}, "b": {"body": "link1"},
-                                     "stiffness": 1.0, "mass": {"diameter": 0.1}})
+        sb.springs.spring_from_dict(
+            {
+                "type": "zero_free_length",
+                "a": {"body": "universe"},
+                "b": {"body": "link1"},
+                "stiffness": 1.0,
+                "mass": {"diameter": 0.1},
+            }
+        )
     with pytest.raises(sb.InputError, match="unknown spring material 'steel'"):
-        sb.springs.spring_from_dict({"type": "extension", "ideal": True, "a": {"body": "universe"},
-                                     "b": {"body": "link1"}, "stiffness": 1.0, "free_length": 0.1,
-                                     "helical": {"material": "steel"}})
+        sb.springs.spring_from_dict(
+            {
+                "type": "extension",
+                "ideal": True,
+                "a": {"body": "universe"},
+                "b": {"body": "link1"},
+                "stiffness": 1.0,
+                "free_length": 0.1,
+                "helical": {"material": "steel"},
+            }
+        )
     with pytest.raises(sb.InputError, match="stays_compressed: expected true or false"):
-        sb.springs.spring_from_dict({"type": "gas", "a": {"body": "universe"}, "b": {"body": "link1"},
-                                     "stiffness": 1.0, "free_length": 0.3, "stays_compressed": "yes"})
+        sb.springs.spring_from_dict(
+            {
+                "type": "gas",
+                "a": {"body": "universe"},
+                "b": {"body": "link1"},
+                "stiffness": 1.0,
+                "free_length": 0.3,
+                "stays_compressed": "yes",
+            }
+        )
 
 
 def test_config_accepts_new_types_and_checks_joints(tmp_path):
     from springbalance.io.config import load_config
 
-    base = {"mechanism": {"urdf": str(URDF / "single_link_r2.urdf"), "gravity": 9.8},
-            "workspace": {"kind": "grid", "n": 31, "degrees": True, "ranges": {"theta": [0, 60]}},
-            "springs": _record_cases()}
+    base = {
+        "mechanism": {"urdf": str(URDF / "single_link_r2.urdf"), "gravity": 9.8},
+        "workspace": {"kind": "grid", "n": 31, "degrees": True, "ranges": {"theta": [0, 60]}},
+        "springs": _record_cases(),
+    }
     path = tmp_path / "config.json"
     path.write_text(json.dumps(base))
     config = load_config(path)
-    assert [spring.kind for spring in config.springs] == ["gas", "compression", "extension", "constant_force",
-                                                         "torsional"]
+    assert [spring.kind for spring in config.springs] == [
+        "gas",
+        "compression",
+        "extension",
+        "constant_force",
+        "torsional",
+    ]
     base["springs"] = [{"type": "torsional", "joint": "knee", "stiffness": 1.0, "neutral_angle": 0.0}]
     path.write_text(json.dumps(base))
     with pytest.raises(sb.ConfigError, match=r"springs\[0\]\.joint: unknown joint 'knee'"):
@@ -230,9 +346,9 @@ def test_mixed_design_balances_and_respects_gas_spring_limits(mixed_result):
     assert mixed_result.evaluation.max_violation <= 1e-6
     gas = mixed_result.spring("g")
     lengths = mixed_result.evaluation.lengths[:, 0]
-    assert np.all(lengths <= gas["free_length"] + 1e-6)                 # stays compressed
-    assert np.all(lengths >= gas["free_length"] - 0.2 - 1e-6)           # stroke 0.2 m
-    assert np.all(mixed_result.evaluation.tensions[:, 0] <= 0)          # it pushes
+    assert np.all(lengths <= gas["free_length"] + 1e-6)  # stays compressed
+    assert np.all(lengths >= gas["free_length"] - 0.2 - 1e-6)  # stroke 0.2 m
+    assert np.all(mixed_result.evaluation.tensions[:, 0] <= 0)  # it pushes
 
 
 def test_result_records_and_report_show_fields_per_type(mixed_result):

@@ -46,13 +46,16 @@ def test_half_turn_peak_optimum_beats_variance_optimum(link):
     theta = workspace.joint_values[:, 0]
     peak_result, peak_of_peak = _optimum(link, workspace, "peak")
     variance_result, peak_of_variance = _optimum(link, workspace, "pe_variance")
-    print(f"[torsional, theta 0..180°] peak optimum: peak {peak_of_peak:.4f} N·m; "
-          f"pe_variance optimum: peak {peak_of_variance:.4f} N·m; bare link {A:.4f} N·m")
+    print(
+        f"[torsional, theta 0..180°] peak optimum: peak {peak_of_peak:.4f} N·m; "
+        f"pe_variance optimum: peak {peak_of_variance:.4f} N·m; bare link {A:.4f} N·m"
+    )
     assert peak_of_peak < peak_of_variance < A
 
     # minimax in closed form (equioscillation)
-    k_star = brentq(lambda k: A * np.sin(np.arccos(k / A)) - k * np.arccos(k / A) - (k * np.pi / 2 - A),
-                    2 * A / np.pi, A)
+    k_star = brentq(
+        lambda k: A * np.sin(np.arccos(k / A)) - k * np.arccos(k / A) - (k * np.pi / 2 - A), 2 * A / np.pi, A
+    )
     assert peak_result.variables["s1.stiffness"] == pytest.approx(k_star, rel=1e-3)
     assert peak_result.variables["s1.neutral_angle"] == pytest.approx(np.pi / 2, abs=1e-3)
     assert peak_of_peak == pytest.approx(k_star * np.pi / 2 - A, rel=1e-4)
@@ -70,9 +73,11 @@ def test_full_turn_variance_optimum_raises_the_peak(link):
     workspace = sb.Workspace.grid(link, 361)  # theta in [-π, π], every 1°
     peak_result, peak_of_peak = _optimum(link, workspace, "peak")
     variance_result, peak_of_variance = _optimum(link, workspace, "pe_variance")
-    print(f"[torsional, full turn] peak optimum: peak {peak_of_peak:.4f} N·m; "
-          f"pe_variance optimum: peak {peak_of_variance:.4f} N·m; bare link {A:.4f} N·m")
-    assert peak_of_peak == pytest.approx(A, rel=1e-6)          # no torsional spring helps
+    print(
+        f"[torsional, full turn] peak optimum: peak {peak_of_peak:.4f} N·m; "
+        f"pe_variance optimum: peak {peak_of_variance:.4f} N·m; bare link {A:.4f} N·m"
+    )
+    assert peak_of_peak == pytest.approx(A, rel=1e-6)  # no torsional spring helps
     assert variance_result.variables["s1.stiffness"] > 0.01
-    assert peak_of_variance > 1.2 * A                          # variance minimisation raises the peak
+    assert peak_of_variance > 1.2 * A  # variance minimisation raises the peak
     assert peak_of_peak < peak_of_variance

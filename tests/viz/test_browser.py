@@ -20,7 +20,7 @@ from springbalance.viz import browser, colors
 from springbalance.viz import scene as viz
 from springbalance.viz.recorder import SceneRecorder
 
-pytestmark = pytest.mark.slow   # every test here opens headless Chromium
+pytestmark = pytest.mark.slow  # every test here opens headless Chromium
 
 
 def test_scene_renders_in_headless_chromium(design, tmp_path):
@@ -57,17 +57,19 @@ def test_chromium_census_finds_nothing_on_an_empty_scene(tmp_path):
     visualizer["/Background"].set_property("bottom_color", [0.8, 0.83, 0.88])
     page = tmp_path / "empty.html"
     page.write_text(viz._insert_before_body_end(visualizer.static_html(), colors.ColorScale(100).legend_html(True)))
-    census = browser.colour_census(browser.screenshot(page, tmp_path / "empty.png"), [LINK1_RGB],
-                                   browser.scale_colours())
+    census = browser.colour_census(
+        browser.screenshot(page, tmp_path / "empty.png"), [LINK1_RGB], browser.scale_colours()
+    )
     assert census.arm < 5 and census.spring < 5, census
 
 
 def test_magenta_spring_renders_in_headless_chromium(tmp_path):
     require_chromium()
-    path = elbow_path([120])                                 # link2 passes through the spring
+    path = elbow_path([120])  # link2 passes through the spring
     scene = viz.DesignScene(fixed_design(COLLISION_URDF, [crossing_spring()], path), path, margin=MARGIN)
     page = tmp_path / "clearance.html"
     page.write_text(scene.html(autoplay=False))
-    census = browser.colour_census(browser.screenshot(page, tmp_path / "clearance.png"), [LINK1_RGB],
-                                   [colors.CLEARANCE_RGB])
+    census = browser.colour_census(
+        browser.screenshot(page, tmp_path / "clearance.png"), [LINK1_RGB], [colors.CLEARANCE_RGB]
+    )
     assert census.arm >= 150 and census.spring >= 40, census

@@ -33,14 +33,14 @@ def _listening_sockets(pid: int) -> list[tuple[str, int]]:
             continue
         for line in Path(table).read_text().splitlines()[1:]:
             fields = line.split()
-            if fields[3] != "0A" or fields[9] not in inodes:     # 0A = LISTEN
+            if fields[3] != "0A" or fields[9] not in inodes:  # 0A = LISTEN
                 continue
             address, port = fields[1].split(":")
             raw = bytes.fromhex(address)
             if width == 8:
                 text = socket.inet_ntop(socket.AF_INET, raw[::-1])
             else:
-                text = socket.inet_ntop(socket.AF_INET6, b"".join(raw[i:i + 4][::-1] for i in range(0, 16, 4)))
+                text = socket.inet_ntop(socket.AF_INET6, b"".join(raw[i : i + 4][::-1] for i in range(0, 16, 4)))
             found.append((text, int(port, 16)))
     return found
 
@@ -67,7 +67,7 @@ def _outside_address() -> str | None:
     """An address of this machine other than loopback, if it has one."""
     with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as probe:
         try:
-            probe.connect(("192.0.2.1", 9))        # TEST-NET address: nothing is sent
+            probe.connect(("192.0.2.1", 9))  # TEST-NET address: nothing is sent
             address = probe.getsockname()[0]
         except OSError:
             return None
@@ -78,15 +78,19 @@ def _outside_address() -> str | None:
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads listening sockets from /proc")
 def test_view_serves_on_loopback_only_and_stops_cleanly_on_ctrl_c(design_file):
     port = _free_port()
-    process = subprocess.Popen([sys.executable, "-m", "springbalance.cli", "view", str(design_file), "--port", str(port),
-                                "--frames", "8"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    process = subprocess.Popen(
+        [sys.executable, "-m", "springbalance.cli", "view", str(design_file), "--port", str(port), "--frames", "8"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     try:
         first = process.stdout.readline()
         assert f"http://127.0.0.1:{port}/static/" in first, (first, process.stderr.read() if process.poll() else "")
         servers = _children(process.pid)
         assert len(servers) == 1
         sockets = _listening_sockets(servers[0]) + _listening_sockets(process.pid)
-        assert (("127.0.0.1", port) in sockets) and len(sockets) >= 2, sockets    # web page and ZeroMQ
+        assert (("127.0.0.1", port) in sockets) and len(sockets) >= 2, sockets  # web page and ZeroMQ
         assert all(address == "127.0.0.1" for address, _ in sockets), sockets
         with urllib.request.urlopen(f"http://127.0.0.1:{port}/static/", timeout=10) as response:
             assert response.status == 200 and b"meshcat" in response.read().lower()
@@ -123,8 +127,12 @@ def test_view_on_a_busy_port_fails_in_one_line(design_file):
         busy.bind(("127.0.0.1", 0))
         busy.listen()
         port = busy.getsockname()[1]
-        completed = subprocess.run([sys.executable, "-m", "springbalance.cli", "view", str(design_file), "--port",
-                                    str(port)], capture_output=True, text=True, timeout=60)
+        completed = subprocess.run(
+            [sys.executable, "-m", "springbalance.cli", "view", str(design_file), "--port", str(port)],
+            capture_output=True,
+            text=True,
+            timeout=60,
+        )
     assert completed.returncode == 2
     lines = completed.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("springbalance: error: the meshcat server exited"), lines

@@ -42,7 +42,7 @@ def test_helix_ends_are_the_model_spring_ends(make):
     path = lower + (upper - lower) * rng.random((12, mechanism.nv))
     scene = viz.DesignScene(result, path)
     expected = model_end_points(result, path)
-    lengths = result.evaluate_on(sb.Workspace.from_array(mechanism, path)).lengths   # the CasADi model's lengths
+    lengths = result.evaluate_on(sb.Workspace.from_array(mechanism, path)).lengths  # the CasADi model's lengths
     for column, spring in enumerate(scene.springs):
         starts, ends = expected[spring.name]
         for frame in range(len(path)):
@@ -57,9 +57,13 @@ def test_helix_ends_are_the_model_spring_ends(make):
 
 
 def _quaternion_matrix(x, y, z, w):
-    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+        ]
+    )
 
 
 def test_what_meshcat_receives_puts_the_helix_ends_on_the_model_ends(design):
@@ -102,8 +106,11 @@ def test_animation_is_replayed_after_the_objects(design):
     """A browser (or the static page) gets the tree depth first; the colour tracks bind to the
     helix meshes only if the animation comes after them."""
     _, recorder = recorded_scene(design, sweeps.animation_path(design, 8))
-    order = [("animation" if node.animation is not None else "object") for node in walk(recorder.tree)
-             if node.animation is not None or node.object is not None]
+    order = [
+        ("animation" if node.animation is not None else "object")
+        for node in walk(recorder.tree)
+        if node.animation is not None or node.object is not None
+    ]
     assert order.count("animation") == 1 and order[-1] == "animation"
 
 
@@ -112,7 +119,7 @@ def test_regions_sit_on_their_bodies(design):
     path = sweeps.animation_path(design, 8)
     scene = viz.DesignScene(design, path)
     regions = {(r.spring, r.end): r for r in scene.regions}
-    assert set(regions) == {("shoulder", "b"), ("forearm", "a")}                # fixed anchors have none
+    assert set(regions) == {("shoulder", "b"), ("forearm", "a")}  # fixed anchors have none
     segment = regions[("shoulder", "b")]
     assert segment.kind == "segment" and segment.body == "link1"
     np.testing.assert_allclose(segment.corners, [[0.24, 0, 0], [0.38, 0, 0]])  # 0.1 + [0.4, 0.8]·0.35
@@ -135,7 +142,7 @@ def test_animation_path_sweeps_each_joint_and_comes_back(design):
     np.testing.assert_allclose(path.min(axis=0), lower)
     np.testing.assert_allclose(path.max(axis=0), upper)
     moving = np.count_nonzero(np.abs(np.diff(path, axis=0)) > 0, axis=1)
-    assert np.all(moving == 1)                                   # one joint at a time, no jumps
+    assert np.all(moving == 1)  # one joint at a time, no jumps
     assert len(path) == 1 + 2 * 16
 
 
@@ -145,20 +152,21 @@ def test_mechanism_without_visuals_is_drawn_as_a_stick_figure():
     mechanism = sb.Mechanism.from_urdf_string(text, gravity=9.8)
     assert arm.visual_geometry(mechanism).ngeoms == 0
     workspace = sb.Workspace.grid(mechanism, 9)
-    spring = sb.ZeroFreeLengthSpring(sb.Anchor("universe", (0, 0, 0.1)), sb.Anchor("link1", (0.2, 0, 0)),
-                                     stiffness=122.5)
+    spring = sb.ZeroFreeLengthSpring(
+        sb.Anchor("universe", (0, 0, 0.1)), sb.Anchor("link1", (0.2, 0, 0)), stiffness=122.5
+    )
     result = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [spring]), np.zeros(0))
     page = viz.scene_html(result, frames_per_joint=8)
     figure = arm.stick_figure(mechanism.model)
     names = [g.name for g in figure.geometryObjects]
-    assert "joint_theta" in names and "com_theta" in names         # a joint ball and the centre of mass
-    assert page.count("fetch(\"data:") > 10
+    assert "joint_theta" in names and "com_theta" in names  # a joint ball and the centre of mass
+    assert page.count('fetch("data:') > 10
 
 
 def test_urdf_string_with_visuals_uses_them():
     mechanism = sb.Mechanism.from_urdf_string((URDF / "two_link_planar.urdf").read_text())
     geometry = arm.visual_geometry(mechanism)
-    assert geometry.ngeoms == 3                                    # link1 box, link2 box, tool sphere
+    assert geometry.ngeoms == 3  # link1 box, link2 box, tool sphere
     np.testing.assert_allclose(geometry.geometryObjects[0].meshColor, [*LINK1_RGB, 1.0])
 
 
@@ -198,7 +206,7 @@ def test_each_spring_carries_its_name_near_its_middle(design):
     for spring in scene.springs:
         node = recorder.tree["meshcat"][viz.ROOT]["labels"][spring.name]
         obj = umsgpack.unpackb(node.object)["object"]
-        assert obj["object"]["type"] == "Sprite"                             # always faces the camera
+        assert obj["object"]["type"] == "Sprite"  # always faces the camera
         (texture,) = obj["textures"]
         assert texture["type"] == "_text" and texture["text"] == spring.name
         assert obj["materials"][0]["map"] == texture["uuid"]
@@ -224,11 +232,17 @@ def _camera(recorder):
         np.testing.assert_allclose(np.array(umsgpack.unpackb(transform)["matrix"]).reshape(4, 4), np.eye(4))
     properties = [umsgpack.unpackb(p) for p in recorder.tree["Cameras"]["default"]["rotated"]["<object>"].properties]
     x, y_up, minus_y = next(p["value"] for p in properties if p["property"] == "position")
-    return np.array([x, -minus_y, y_up])          # the rotated node turns meshcat's y-up frame back to z-up
+    return np.array([x, -minus_y, y_up])  # the rotated node turns meshcat's y-up frame back to z-up
 
 
-@pytest.mark.parametrize("make", [two_link_design, lambda: fixed_design(
-    COLLISION_URDF, [crossing_spring()], elbow_path(np.linspace(-150, 150, 13)))], ids=["two_link", "crossing"])
+@pytest.mark.parametrize(
+    "make",
+    [
+        two_link_design,
+        lambda: fixed_design(COLLISION_URDF, [crossing_spring()], elbow_path(np.linspace(-150, 150, 13))),
+    ],
+    ids=["two_link", "crossing"],
+)
 def test_camera_sees_every_spring_end_and_link_in_every_frame(make):
     result = make()
     path = sweeps.animation_path(result, frames_per_joint=12)
@@ -240,7 +254,7 @@ def test_camera_sees_every_spring_end_and_link_in_every_frame(make):
     links = []
     for q in mechanism.configurations(path):
         pin.framesForwardKinematics(model, data, q)
-        links += [data.oMf[f].translation.copy() for f in range(model.nframes)]      # joints, link ends, tool
+        links += [data.oMf[f].translation.copy() for f in range(model.nframes)]  # joints, link ends, tool
     points = np.vstack([np.vstack(pair) for pair in ends.values()] + [np.array(links)])
     # within the bounding sphere, and within meshcat's field of view (75° vertical) around the line of sight
     assert np.all(np.linalg.norm(points - scene.camera_center, axis=1) <= scene.camera_radius + 1e-12)
@@ -248,15 +262,20 @@ def test_camera_sees_every_spring_end_and_link_in_every_frame(make):
     rays = points - camera
     angles = np.degrees(np.arccos(rays @ sight / np.linalg.norm(rays, axis=1)))
     assert angles.max() <= 75 / 2, angles.max()
-    assert angles.max() > 0.5 * 75 / 2             # and the camera is not so far that the arm is a speck
+    assert angles.max() > 0.5 * 75 / 2  # and the camera is not so far that the arm is a speck
 
 
 def test_legend_pushing_part_only_for_a_spring_that_pushes():
     """A compression spring from (0, 0, -0.3) to (0.2, 0, 0) on link1 is L = sqrt(0.13 + 0.12 sin s) long
     (shoulder s, elbow free); with l0 = 0.3 m its tension k (L - l0) is negative (it pushes) for
     sin s < -1/3 only. The design's workspace covers both, the legend follows the animation's frames."""
-    spring = sb.CompressionSpring(sb.Anchor("universe", (0.0, 0.0, -0.3)), sb.Anchor("link1", (0.2, 0.0, 0.0)),
-                                  name="strut", stiffness=200.0, free_length=0.3)
+    spring = sb.CompressionSpring(
+        sb.Anchor("universe", (0.0, 0.0, -0.3)),
+        sb.Anchor("link1", (0.2, 0.0, 0.0)),
+        name="strut",
+        stiffness=200.0,
+        free_length=0.3,
+    )
     shoulder = np.radians(np.linspace(-90, 90, 13))
     result = fixed_design(URDF / "two_link_planar.urdf", [spring], np.column_stack([shoulder, np.zeros(13)]))
     pushing_in_design = 200.0 * (np.sqrt(0.13 + 0.12 * np.sin(shoulder)) - 0.3)
@@ -265,14 +284,15 @@ def test_legend_pushing_part_only_for_a_spring_that_pushes():
     def scene_over(degrees):
         angles = np.radians(degrees)
         scene = viz.DesignScene(result, np.column_stack([angles, np.zeros_like(angles)]))
-        np.testing.assert_allclose(scene.springs[0].tensions, 200.0 * (np.sqrt(0.13 + 0.12 * np.sin(angles)) - 0.3),
-                                   rtol=1e-9)
+        np.testing.assert_allclose(
+            scene.springs[0].tensions, 200.0 * (np.sqrt(0.13 + 0.12 * np.sin(angles)) - 0.3), rtol=1e-9
+        )
         return scene
 
-    lifting = scene_over(np.linspace(0, 90, 7))             # L ≥ sqrt(0.13) > 0.3: never pushes
+    lifting = scene_over(np.linspace(0, 90, 7))  # L ≥ sqrt(0.13) > 0.3: never pushes
     assert not lifting.compression
     assert "pushing" not in lifting.legend_html() and "pushing" not in lifting.html(animate=False)
-    assert not re.search(r">-\d", lifting.legend_html())     # no negative tick
-    lowering = scene_over(np.linspace(-90, 0, 7))           # pushes below s = -19.5°
+    assert not re.search(r">-\d", lifting.legend_html())  # no negative tick
+    lowering = scene_over(np.linspace(-90, 0, 7))  # pushes below s = -19.5°
     assert lowering.compression
     assert "(negative: pushing)" in lowering.legend_html() and re.search(r">-\d", lowering.legend_html())

@@ -36,7 +36,7 @@ from springbalance.viz import scene as viz
 def _crosses_link2_axis(elbow: float) -> bool:
     """Does the spring's segment S–P cross link2's centre line E + t (cos e, 0, sin e), 0 ≤ t ≤ 0.4?
     Where it does, the capsule around the spring holds a point inside link2's box: an overlap."""
-    axis = np.array([np.cos(elbow), np.sin(elbow)])                       # in the x–z plane
+    axis = np.array([np.cos(elbow), np.sin(elbow)])  # in the x–z plane
     spring = (CROSSING_P - CROSSING_S)[[0, 2]]
     u, t = np.linalg.solve(np.column_stack([spring, -axis]), (ELBOW - CROSSING_S)[[0, 2]])
     return 0 <= u <= 1 and 0 <= t <= LINK2_LENGTH
@@ -48,7 +48,7 @@ def test_clearance_colour_is_not_on_the_tension_scale():
     for colour in browser.scale_colours(401) + [LINK1_RGB]:
         assert hue_distance(colors.CLEARANCE_RGB, colour) > 2 * 14, colour
     r, g, b = colors.CLEARANCE_RGB
-    assert colorsys.rgb_to_hsv(r, g, b)[1] > 0.9                           # a saturated colour, not grey
+    assert colorsys.rgb_to_hsv(r, g, b)[1] > 0.9  # a saturated colour, not grey
     assert f"#{colors.CLEARANCE_COLOR:06x}" in colors.ColorScale(10).legend_html(clearance_margin=0.012)
 
 
@@ -56,7 +56,7 @@ def test_spring_is_magenta_where_it_passes_through_link2():
     degrees = [-90, -45, 0, 75, 90, 120, 150]
     path = elbow_path(degrees)
     crossing = [_crosses_link2_axis(e) for e in path[:, 1]]
-    assert crossing == [False, False, False, True, True, True, True]       # the geometry above, worked out
+    assert crossing == [False, False, False, True, True, True, True]  # the geometry above, worked out
     result = fixed_design(COLLISION_URDF, [crossing_spring()], path)
     scene = viz.DesignScene(result, path, margin=MARGIN)
     track = scene.springs[0]
@@ -77,7 +77,7 @@ def test_spring_is_magenta_where_it_passes_through_link2():
     # what meshcat receives: the colour track is magenta in the crossing frames, the tension colour elsewhere
     recorder = record_scene(scene)
     helix = umsgpack.unpackb(recorder.tree["meshcat"][viz.ROOT]["springs"]["crossing"].object)["object"]
-    assert helix["materials"][0]["color"] == scene.color_scale.hex(track.tensions[0])      # frame 0 is clear
+    assert helix["materials"][0]["color"] == scene.color_scale.hex(track.tensions[0])  # frame 0 is clear
     clip = animation_clips(recorder)[f"/meshcat/{viz.ROOT}/springs/crossing"]
     colours = next(values for name, values in clip.items() if name.endswith(".material.color"))
     for frame, crosses in enumerate(crossing):
@@ -116,7 +116,7 @@ def test_margin_defaults_to_the_problems_clearance():
 
 
 def test_without_collision_geometry_the_scene_is_drawn_by_tension():
-    path = elbow_path([-90, 120])                                       # 120°: crosses link2 on the other URDF
+    path = elbow_path([-90, 120])  # 120°: crosses link2 on the other URDF
     result = fixed_design(URDF / "two_link_planar.urdf", [crossing_spring()], path)
     scene = viz.DesignScene(result, path, margin=MARGIN)
     track = scene.springs[0]

@@ -15,8 +15,22 @@ from springbalance.errors import SpringBalanceError
 from springbalance.viz import meshcat_import
 from springbalance.viz import scene as viz
 
-VIZ_MODULES = ("arm", "browser", "camera", "colors", "design_scene", "helix", "live", "meshcat_glue",
-               "meshcat_import", "recorder", "regions", "scene", "server", "tracks")
+VIZ_MODULES = (
+    "arm",
+    "browser",
+    "camera",
+    "colors",
+    "design_scene",
+    "helix",
+    "live",
+    "meshcat_glue",
+    "meshcat_import",
+    "recorder",
+    "regions",
+    "scene",
+    "server",
+    "tracks",
+)
 
 
 def test_importing_the_viz_modules_does_not_import_meshcat():
@@ -28,7 +42,7 @@ def test_importing_the_viz_modules_does_not_import_meshcat():
 
 def test_a_missing_meshcat_is_a_clear_error(monkeypatch):
     meshcat_import.import_meshcat.cache_clear()
-    monkeypatch.setitem(sys.modules, "meshcat", None)   # `import meshcat` raises ImportError
+    monkeypatch.setitem(sys.modules, "meshcat", None)  # `import meshcat` raises ImportError
     try:
         with pytest.raises(SpringBalanceError, match="needs meshcat.*pip install meshcat"):
             meshcat_import.import_meshcat()
@@ -43,9 +57,24 @@ def test_the_old_names_of_the_scene_module_still_import():
     assert issubclass(viz._Animation, meshcat.animation.Animation)
     assert issubclass(viz._SetAnimation, meshcat.commands.SetAnimation)
     assert viz._SetAnimation(viz._Animation()).lower()["path"] == f"/{viz.ROOT}-animation"
-    for name in ("DesignScene", "SpringTrack", "RegionShape", "StaticScene", "scene_html", "save_scene_html",
-                 "show", "camera_distance", "CAMERA_FOV", "LABEL_FONT_SIZE", "_region_geometry",
-                 "_insert_before_body_end", "_anchors", "_region_corners", "_region_points", "_box_mesh"):
+    for name in (
+        "DesignScene",
+        "SpringTrack",
+        "RegionShape",
+        "StaticScene",
+        "scene_html",
+        "save_scene_html",
+        "show",
+        "camera_distance",
+        "CAMERA_FOV",
+        "LABEL_FONT_SIZE",
+        "_region_geometry",
+        "_insert_before_body_end",
+        "_anchors",
+        "_region_corners",
+        "_region_points",
+        "_box_mesh",
+    ):
         assert hasattr(viz, name), name
     with pytest.raises(AttributeError):
         _ = viz.no_such_name

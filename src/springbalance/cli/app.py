@@ -36,9 +36,9 @@ def run() -> None:
     try:
         sys.stdout.flush()
         sys.stderr.flush()
-    except BrokenPipeError:   # output piped into e.g. `head`, which stopped reading
+    except BrokenPipeError:  # output piped into e.g. `head`, which stopped reading
         status = 141
-    atexit._run_exitfuncs()   # CPython's: the handlers a normal exit runs, in the same order
+    atexit._run_exitfuncs()  # CPython's: the handlers a normal exit runs, in the same order
     os._exit(status)
 
 
@@ -67,6 +67,8 @@ def _run(args: argparse.Namespace) -> int:
         print(f"{PROG}: interrupted", file=sys.stderr)
         return 130
     except MemoryError:  # an allocation the estimates did not foresee
-        print_error("out of memory; lower the sample counts or set a lower --max-memory so that springbalance "
-                    "refuses such work up front")
+        print_error(
+            "out of memory; lower the sample counts or set a lower --max-memory so that springbalance "
+            "refuses such work up front"
+        )
         return 2

@@ -6,8 +6,10 @@ from __future__ import annotations
 import argparse
 
 #: the help of ``--max-memory``, accepted before and after the command's name
-MEMORY_HELP = ("refuse work estimated to need more memory than SIZE (e.g. 2G, 512M, or 'unlimited'; default: "
-               "the environment variable SPRINGBALANCE_MAX_MEMORY, else half the available memory)")
+MEMORY_HELP = (
+    "refuse work estimated to need more memory than SIZE (e.g. 2G, 512M, or 'unlimited'; default: "
+    "the environment variable SPRINGBALANCE_MAX_MEMORY, else half the available memory)"
+)
 
 
 def positive_int(text: str) -> int:

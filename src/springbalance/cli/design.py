@@ -23,27 +23,51 @@ from springbalance.results.result import DesignResult
 def add_parser(commands: argparse._SubParsersAction, common: argparse.ArgumentParser) -> None:
     """Add the ``design`` command to ``commands`` (with the options of ``common``)."""
     design = commands.add_parser(
-        "design", parents=[common], help="solve the design problem of a config file and save the design",
+        "design",
+        parents=[common],
+        help="solve the design problem of a config file and save the design",
         description="Build the design problem described by CONFIG (YAML or JSON), solve it with a "
-                    "multi-start, print the report and save the design as JSON.")
+        "multi-start, print the report and save the design as JSON.",
+    )
     design.add_argument("config", metavar="CONFIG", help="config file (.yaml, .yml or .json)")
-    design.add_argument("--out", "-o", required=True, metavar="DESIGN.json",
-                        help="where to save the design (written only when the solve succeeds)")
-    design.add_argument("--starts", type=positive_int, metavar="N",
-                        help="number of starts of the multi-start (overrides solve.starts)")
-    design.add_argument("--seed", type=nonnegative_int, metavar="S",
-                        help="seed of the start points (overrides solve.seed)")
-    design.add_argument("--method", choices=METHODS, metavar="METHOD",  # a metavar: argparse lists no choices up front
-                        help="solver backend: %(choices)s (overrides solve.method)")
-    design.add_argument("--workers", type=positive_int, metavar="W",
-                        help="processes that run the starts at once (overrides solve.workers; default: the "
-                             "number of cores); the design does not depend on it")
-    design.add_argument("--stock", metavar="CATALOGUE.csv",
-                        help="then pick each extension and compression spring from this stock catalogue (CSV, "
-                             "columns: docs/guides/coils-and-stock.md) and re-optimise the anchors")
+    design.add_argument(
+        "--out",
+        "-o",
+        required=True,
+        metavar="DESIGN.json",
+        help="where to save the design (written only when the solve succeeds)",
+    )
+    design.add_argument(
+        "--starts", type=positive_int, metavar="N", help="number of starts of the multi-start (overrides solve.starts)"
+    )
+    design.add_argument(
+        "--seed", type=nonnegative_int, metavar="S", help="seed of the start points (overrides solve.seed)"
+    )
+    design.add_argument(
+        "--method",
+        choices=METHODS,
+        metavar="METHOD",  # a metavar: argparse lists no choices up front
+        help="solver backend: %(choices)s (overrides solve.method)",
+    )
+    design.add_argument(
+        "--workers",
+        type=positive_int,
+        metavar="W",
+        help="processes that run the starts at once (overrides solve.workers; default: the "
+        "number of cores); the design does not depend on it",
+    )
+    design.add_argument(
+        "--stock",
+        metavar="CATALOGUE.csv",
+        help="then pick each extension and compression spring from this stock catalogue (CSV, "
+        "columns: docs/guides/coils-and-stock.md) and re-optimise the anchors",
+    )
     design.add_argument("--quiet", "-q", action="store_true", help="print nothing on success, no progress bar")
-    design.add_argument("--partial", action="store_true",
-                        help="on Ctrl-C, save the best design of the starts that had finished at --out")
+    design.add_argument(
+        "--partial",
+        action="store_true",
+        help="on Ctrl-C, save the best design of the starts that had finished at --out",
+    )
     design.set_defaults(handler=handle)
 
 
@@ -74,15 +98,22 @@ def handle(args: argparse.Namespace) -> int:
 def _interrupted(stop: Interrupted, out: Path, partial: bool) -> int:
     """Ctrl-C during ``design``: say which starts had finished; with ``--partial`` save the best so far."""
     if partial and stop.best_x is not None:
-        result = DesignResult(stop.problem, stop.best_x, starts=stop.starts, method="interrupted", seed=None,
-                              status=f"{stop} (the best design so far, saved with --partial)")
+        result = DesignResult(
+            stop.problem,
+            stop.best_x,
+            starts=stop.starts,
+            method="interrupted",
+            seed=None,
+            status=f"{stop} (the best design so far, saved with --partial)",
+        )
         _save_design(result, out)
     print(interrupted_message(stop, out, partial), file=sys.stderr)
     return 130
 
 
-def _save_design(result: DesignResult, out: Path, selection: StockSelection | None = None,
-                 catalogue: str | None = None) -> None:
+def _save_design(
+    result: DesignResult, out: Path, selection: StockSelection | None = None, catalogue: str | None = None
+) -> None:
     """Save ``result`` at ``out`` (atomically); a stock spring's ``part_number`` also goes into its
     ``design`` entry, and a stock selection into ``stock`` (catalogue, objective before/after, choices)."""
     record = result.to_dict()

@@ -10,13 +10,20 @@ from springbalance.cli.inputs import load_result
 def add_parser(commands: argparse._SubParsersAction, common: argparse.ArgumentParser) -> None:
     """Add the ``evaluate`` command to ``commands`` (with the options of ``common``)."""
     evaluate = commands.add_parser(
-        "evaluate", parents=[common], help="print the report of a saved design",
+        "evaluate",
+        parents=[common],
+        help="print the report of a saved design",
         description="Load a design saved by 'springbalance design' and print its report, on the "
-                    "workspace it was designed on or on another one.")
+        "workspace it was designed on or on another one.",
+    )
     evaluate.add_argument("design", metavar="DESIGN.json", help="design file written by 'springbalance design'")
-    evaluate.add_argument("--workspace", "-w", metavar="WORKSPACE.yaml",
-                          help="YAML/JSON file with a 'workspace:' mapping (a whole config works too) "
-                               "to evaluate the design on instead of its own workspace")
+    evaluate.add_argument(
+        "--workspace",
+        "-w",
+        metavar="WORKSPACE.yaml",
+        help="YAML/JSON file with a 'workspace:' mapping (a whole config works too) "
+        "to evaluate the design on instead of its own workspace",
+    )
     evaluate.set_defaults(handler=handle)
 
 

@@ -15,26 +15,49 @@ from springbalance.explore.study import Study, StudyResult, load_study
 def add_parser(commands: argparse._SubParsersAction, common: argparse.ArgumentParser) -> None:
     """Add the ``explore`` command to ``commands`` (with the options of ``common``)."""
     explore = commands.add_parser(
-        "explore", parents=[common], help="find where springs should go: solve every spring topology on Dask",
+        "explore",
+        parents=[common],
+        help="find where springs should go: solve every spring topology on Dask",
         description="Enumerate the spring topologies of a study config (a design config with an 'explore' "
-                    "section instead of 'springs'), prune those that cannot balance exactly, solve the rest as "
-                    "tasks on a Dask cluster (a local one with a worker process per core by default), and write "
-                    "each result as it finishes into OUT/results/, then OUT/results.csv, OUT/report.html and "
-                    "the best design per spring count (OUT/best_<k>_springs.json). Running it again resumes.")
+        "section instead of 'springs'), prune those that cannot balance exactly, solve the rest as "
+        "tasks on a Dask cluster (a local one with a worker process per core by default), and write "
+        "each result as it finishes into OUT/results/, then OUT/results.csv, OUT/report.html and "
+        "the best design per spring count (OUT/best_<k>_springs.json). Running it again resumes.",
+    )
     explore.add_argument("config", metavar="CONFIG", help="study config file (.yaml, .yml or .json)")
     explore.add_argument("--out", "-o", required=True, metavar="FOLDER", help="the study folder")
-    explore.add_argument("--max-springs", type=int, metavar="N",
-                         help="most springs per topology (overrides explore.max_springs; default 2)")
-    explore.add_argument("--scheduler", metavar="ADDRESS",
-                         help="run on an existing Dask cluster (e.g. tcp://host:8786) instead of a local one")
-    explore.add_argument("--workers", type=positive_int, metavar="W",
-                         help="worker processes of the local cluster (default: one per core)")
-    explore.add_argument("--timeout", type=float, default=10.0, metavar="SECONDS",
-                         help="how long to wait for the scheduler given by --scheduler (default 10)")
-    explore.add_argument("--sequential", action="store_true", help="solve the tasks one after another in this "
-                                                                   "process (no Dask)")
-    explore.add_argument("--force", action="store_true",
-                         help="use a study folder that holds another study's results (they are discarded)")
+    explore.add_argument(
+        "--max-springs",
+        type=int,
+        metavar="N",
+        help="most springs per topology (overrides explore.max_springs; default 2)",
+    )
+    explore.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        help="run on an existing Dask cluster (e.g. tcp://host:8786) instead of a local one",
+    )
+    explore.add_argument(
+        "--workers",
+        type=positive_int,
+        metavar="W",
+        help="worker processes of the local cluster (default: one per core)",
+    )
+    explore.add_argument(
+        "--timeout",
+        type=float,
+        default=10.0,
+        metavar="SECONDS",
+        help="how long to wait for the scheduler given by --scheduler (default 10)",
+    )
+    explore.add_argument(
+        "--sequential", action="store_true", help="solve the tasks one after another in this process (no Dask)"
+    )
+    explore.add_argument(
+        "--force",
+        action="store_true",
+        help="use a study folder that holds another study's results (they are discarded)",
+    )
     explore.add_argument("--quiet", "-q", action="store_true", help="no progress bar and no summary")
     explore.set_defaults(handler=handle)
 
@@ -48,8 +71,11 @@ def handle(args: argparse.Namespace) -> int:
         raise InputError("--sequential runs without Dask: it takes no --scheduler or --workers")
     study = load_study(args.config, max_springs=args.max_springs)
     # nothing left to solve (a finished study run again): no cluster to start
-    client = None if args.sequential or not study.pending(args.out) else make_client(args.scheduler, args.workers,
-                                                                                     args.timeout)
+    client = (
+        None
+        if args.sequential or not study.pending(args.out)
+        else make_client(args.scheduler, args.workers, args.timeout)
+    )
     try:
         result = study.run(args.out, client=client, force=args.force, progress=not args.quiet)
     finally:
@@ -67,12 +93,16 @@ def _print_summary(study: Study, result: StudyResult, out: Path) -> None:
     """The counts of the study (candidates, topologies, pruned, dominated, solved) and its best design per
     spring count (residual as a fraction of the unbalanced peak torque)."""
     summary = study.summary()
-    print(f"{len(study.candidates)} candidates, {summary['topologies']} topologies × {summary['grid_points']} "
-          f"grid point(s); {summary['reachability']}: {len(summary['unreachable'])} proven unreachable, "
-          f"{len(summary['degenerate'])} degenerate; {len(result.dominated)} dominated; solved "
-          f"{len(result.solved)} now, {result.resumed} from an earlier run")
+    print(
+        f"{len(study.candidates)} candidates, {summary['topologies']} topologies × {summary['grid_points']} "
+        f"grid point(s); {summary['reachability']}: {len(summary['unreachable'])} proven unreachable, "
+        f"{len(summary['degenerate'])} degenerate; {len(result.dominated)} dominated; solved "
+        f"{len(result.solved)} now, {result.resumed} from an earlier run"
+    )
     for count, record in result.best().items():
-        print(f"  best with {count} spring(s): {' + '.join(record['springs'])}  residual "
-              f"{record['relative_residual']:.3g} of the unbalanced peak{'  (exact)' if record['exact'] else ''}"
-              f"  -> {out / f'best_{count}_springs.json'}")
+        print(
+            f"  best with {count} spring(s): {' + '.join(record['springs'])}  residual "
+            f"{record['relative_residual']:.3g} of the unbalanced peak{'  (exact)' if record['exact'] else ''}"
+            f"  -> {out / f'best_{count}_springs.json'}"
+        )
     print(f"report: {out / 'report.html'}")

@@ -20,16 +20,20 @@ from springbalance.results.result import DesignResult
 def add_parser(commands: argparse._SubParsersAction, common: argparse.ArgumentParser) -> None:
     """Add the ``export`` command to ``commands`` (with the options of ``common``)."""
     export = commands.add_parser(
-        "export", parents=[common], help="write the balanced arm as a URDF with spring anchors and/or a MuJoCo model",
+        "export",
+        parents=[common],
+        help="write the balanced arm as a URDF with spring anchors and/or a MuJoCo model",
         description="Write the design's URDF with a massless link at every spring anchor and the spring "
-                    "records (plus a .springs.json sidecar), and/or a MuJoCo model (MJCF) with a tendon per "
-                    "spring. Springs whose real law MuJoCo's linear two-sided spring cannot express at some "
-                    "workspace sample are listed as warnings; files are written atomically.")
+        "records (plus a .springs.json sidecar), and/or a MuJoCo model (MJCF) with a tendon per "
+        "spring. Springs whose real law MuJoCo's linear two-sided spring cannot express at some "
+        "workspace sample are listed as warnings; files are written atomically.",
+    )
     export.add_argument("design", metavar="DESIGN.json", help="design file written by 'springbalance design'")
     export.add_argument("--urdf", metavar="OUT.urdf", help="URDF to write (with OUT.springs.json next to it)")
     export.add_argument("--mjcf", metavar="OUT.xml", help="MuJoCo model to write")
-    export.add_argument("--resolve-packages", action="store_true",
-                        help="replace package:// mesh paths of the URDF by absolute paths")
+    export.add_argument(
+        "--resolve-packages", action="store_true", help="replace package:// mesh paths of the URDF by absolute paths"
+    )
     export.set_defaults(handler=handle)
 
 

@@ -22,8 +22,14 @@ def print_error(error: object) -> None:
     print(f"{PROG}: error: {message}", file=sys.stderr)
 
 
-def print_warning(message: Warning | str, category: type[Warning], filename: str, lineno: int,
-                  file: TextIO | None = None, line: str | None = None) -> None:
+def print_warning(
+    message: Warning | str,
+    category: type[Warning],
+    filename: str,
+    lineno: int,
+    file: TextIO | None = None,
+    line: str | None = None,
+) -> None:
     """A :func:`warnings.showwarning` that prints ``springbalance: warning: <message>`` on one line on stderr."""
     print(f"{PROG}: warning: {' '.join(str(message).split())}", file=sys.stderr)
 
@@ -31,8 +37,10 @@ def print_warning(message: Warning | str, category: type[Warning], filename: str
 def interrupted_message(stop: Interrupted, out: Path, partial: bool) -> str:
     """The line printed when Ctrl-C stops ``design``: which starts had finished (their objectives), the best
     feasible one, and whether the best design so far was saved at ``out`` (``--partial`` and a feasible start)."""
-    shown = [f"{record.index} ({record.objective:.4g}{'' if record.feasible else ', infeasible'})"
-             for record in stop.starts[:MAX_STARTS_SHOWN]]
+    shown = [
+        f"{record.index} ({record.objective:.4g}{'' if record.feasible else ', infeasible'})"
+        for record in stop.starts[:MAX_STARTS_SHOWN]
+    ]
     more = len(stop.starts) - len(shown)
     finished = ", ".join(shown) + (f" and {more} more" if more > 0 else "")
     feasible = [record for record in stop.starts if record.feasible]
@@ -54,8 +62,10 @@ def table(header: list[str], rows: list[list[str]], right: tuple[int, ...] = ())
     widths = [max(len(str(row[column])) for row in [header, *rows]) for column in range(len(header))]
     lines = []
     for row in [header, *rows]:
-        cells = [f"{str(cell):>{width}s}" if column in right else f"{str(cell):<{width}s}"
-                 for column, (cell, width) in enumerate(zip(row, widths))]
+        cells = [
+            f"{str(cell):>{width}s}" if column in right else f"{str(cell):<{width}s}"
+            for column, (cell, width) in enumerate(zip(row, widths))
+        ]
         lines.append(("  " + "  ".join(cells)).rstrip())
     return lines
 
@@ -76,8 +86,10 @@ def mechanism_summary(summary: dict[str, Any]) -> str:
 def _header_lines(summary: dict[str, Any]) -> list[str]:
     """Name and source, degrees of freedom, masses, gravity and ground of a summary."""
     source = summary["source"]
-    where = {"robot": f"example-robot-data robot {source.get('robot')!r}, {source.get('path')}",
-             "urdf": f"URDF {source.get('path')}"}.get(source.get("kind"), source.get("kind"))
+    where = {
+        "robot": f"example-robot-data robot {source.get('robot')!r}, {source.get('path')}",
+        "urdf": f"URDF {source.get('path')}",
+    }.get(source.get("kind"), source.get("kind"))
     if source.get("mimic"):
         where += ", mimic joints coupled"
     dof_names = [joint["name"] for joint in summary["joints"] if joint["dof"]]
@@ -93,11 +105,20 @@ def _header_lines(summary: dict[str, Any]) -> list[str]:
 
 def _body_lines(bodies: list[dict[str, Any]]) -> list[str]:
     """The table of the bodies: mass [kg], centre of mass in the body frame [m], parent joint, moving joint."""
-    rows = [[body["name"], number(body["mass"]), "(" + ", ".join(number(value) for value in body["com"]) + ")",
-             body["parent_joint"] or "—", "ground" if body["ground"] else body["moved_by"]]
-            for body in bodies]
-    return ["bodies (centre of mass in the body frame)",
-            *table(["body", "mass [kg]", "centre of mass [m]", "parent joint", "moved by"], rows, right=(1,))]
+    rows = [
+        [
+            body["name"],
+            number(body["mass"]),
+            "(" + ", ".join(number(value) for value in body["com"]) + ")",
+            body["parent_joint"] or "—",
+            "ground" if body["ground"] else body["moved_by"],
+        ]
+        for body in bodies
+    ]
+    return [
+        "bodies (centre of mass in the body frame)",
+        *table(["body", "mass [kg]", "centre of mass [m]", "parent joint", "moved by"], rows, right=(1,)),
+    ]
 
 
 def _joint_lines(joints: list[dict[str, Any]]) -> list[str]:

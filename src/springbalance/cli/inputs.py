@@ -40,5 +40,7 @@ def check_scene_budget(result: DesignResult, frames_per_joint: int) -> None:
     """Refuse (--frames too large) a scene whose estimated memory is above the limit, before drawing it."""
     frames = frames_per_joint * max(len(moving_joints(result)), 1) + 1
     objects = len(result.problem.mechanism.body_names) + len(result.problem.springs)
-    budget.require(budget.scene_bytes(frames, objects),
-                   f"a scene of {frames} frames (--frames {frames_per_joint} per moving joint) and {objects} objects")
+    budget.require(
+        budget.scene_bytes(frames, objects),
+        f"a scene of {frames} frames (--frames {frames_per_joint} per moving joint) and {objects} objects",
+    )

@@ -16,19 +16,31 @@ from springbalance.model.mechanism import Mechanism
 def add_parser(commands: argparse._SubParsersAction, common: argparse.ArgumentParser) -> None:
     """Add the ``inspect`` command to ``commands`` (with the options of ``common``)."""
     inspect = commands.add_parser(
-        "inspect", parents=[common], help="list the bodies and joints of a robot or URDF (the names anchors and workspaces use)",
+        "inspect",
+        parents=[common],
+        help="list the bodies and joints of a robot or URDF (the names anchors and workspaces use)",
         description="Print the bodies (mass, centre of mass in the body frame, parent joint), the joints (type, "
-                    "axis, limits, mimic coupling), the total mass and the ground bodies of an example-robot-data "
-                    "robot or a URDF file: the names to write in a config's anchors and workspace.")
-    inspect.add_argument("source", metavar="ROBOT_OR_URDF",
-                         help="a URDF file (an existing file, or any path with a '/' or ending in .urdf or .xml) "
-                              f"or an example-robot-data robot name (see '{PROG} robots')")
+        "axis, limits, mimic coupling), the total mass and the ground bodies of an example-robot-data "
+        "robot or a URDF file: the names to write in a config's anchors and workspace.",
+    )
+    inspect.add_argument(
+        "source",
+        metavar="ROBOT_OR_URDF",
+        help="a URDF file (an existing file, or any path with a '/' or ending in .urdf or .xml) "
+        f"or an example-robot-data robot name (see '{PROG} robots')",
+    )
     inspect.add_argument("--json", action="store_true", help="print the description as JSON instead of tables")
-    inspect.add_argument("--mimic", action="store_true",
-                         help="couple mimic joints to their primary joints (as 'mechanism: {mimic: true}' in a config)")
-    inspect.add_argument("--no-validate", action="store_true",
-                         help="load a URDF whose masses, inertias or joint limits are physically impossible (as "
-                              "'mechanism: {validate: false}' in a config); malformed numbers are still refused")
+    inspect.add_argument(
+        "--mimic",
+        action="store_true",
+        help="couple mimic joints to their primary joints (as 'mechanism: {mimic: true}' in a config)",
+    )
+    inspect.add_argument(
+        "--no-validate",
+        action="store_true",
+        help="load a URDF whose masses, inertias or joint limits are physically impossible (as "
+        "'mechanism: {validate: false}' in a config); malformed numbers are still refused",
+    )
     inspect.set_defaults(handler=handle)
 
 

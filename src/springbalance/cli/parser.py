@@ -33,7 +33,8 @@ def build_parser() -> argparse.ArgumentParser:
         prog=PROG,
         description="Design gravity-balancing springs for robot arms described by URDF.",
         epilog="Exit status: 0 success, 1 solver found no feasible design, 2 bad input. "
-               f"Run '{PROG} COMMAND --help' for the options of a command.")
+        f"Run '{PROG} COMMAND --help' for the options of a command.",
+    )
     parser.add_argument("--version", action="version", version=f"{PROG} {__version__}")
     parser.add_argument("--max-memory", metavar="SIZE", help=MEMORY_HELP)
     # also accepted after the command's name (the command's value wins)

@@ -14,17 +14,26 @@ from springbalance.errors import InputError
 def add_parser(commands: argparse._SubParsersAction, common: argparse.ArgumentParser) -> None:
     """Add the ``report`` command to ``commands`` (with the options of ``common``)."""
     report = commands.add_parser(
-        "report", parents=[common], help="write an HTML report of a saved design (tables, plots, 3-D scene)",
+        "report",
+        parents=[common],
+        help="write an HTML report of a saved design (tables, plots, 3-D scene)",
         description="Write FOLDER/report.html (design and metrics tables, plots), FOLDER/scene.html (the "
-                    "self-contained Meshcat scene, opens without a server or network), FOLDER/torques.png/.svg "
-                    "and FOLDER/histogram.png/.svg.")
+        "self-contained Meshcat scene, opens without a server or network), FOLDER/torques.png/.svg "
+        "and FOLDER/histogram.png/.svg.",
+    )
     report.add_argument("design", metavar="DESIGN.json", help="design file written by 'springbalance design'")
     report.add_argument("--out", "-o", required=True, metavar="FOLDER", help="folder for the report (created)")
-    report.add_argument("--workspace", "-w", metavar="WORKSPACE.yaml",
-                        help="report on another workspace (as for 'evaluate')")
+    report.add_argument(
+        "--workspace", "-w", metavar="WORKSPACE.yaml", help="report on another workspace (as for 'evaluate')"
+    )
     report.add_argument("--no-scene", action="store_true", help="leave out scene.html")
-    report.add_argument("--frames", type=positive_int, default=48, metavar="N",
-                        help="animation frames per swept joint in scene.html (default 48)")
+    report.add_argument(
+        "--frames",
+        type=positive_int,
+        default=48,
+        metavar="N",
+        help="animation frames per swept joint in scene.html (default 48)",
+    )
     report.set_defaults(handler=handle)
 
 
@@ -37,8 +46,11 @@ def handle(args: argparse.Namespace) -> int:
     if not args.no_scene:
         check_scene_budget(result, args.frames)
     path = result.report(out, scene=not args.no_scene, frames_per_joint=args.frames)
-    files = ["report.html"] + ([] if args.no_scene else ["scene.html"]) + [
-        "torques.png", "torques.svg", "histogram.png", "histogram.svg"]
+    files = (
+        ["report.html"]
+        + ([] if args.no_scene else ["scene.html"])
+        + ["torques.png", "torques.svg", "histogram.png", "histogram.svg"]
+    )
     print(f"report written to {path}")
     print(f"  files in {out}: {', '.join(files)}")
     return 0

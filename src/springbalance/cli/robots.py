@@ -10,8 +10,11 @@ from springbalance.model.robots import available_robots
 def add_parser(commands: argparse._SubParsersAction, common: argparse.ArgumentParser) -> None:
     """Add the ``robots`` command to ``commands`` (with the options of ``common``)."""
     robots = commands.add_parser(
-        "robots", parents=[common], help="list the robots of example-robot-data",
-        description="List the robot names accepted by 'mechanism: {robot: NAME}' in a config.")
+        "robots",
+        parents=[common],
+        help="list the robots of example-robot-data",
+        description="List the robot names accepted by 'mechanism: {robot: NAME}' in a config.",
+    )
     robots.add_argument("--paths", action="store_true", help="also print the URDF file of each robot")
     robots.set_defaults(handler=handle)
 

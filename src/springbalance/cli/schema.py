@@ -14,10 +14,13 @@ from springbalance.io.schema import schema_text
 def add_parser(commands: argparse._SubParsersAction, common: argparse.ArgumentParser) -> None:
     """Add the ``schema`` command to ``commands`` (with the options of ``common``)."""
     schema = commands.add_parser(
-        "schema", parents=[common], help="print the JSON Schema of config files",
+        "schema",
+        parents=[common],
+        help="print the JSON Schema of config files",
         description="Print the JSON Schema (draft 2020-12) that config files follow, for editors (completion "
-                    "and checking, e.g. with a '# yaml-language-server: $schema=PATH' first line) and other "
-                    "validators; --out writes it to a file instead.")
+        "and checking, e.g. with a '# yaml-language-server: $schema=PATH' first line) and other "
+        "validators; --out writes it to a file instead.",
+    )
     schema.add_argument("--out", "-o", metavar="PATH", help="write the schema to PATH (atomically) instead of stdout")
     schema.set_defaults(handler=handle)
 

@@ -18,15 +18,19 @@ from springbalance.viz.live import MeshcatServer
 def add_parser(commands: argparse._SubParsersAction, common: argparse.ArgumentParser) -> None:
     """Add the ``view`` command to ``commands`` (with the options of ``common``)."""
     view = commands.add_parser(
-        "view", parents=[common], help="show a saved design in Meshcat, served on 127.0.0.1",
+        "view",
+        parents=[common],
+        help="show a saved design in Meshcat, served on 127.0.0.1",
         description="Serve the 3-D scene of a saved design on this machine only (127.0.0.1): the arm, each "
-                    "spring as a helix coloured by its tension, animated through a sweep of each joint. "
-                    "Prints the URL and serves until Ctrl-C.")
+        "spring as a helix coloured by its tension, animated through a sweep of each joint. "
+        "Prints the URL and serves until Ctrl-C.",
+    )
     view.add_argument("design", metavar="DESIGN.json", help="design file written by 'springbalance design'")
     view.add_argument("--port", type=port, metavar="P", help="web port (default: the first free one from 7000)")
     view.add_argument("--open", action="store_true", help="also open the URL in the default web browser")
-    view.add_argument("--frames", type=positive_int, default=48, metavar="N",
-                      help="animation frames per swept joint (default 48)")
+    view.add_argument(
+        "--frames", type=positive_int, default=48, metavar="N", help="animation frames per swept joint (default 48)"
+    )
     view.set_defaults(handler=handle)
 
 

@@ -9,5 +9,14 @@ from springbalance.design.objectives import OBJECTIVES, JointPeaks, Objective, P
 from springbalance.design.problem import DesignProblem, Evaluation
 from springbalance.design.scenarios import Payload, Scenario, payload_scenarios
 
-__all__ = ["OBJECTIVES", "DesignProblem", "Evaluation", "JointPeaks", "Objective", "Payload", "PeakThenJoints",
-           "Scenario", "payload_scenarios"]
+__all__ = [
+    "OBJECTIVES",
+    "DesignProblem",
+    "Evaluation",
+    "JointPeaks",
+    "Objective",
+    "Payload",
+    "PeakThenJoints",
+    "Scenario",
+    "payload_scenarios",
+]

@@ -35,26 +35,67 @@ _KERNEL_SUFFIX = "_block"
 
 _OPERATIONS = {getattr(ca, name): name[3:] for name in dir(ca) if name.startswith("OP_")}
 #: operations done on whole vectors: the same IEEE operation in each lane as CasADi's C code does
-_VECTOR = {"ADD": "({0}+{1})", "SUB": "({0}-{1})", "MUL": "({0}*{1})", "DIV": "({0}/{1})", "NEG": "(-{0})",
-           "TWICE": "(2.*{0})", "SQ": "({0}*{0})", "INV": "(1./{0})"}
+_VECTOR = {
+    "ADD": "({0}+{1})",
+    "SUB": "({0}-{1})",
+    "MUL": "({0}*{1})",
+    "DIV": "({0}/{1})",
+    "NEG": "(-{0})",
+    "TWICE": "(2.*{0})",
+    "SQ": "({0}*{0})",
+    "INV": "(1./{0})",
+}
 #: operations done lane by lane with CasADi's own C expression (its helper functions, such as
 #: ``casadi_fmin``, are copied into the kernel's file: :data:`_HELPERS`)
-_LANEWISE = {"EXP": "exp({0})", "LOG": "log({0})", "POW": "pow({0},{1})", "CONSTPOW": "pow({0},{1})",
-             "SQRT": "sqrt({0})", "SIN": "sin({0})", "COS": "cos({0})", "TAN": "tan({0})", "ASIN": "asin({0})",
-             "ACOS": "acos({0})", "ATAN": "atan({0})", "SINH": "sinh({0})", "COSH": "cosh({0})",
-             "TANH": "tanh({0})", "ASINH": "asinh({0})", "ACOSH": "acosh({0})", "ATANH": "atanh({0})",
-             "FLOOR": "floor({0})", "CEIL": "ceil({0})", "FMOD": "fmod({0},{1})", "FABS": "casadi_fabs({0})",
-             "SIGN": "casadi_sign({0})", "COPYSIGN": "copysign({0},{1})", "IF_ELSE_ZERO": "({0}?{1}:0)",
-             "LT": "({0}<{1})", "LE": "({0}<={1})", "EQ": "({0}=={1})", "NE": "({0}!={1})", "NOT": "(!{0})",
-             "AND": "({0}&&{1})", "OR": "({0}||{1})", "FMIN": "casadi_fmin({0},{1})",
-             "FMAX": "casadi_fmax({0},{1})", "ERF": "erf({0})", "ATAN2": "atan2({0},{1})",
-             "HYPOT": "casadi_hypot({0},{1})", "LOG1P": "casadi_log1p({0})", "EXPM1": "casadi_expm1({0})",
-             "REMAINDER": "remainder({0},{1})"}
+_LANEWISE = {
+    "EXP": "exp({0})",
+    "LOG": "log({0})",
+    "POW": "pow({0},{1})",
+    "CONSTPOW": "pow({0},{1})",
+    "SQRT": "sqrt({0})",
+    "SIN": "sin({0})",
+    "COS": "cos({0})",
+    "TAN": "tan({0})",
+    "ASIN": "asin({0})",
+    "ACOS": "acos({0})",
+    "ATAN": "atan({0})",
+    "SINH": "sinh({0})",
+    "COSH": "cosh({0})",
+    "TANH": "tanh({0})",
+    "ASINH": "asinh({0})",
+    "ACOSH": "acosh({0})",
+    "ATANH": "atanh({0})",
+    "FLOOR": "floor({0})",
+    "CEIL": "ceil({0})",
+    "FMOD": "fmod({0},{1})",
+    "FABS": "casadi_fabs({0})",
+    "SIGN": "casadi_sign({0})",
+    "COPYSIGN": "copysign({0},{1})",
+    "IF_ELSE_ZERO": "({0}?{1}:0)",
+    "LT": "({0}<{1})",
+    "LE": "({0}<={1})",
+    "EQ": "({0}=={1})",
+    "NE": "({0}!={1})",
+    "NOT": "(!{0})",
+    "AND": "({0}&&{1})",
+    "OR": "({0}||{1})",
+    "FMIN": "casadi_fmin({0},{1})",
+    "FMAX": "casadi_fmax({0},{1})",
+    "ERF": "erf({0})",
+    "ATAN2": "atan2({0},{1})",
+    "HYPOT": "casadi_hypot({0},{1})",
+    "LOG1P": "casadi_log1p({0})",
+    "EXPM1": "casadi_expm1({0})",
+    "REMAINDER": "remainder({0},{1})",
+}
 #: CasADi's helper functions (as its code generator writes them) that the lane-wise expressions call
 _HELPERS = {
-    "casadi_fabs": "x>0 ? x : -x;|fabs(x);", "casadi_fmin": "x<y ? x : y;|fmin(x, y);",
-    "casadi_fmax": "x>y ? x : y;|fmax(x, y);", "casadi_hypot": "sqrt(x*x+y*y);|hypot(x, y);",
-    "casadi_log1p": "log(1+x);|log1p(x);", "casadi_expm1": "exp(x)-1;|expm1(x);",
+    "casadi_fabs": "x>0 ? x : -x;|fabs(x);",
+    "casadi_fmin": "x<y ? x : y;|fmin(x, y);",
+    "casadi_fmax": "x>y ? x : y;|fmax(x, y);",
+    "casadi_hypot": "sqrt(x*x+y*y);|hypot(x, y);",
+    "casadi_log1p": "log(1+x);|log1p(x);",
+    "casadi_expm1": "exp(x)-1;|expm1(x);",
 }
 
 
@@ -67,8 +108,10 @@ def _helper_code(helper: str) -> str:
         return "static double casadi_sign(double x) { return x<0 ? -1 : x>0 ? 1 : x;}"
     old, new = _HELPERS[helper].split("|")
     arguments = "double x, double y" if "y" in new else "double x"
-    return (f"static double {helper}({arguments}) {{\n#if __STDC_VERSION__ < 199901L\n  return {old}\n"
-            f"#else\n  return {new}\n#endif\n}}")
+    return (
+        f"static double {helper}({arguments}) {{\n#if __STDC_VERSION__ < 199901L\n  return {old}\n"
+        f"#else\n  return {new}\n#endif\n}}"
+    )
 
 
 def _kernel_source(function: ca.Function) -> ca.Function:
@@ -76,16 +119,18 @@ def _kernel_source(function: ca.Function) -> ca.Function:
     (the same operations on the same operands, so the same numbers), when CasADi can."""
     if not isinstance(function, ca.Function) or not function.is_a("SXFunction"):
         raise Unsupported("not an SX function")
-    if function.n_in() != 2 or any(not function.sparsity_in(i).is_dense() or function.size2_in(i) != 1
-                                   for i in range(2)):
+    if function.n_in() != 2 or any(
+        not function.sparsity_in(i).is_dense() or function.size2_in(i) != 1 for i in range(2)
+    ):
         raise Unsupported("not a function f(x, data) of two dense vectors")
     if function.has_free():
         raise Unsupported("free variables")
     try:
         arguments = function.sx_in()
-        return ca.Function(function.name(), arguments, function.call(arguments), function.name_in(),
-                           function.name_out(), {"cse": True})
-    except RuntimeError:   # a CasADi without the option: the function as it is
+        return ca.Function(
+            function.name(), arguments, function.call(arguments), function.name_in(), function.name_out(), {"cse": True}
+        )
+    except RuntimeError:  # a CasADi without the option: the function as it is
         return function
 
 
@@ -95,7 +140,7 @@ def _literal(value: float) -> str:
         return "NAN"
     if value in (float("inf"), float("-inf")):
         return "INFINITY" if value > 0 else "(-INFINITY)"
-    return repr(value)   # the shortest decimal that reads back as the same double
+    return repr(value)  # the shortest decimal that reads back as the same double
 
 
 def block_kernel_code(function: ca.Function, name: str | None = None, lanes: int = KERNEL_LANES) -> str:
@@ -123,11 +168,11 @@ def block_kernel_code(function: ca.Function, name: str | None = None, lanes: int
         raise Unsupported("no outputs")
     name = name or function.name()
     sizes = [source.nnz_out(i) for i in range(source.n_out())]
-    shared: list[str] = []   # x-only statements
-    body: list[str] = []     # per-sample statements
-    used: dict[str, int] = {}   # x-only values the body reads -> their slot in h
-    kind: dict[int, tuple[bool, str]] = {}   # work index -> (is_vector, C name)
-    names = iter(range(1, 10 ** 9))
+    shared: list[str] = []  # x-only statements
+    body: list[str] = []  # per-sample statements
+    used: dict[str, int] = {}  # x-only values the body reads -> their slot in h
+    kind: dict[int, tuple[bool, str]] = {}  # work index -> (is_vector, C name)
+    names = iter(range(1, 10**9))
 
     def operand(work: int) -> str:
         vector, symbol = kind[work]
@@ -162,7 +207,7 @@ def block_kernel_code(function: ca.Function, name: str | None = None, lanes: int
                 kind[target] = (True, symbol)
         elif operation in _VECTOR or operation in _LANEWISE:
             template = _VECTOR.get(operation) or _LANEWISE[operation]
-            if not any(kind[w][0] for w in inputs):   # x only: once per call
+            if not any(kind[w][0] for w in inputs):  # x only: once per call
                 symbol = f"s{next(names)}"
                 shared.append(f"const double {symbol} = {template.format(*[kind[w][1] for w in inputs])};")
                 kind[target] = (False, symbol)
@@ -173,8 +218,9 @@ def block_kernel_code(function: ca.Function, name: str | None = None, lanes: int
             else:
                 symbol = f"v{next(names)}"
                 lanes_of = [f"{operand(w)}[l]" for w in inputs]
-                body.append(f"vd {symbol}; for (int l = 0; l < {lanes}; ++l) {symbol}[l] = "
-                            f"{template.format(*lanes_of)};")
+                body.append(
+                    f"vd {symbol}; for (int l = 0; l < {lanes}; ++l) {symbol}[l] = {template.format(*lanes_of)};"
+                )
                 kind[target] = (True, symbol)
         else:
             raise Unsupported(f"operation {operation} in the block kernel")
@@ -212,8 +258,11 @@ def block_kernel_code(function: ca.Function, name: str | None = None, lanes: int
         f"    for (int l = 0; l < {lanes}; ++l) for (long long j = 0; j < ds; ++j) "
         "pad[l * ds + j] = d[(s + l < n ? s + l : n - 1) * ds + j];",
         f"    {name}_lanes(h, pad, ds, {', '.join(f't{i}' for i in range(len(sizes)))});",
-        *(f"    for (long long j = 0; j < (n - s) * {size}; ++j) res[{i}][s * {size} + j] = t{i}[j];"
-          for i, size in enumerate(sizes) if size),
+        *(
+            f"    for (long long j = 0; j < (n - s) * {size}; ++j) res[{i}][s * {size} + j] = t{i}[j];"
+            for i, size in enumerate(sizes)
+            if size
+        ),
         "  }",
         "  return 0;",
         "}",
@@ -233,15 +282,17 @@ def _compile_kernel(function: ca.Function) -> _BlockKernel | None:
     except Unsupported:
         return None
     try:
-        return load_or_build(code, f"{function.name()}{_KERNEL_SUFFIX}", lambda library: _load_kernel(function, library))
-    except RuntimeError:   # no compiler, or it refuses the code
+        return load_or_build(
+            code, f"{function.name()}{_KERNEL_SUFFIX}", lambda library: _load_kernel(function, library)
+        )
+    except RuntimeError:  # no compiler, or it refuses the code
         return None
 
 
 def _load_kernel(function: ca.Function, library: str) -> _BlockKernel | None:
     try:
         return _BlockKernel(getattr(ctypes.CDLL(library), function.name() + _KERNEL_SUFFIX), function)
-    except (OSError, AttributeError):   # not a usable library, or no kernel in it (no vector extensions)
+    except (OSError, AttributeError):  # not a usable library, or no kernel in it (no vector extensions)
         return None
 
 

@@ -83,7 +83,7 @@ def check_bounds(problem: _Problem) -> None:
             continue
         try:
             regions = [spring.anchors[end].region() for end in ("a", "b")]
-        except InputError:   # mounted on collision geometry without a box: no region before solving
+        except InputError:  # mounted on collision geometry without a box: no region before solving
             continue
         if kinematics is None:
             kinematics = problem.base_workspace.kinematics()
@@ -105,19 +105,26 @@ def _check_magnitudes(spring: Spring, label: str) -> None:
     for key in getattr(spring, "parameters", {}):
         bounds = _bounds(spring, key)
         if bounds is not None and max(abs(bounds[0]), abs(bounds[1])) > MAX_PARAMETER:
-            raise InputError(f"{label}: {key} bound {max(bounds, key=abs):g} is beyond ±{MAX_PARAMETER:g} (SI units); "
-                             "no spring has it, and the torques would overflow")
+            raise InputError(
+                f"{label}: {key} bound {max(bounds, key=abs):g} is beyond ±{MAX_PARAMETER:g} (SI units); "
+                "no spring has it, and the torques would overflow"
+            )
     for end, anchor in spring.anchors.items():
         try:
             region = anchor.region()
         except InputError:
             continue
-        corners = [region.offset] if not region.basis.shape[1] else [
-            region.point(np.array(choice)) for choice in itertools.product(*zip(region.lower, region.upper))]
-        reach = float(max(np.max(np.abs(corner)) for corner in corners))   # a coordinate (no overflow)
+        corners = (
+            [region.offset]
+            if not region.basis.shape[1]
+            else [region.point(np.array(choice)) for choice in itertools.product(*zip(region.lower, region.upper))]
+        )
+        reach = float(max(np.max(np.abs(corner)) for corner in corners))  # a coordinate (no overflow)
         if not reach <= MAX_DISTANCE:
-            raise InputError(f"{label}: anchor {end} has a coordinate of {reach:.4g} m in the frame of {anchor.body!r}; "
-                             f"an anchor lies within {MAX_DISTANCE:g} m of its body's origin")
+            raise InputError(
+                f"{label}: anchor {end} has a coordinate of {reach:.4g} m in the frame of {anchor.body!r}; "
+                f"an anchor lies within {MAX_DISTANCE:g} m of its body's origin"
+            )
 
 
 def _exceeds(value: float, limit: float) -> bool:
@@ -147,8 +154,10 @@ def _check_force(spring: Spring, label: str) -> None:
         floors.append(("preload", preload[0], "with stays_compressed, |F| ≥ preload"))
     for key, floor, why in floors:
         if _exceeds(floor, limit):
-            raise InputError(f"{label}: {key} is at least {floor:g} N, above max_force {limit:g} N ({why} at every "
-                             "sample); no force meets both")
+            raise InputError(
+                f"{label}: {key} is at least {floor:g} N, above max_force {limit:g} N ({why} at every "
+                "sample); no force meets both"
+            )
 
 
 def check_cable(problem: _Problem, spring: TwoPointSpring) -> None:
@@ -158,28 +167,35 @@ def check_cable(problem: _Problem, spring: TwoPointSpring) -> None:
         return
     anchors = list(spring.anchors.values())
     kinematics = problem.base_workspace.kinematics()
-    longest: float | np.ndarray = 2 * np.pi * sum(spring.radii)                 # what wrapping pulleys can add [m]
+    longest: float | np.ndarray = 2 * np.pi * sum(spring.radii)  # what wrapping pulleys can add [m]
     for first, second in zip(anchors, anchors[1:]):
-        longest = longest + _distance_bounds(kinematics, [first.body, second.body],
-                                             [first.region(), second.region()])[1]
+        longest = (
+            longest + _distance_bounds(kinematics, [first.body, second.body], [first.region(), second.region()])[1]
+        )
     reach = float(np.max(longest))
     if cable[0] >= reach:
-        raise InputError(f"spring {spring.name!r}: its cable ({cable[0]:.6g} m at the shortest) is at least as long "
-                         f"as its path can ever be ({reach:.6g} m over the workspace): the spring would be slack "
-                         "everywhere; shorten cable_length")
+        raise InputError(
+            f"spring {spring.name!r}: its cable ({cable[0]:.6g} m at the shortest) is at least as long "
+            f"as its path can ever be ({reach:.6g} m over the workspace): the spring would be slack "
+            "everywhere; shorten cable_length"
+        )
 
 
-def _distance_bounds(kinematics: WorkspaceKinematics | StackedKinematics, bodies: Sequence[str],
-                     regions: Sequence[Region]) -> tuple[np.ndarray, np.ndarray]:
+def _distance_bounds(
+    kinematics: WorkspaceKinematics | StackedKinematics, bodies: Sequence[str], regions: Sequence[Region]
+) -> tuple[np.ndarray, np.ndarray]:
     """Per sample, a lower bound of the shortest and the longest distance [m] between two anchor regions."""
     corners: list[np.ndarray] = []
     centres: list[np.ndarray] = []
     radii: list[float] = []
     for body, region in zip(bodies, regions):
-        local = np.array([region.point(np.array(choice)) for choice in itertools.product(
-            *zip(region.lower, region.upper))]) if region.basis.shape[1] else region.offset[None, :]
+        local = (
+            np.array([region.point(np.array(choice)) for choice in itertools.product(*zip(region.lower, region.upper))])
+            if region.basis.shape[1]
+            else region.offset[None, :]
+        )
         placement = kinematics.body(body)
-        world = np.stack([placement.points(point) for point in local], axis=1)   # N × corners × 3
+        world = np.stack([placement.points(point) for point in local], axis=1)  # N × corners × 3
         centre = local.mean(axis=0)
         corners.append(world)
         centres.append(placement.points(centre))
@@ -188,7 +204,7 @@ def _distance_bounds(kinematics: WorkspaceKinematics | StackedKinematics, bodies
     # temporaries at N × corners × 3 (all pairs at once took 1.5 KiB per sample and more in its norms)
     longest = np.zeros(corners[0].shape[0])
     for corner in range(corners[0].shape[1]):
-        differences = corners[0][:, corner, None, :] - corners[1]                      # N × corners × 3 [m]
+        differences = corners[0][:, corner, None, :] - corners[1]  # N × corners × 3 [m]
         longest = np.maximum(longest, np.max(np.linalg.norm(differences, axis=-1), axis=1))
     shortest = np.maximum(np.linalg.norm(centres[0] - centres[1], axis=1) - radii[0] - radii[1], 0.0)
     return shortest, longest
@@ -198,25 +214,32 @@ def _check_reach(spring: Spring, label: str, shortest: np.ndarray, longest: np.n
     high = getattr(spring, "max_length", None)
     if high is not None and _exceeds(float(np.max(shortest)), high):
         sample = int(np.argmax(shortest))
-        raise InputError(f"{label}: max_length {high:g} m, but its anchor regions are at least {shortest[sample]:.4g} m "
-                         f"apart at workspace sample {sample}")
+        raise InputError(
+            f"{label}: max_length {high:g} m, but its anchor regions are at least {shortest[sample]:.4g} m "
+            f"apart at workspace sample {sample}"
+        )
     low = getattr(spring, "min_length", None)
     if low is not None and _exceeds(low, float(np.min(longest))):
         sample = int(np.argmin(longest))
-        raise InputError(f"{label}: min_length {low:g} m, but its anchor regions are at most {longest[sample]:.4g} m "
-                         f"apart at workspace sample {sample}")
+        raise InputError(
+            f"{label}: min_length {low:g} m, but its anchor regions are at most {longest[sample]:.4g} m "
+            f"apart at workspace sample {sample}"
+        )
     free_length = _bounds(spring, "free_length")
     interval = getattr(spring, "free_length_interval", None)
     options = [key for key in _LENGTH_OPTIONS if getattr(spring, key, None) not in (None, False)]
     if free_length is None or interval is None or not options:
         return
-    low, _ = interval(shortest)   # the options' lower bounds grow with the lengths: the shortest ones bound them
-    _, high = interval(longest)   # and their upper bounds: the longest ones
+    low, _ = interval(shortest)  # the options' lower bounds grow with the lengths: the shortest ones bound them
+    _, high = interval(longest)  # and their upper bounds: the longest ones
     given = f"free_length [{free_length[0]:g}, {free_length[1]:g}] m"
     if _exceeds(low, high):
-        raise InputError(f"{label}: {', '.join(options)} ask for a free length from {low:.4g} m up to {high:.4g} m, "
-                         "which is empty: the anchor regions span too wide a range of lengths over the workspace")
+        raise InputError(
+            f"{label}: {', '.join(options)} ask for a free length from {low:.4g} m up to {high:.4g} m, "
+            "which is empty: the anchor regions span too wide a range of lengths over the workspace"
+        )
     if _exceeds(free_length[0], high) or _exceeds(low, free_length[1]):
         reach = f"at most {high:.4g} m" if _exceeds(free_length[0], high) else f"at least {low:.4g} m"
-        raise InputError(f"{label}: {given}, but with {' and '.join(options)} the anchor regions allow a free length "
-                         f"of {reach} only")
+        raise InputError(
+            f"{label}: {given}, but with {' and '.join(options)} the anchor regions allow a free length of {reach} only"
+        )

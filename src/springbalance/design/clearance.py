@@ -46,7 +46,6 @@ they are rebuilt every round until ``p`` is within 0.5 mm of it. Floor and wall 
 (:class:`~springbalance.springs.params.Anchor`).
 """
 
-
 from __future__ import annotations
 
 import dataclasses
@@ -89,8 +88,12 @@ class Clearance:
                 continue
             if isinstance(value, bool) or not isinstance(value, (int, float)) or not np.isfinite(value) or value < 0:
                 raise InputError(f"clearance.{key} must be a finite number ≥ 0 [m], got {value!r}")
-        if self.radius is not None and (isinstance(self.radius, bool) or not isinstance(self.radius, (int, float))
-                                        or not np.isfinite(self.radius) or self.radius <= 0):
+        if self.radius is not None and (
+            isinstance(self.radius, bool)
+            or not isinstance(self.radius, (int, float))
+            or not np.isfinite(self.radius)
+            or self.radius <= 0
+        ):
             raise InputError(f"clearance.radius must be a finite number > 0 [m], got {self.radius!r}")
         for key in ("check_samples", "rounds", "starts"):
             value = getattr(self, key)
@@ -192,4 +195,3 @@ class LinearRows:
 
     def __len__(self) -> int:
         return int(self.offset.size)
-

@@ -42,7 +42,6 @@ Frames: TypeAlias = tuple[tuple[np.ndarray, np.ndarray], ...]
 Nearest: TypeAlias = dict[Pair, list[tuple[float, int, int]]]
 
 
-
 class _Checker:
     """Distances of every two-point spring to the arm (and to each other) at a set of poses.
 
@@ -55,12 +54,16 @@ class _Checker:
         mechanism = problem.mechanism
         self.scene = CollisionScene(mechanism, convex=True)
         base = problem.base_workspace
-        self.bounds = [(float(np.min(base.joint_values[:, joint.index_v])),
-                        float(np.max(base.joint_values[:, joint.index_v]))) for joint in mechanism.joints]
+        self.bounds = [
+            (float(np.min(base.joint_values[:, joint.index_v])), float(np.max(base.joint_values[:, joint.index_v])))
+            for joint in mechanism.joints
+        ]
         ranges = {joint.name: list(bound) for joint, bound in zip(mechanism.joints, self.bounds)}
         n = clearance.check_samples
-        sampled = [Workspace.sobol(mechanism, n=n, ranges=ranges, seed=0).joint_values,
-                   Workspace.sobol(mechanism, n=4 * n, ranges=ranges, seed=1).joint_values]
+        sampled = [
+            Workspace.sobol(mechanism, n=n, ranges=ranges, seed=0).joint_values,
+            Workspace.sobol(mechanism, n=4 * n, ranges=ranges, seed=1).joint_values,
+        ]
         #: pose set 2 (grown by :meth:`descend`): its joint values and configurations
         self.found_joints: list[np.ndarray] = []
         self.found_poses: list[np.ndarray] = []
@@ -69,19 +72,27 @@ class _Checker:
         self.pose_sets.append(self.found_poses)
         self.springs: list[Spring] = [spring for spring in problem.springs if getattr(spring, "ends", ()) == ("a", "b")]
         self.by_name = {_named(spring): spring for spring in self.springs}
-        self.checked = {_named(spring): self.scene.indices_except([spring.anchors[e].body for e in _ends_of(spring)])
-                        for spring in self.springs}
-        self.frame_ids = {_named(spring): tuple(mechanism.frame_id(spring.anchors[e].body) for e in _ends_of(spring))
-                          for spring in self.springs}
+        self.checked = {
+            _named(spring): self.scene.indices_except([spring.anchors[e].body for e in _ends_of(spring)])
+            for spring in self.springs
+        }
+        self.frame_ids = {
+            _named(spring): tuple(mechanism.frame_id(spring.anchors[e].body) for e in _ends_of(spring))
+            for spring in self.springs
+        }
 
     def _frames(self, spring: Spring) -> Frames:
-        return tuple((np.array(self.scene.frame(f).rotation), np.array(self.scene.frame(f).translation))
-                     for f in self.frame_ids[_named(spring)])
+        return tuple(
+            (np.array(self.scene.frame(f).rotation), np.array(self.scene.frame(f).translation))
+            for f in self.frame_ids[_named(spring)]
+        )
 
     def _ends(self, spring: Spring, frames: Frames, x: np.ndarray, scenario: int) -> tuple[np.ndarray, np.ndarray]:
         """World points [m] of the two ends of ``spring``'s capsule (its body: :func:`_ends_of`)."""
-        start, end = [rotation @ self.problem.model.anchor_point(spring, name, x, scenario) + translation
-                      for name, (rotation, translation) in zip(_ends_of(spring), frames)]
+        start, end = [
+            rotation @ self.problem.model.anchor_point(spring, name, x, scenario) + translation
+            for name, (rotation, translation) in zip(_ends_of(spring), frames)
+        ]
         return start, end
 
     def _radii(self, x: np.ndarray) -> dict[str, float]:
@@ -96,7 +107,7 @@ class _Checker:
                     yield ("object", _named(spring), index, scenario)
             if self.clearance.between_springs:
                 for i, first in enumerate(self.springs):
-                    for second in self.springs[i + 1:]:
+                    for second in self.springs[i + 1 :]:
                         yield ("spring", _named(first), _named(second), scenario)
 
     def _contact(self, pair: Pair, x: np.ndarray, radius: dict[str, float]) -> tuple[Contact, Frames, Frames | None]:
@@ -106,9 +117,9 @@ class _Checker:
         frames = self._frames(spring)
         ends = self._ends(spring, frames, x, scenario)
         if kind == "object":
-            assert isinstance(second, int)   # an object pair names the object by its index
+            assert isinstance(second, int)  # an object pair names the object by its index
             return self.scene.capsule_distance(*ends, radius[first], second), frames, None
-        assert isinstance(second, str)       # a spring pair names the other spring
+        assert isinstance(second, str)  # a spring pair names the other spring
         other = self.by_name[second]
         other_frames = self._frames(other)
         contact = capsule_contact(*ends, radius[first], *self._ends(other, other_frames, x, scenario), radius[second])
@@ -182,8 +193,14 @@ class _Checker:
                 if start_distance > self.clearance.margin + DESCENT_BAND:
                     continue
                 start = np.asarray(self.joint_sets[pose_set][sample], dtype=float)
-                found = minimize(distance, start, args=(pair,), method="L-BFGS-B", bounds=self.bounds,
-                                 options={"eps": 1e-4, "maxfun": DESCENT_EVALUATIONS})
+                found = minimize(
+                    distance,
+                    start,
+                    args=(pair,),
+                    method="L-BFGS-B",
+                    bounds=self.bounds,
+                    options={"eps": 1e-4, "maxfun": DESCENT_EVALUATIONS},
+                )
                 value = float(distance(found.x, pair))
                 for name in _names(pair):
                     closest[name] = min(closest[name], value)
@@ -206,15 +223,21 @@ class _Checker:
             contact, frames, other_frames = self._contact(pair, x, radius)
             spring = self.by_name[first]
             if kind == "object":
-                assert isinstance(second, int)   # an object pair names the object by its index
+                assert isinstance(second, int)  # an object pair names the object by its index
                 label = f"{first} clear of {self.scene.objects[second].name} (pose {pose_set}:{sample})"
                 object_cuts.append((label, spring, scenario, frames, contact, radius[first], clearance.target))
             else:
-                assert isinstance(second, str)   # a spring pair names the other spring
-                spring_cuts.append((f"{first} clear of {second} (pose {pose_set}:{sample})",
-                                    (spring, frames, radius[first]), (self.by_name[second], other_frames,
-                                                                      radius[second]),
-                                    scenario, contact, clearance.target))
+                assert isinstance(second, str)  # a spring pair names the other spring
+                spring_cuts.append(
+                    (
+                        f"{first} clear of {second} (pose {pose_set}:{sample})",
+                        (spring, frames, radius[first]),
+                        (self.by_name[second], other_frames, radius[second]),
+                        scenario,
+                        contact,
+                        clearance.target,
+                    )
+                )
         return object_cuts, spring_cuts
 
 
@@ -228,7 +251,7 @@ def _names(pair: Pair) -> tuple[str, ...]:
     """The springs of ``pair``: its spring, and the other one of a spring pair."""
     kind, first, second, _ = pair
     if kind == "spring":
-        assert isinstance(second, str)   # a spring pair names the other spring
+        assert isinstance(second, str)  # a spring pair names the other spring
         return (first, second)
     return (first,)
 
@@ -244,7 +267,6 @@ def _worst(below: dict[Key, float]) -> list[Key]:
     return chosen
 
 
-
 def _violations(checker: _Checker, x: np.ndarray) -> tuple[dict[Key, float], dict[str, float]]:
     """``(below, closest)`` at design ``x``: the poses where a spring comes closer than the margin, from the
     check set and the poses found before; when those are clear, from the 4× denser set; when that is clear
@@ -257,22 +279,23 @@ def _violations(checker: _Checker, x: np.ndarray) -> tuple[dict[Key, float], dic
     if not below:
         below, dense, nearest_dense = checker.measure(x, 1)
         closest = {name: min(closest[name], dense[name]) for name in closest}
-        nearest = nearest_dense             # 4× denser: its closest poses are the better starts
+        nearest = nearest_dense  # 4× denser: its closest poses are the better starts
     if not below:
         below, searched = checker.descend(x, nearest)
         closest = {name: min(closest[name], searched[name]) for name in closest}
     return below, closest
 
 
-def fit_from_starts(problem: DesignProblem, solution: Solution,
-                    **solve_options: Any) -> tuple[Solution, FitRecord, DesignProblem]:
+def fit_from_starts(
+    problem: DesignProblem, solution: Solution, **solve_options: Any
+) -> tuple[Solution, FitRecord, DesignProblem]:
     """:func:`fit_to_arm` from the :attr:`Clearance.starts` best feasible designs of the multi-start
     (``solution.starts``, distinct, best first); keeps the converged fit of lowest objective (else the
     first). Returns it with the problem that carries its rows."""
     count = problem.clearance.starts if problem.clearance is not None else 1
     records = sorted((record for record in solution.starts if record.feasible), key=lambda record: record.objective)
-    others = [record for record in records if not np.array_equal(record.x, solution.x)][:count - 1]
-    fits = []   # each from the problem as given (with the mounting rows of the multi-start, if any)
+    others = [record for record in records if not np.array_equal(record.x, solution.x)][: count - 1]
+    fits = []  # each from the problem as given (with the mounting rows of the multi-start, if any)
     for x in [solution.x] + [record.x for record in others]:
         start = Solution(np.array(x, dtype=float), solution.starts, solution.method, solution.seed, solution.status)
         fits.append(fit_to_arm(problem, start, **solve_options))
@@ -285,8 +308,28 @@ def fit_from_starts(problem: DesignProblem, solution: Solution,
     return fitted, record, fitted_problem
 
 
-def fit_to_arm(problem: DesignProblem, solution: Solution,
-               **solve_options: Any) -> tuple[Solution, FitRecord, DesignProblem]:
+def _round(problem: DesignProblem, x: np.ndarray, solution: Solution, solve_options: dict[str, Any]) -> Solution | None:
+    """One warm start of ``problem`` (with this round's rows) from ``x``. When the linearised rows cannot all be
+    met from there, the least violating iterate (the next round rebuilds the rows there; the record says if it
+    never clears); None when the solver returned no iterate at all."""
+    try:
+        return solve_problem(problem, starts=1, initial=x, progress=False, **solve_options)
+    except SolverError as error:
+        if not error.starts:
+            return None
+        least = min(error.starts, key=lambda record: record.max_violation)
+        return Solution(
+            least.x,
+            solution.starts,
+            solution.method,
+            solution.seed,
+            f"{solution.status}; a fitting round stopped infeasible ({least.status})",
+        )
+
+
+def fit_to_arm(
+    problem: DesignProblem, solution: Solution, **solve_options: Any
+) -> tuple[Solution, FitRecord, DesignProblem]:
     """Enforce the problem's clearance and mountings from ``solution`` (see the module documentation).
 
     ``solve_options`` go to :func:`~springbalance.design.solvers.solve_problem` (method, iterations).
@@ -320,24 +363,26 @@ def fit_to_arm(problem: DesignProblem, solution: Solution,
         object_cuts, spring_cuts = checker.cuts(x, watched) if checker is not None else ([], [])
         planes = mount_planes(problem, x, planes)
         problem = problem.with_linear_rows(_rows(problem, x, object_cuts, spring_cuts, planes))
-        try:
-            solution = solve_problem(problem, starts=1, initial=x, progress=False, **solve_options)
-        except SolverError as error:
-            # the linearised rows could not all be met from here: go on from the least violating
-            # iterate (the next round rebuilds the rows there); the record says if it never clears
-            if not error.starts:
-                break
-            least = min(error.starts, key=lambda record: record.max_violation)
-            solution = Solution(least.x, solution.starts, solution.method, solution.seed,
-                                f"{solution.status}; a fitting round stopped infeasible ({least.status})")
+        resolved = _round(problem, x, solution, solve_options)
+        if resolved is None:
+            break
+        solution = resolved
         x = np.array(solution.x, dtype=float)
         rounds += 1
     objective = problem.objective_value(problem.evaluate(x))
     poses = sum(len(poses) for poses in checker.pose_sets) if checker is not None else 0
-    record = FitRecord(rounds, len(problem.linear_rows) if problem.linear_rows is not None else 0, bool(converged),
-                       float(before), float(objective), {k: float(v) for k, v in closest.items()},
-                       {k: float(v) for k, v in mounts.items()}, poses, time.perf_counter() - clock)
-    status = (f"{solution.status}; fitted to the arm in {rounds} round(s)"
-              + ("" if converged else " (NOT converged: see the clearance check)"))
+    record = FitRecord(
+        rounds,
+        len(problem.linear_rows) if problem.linear_rows is not None else 0,
+        bool(converged),
+        float(before),
+        float(objective),
+        {k: float(v) for k, v in closest.items()},
+        {k: float(v) for k, v in mounts.items()},
+        poses,
+        time.perf_counter() - clock,
+    )
+    status = f"{solution.status}; fitted to the arm in {rounds} round(s)" + (
+        "" if converged else " (NOT converged: see the clearance check)"
+    )
     return Solution(x, solution.starts, solution.method, solution.seed, status), record, problem
-

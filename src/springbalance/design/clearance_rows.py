@@ -36,9 +36,16 @@ def mount_planes(problem: DesignProblem, x: np.ndarray | Sequence[float], planes
             history = planes.setdefault((spring.name, end, scenario), [])
             if not any(np.allclose(w, old_w) and np.allclose(normal, old_n) for old_w, old_n in history):
                 history.append((w, normal))
-            else:   # the current plane moves to the end (it is the one the anchor must lie on)
-                history.append(history.pop(next(i for i, (old_w, old_n) in enumerate(history)
-                                                 if np.allclose(w, old_w) and np.allclose(normal, old_n))))
+            else:  # the current plane moves to the end (it is the one the anchor must lie on)
+                history.append(
+                    history.pop(
+                        next(
+                            i
+                            for i, (old_w, old_n) in enumerate(history)
+                            if np.allclose(w, old_w) and np.allclose(normal, old_n)
+                        )
+                    )
+                )
     return planes
 
 
@@ -59,8 +66,6 @@ def _mount_errors(problem: DesignProblem, x: np.ndarray, geometry: pin.GeometryM
     return errors
 
 
-
-
 # ====================================================================== rows
 class _AnchorMaps:
     """Per (spring, end, scenario): the anchor point ``P(x) = P0 + J (x - x0)`` (body frame), exact since affine."""
@@ -76,13 +81,17 @@ class _AnchorMaps:
             n = self.problem.variables.size
             zero = np.zeros(n)
             base = model.anchor_point(spring, end, zero, scenario)
-            self._jacobians[key] = np.column_stack(
-                [model.anchor_point(spring, end, np.eye(n)[k], scenario) - base for k in range(n)]) if n else np.zeros((3, 0))
+            self._jacobians[key] = (
+                np.column_stack([model.anchor_point(spring, end, np.eye(n)[k], scenario) - base for k in range(n)])
+                if n
+                else np.zeros((3, 0))
+            )
         return self._jacobians[key]
 
 
-def _rows(problem: DesignProblem, x: np.ndarray | Sequence[float], object_cuts: list, spring_cuts: list,
-          planes: dict) -> LinearRows | None:
+def _rows(
+    problem: DesignProblem, x: np.ndarray | Sequence[float], object_cuts: list, spring_cuts: list, planes: dict
+) -> LinearRows | None:
     """Linear rows at design ``x``: mounting rows, then the given cuts.
 
     ``planes``: per mounted anchor, its tangent planes of the offset surface (:func:`mount_planes`).
@@ -100,8 +109,15 @@ def _rows(problem: DesignProblem, x: np.ndarray | Sequence[float], object_cuts: 
     offset: list[float] = []
     labels: list[str] = []
 
-    def end_row(spring: Spring, end: str, scenario: int, rotation: np.ndarray, translation: np.ndarray,
-                normal: np.ndarray, point: np.ndarray) -> tuple[np.ndarray, float]:
+    def end_row(
+        spring: Spring,
+        end: str,
+        scenario: int,
+        rotation: np.ndarray,
+        translation: np.ndarray,
+        normal: np.ndarray,
+        point: np.ndarray,
+    ) -> tuple[np.ndarray, float]:
         """Gradient and value of ``n·(R P(x) + p - w)`` at ``x``."""
         P = model.anchor_point(spring, end, x, scenario)
         gradient = normal @ rotation @ maps.jacobian(spring, end, scenario)
@@ -114,11 +130,12 @@ def _rows(problem: DesignProblem, x: np.ndarray | Sequence[float], object_cuts: 
             history = planes[(spring.name, end, scenario)]
             for index, (w, normal) in enumerate(history):
                 gradient, value = end_row(spring, end, scenario, identity, zero, normal, w)
-                for sign in ((-1.0, 1.0) if index == len(history) - 1 else (-1.0,)):
+                for sign in (-1.0, 1.0) if index == len(history) - 1 else (-1.0,):
                     matrix.append(sign * gradient)
                     offset.append(sign * (value - anchor.offset) + MOUNT_TOLERANCE - sign * gradient @ x)
-                    labels.append(f"{spring.name}.{end} {'on' if sign > 0 else 'within'} the offset surface "
-                                  f"of {anchor.body}")
+                    labels.append(
+                        f"{spring.name}.{end} {'on' if sign > 0 else 'within'} the offset surface of {anchor.body}"
+                    )
     for label, spring, scenario, frames, contact, radius, target in object_cuts:
         for end, (rotation, translation) in zip(_ends_of(spring), frames):
             gradient, value = end_row(spring, end, scenario, rotation, translation, contact.normal, contact.on_object)
@@ -138,8 +155,6 @@ def _rows(problem: DesignProblem, x: np.ndarray | Sequence[float], object_cuts: 
     return LinearRows(list(problem.variables.names), np.array(matrix).reshape(-1, n), np.array(offset), labels)
 
 
-
-
 def _ends_of(spring: Spring) -> tuple[str, str]:
     """The ends of a spring's own body: ``a`` and ``b``, or for a routed spring ``a`` and its first
     pulley (the capsule is its first segment; its cable beyond is not checked)."""
@@ -152,4 +167,3 @@ def _radius(problem: DesignProblem, spring: Spring, x: np.ndarray, default: floa
     if "mean_diameter" in values and "wire_diameter" in values:
         return 0.5 * (values["mean_diameter"] + values["wire_diameter"])
     return default
-

@@ -41,9 +41,13 @@ TWIN_TOLERANCE = 1e-4
 
 def coil_springs(problem: DesignProblem) -> list[HelicalCoilSpring]:
     """The helical coil springs of ``problem`` that have free variables."""
-    return [spring for spring in problem.springs
-            if isinstance(spring, HelicalCoilSpring) and hasattr(spring, "spec_sheet")
-            and any(isinstance(value, Free) for value in spring.parameters.values())]
+    return [
+        spring
+        for spring in problem.springs
+        if isinstance(spring, HelicalCoilSpring)
+        and hasattr(spring, "spec_sheet")
+        and any(isinstance(value, Free) for value in spring.parameters.values())
+    ]
 
 
 def coil_start(problem: DesignProblem, **solve_options: Any) -> np.ndarray | None:
@@ -51,8 +55,10 @@ def coil_start(problem: DesignProblem, **solve_options: Any) -> np.ndarray | Non
     coils = coil_springs(problem)
     if not coils:
         return None
-    twins = [_twin(spring) if isinstance(spring, HelicalCoilSpring) and spring in coils else spring
-             for spring in problem.springs]
+    twins = [
+        _twin(spring) if isinstance(spring, HelicalCoilSpring) and spring in coils else spring
+        for spring in problem.springs
+    ]
     twin = problem.with_springs(twins, no_joint_worse=False)
     try:
         # only a first guess: winding the coils moves the design far more than this fraction of its cost
@@ -68,7 +74,7 @@ def coil_start(problem: DesignProblem, **solve_options: Any) -> np.ndarray | Non
         if problem.springs[column] not in coils:
             continue
         coil = problem.springs[column]
-        assert isinstance(coil, HelicalCoilSpring)   # one of `coils`
+        assert isinstance(coil, HelicalCoilSpring)  # one of `coils`
         law = twin.model.spring_values(spring, found.x)
         lengths, forces = evaluation.lengths[:, column], evaluation.tensions[:, column]
         start.update({f"{coil.name}.{key}": value for key, value in _wind(coil, law, lengths, forces).items()})
@@ -88,21 +94,35 @@ def _twin(coil: HelicalCoilSpring) -> ExtensionSpring | CompressionSpring:
     D_low, D_high = _bounds(coil, "mean_diameter")
     n_low, n_high = _bounds(coil, "active_coils")
     G = coil.material.shear_modulus
-    stiffest = G * d_high**4 / (8 * max(D_low, coil.index_range[0] * d_high) ** 3 * n_low)       # [N/m]
+    stiffest = G * d_high**4 / (8 * max(D_low, coil.index_range[0] * d_high) ** 3 * n_low)  # [N/m]
     options = {key: getattr(coil, key) for key in ("max_force", "max_length", "min_length")}
     if coil.kind == "extension":
-        assert isinstance(coil, HelicalExtensionSpring)   # the helical law of kind "extension"
+        assert isinstance(coil, HelicalExtensionSpring)  # the helical law of kind "extension"
         low, high = _bounds(coil, "initial_tension")
-        shortest = d_low * (n_low + 1) + 2 * (coil.index_range[0] - 1) * d_low                      # [m]
-        longest = d_high * (n_high + 1) + 2 * (D_high - d_high)                                     # [m]
-        return ExtensionSpring(coil.a, coil.b, coil.name, stiffness=Free(0.0, stiffest),
-                               free_length=Free(shortest, longest), initial_tension=Free(low, high),
-                               keep_tension=coil.keep_tension, **options)
-    assert isinstance(coil, HelicalCompressionSpring)   # the helical law of kind "compression"
+        shortest = d_low * (n_low + 1) + 2 * (coil.index_range[0] - 1) * d_low  # [m]
+        longest = d_high * (n_high + 1) + 2 * (D_high - d_high)  # [m]
+        return ExtensionSpring(
+            coil.a,
+            coil.b,
+            coil.name,
+            stiffness=Free(0.0, stiffest),
+            free_length=Free(shortest, longest),
+            initial_tension=Free(low, high),
+            keep_tension=coil.keep_tension,
+            **options,
+        )
+    assert isinstance(coil, HelicalCompressionSpring)  # the helical law of kind "compression"
     free_low, free_high = _bounds(coil, "free_length")
-    return CompressionSpring(coil.a, coil.b, coil.name, stiffness=Free(0.0, stiffest),
-                             free_length=Free(free_low, free_high), preload=0.0,
-                             stays_compressed=coil.stays_compressed, **options)
+    return CompressionSpring(
+        coil.a,
+        coil.b,
+        coil.name,
+        stiffness=Free(0.0, stiffest),
+        free_length=Free(free_low, free_high),
+        preload=0.0,
+        stays_compressed=coil.stays_compressed,
+        **options,
+    )
 
 
 def _wind(coil: HelicalCoilSpring, law: dict, lengths: np.ndarray, forces: np.ndarray) -> dict[str, float]:
@@ -111,8 +131,8 @@ def _wind(coil: HelicalCoilSpring, law: dict, lengths: np.ndarray, forces: np.nd
     n_low, n_high = _bounds(coil, "active_coils")
     D_low, D_high = _bounds(coil, "mean_diameter")
     G = coil.material.shear_modulus
-    rate = max(float(law["stiffness"]), 1e-9)                                                   # [N/m]
-    largest = float(np.max(np.abs(forces))) if forces.size else 0.0                             # [N]
+    rate = max(float(law["stiffness"]), 1e-9)  # [N/m]
+    largest = float(np.max(np.abs(forces))) if forces.size else 0.0  # [N]
     wires = [d for d in PREFERRED_WIRE_DIAMETERS if d_low <= d <= d_high] or [0.5 * (d_low + d_high)]
     best, best_score = None, math.inf
     for d in wires:
@@ -129,7 +149,7 @@ def _wind(coil: HelicalCoilSpring, law: dict, lengths: np.ndarray, forces: np.nd
                 mismatch = abs(free - law["free_length"]) / max(law["free_length"], 1e-3)
             else:
                 mismatch = max(0.0, d * (n + 2) - float(np.min(lengths))) / max(float(np.min(lengths)), 1e-3)
-            stress = 8 * largest * D * (4 * index + 2) / ((4 * index - 3) * math.pi * d**3)     # K_B 8 F D/(π d³)
+            stress = 8 * largest * D * (4 * index + 2) / ((4 * index - 3) * math.pi * d**3)  # K_B 8 F D/(π d³)
             score = mismatch + max(0.0, stress / allowable - 1.0)
             if score < best_score:
                 best, best_score = (d, D, n), score
@@ -138,8 +158,8 @@ def _wind(coil: HelicalCoilSpring, law: dict, lengths: np.ndarray, forces: np.nd
     d, D, n = best
     values = {"wire_diameter": d, "mean_diameter": D, "active_coils": n}
     if coil.kind == "extension":
-        low, high = initial_stress_band(D / d)                                                  # [Pa]
-        to_force = math.pi * d**3 / (8 * D)                                                     # [N/Pa]
+        low, high = initial_stress_band(D / d)  # [Pa]
+        to_force = math.pi * d**3 / (8 * D)  # [N/Pa]
         values["initial_tension"] = float(np.clip(law["initial_tension"], low * to_force, high * to_force))
     else:
         values["free_length"] = float(law["free_length"])

@@ -63,7 +63,7 @@ class CacheStats:
 
 #: counters of this process (read by benchmarks/bench_startup.py and the tests)
 STATS = CacheStats()
-_loaded: dict[str, object] = {}   # key -> what load_or_build loaded (None: unusable)
+_loaded: dict[str, object] = {}  # key -> what load_or_build loaded (None: unusable)
 #: what a loader of :func:`load_or_build` makes of a library
 Loaded = TypeVar("Loaded")
 
@@ -124,8 +124,14 @@ def cache_key(code: str, compiler_path: str, flags: tuple[str, ...]) -> str:
     """The key of a library: a hash of the C code, the compiler, the flags and the platform."""
     # casadi's stubs do not declare the module's __version__ (it is set at import)
     version = ca.__version__  # type: ignore[attr-defined]
-    parts = [code, _compiler_identity(compiler_path), " ".join(flags), version, sys.platform,
-             _machine_identity() if any(flag.startswith(("-march", "-mcpu", "-mtune")) for flag in flags) else ""]
+    parts = [
+        code,
+        _compiler_identity(compiler_path),
+        " ".join(flags),
+        version,
+        sys.platform,
+        _machine_identity() if any(flag.startswith(("-march", "-mcpu", "-mtune")) for flag in flags) else "",
+    ]
     return hashlib.sha256("\0".join(parts).encode()).hexdigest()[:40]
 
 
@@ -142,6 +148,7 @@ def compile_function(function: ca.Function) -> ca.Function:
     Raises:
         RuntimeError: no compiler, or none of the flags compile the code.
     """
+
     def load(library: str) -> ca.Function | None:
         try:
             return ca.external(function.name(), library)
@@ -169,7 +176,7 @@ def load_or_build(code: str, name: str, load: Callable[[str], Loaded | None]) ->
     errors = []
     for flags in _flag_candidates():
         key = cache_key(code, path, flags)
-        if key in _loaded:   # loaded by this loader: the key hashes the code it was given with
+        if key in _loaded:  # loaded by this loader: the key hashes the code it was given with
             return cast("Loaded | None", _loaded[key])
         folder = cache_dir()
         library = os.path.join(folder, f"{name}-{key}{_SUFFIX}")
@@ -204,8 +211,9 @@ def _build(code: str, compiler_path: str, flags: tuple[str, ...], folder: str, l
             command.append("-lm")
         run = subprocess.run(command, capture_output=True, text=True)
         if run.returncode != 0:
-            raise subprocess.SubprocessError(run.stderr.strip().splitlines()[-1] if run.stderr.strip()
-                                             else f"exit status {run.returncode}")
+            raise subprocess.SubprocessError(
+                run.stderr.strip().splitlines()[-1] if run.stderr.strip() else f"exit status {run.returncode}"
+            )
         os.chmod(target, 0o644)
         os.replace(target, library)
     finally:

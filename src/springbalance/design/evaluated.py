@@ -57,10 +57,18 @@ class EvaluatedDesign:
         status: the solver status of the chosen start.
     """
 
-    def __init__(self, problem: DesignProblem, x: npt.ArrayLike, starts: Iterable[StartRecord] = (),
-                 method: str = "evaluate", seed: int | None = None, status: str = "evaluated",
-                 wire_rounding: WireRounding | None = None, fit: FitRecord | None = None,
-                 stock: StockSelection | None = None) -> None:
+    def __init__(
+        self,
+        problem: DesignProblem,
+        x: npt.ArrayLike,
+        starts: Iterable[StartRecord] = (),
+        method: str = "evaluate",
+        seed: int | None = None,
+        status: str = "evaluated",
+        wire_rounding: WireRounding | None = None,
+        fit: FitRecord | None = None,
+        stock: StockSelection | None = None,
+    ) -> None:
         self.problem = problem
         self.x = np.asarray(x, dtype=float)
         self.starts = list(starts)
@@ -94,8 +102,9 @@ class EvaluatedDesign:
             record: dict[str, Any] = {"name": spring.name, "type": spring.kind}
             if spring.ideal is not None:
                 record["ideal"] = bool(spring.ideal)
-            for end, anchor, radius in zip(spring.anchors, spring.anchors.values(), getattr(spring, "radii", ())
-                                           or [0.0] * len(spring.anchors)):
+            for end, anchor, radius in zip(
+                spring.anchors, spring.anchors.values(), getattr(spring, "radii", ()) or [0.0] * len(spring.anchors)
+            ):
                 record[end] = {"body": anchor.body, "point": model.anchor_point(spring, end, self.x).tolist()}
                 if radius > 0:
                     record[end]["pulley"] = {"radius": radius}
@@ -109,11 +118,12 @@ class EvaluatedDesign:
             if isinstance(spring, _Coil):
                 # a coil: the law's values it gives, and its data sheet with the buildable verdict
                 record.update({key: value for key, value in spring.derived_values(values).items() if key not in record})
-                record["helical"] = spring.spec_sheet(values, self.evaluation.lengths[:, column],
-                                                      self.evaluation.tensions[:, column])
-            mass = spring.mass if isinstance(spring, TwoPointSpring) else None   # only a two-point spring has one
+                record["helical"] = spring.spec_sheet(
+                    values, self.evaluation.lengths[:, column], self.evaluation.tensions[:, column]
+                )
+            mass = spring.mass if isinstance(spring, TwoPointSpring) else None  # only a two-point spring has one
             if isinstance(spring, TwoPointSpring) and mass is not None:
-                record["mass"] = float(spring.spring_mass(values))                     # [kg]
+                record["mass"] = float(spring.spring_mass(values))  # [kg]
                 if isinstance(mass, CoilMass):
                     record["wire_diameter"] = float(mass.wire_diameter(values["stiffness"]))  # [m]
             records.append(record)
@@ -134,12 +144,17 @@ class EvaluatedDesign:
             parameters = {key: values[key] for key in spring.parameter_units}
             points = [values[end] for end in spring.anchors]
             if record.get("type") == "routed":
-                record.update(path=points, cable_length=parameters.pop("cable_length"),
-                              spring={**record["spring"], **parameters})
+                record.update(
+                    path=points, cable_length=parameters.pop("cable_length"), spring={**record["spring"], **parameters}
+                )
             else:
                 record.update(parameters)
-                record.update({end: {"body": point["body"], "point": point["point"]}
-                               for end, point in zip(spring.anchors, points)})
+                record.update(
+                    {
+                        end: {"body": point["body"], "point": point["point"]}
+                        for end, point in zip(spring.anchors, points)
+                    }
+                )
             records.append(spring_from_dict(record))
         return records
 
@@ -158,19 +173,25 @@ class EvaluatedDesign:
             option = getattr(spring, "helical", None)
             kind = getattr(spring, "helical_kind", None)
             if kind is None or (option is None and material is None) or hasattr(spring, "spec_sheet"):
-                continue   # not a coil, nothing asked, or a coil already (its spec sheet says it all)
+                continue  # not a coil, nothing asked, or a coil already (its spec sheet says it all)
             values = self.problem.model.spring_values(spring, self.x)
             lengths, forces = self.evaluation.lengths[:, column], self.evaluation.tensions[:, column]
             if material is not None:
                 chosen = material
             else:
-                assert option is not None   # skipped above when neither is given
+                assert option is not None  # skipped above when neither is given
                 chosen = option.material
             if values["stiffness"] <= 0:
                 continue
             designs[_named(spring)] = size_helical_spring(
-                values["stiffness"], values["free_length"], float(np.max(lengths)), float(np.max(np.abs(forces))),
-                material=chosen, kind=kind, min_length=float(np.min(lengths)))
+                values["stiffness"],
+                values["free_length"],
+                float(np.max(lengths)),
+                float(np.max(np.abs(forces))),
+                material=chosen,
+                kind=kind,
+                min_length=float(np.min(lengths)),
+            )
         return designs
 
     # ---------------------------------------------------------------- torques
@@ -185,8 +206,13 @@ class EvaluatedDesign:
 
     def evaluate_on(self, workspace: Workspace) -> Evaluation:
         """Evaluation of this design on another workspace of the same mechanism."""
-        problem = DesignProblem(self.problem.mechanism, workspace, self.fixed_springs(),
-                                objective="rms", weights=self.problem.weights_by_name())
+        problem = DesignProblem(
+            self.problem.mechanism,
+            workspace,
+            self.fixed_springs(),
+            objective="rms",
+            weights=self.problem.weights_by_name(),
+        )
         return problem.evaluate(np.zeros(0))
 
     def on_workspace(self, workspace: Workspace) -> EvaluatedDesign:
@@ -194,8 +220,13 @@ class EvaluatedDesign:
         objective = self.problem.objective.name
         if OBJECTIVES[objective].needs_path and not workspace.ordered:
             objective = "rms"
-        problem = DesignProblem(self.problem.mechanism, workspace, self.fixed_springs(), objective=objective,
-                                weights=self.problem.weights_by_name())
+        problem = DesignProblem(
+            self.problem.mechanism,
+            workspace,
+            self.fixed_springs(),
+            objective=objective,
+            weights=self.problem.weights_by_name(),
+        )
         return type(self)(problem, np.zeros(0), method="evaluate", status="evaluated")
 
     def scenario_results(self) -> list[EvaluatedDesign]:
@@ -222,20 +253,36 @@ class EvaluatedDesign:
             peak_before, peak_after = float(np.max(np.abs(before_tau[:, j]))), float(np.max(np.abs(after_tau[:, j])))
             rms_before = float(np.sqrt(np.mean(before_tau[:, j] ** 2)))
             rms_after = float(np.sqrt(np.mean(after_tau[:, j] ** 2)))
-            joints.append({"joint": joint.name, "unit": joint.torque_unit,
-                           "peak_before": peak_before, "peak_after": peak_after,
-                           "peak_reduction_percent": _reduction(peak_before, peak_after, negligible),
-                           "rms_before": rms_before, "rms_after": rms_after,
-                           "rms_reduction_percent": _reduction(rms_before, rms_after, negligible)})
+            joints.append(
+                {
+                    "joint": joint.name,
+                    "unit": joint.torque_unit,
+                    "peak_before": peak_before,
+                    "peak_after": peak_after,
+                    "peak_reduction_percent": _reduction(peak_before, peak_after, negligible),
+                    "rms_before": rms_before,
+                    "rms_after": rms_after,
+                    "rms_reduction_percent": _reduction(rms_before, rms_after, negligible),
+                }
+            )
         objectives = {}
         for name, cls in OBJECTIVES.items():
             objective = cls()
             before = objective.value(before_tau * problem.weights, kinematics.potential, problem.path_steps)
             after = objective.value(after_tau * problem.weights, self.evaluation.potential, problem.path_steps)
-            objectives[name] = {"before": before, "after": after, "unit": objective.unit,
-                                "reduction_percent": _reduction(before, after)}
-        return {"joints": joints, "objectives": objectives, "optimised": problem.objective.name,
-                "max_violation": self.evaluation.max_violation, "samples": problem.workspace.size}
+            objectives[name] = {
+                "before": before,
+                "after": after,
+                "unit": objective.unit,
+                "reduction_percent": _reduction(before, after),
+            }
+        return {
+            "joints": joints,
+            "objectives": objectives,
+            "optimised": problem.objective.name,
+            "max_violation": self.evaluation.max_violation,
+            "samples": problem.workspace.size,
+        }
 
     def exact_balance(self, tolerance: float = 1e-9) -> dict[str, Any]:
         """Whether the design balances exactly: residual torque zero to solver precision.
@@ -250,21 +297,31 @@ class EvaluatedDesign:
         """
         balanced = self.problem.weights > 0  # joints with weight 0 are not asked to be balanced
         unbalanced = float(np.max(np.abs(self.problem.workspace.kinematics().gravity_torque[:, balanced])))  # [N·m]
-        residual = float(np.max(np.abs(self.evaluation.tau[:, balanced])))                                   # [N·m]
+        residual = float(np.max(np.abs(self.evaluation.tau[:, balanced])))  # [N·m]
         relative = residual / unbalanced if unbalanced > 0 else float("nan")
         # one block of samples per scenario: each load case has its own constant potential
-        potential = self.evaluation.potential.reshape(self.problem.model.n_scenarios, -1)       # [J]
-        return {"exact": bool(relative <= tolerance), "relative_residual": relative, "residual": residual,
-                "potential": float(np.mean(potential)), "potential_spread": float(np.max(np.ptp(potential, axis=1))),
-                "scenario_potentials": np.mean(potential, axis=1).tolist()}
+        potential = self.evaluation.potential.reshape(self.problem.model.n_scenarios, -1)  # [J]
+        return {
+            "exact": bool(relative <= tolerance),
+            "relative_residual": relative,
+            "residual": residual,
+            "potential": float(np.mean(potential)),
+            "potential_spread": float(np.max(np.ptp(potential, axis=1))),
+            "scenario_potentials": np.mean(potential, axis=1).tolist(),
+        }
 
     def spread(self) -> dict[str, Any]:
         """Objective values across multi-start starts: best, median, worst, feasible count."""
         values = np.array([record.objective for record in self.starts if record.feasible])
         if values.size == 0:
             return {"starts": len(self.starts), "feasible": 0}
-        return {"starts": len(self.starts), "feasible": int(values.size), "best": float(values.min()),
-                "median": float(np.median(values)), "worst": float(values.max())}
+        return {
+            "starts": len(self.starts),
+            "feasible": int(values.size),
+            "best": float(values.min()),
+            "median": float(np.median(values)),
+            "worst": float(values.max()),
+        }
 
     def __repr__(self) -> str:
         return f"{type(self).__name__}({self.problem!r}, status={self.status!r})"

@@ -28,8 +28,12 @@ MOUNT_ACCEPT = 5e-4
 # ====================================================================== mounting
 def mounted_anchors(springs: list[Spring]) -> list[tuple[Any, str, Any]]:
     """``(spring, end, anchor)`` of every anchor mounted ``on: collision``."""
-    return [(spring, end, anchor) for spring in springs for end, anchor in spring.anchors.items()
-            if getattr(anchor, "mount", None) == "collision"]
+    return [
+        (spring, end, anchor)
+        for spring in springs
+        for end, anchor in spring.anchors.items()
+        if getattr(anchor, "mount", None) == "collision"
+    ]
 
 
 def resolve_mounts(mechanism: Mechanism, springs: list[Spring]) -> list[Spring]:
@@ -52,7 +56,7 @@ def resolve_mounts(mechanism: Mechanism, springs: list[Spring]) -> list[Spring]:
             grown = anchor.offset + 0.005
             anchor = copy.copy(anchor)
             anchor.point = Free(lower - grown, upper + grown)
-            setattr(spring, end, anchor)     # two-point springs keep their ends as attributes a and b
+            setattr(spring, end, anchor)  # two-point springs keep their ends as attributes a and b
         resolved.append(spring)
     return resolved
 
@@ -63,8 +67,10 @@ def body_bounds(mechanism: Mechanism, geometry: Any, body: str) -> tuple[np.ndar
 
     objects = body_objects(mechanism, geometry, body)
     if not objects:
-        raise InputError(f"body {body!r} has no collision geometry in the URDF, so an anchor cannot be mounted "
-                         "on it with 'on: collision'; give a box, point, segment or plane instead")
+        raise InputError(
+            f"body {body!r} has no collision geometry in the URDF, so an anchor cannot be mounted "
+            "on it with 'on: collision'; give a box, point, segment or plane instead"
+        )
     frame = mechanism.model.frames[mechanism.frame_id(body)].placement
     lows, highs = [], []
     for obj in objects:
@@ -93,15 +99,19 @@ def check_mounts(mechanism: Mechanism, springs: list[Spring]) -> list[tuple[Any,
     for spring, end, anchor in mounts:
         region = anchor.region()
         grid = np.linspace(0.0, 1.0, 7)
-        axes = np.meshgrid(*[region.lower[i] + (region.upper[i] - region.lower[i]) * grid
-                             for i in range(region.basis.shape[1])], indexing="ij")
+        axes = np.meshgrid(
+            *[region.lower[i] + (region.upper[i] - region.lower[i]) * grid for i in range(region.basis.shape[1])],
+            indexing="ij",
+        )
         coordinates = np.stack([axis.reshape(-1) for axis in axes], axis=1) if axes else np.zeros((1, 0))
-        distances = np.array([surface_distance(mechanism, geometry, anchor.body, region.point(c))[0]
-                              for c in coordinates]) - anchor.offset
+        distances = (
+            np.array([surface_distance(mechanism, geometry, anchor.body, region.point(c))[0] for c in coordinates])
+            - anchor.offset
+        )
         if distances.min() > MOUNT_ACCEPT or distances.max() < -MOUNT_ACCEPT:
             raise InputError(
                 f"spring {spring.name!r} end {end}: no point of its box on {anchor.body!r} lies {anchor.offset * 1e3:g} mm "
                 f"from the body's collision surface (the box is {distances.min() * 1e3 + anchor.offset * 1e3:.1f} to "
-                f"{distances.max() * 1e3 + anchor.offset * 1e3:.1f} mm from it): no anchor can reach the mounting surface")
+                f"{distances.max() * 1e3 + anchor.offset * 1e3:.1f} mm from it): no anchor can reach the mounting surface"
+            )
     return mounts
-

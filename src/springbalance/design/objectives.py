@@ -70,10 +70,15 @@ class Objective(abc.ABC):
         that does not use the potentials or the path may be given None for them."""
 
     @abc.abstractmethod
-    def nlp(self, weighted_tau: ca.MX, potential: ca.MX, path: np.ndarray | None, torque_scale: float,
-            potential_scale: float) -> NlpPieces:
+    def nlp(
+        self,
+        weighted_tau: ca.MX,
+        potential: ca.MX,
+        path: np.ndarray | None,
+        torque_scale: float,
+        potential_scale: float,
+    ) -> NlpPieces:
         """CasADi cost (and epigraph) for torques (nv×N MX) and potentials (1×N MX)."""
-
 
 
 class Rms(Objective):
@@ -84,9 +89,14 @@ class Rms(Objective):
     def value(self, weighted_tau: np.ndarray, potential: np.ndarray | None, path: np.ndarray | None) -> float:
         return float(np.sqrt(np.mean(np.square(weighted_tau))))
 
-
-    def nlp(self, weighted_tau: ca.MX, potential: ca.MX, path: np.ndarray | None, torque_scale: float,
-            potential_scale: float) -> NlpPieces:
+    def nlp(
+        self,
+        weighted_tau: ca.MX,
+        potential: ca.MX,
+        path: np.ndarray | None,
+        torque_scale: float,
+        potential_scale: float,
+    ) -> NlpPieces:
         r = ca.vec(weighted_tau) / (torque_scale * np.sqrt(weighted_tau.numel()))
         return NlpPieces(None, None, None, None, ca.sumsqr(r), None)
 
@@ -102,11 +112,18 @@ class Peak(Objective):
     def value(self, weighted_tau: np.ndarray, potential: np.ndarray | None, path: np.ndarray | None) -> float:
         return float(np.max(np.abs(weighted_tau)))
 
-    def nlp(self, weighted_tau: ca.MX, potential: ca.MX, path: np.ndarray | None, torque_scale: float,
-            potential_scale: float) -> NlpPieces:
+    def nlp(
+        self,
+        weighted_tau: ca.MX,
+        potential: ca.MX,
+        path: np.ndarray | None,
+        torque_scale: float,
+        potential_scale: float,
+    ) -> NlpPieces:
         t = ca.MX.sym("peak")
         scaled = ca.vec(weighted_tau) / torque_scale
         rows = ca.vertcat(t - scaled, t + scaled)
+
         def start(tau: np.ndarray) -> np.ndarray:
             return np.array([np.max(np.abs(tau)) / torque_scale])
 
@@ -126,9 +143,14 @@ class PotentialVariance(Objective):
             raise InputError("objective 'pe_variance' needs the potentials of the samples")
         return float(np.var(potential))
 
-
-    def nlp(self, weighted_tau: ca.MX, potential: ca.MX, path: np.ndarray | None, torque_scale: float,
-            potential_scale: float) -> NlpPieces:
+    def nlp(
+        self,
+        weighted_tau: ca.MX,
+        potential: ca.MX,
+        path: np.ndarray | None,
+        torque_scale: float,
+        potential_scale: float,
+    ) -> NlpPieces:
         n = potential.numel()
         centred = potential - ca.sum2(potential) / n
         return NlpPieces(None, None, None, None, ca.sumsqr(centred) / (n * potential_scale**2), None)
@@ -147,8 +169,14 @@ class PathEnergy(Objective):
             return float("nan")
         return float(np.sum(np.abs(weighted_tau[:-1]) * path))
 
-    def nlp(self, weighted_tau: ca.MX, potential: ca.MX, path: np.ndarray | None, torque_scale: float,
-            potential_scale: float) -> NlpPieces:
+    def nlp(
+        self,
+        weighted_tau: ca.MX,
+        potential: ca.MX,
+        path: np.ndarray | None,
+        torque_scale: float,
+        potential_scale: float,
+    ) -> NlpPieces:
         if path is None:
             raise InputError("objective 'energy' needs the ordered path of the workspace samples")
         nv, n = weighted_tau.shape
@@ -158,11 +186,13 @@ class PathEnergy(Objective):
         rows = ca.vertcat(s - scaled, s + scaled)
         weights = steps.reshape(-1, order="F")
         scale = max(float(np.sum(weights)), 1e-12)
+
         def start(tau: np.ndarray) -> np.ndarray:
             return np.abs(tau[:-1]).reshape(-1) / torque_scale
 
-        return NlpPieces(s, np.zeros(s.numel()), np.full(s.numel(), np.inf), start,
-                         ca.dot(ca.DM(weights), s) / scale, rows)
+        return NlpPieces(
+            s, np.zeros(s.numel()), np.full(s.numel(), np.inf), start, ca.dot(ca.DM(weights), s) / scale, rows
+        )
 
 
 class JointPeaks(Objective):
@@ -178,13 +208,20 @@ class JointPeaks(Objective):
     def value(self, weighted_tau: np.ndarray, potential: np.ndarray | None, path: np.ndarray | None) -> float:
         return float(np.sum(np.max(np.abs(weighted_tau), axis=0)))
 
-    def nlp(self, weighted_tau: ca.MX, potential: ca.MX, path: np.ndarray | None, torque_scale: float,
-            potential_scale: float) -> NlpPieces:
+    def nlp(
+        self,
+        weighted_tau: ca.MX,
+        potential: ca.MX,
+        path: np.ndarray | None,
+        torque_scale: float,
+        potential_scale: float,
+    ) -> NlpPieces:
         nv, n = weighted_tau.shape
         t = ca.MX.sym("joint_peak", nv)
-        scaled = weighted_tau / torque_scale                     # nv×N
+        scaled = weighted_tau / torque_scale  # nv×N
         bound = ca.repmat(t, 1, n)
         rows = ca.vertcat(ca.vec(bound - scaled), ca.vec(bound + scaled))
+
         def start(tau: np.ndarray) -> np.ndarray:
             return np.max(np.abs(tau), axis=0) / torque_scale
 
@@ -226,8 +263,9 @@ class PeakThenJoints(JointPeaks):
 
 
 #: objective name -> class.
-OBJECTIVES: dict[str, type[Objective]] = {cls.name: cls for cls in (Rms, Peak, PotentialVariance, PathEnergy,
-                                                                     JointPeaks, PeakThenJoints)}
+OBJECTIVES: dict[str, type[Objective]] = {
+    cls.name: cls for cls in (Rms, Peak, PotentialVariance, PathEnergy, JointPeaks, PeakThenJoints)
+}
 
 
 def objective_named(name: str | Objective) -> Objective:
@@ -260,15 +298,30 @@ class ScenarioAggregate(Objective):
         return np.split(np.asarray(values), self.blocks, axis=axis)
 
     def value(self, weighted_tau: np.ndarray, potential: np.ndarray | None, path: np.ndarray | None) -> float:
-        values = [self.inner.value(tau, v, None) for tau, v in zip(self._split(weighted_tau, 0),
-                                                                   self._split(potential, 0))]
+        values = [
+            self.inner.value(tau, v, None) for tau, v in zip(self._split(weighted_tau, 0), self._split(potential, 0))
+        ]
         return float(max(values) if self.worst else np.mean(values))
 
-    def nlp(self, weighted_tau: ca.MX, potential: ca.MX, path: np.ndarray | None, torque_scale: float,
-            potential_scale: float) -> NlpPieces:
+    def nlp(
+        self,
+        weighted_tau: ca.MX,
+        potential: ca.MX,
+        path: np.ndarray | None,
+        torque_scale: float,
+        potential_scale: float,
+    ) -> NlpPieces:
         n = weighted_tau.shape[1] // self.blocks
-        pieces = [self.inner.nlp(weighted_tau[:, s * n:(s + 1) * n], potential[:, s * n:(s + 1) * n], None,
-                                 torque_scale, potential_scale) for s in range(self.blocks)]
+        pieces = [
+            self.inner.nlp(
+                weighted_tau[:, s * n : (s + 1) * n],
+                potential[:, s * n : (s + 1) * n],
+                None,
+                torque_scale,
+                potential_scale,
+            )
+            for s in range(self.blocks)
+        ]
         costs = [piece.cost for piece in pieces]
         if not self.worst:
             # sum() of MX is MX (typeshed types its 0 start as int)
@@ -310,7 +363,12 @@ class _Epigraph:
 
 def _epigraph(piece: NlpPieces) -> _Epigraph:
     """``piece`` with its epigraph fields checked present (an objective with variables sets them all)."""
-    if (piece.variables is None or piece.lower is None or piece.upper is None or piece.start is None
-            or piece.rows is None):
+    if (
+        piece.variables is None
+        or piece.lower is None
+        or piece.upper is None
+        or piece.start is None
+        or piece.rows is None
+    ):
         raise AssertionError("an objective with epigraph variables must give their bounds, start and rows")
     return _Epigraph(piece.variables, piece.lower, piece.upper, piece.start, piece.rows)

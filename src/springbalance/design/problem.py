@@ -1,13 +1,10 @@
 r"""The design problem: mechanism + workspace + springs + objective → an inspectable NLP.
 
-``DesignProblem(mechanism, workspace, springs, objective="rms").solve(starts=8)`` is the
-one-line use. In between, :meth:`DesignProblem.build` returns an :class:`Nlp` whose
-variables, bounds and CasADi expressions can be inspected or handed to another solver.
-
-Scaling (what the solvers see): each design variable ``x_k ∈ [lower_k, upper_k]`` is
-mapped to ``z_k ∈ [0, 1]``; torques are divided by ``S``, the RMS of the unbalanced
-weighted gravity torque [N·m]; potentials by the standard deviation of the unbalanced
-potential [J]. Solutions and reports are always in physical units.
+``springbalance.solve(DesignProblem(mechanism, workspace, springs, objective="rms"), starts=8)`` is the
+one-line use. The problem holds the data and evaluates a design; no step of the solve writes into it
+(:meth:`DesignProblem.with_linear_rows` makes the copy a step needs). What the solvers see, the scaled
+variables and the NLP of :meth:`DesignProblem.build`, is :class:`~springbalance.design.problem_nlp.ProblemNlp`.
+Solutions and reports are always in physical units.
 
 Scenarios (payloads, scaled link masses; :mod:`springbalance.design.scenarios`): with ``scenarios=[...]``
 the workspace is stacked once per scenario and ``per_scenario=[...]`` names the variables that
@@ -24,30 +21,36 @@ import copy
 import dataclasses
 from typing import Any, Mapping, Sequence
 
-import casadi as ca
 import numpy as np
 import numpy.typing as npt
 
 from springbalance.deprecation import warn_deprecated
-from springbalance.design import row_multipliers
 from springbalance.design.block_kernel import KERNEL_MIN_SAMPLES
 from springbalance.design.bounds import check_cable
 from springbalance.design.clearance import Clearance, LinearRows
-from springbalance.design.evaluation import Evaluation, Nlp
+from springbalance.design.evaluation import Evaluation
 from springbalance.design.mounts import check_mounts, resolve_mounts
-from springbalance.design.objectives import Objective, ScenarioAggregate, objective_named
-from springbalance.design.problem_inputs import AGGREGATES, joint_limits, joint_weights, named_springs
+from springbalance.design.objectives import Objective, ScenarioAggregate
+from springbalance.design.problem_inputs import (
+    AGGREGATES,
+    joint_limits,
+    joint_weights,
+    named_springs,
+    problem_objective,
+)
+from springbalance.design.problem_nlp import ProblemNlp
 from springbalance.design.scenarios import Scenario, ScenarioWorkspace, check_scenarios
-from springbalance.design.torque_model import BlockEvaluator, DesignVariables, TorqueModel, compiled
+from springbalance.design.torque_model import BlockEvaluator, TorqueModel, compiled
 from springbalance.errors import InputError
 from springbalance.model import budget
+from springbalance.model.kinematics import WorkspaceKinematics
 from springbalance.model.mechanism import Mechanism
 from springbalance.model.workspace import Workspace
 from springbalance.springs.laws import Spring, TwoPointSpring
 from springbalance.springs.records import spring_from_dict
 
 
-class DesignProblem:
+class DesignProblem(ProblemNlp):
     """Choose spring parameters so that the actuators carry as little gravity torque as possible.
 
     Args:
@@ -81,12 +84,23 @@ class DesignProblem:
             Anchors mounted ``on: collision`` are enforced the same way, with or without it.
     """
 
-    def __init__(self, mechanism: Mechanism, workspace: Workspace, springs: Sequence[Spring],
-                 objective: str | Objective = "rms", weights: Mapping[str, float] | None = None,
-                 scenarios: Sequence[Scenario] | None = None, per_scenario: Sequence[str] = (),
-                 aggregate: str = "sum", no_joint_worse: bool = False, clearance: Clearance | None = None):
+    def __init__(
+        self,
+        mechanism: Mechanism,
+        workspace: Workspace,
+        springs: Sequence[Spring],
+        objective: str | Objective = "rms",
+        weights: Mapping[str, float] | None = None,
+        scenarios: Sequence[Scenario] | None = None,
+        per_scenario: Sequence[str] = (),
+        aggregate: str = "sum",
+        no_joint_worse: bool = False,
+        clearance: Clearance | None = None,
+    ):
         if workspace.mechanism is not mechanism:
-            raise InputError("the workspace was sampled for a different mechanism object; build it from the same Mechanism")
+            raise InputError(
+                "the workspace was sampled for a different mechanism object; build it from the same Mechanism"
+            )
         if aggregate not in AGGREGATES:
             raise InputError(f"unknown scenario aggregate {aggregate!r}; valid: {', '.join(AGGREGATES)}")
         self.base_workspace = workspace
@@ -97,39 +111,17 @@ class DesignProblem:
             workspace = ScenarioWorkspace(workspace, self.scenarios)
         self.mechanism, self.workspace = mechanism, workspace
         self.springs = resolve_mounts(mechanism, named_springs(springs))
-        self.objective = objective_named(objective)
-        if self.objective.needs_path and not workspace.ordered:
-            raise InputError(f"objective {self.objective.name!r} needs an ordered workspace (grid, sweep or trajectory), "
-                             f"got a {workspace.description.get('kind')} sample")
-        if len(self.scenarios) > 1 and aggregate == "worst" and self.objective.first_phase is not None:
-            raise InputError(f"objective {self.objective.name!r} takes each joint's peak over the samples of all "
-                             "scenarios together; use aggregate 'sum'")
-        if len(self.scenarios) > 1 and ((aggregate == "worst" and self.objective.name != "peak")
-                                        or self.objective.name == "pe_variance"):
-            # rms and peak over the stacked samples already are the sum of squares and the worst
-            # case; a potential's constant differs per scenario, so its variance is taken per scenario
-            self.objective = ScenarioAggregate(self.objective, len(self.scenarios), worst=aggregate == "worst")
+        self.objective = problem_objective(objective, workspace, len(self.scenarios), aggregate)
         self.weights = joint_weights(mechanism, weights)
         nv, nq, samples = mechanism.nv, mechanism.model.nq, workspace.size
         budget.require(budget.kinematics_bytes(samples, nv, nq), f"the gravity torques of {samples} samples")
         kinematics = workspace.kinematics()
         self.no_joint_worse = bool(no_joint_worse)
         self.joint_limits = joint_limits(kinematics.gravity_torque, self.weights, max(len(self.scenarios), 1))
-        self.model = TorqueModel(mechanism, self.springs, [s.name for s in self.scenarios], self.per_scenario,
-                                 joint_limits=self.joint_limits if self.no_joint_worse else None)
-        model = self.model
-        budget.require(budget.evaluation_bytes(samples, nv, nq, model.data_size, nv + 1 + 2 * model.n_springs
-                                               + model.n_constraints, model.variables.size, model.n_constraints),
-                       f"a design problem of {samples} samples, {model.n_springs} springs and "
-                       f"{model.variables.size} variables")
+        self.model = self._torque_model()
         self.data = self.model.data_matrix(kinematics)
-        self.path_steps = np.abs(np.diff(workspace.joint_values, axis=0)) if workspace.ordered and workspace.size > 1 else None
-        if self.path_steps is not None and self.scenarios:
-            block = self.base_workspace.size
-            self.path_steps[block - 1::block] = 0.0   # no step from one scenario's last pose to the next one's first
-        gravity = kinematics.gravity_torque * self.weights
-        self.torque_scale = float(np.sqrt(np.mean(gravity**2))) or 1.0       # S [N·m]
-        self.potential_scale = float(np.std(kinematics.potential)) or 1.0    # [J]
+        self.path_steps = self._path_steps()
+        self.torque_scale, self.potential_scale = self._scales(kinematics)
         # what the evaluation and the solvers compile, kept across solves and shared with the copies
         # that carry other linear rows (:meth:`with_linear_rows`): it depends on the samples only
         self._compiled = _Compiled()
@@ -141,49 +133,72 @@ class DesignProblem:
         self._check_springs()
         self.mounts = check_mounts(mechanism, self.springs)
 
-    # ---------------------------------------------------------------- variables
-    @property
-    def variables(self) -> DesignVariables:
-        """Design variables (names, units, bounds, first guess) in physical units."""
-        return self.model.variables
+    def _torque_model(self) -> TorqueModel:
+        """The per-sample model of the springs, within the memory budget of its evaluation."""
+        mechanism, samples = self.mechanism, self.workspace.size
+        nv, nq = mechanism.nv, mechanism.model.nq
+        model = TorqueModel(
+            mechanism,
+            self.springs,
+            [s.name for s in self.scenarios],
+            self.per_scenario,
+            joint_limits=self.joint_limits if self.no_joint_worse else None,
+        )
+        budget.require(
+            budget.evaluation_bytes(
+                samples,
+                nv,
+                nq,
+                model.data_size,
+                nv + 1 + 2 * model.n_springs + model.n_constraints,
+                model.variables.size,
+                model.n_constraints,
+            ),
+            f"a design problem of {samples} samples, {model.n_springs} springs and {model.variables.size} variables",
+        )
+        return model
 
-    def scale(self, z: np.ndarray) -> np.ndarray:
-        """Physical design vector from scaled ``z ∈ [0, 1]``."""
-        lower, upper = self.variables.bounds()
-        return lower + (upper - lower) * np.asarray(z, dtype=float)
+    def _path_steps(self) -> np.ndarray | None:
+        """``|q_{i+1} - q_i|`` (N-1 × nv) [rad or m] of an ordered workspace, none across scenario blocks."""
+        workspace = self.workspace
+        if not workspace.ordered or workspace.size <= 1:
+            return None
+        steps = np.abs(np.diff(workspace.joint_values, axis=0))
+        if self.scenarios:
+            block = self.base_workspace.size
+            steps[block - 1 :: block] = 0.0  # no step from one scenario's last pose to the next one's first
+        return steps
 
-    def scaled_sample(self) -> tuple[ca.SX, ca.SX, tuple]:
-        """``(z, data, (tau, V, L, F, C))``: the per-sample model (:attr:`TorqueModel.sample`) as SX
-        expressions of the scaled variables ``z ∈ [0, 1]`` and one sample's ``data``, the data entries
-        that are zero at every sample of this problem as structural zeros
-        (:meth:`TorqueModel.known_zeros`): valid for this problem's samples only."""
-        z = ca.SX.sym("z", self.variables.size)
-        data = ca.SX.sym("data", self.model.data_size)
-        lower, upper = self.variables.bounds()
-        outputs = self.model.sample(ca.DM(lower) + ca.DM(upper - lower) * z, self.model.known_zeros(data, self.data))
-        return z, data, tuple(outputs)
-
-    def unscale(self, x: np.ndarray) -> np.ndarray:
-        lower, upper = self.variables.bounds()
-        width = np.where(upper > lower, upper - lower, 1.0)
-        return (np.asarray(x, dtype=float) - lower) / width
+    def _scales(self, kinematics: WorkspaceKinematics) -> tuple[float, float]:
+        """``(S, σ_V)``: the RMS of the unbalanced weighted gravity torque [N·m] and the standard deviation of
+        the unbalanced potential [J] (1 where zero), the solvers' units of torque and of potential."""
+        gravity = kinematics.gravity_torque * self.weights
+        return float(np.sqrt(np.mean(gravity**2))) or 1.0, float(np.std(kinematics.potential)) or 1.0
 
     # ---------------------------------------------------------------- numeric evaluation
     def evaluate(self, x: npt.ArrayLike | None = None) -> Evaluation:
         """Residual torque, potential, lengths, tensions and constraint rows of design ``x``."""
         x = np.array(self.variables.start if x is None else x, dtype=float)
         if x.shape != (self.variables.size,):
-            raise InputError(f"design vector has {x.size} entries, problem has {self.variables.size}: "
-                             f"{', '.join(self.variables.names)}")
+            raise InputError(
+                f"design vector has {x.size} entries, problem has {self.variables.size}: "
+                f"{', '.join(self.variables.names)}"
+            )
         cache = self._compiled
-        if cache.evaluator is None:   # block by block: no work arrays for all samples at once
+        if cache.evaluator is None:  # block by block: no work arrays for all samples at once
             # compiled (and its block kernel) for large workspaces, where the virtual machine takes seconds
             sample = compiled(self.model.sample) if self.workspace.size >= KERNEL_MIN_SAMPLES else self.model.sample
             cache.evaluator = BlockEvaluator(sample, self.data)
         tau, potential, lengths, tensions, rows = cache.evaluator.evaluate(x)
         n = self.workspace.size
-        return Evaluation(x, tau.reshape(n, -1), potential.reshape(n), lengths.reshape(n, -1),
-                          tensions.reshape(n, -1), rows.reshape(n, -1))
+        return Evaluation(
+            x,
+            tau.reshape(n, -1),
+            potential.reshape(n),
+            lengths.reshape(n, -1),
+            tensions.reshape(n, -1),
+            rows.reshape(n, -1),
+        )
 
     def with_linear_rows(self, rows: LinearRows | None) -> DesignProblem:
         """This problem with other :attr:`linear_rows` (this one is not changed). The copy shares the
@@ -198,7 +213,7 @@ class DesignProblem:
         bound to this problem (and so to its linear rows)."""
         cached = self._compiled.least_squares
         if cached is not None and cached.problem is not self:
-            cached = copy.copy(cached)   # the same compiled functions, read with this problem's rows
+            cached = copy.copy(cached)  # the same compiled functions, read with this problem's rows
             cached.problem = self
         return cached
 
@@ -211,106 +226,38 @@ class DesignProblem:
         """The solvers' NLPs, per objective phase, each with the linear rows it was built for."""
         return self._compiled.nlps
 
-    def linear_matrix(self) -> tuple[np.ndarray, np.ndarray]:
-        """The :attr:`linear_rows` over this problem's design vector: ``(G, h)`` with rows ``G x + h ≥ 0`` [m]
-        (an empty ``G`` when there are none)."""
-        rows = self.linear_rows
-        n = self.variables.size
-        if rows is None or not len(rows):
-            return np.zeros((0, n)), np.zeros(0)
-        index = {name: i for i, name in enumerate(self.variables.names)}
-        matrix = np.zeros((len(rows), n))
-        for column, name in enumerate(rows.names):
-            if name in index:
-                matrix[:, index[name]] += rows.matrix[:, column]
-            elif np.any(rows.matrix[:, column] != 0):
-                raise InputError(f"linear rows depend on {name!r}, which is not a design variable of this problem")
-        return matrix, np.asarray(rows.offset, dtype=float)
-
-    def linear_violation(self, x: npt.ArrayLike) -> float:
-        """Largest violation [m] of the :attr:`linear_rows` at design ``x`` (0 when there are none or all hold)."""
-        matrix, offset = self.linear_matrix()
-        if not offset.size:
-            return 0.0
-        return float(max(0.0, -np.min(matrix @ np.asarray(x, dtype=float) + offset)))
-
     def objective_value(self, evaluation: Evaluation) -> float:
         return self.objective.value(evaluation.tau * self.weights, evaluation.potential, self.path_steps)
 
-    # ---------------------------------------------------------------- NLP
-    def build(self, objective: Objective | None = None) -> Nlp:
-        """The scaled NLP (CasADi MX) for this problem: variables, bounds, cost, rows ≥ 0.
-
-        ``objective`` replaces the problem's own (the solver builds a lexicographic objective's
-        first phase this way). For ``peak_then_joints`` the NLP is its second phase, the
-        ``joint_peaks`` epigraph, whose variables the solver bounds by the first phase's optimum.
-        """
-        design = ca.MX.sym("z", self.variables.size)
-        lower, upper = self.variables.bounds()
-        x = ca.DM(lower) + ca.DM(upper - lower) * design
-        tau, potential, _, _, rows = self.model.mapped(self.workspace.size)(x, ca.DM(self.data))
-        return self.assemble(design, tau, potential, rows, objective)
-
-    def assemble(self, design: ca.MX, tau: ca.MX, potential: ca.MX, rows: ca.MX,
-                 objective: Objective | None = None) -> Nlp:
-        """The NLP of :meth:`build` from the per-sample outputs as given: residual torques ``tau``
-        (nv×N), potentials (1×N) and constraint rows (n_c×N) as CasADi expressions of the scaled
-        design variables ``design`` (or as symbols of their own: :mod:`~springbalance.design.structured_nlp`
-        differentiates the NLP through them)."""
-        objective = self.objective if objective is None else objective
-        lower, upper = self.variables.bounds()
-        weighted = ca.DM(self.weights) * tau if self.mechanism.nv > 1 else float(self.weights[0]) * tau
-        pieces = objective.nlp(weighted, potential, self.path_steps, self.torque_scale, self.potential_scale)
-        variables = [design]
-        z_lower, z_upper = [np.zeros(self.variables.size)], [np.ones(self.variables.size)]
-        if pieces.variables is not None:
-            if pieces.lower is None or pieces.upper is None:
-                raise AssertionError(f"objective {objective.name!r} gives epigraph variables without their bounds")
-            variables.append(pieces.variables)
-            z_lower.append(pieces.lower)
-            z_upper.append(pieces.upper)
-        all_rows = []
-        if self.model.n_constraints:
-            # a row that does not depend on the sample enters once, the others once per sample
-            blocks = self.model.constraint_blocks
-            varying = [block.offset for block in blocks if block.per_sample]
-            constant = [block.offset for block in blocks if not block.per_sample]
-            if varying:
-                all_rows.append(ca.vec(rows[varying, :]))
-            if constant:
-                all_rows.append(rows[constant, 0])
-        if pieces.rows is not None:
-            all_rows.append(pieces.rows)
-        matrix, offset = self.linear_matrix()
-        if offset.size:   # G x + h = G (lower + w z) + h, in units of the rows' scale
-            assert self.linear_rows is not None   # linear_matrix has rows only with linear_rows
-            scale = self.linear_rows.scale
-            all_rows.append(ca.DM(matrix * (upper - lower)[None, :] / scale) @ design
-                            + ca.DM((matrix @ lower + offset) / scale))
-        return Nlp(ca.vertcat(*variables), np.concatenate(z_lower), np.concatenate(z_upper), pieces.cost,
-                   ca.vertcat(*all_rows) if all_rows else ca.MX(0, 1), self.variables.size, pieces.start)
-
-    def nlp_row_multipliers(self, scaled: np.ndarray, n_rows: int) -> np.ndarray:
-        """Multipliers of the rows of :meth:`assemble` from those of the solver's scaled rows
-        (:func:`~springbalance.design.row_multipliers.nlp_row_multipliers`)."""
-        return row_multipliers.nlp_row_multipliers(self.model.constraint_blocks, self.workspace.size, scaled, n_rows)
-
-    def scaled_row_multipliers(self, nlp: np.ndarray, n_linear: int) -> np.ndarray:
-        """The inverse of :meth:`nlp_row_multipliers`
-        (:func:`~springbalance.design.row_multipliers.scaled_row_multipliers`)."""
-        return row_multipliers.scaled_row_multipliers(self.model.constraint_blocks, self.workspace.size, nlp, n_linear)
-
     # ---------------------------------------------------------------- deprecated (removed in 0.3)
-    def solve(self, starts: int = 8, seed: int = 0, method: str = "auto", progress: bool | None = None,
-              max_iterations: int = 100, tolerance: float = 1e-8, polish_iterations: int | None = None,
-              standard_wire: bool = True, workers: int | None = None) -> Any:
+    def solve(
+        self,
+        starts: int = 8,
+        seed: int = 0,
+        method: str = "auto",
+        progress: bool | None = None,
+        max_iterations: int = 100,
+        tolerance: float = 1e-8,
+        polish_iterations: int | None = None,
+        standard_wire: bool = True,
+        workers: int | None = None,
+    ) -> Any:
         """Deprecated: ``springbalance.solve(problem, ...)`` (same options, same design)."""
         from springbalance.pipeline.run import solve  # deprecated shim: the one upward import, listed in pyproject
 
         warn_deprecated("DesignProblem.solve(...)", "springbalance.solve(problem, ...)")
-        return solve(self, starts=starts, seed=seed, method=method, progress=progress, max_iterations=max_iterations,
-                     tolerance=tolerance, polish_iterations=polish_iterations, standard_wire=standard_wire,
-                     workers=workers)
+        return solve(
+            self,
+            starts=starts,
+            seed=seed,
+            method=method,
+            progress=progress,
+            max_iterations=max_iterations,
+            tolerance=tolerance,
+            polish_iterations=polish_iterations,
+            standard_wire=standard_wire,
+            workers=workers,
+        )
 
     def result(self, x: np.ndarray, **info: Any) -> Any:
         """Deprecated: ``springbalance.DesignResult(problem, x, **info)`` (no optimisation)."""
@@ -338,8 +285,9 @@ class DesignProblem:
             records.append(spring_from_dict(record))
         return records
 
-    def scenario_problem(self, scenario: int, springs: Sequence[Spring] | None = None,
-                         objective: str | Objective | None = None) -> DesignProblem:
+    def scenario_problem(
+        self, scenario: int, springs: Sequence[Spring] | None = None, objective: str | Objective | None = None
+    ) -> DesignProblem:
         """A single-scenario problem: scenario ``scenario``'s mechanism on :attr:`base_workspace`.
 
         ``springs`` default to this problem's springs (with their free variables).
@@ -347,12 +295,22 @@ class DesignProblem:
         # the workspace is a ScenarioWorkspace exactly when there are scenarios
         workspace = self.workspace
         mechanism = workspace.mechanisms[scenario] if isinstance(workspace, ScenarioWorkspace) else self.mechanism
-        workspace = Workspace(mechanism, self.base_workspace.joint_values, ordered=self.base_workspace.ordered,
-                              description=self.base_workspace.description)
+        workspace = Workspace(
+            mechanism,
+            self.base_workspace.joint_values,
+            ordered=self.base_workspace.ordered,
+            description=self.base_workspace.description,
+        )
         if objective is None:
             objective = self.objective.inner if isinstance(self.objective, ScenarioAggregate) else self.objective
-        return DesignProblem(mechanism, workspace, list(springs if springs is not None else self.springs),
-                             objective=objective, weights=self.weights_by_name(), no_joint_worse=self.no_joint_worse)
+        return DesignProblem(
+            mechanism,
+            workspace,
+            list(springs if springs is not None else self.springs),
+            objective=objective,
+            weights=self.weights_by_name(),
+            no_joint_worse=self.no_joint_worse,
+        )
 
     def scenarios_record(self) -> dict:
         """The problem's options beyond objective and weights, for a saved design:
@@ -363,8 +321,14 @@ class DesignProblem:
             record["clearance"] = self.clearance.to_dict()
         if not self.scenarios:
             return record
-        return {"scenarios": {"cases": [scenario.to_dict() for scenario in self.scenarios],
-                              "per_scenario": list(self.per_scenario), "aggregate": self.aggregate}, **record}
+        return {
+            "scenarios": {
+                "cases": [scenario.to_dict() for scenario in self.scenarios],
+                "per_scenario": list(self.per_scenario),
+                "aggregate": self.aggregate,
+            },
+            **record,
+        }
 
     @staticmethod
     def scenario_options(record: dict) -> dict:
@@ -376,8 +340,12 @@ class DesignProblem:
         saved = record.get("scenarios")
         if not saved:
             return options
-        return {"scenarios": [Scenario.from_dict(case) for case in saved["cases"]],
-                "per_scenario": saved.get("per_scenario", []), "aggregate": saved.get("aggregate", "sum"), **options}
+        return {
+            "scenarios": [Scenario.from_dict(case) for case in saved["cases"]],
+            "per_scenario": saved.get("per_scenario", []),
+            "aggregate": saved.get("aggregate", "sum"),
+            **options,
+        }
 
     def scenario_table(self, x: np.ndarray) -> list[dict]:
         """Per scenario: name, payload [kg], per-scenario variable values, peak and RMS residual [N·m]
@@ -389,9 +357,15 @@ class DesignProblem:
         rows = []
         for index, (scenario, block) in enumerate(zip(self.scenarios, np.split(tau, len(self.scenarios)))):
             base = self.model.scenario_vector(x, index)
-            rows.append({"name": scenario.name, "payload": scenario.payload_mass,
-                         "variables": {name: float(base[i]) for name, i in zip(names, self.model.per_scenario)},
-                         "peak": float(np.max(np.abs(block))), "rms": float(np.sqrt(np.mean(block**2)))})
+            rows.append(
+                {
+                    "name": scenario.name,
+                    "payload": scenario.payload_mass,
+                    "variables": {name: float(base[i]) for name, i in zip(names, self.model.per_scenario)},
+                    "peak": float(np.max(np.abs(block))),
+                    "rms": float(np.sqrt(np.mean(block**2))),
+                }
+            )
         return rows
 
     def with_springs(self, springs: Sequence[Spring], **changes: Any) -> DesignProblem:
@@ -402,11 +376,19 @@ class DesignProblem:
         combined over scenarios.
         """
         objective = self.objective.inner if isinstance(self.objective, ScenarioAggregate) else self.objective
-        options = {"objective": objective, "weights": self.weights_by_name(), "scenarios": self.scenarios or None,
-                   "per_scenario": self.per_scenario, "aggregate": self.aggregate,
-                   "no_joint_worse": self.no_joint_worse, "clearance": self.clearance, **changes}
+        options = {
+            "objective": objective,
+            "weights": self.weights_by_name(),
+            "scenarios": self.scenarios or None,
+            "per_scenario": self.per_scenario,
+            "aggregate": self.aggregate,
+            "no_joint_worse": self.no_joint_worse,
+            "clearance": self.clearance,
+            **changes,
+        }
         return type(self)(self.mechanism, self.base_workspace, list(springs), **options).with_linear_rows(
-            self.linear_rows)
+            self.linear_rows
+        )
 
     def weights_by_name(self) -> dict[str, float]:
         return {joint.name: float(w) for joint, w in zip(self.mechanism.joints, self.weights)}
@@ -417,7 +399,7 @@ class DesignProblem:
         # (Spring.check); what needs an evaluation is a two-point spring of zero length, and a
         # routed spring's cable that is longer than its path can ever be.
         for spring in self.springs:
-            if isinstance(spring, TwoPointSpring) and spring.routed:   # only a two-point spring is routed
+            if isinstance(spring, TwoPointSpring) and spring.routed:  # only a two-point spring is routed
                 check_cable(self, spring)
         for column, spring in enumerate(self.springs):
             anchors = list(spring.anchors.values())
@@ -426,11 +408,15 @@ class DesignProblem:
                 shortest = float(np.min(evaluation.lengths[:, column]))
                 if shortest < 1e-9:
                     sample = int(np.argmin(evaluation.lengths[:, column]))
-                    raise InputError(f"spring {spring.name!r}: its ends coincide (zero length) at workspace sample {sample}")
+                    raise InputError(
+                        f"spring {spring.name!r}: its ends coincide (zero length) at workspace sample {sample}"
+                    )
 
     def __repr__(self) -> str:
-        return (f"DesignProblem({self.mechanism.name!r}, N={self.workspace.size}, springs={len(self.springs)}, "
-                f"variables={self.variables.size}, objective={self.objective.name!r})")
+        return (
+            f"DesignProblem({self.mechanism.name!r}, N={self.workspace.size}, springs={len(self.springs)}, "
+            f"variables={self.variables.size}, objective={self.objective.name!r})"
+        )
 
 
 @dataclasses.dataclass

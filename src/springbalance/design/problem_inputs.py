@@ -7,8 +7,10 @@ from typing import Mapping, Sequence
 
 import numpy as np
 
+from springbalance.design.objectives import Objective, ScenarioAggregate, objective_named
 from springbalance.errors import InputError
 from springbalance.model.mechanism import Mechanism
+from springbalance.model.workspace import Workspace
 from springbalance.springs.laws import Spring
 
 AGGREGATES = ("sum", "worst")
@@ -60,3 +62,25 @@ def joint_weights(mechanism: Mechanism, weights: Mapping[str, float] | None) -> 
     if not np.any(vector > 0):
         raise InputError("every joint weight is zero; nothing to balance")
     return vector
+
+
+def problem_objective(objective: str | Objective, workspace: Workspace, n_scenarios: int, aggregate: str) -> Objective:
+    """The objective of a problem over ``workspace`` with ``n_scenarios`` load cases combined by ``aggregate``:
+    the named one, or its per-scenario aggregate (:class:`~springbalance.design.objectives.ScenarioAggregate`);
+    :class:`InputError` when the workspace or the aggregate does not suit it."""
+    chosen = objective_named(objective)
+    if chosen.needs_path and not workspace.ordered:
+        raise InputError(
+            f"objective {chosen.name!r} needs an ordered workspace (grid, sweep or trajectory), "
+            f"got a {workspace.description.get('kind')} sample"
+        )
+    if n_scenarios > 1 and aggregate == "worst" and chosen.first_phase is not None:
+        raise InputError(
+            f"objective {chosen.name!r} takes each joint's peak over the samples of all "
+            "scenarios together; use aggregate 'sum'"
+        )
+    if n_scenarios > 1 and ((aggregate == "worst" and chosen.name != "peak") or chosen.name == "pe_variance"):
+        # rms and peak over the stacked samples already are the sum of squares and the worst
+        # case; a potential's constant differs per scenario, so its variance is taken per scenario
+        chosen = ScenarioAggregate(chosen, n_scenarios, worst=aggregate == "worst")
+    return chosen

@@ -27,7 +27,7 @@ def nlp_row_multipliers(blocks: Sequence[ConstraintBlock], n: int, scaled: np.nd
     scale, varying, constant = _row_layout(blocks)
     scaled = np.asarray(scaled, dtype=float)
     per_sample = scaled[: n * scale.size].reshape(n, scale.size) / scale
-    linear = scaled[n * scale.size:]
+    linear = scaled[n * scale.size :]
     parts = [per_sample[:, varying].reshape(-1), per_sample[:, constant].sum(axis=0)]
     objective_rows = n_rows - sum(part.size for part in parts) - linear.size
     if objective_rows < 0:
@@ -43,14 +43,16 @@ def scaled_row_multipliers(blocks: Sequence[ConstraintBlock], n: int, nlp: np.nd
     nlp = np.asarray(nlp, dtype=float)
     per_sample = np.zeros((n, scale.size))
     per_sample[:, varying] = nlp[: n * len(varying)].reshape(n, len(varying))
-    per_sample[:, constant] = nlp[n * len(varying): n * len(varying) + len(constant)] / n
-    linear = nlp[nlp.size - n_linear:] if n_linear else np.zeros(0)
+    per_sample[:, constant] = nlp[n * len(varying) : n * len(varying) + len(constant)] / n
+    linear = nlp[nlp.size - n_linear :] if n_linear else np.zeros(0)
     return np.concatenate([(per_sample * scale).reshape(-1), linear])
 
 
 def _row_layout(blocks: Sequence[ConstraintBlock]) -> tuple[np.ndarray, list, list]:
     """``(scales, varying, constant)`` of the constraint blocks: each block's row scale,
     and the blocks whose row depends on the sample and those whose row does not."""
-    return (np.array([block.scale for block in blocks]),
-            [block.offset for block in blocks if block.per_sample],
-            [block.offset for block in blocks if not block.per_sample])
+    return (
+        np.array([block.scale for block in blocks]),
+        [block.offset for block in blocks if block.per_sample],
+        [block.offset for block in blocks if not block.per_sample],
+    )

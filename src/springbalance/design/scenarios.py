@@ -114,7 +114,7 @@ class Scenario:
             if frame.parentJoint == 0:
                 continue  # a mass on the ground changes no torque
             rotational = np.zeros((3, 3)) if payload.inertia is None else np.array(payload.inertia)
-            local = pin.Inertia(payload.mass, np.array(payload.point), rotational)   # in the body frame
+            local = pin.Inertia(payload.mass, np.array(payload.point), rotational)  # in the body frame
             model.inertias[frame.parentJoint] = model.inertias[frame.parentJoint] + frame.placement.act(local)
         source = {**mechanism.source, "scenario": self.to_dict()}
         scenario_mechanism = Mechanism(model, source=source)
@@ -136,8 +136,7 @@ class Scenario:
         return f"Scenario({self.name!r}, payload {self.payload_mass:g} kg)"
 
 
-def payload_scenarios(body: str, masses: Sequence[float],
-                      point: Sequence[float] = (0.0, 0.0, 0.0)) -> list[Scenario]:
+def payload_scenarios(body: str, masses: Sequence[float], point: Sequence[float] = (0.0, 0.0, 0.0)) -> list[Scenario]:
     """One scenario per payload mass [kg] at ``point`` [m] of ``body``, named ``"<m> kg"``."""
     masses = [float(m) for m in masses]
     if not masses:
@@ -159,10 +158,17 @@ class ScenarioWorkspace(Workspace):
         self.base = workspace
         self.scenarios = list(scenarios)
         self.mechanisms = [scenario.apply(workspace.mechanism) for scenario in self.scenarios]
-        description = {"kind": "scenarios", "scenarios": [s.name for s in self.scenarios],
-                       "base": workspace.description}
-        super().__init__(workspace.mechanism, np.tile(workspace.joint_values, (len(self.scenarios), 1)),
-                         ordered=workspace.ordered, description=description)
+        description = {
+            "kind": "scenarios",
+            "scenarios": [s.name for s in self.scenarios],
+            "base": workspace.description,
+        }
+        super().__init__(
+            workspace.mechanism,
+            np.tile(workspace.joint_values, (len(self.scenarios), 1)),
+            ordered=workspace.ordered,
+            description=description,
+        )
 
     @property
     def block_size(self) -> int:
@@ -173,7 +179,7 @@ class ScenarioWorkspace(Workspace):
         """The stacked kinematics of every scenario's samples (computed once)."""
         if self._kinematics is None:
             self._kinematics = StackedKinematics(self, self.base.kinematics(), self.mechanisms)
-        assert isinstance(self._kinematics, StackedKinematics)   # the only kinematics this workspace makes
+        assert isinstance(self._kinematics, StackedKinematics)  # the only kinematics this workspace makes
         return self._kinematics
 
 
@@ -188,11 +194,15 @@ def check_scenarios(mechanism: Mechanism, scenarios: Iterable[Scenario | dict]) 
     for scenario in checked:
         for payload in scenario.payloads:
             if payload.body not in mechanism.body_names:
-                raise InputError(f"scenario {scenario.name!r}: unknown payload body {payload.body!r}; "
-                                 f"bodies: {', '.join(mechanism.body_names)}")
+                raise InputError(
+                    f"scenario {scenario.name!r}: unknown payload body {payload.body!r}; "
+                    f"bodies: {', '.join(mechanism.body_names)}"
+                )
         if isinstance(scenario.mass_scale, Mapping):
             for body in scenario.mass_scale:
                 if body not in mechanism.body_names:
-                    raise InputError(f"scenario {scenario.name!r}: unknown mass_scale body {body!r}; "
-                                     f"bodies: {', '.join(mechanism.body_names)}")
+                    raise InputError(
+                        f"scenario {scenario.name!r}: unknown mass_scale body {body!r}; "
+                        f"bodies: {', '.join(mechanism.body_names)}"
+                    )
     return checked

@@ -52,16 +52,22 @@ class WireRounding:
         return 100.0 * (self.objective - self.continuous_objective) / self.continuous_objective
 
     def to_dict(self) -> dict:
-        return {"continuous_objective": self.continuous_objective, "objective": self.objective,
-                "cost_percent": self.cost_percent,
-                "wires": {name: {"continuous": pair[0], "standard": pair[1]} for name, pair in self.wires.items()},
-                "unrounded": dict(self.unrounded)}
+        return {
+            "continuous_objective": self.continuous_objective,
+            "objective": self.objective,
+            "cost_percent": self.cost_percent,
+            "wires": {name: {"continuous": pair[0], "standard": pair[1]} for name, pair in self.wires.items()},
+            "unrounded": dict(self.unrounded),
+        }
 
 
 def coils_with_free_wire(problem: DesignProblem) -> list:
     """The coil springs whose wire diameter is a design variable."""
-    return [spring for spring in problem.springs
-            if hasattr(spring, "spec_sheet") and isinstance(spring.parameters.get(WIRE), Free)]
+    return [
+        spring
+        for spring in problem.springs
+        if hasattr(spring, "spec_sheet") and isinstance(spring.parameters.get(WIRE), Free)
+    ]
 
 
 def standard_neighbours(diameter: float, lower: float, upper: float) -> list[float]:
@@ -70,7 +76,9 @@ def standard_neighbours(diameter: float, lower: float, upper: float) -> list[flo
     if sizes.size == 0:
         return []
     below, above = sizes[sizes <= diameter], sizes[sizes >= diameter]
-    return sorted({float(value) for value in ([below.max()] if below.size else []) + ([above.min()] if above.size else [])})
+    return sorted(
+        {float(value) for value in ([below.max()] if below.size else []) + ([above.min()] if above.size else [])}
+    )
 
 
 def round_wires(problem: DesignProblem, solution: Solution, **solve_options: Any) -> tuple[Solution, WireRounding]:
@@ -83,12 +91,12 @@ def round_wires(problem: DesignProblem, solution: Solution, **solve_options: Any
     names = problem.variables.names
     x = np.array(solution.x, dtype=float)
     continuous = problem.objective_value(problem.evaluate(x))
-    fixed: dict[str, float] = {}               # variable name → standard wire [m]
+    fixed: dict[str, float] = {}  # variable name → standard wire [m]
     rounding = WireRounding(continuous, continuous, {})
     best_solution, multipliers = solution, solution.multipliers
     for spring in coils_with_free_wire(problem):
         name = f"{spring.name}.{WIRE}"
-        if name not in names:                  # a per-scenario wire: one value per scenario, left continuous
+        if name not in names:  # a per-scenario wire: one value per scenario, left continuous
             rounding.unrounded[spring.name] = "its wire diameter is a per-scenario variable"
             continue
         free = spring.parameters[WIRE]
@@ -97,23 +105,37 @@ def round_wires(problem: DesignProblem, solution: Solution, **solve_options: Any
         best = _best_candidate(problem, x, multipliers, fixed, name, candidates, solve_options)
         if best is None:
             rounding.unrounded[spring.name] = (
-                "no standard wire within its bounds gives a feasible design" if candidates else
-                "no standard wire size lies within its bounds")
+                "no standard wire within its bounds gives a feasible design"
+                if candidates
+                else "no standard wire size lies within its bounds"
+            )
             continue
         objective, candidate, x, found = best
         multipliers = found.multipliers
         fixed[name] = candidate
         rounding.wires[spring.name] = (float(value), candidate)
         rounding.objective = objective
-        best_solution = Solution(x, solution.starts, solution.method, solution.seed,
-                                 f"{solution.status}; wire of {', '.join(key.removesuffix('.' + WIRE) for key in fixed)} "
-                                 f"at standard sizes ({found.status})", multipliers)
+        best_solution = Solution(
+            x,
+            solution.starts,
+            solution.method,
+            solution.seed,
+            f"{solution.status}; wire of {', '.join(key.removesuffix('.' + WIRE) for key in fixed)} "
+            f"at standard sizes ({found.status})",
+            multipliers,
+        )
     return best_solution, rounding
 
 
-def _best_candidate(problem: DesignProblem, x: np.ndarray, multipliers: np.ndarray | None, fixed: dict[str, float],
-                    name: str, candidates: list[float],
-                    solve_options: dict[str, Any]) -> tuple[float, float, np.ndarray, StartRecord] | None:
+def _best_candidate(
+    problem: DesignProblem,
+    x: np.ndarray,
+    multipliers: np.ndarray | None,
+    fixed: dict[str, float],
+    name: str,
+    candidates: list[float],
+    solve_options: dict[str, Any],
+) -> tuple[float, float, np.ndarray, StartRecord] | None:
     """``(objective, candidate, design, record)`` of the best feasible re-solve with wire ``name`` at one
     of ``candidates`` (and the wires of ``fixed`` held), or None. The candidates are starts of one solve
     of the same problem (at once on the pool's workers), each warm from ``x`` and ``multipliers``."""
@@ -124,9 +146,15 @@ def _best_candidate(problem: DesignProblem, x: np.ndarray, multipliers: np.ndarr
     starts = np.repeat(x[None, :], len(candidates), axis=0)
     starts[:, held[:-1]] = list(fixed.values())
     starts[:, held[-1]] = candidates
-    try:   # the same problem with these wires held, warm from the current design and its multipliers
-        found = solve_problem(problem, starts=len(candidates), initial=starts, multipliers=multipliers,
-                              fixed=[*fixed, name], **solve_options)
+    try:  # the same problem with these wires held, warm from the current design and its multipliers
+        found = solve_problem(
+            problem,
+            starts=len(candidates),
+            initial=starts,
+            multipliers=multipliers,
+            fixed=[*fixed, name],
+            **solve_options,
+        )
     except SolverError:
         return None
     best: tuple[float, float, np.ndarray, StartRecord] | None = None
@@ -134,7 +162,7 @@ def _best_candidate(problem: DesignProblem, x: np.ndarray, multipliers: np.ndarr
         if not record.feasible:
             continue
         design = np.array(record.x, dtype=float)
-        design[held] = starts[record.index, held]   # exactly the standard sizes
+        design[held] = starts[record.index, held]  # exactly the standard sizes
         objective = problem.objective_value(problem.evaluate(design))
         if best is None or objective < best[0]:
             best = (objective, candidates[record.index], design, record)

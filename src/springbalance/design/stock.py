@@ -101,12 +101,16 @@ class StockPart:
 
     def describe(self) -> str:
         """One line: part number, rate, free length, preload, limits."""
-        text = (f"{self.part_number} ({self.kind}, {self.material}, d {self.wire_diameter * 1e3:g} mm, "
-                f"D {self.mean_diameter * 1e3:g} mm, n {self.active_coils:g}): k {self.rate:.4g} N/m, "
-                f"l0 {self.free_length * 1e3:.4g} mm")
+        text = (
+            f"{self.part_number} ({self.kind}, {self.material}, d {self.wire_diameter * 1e3:g} mm, "
+            f"D {self.mean_diameter * 1e3:g} mm, n {self.active_coils:g}): k {self.rate:.4g} N/m, "
+            f"l0 {self.free_length * 1e3:.4g} mm"
+        )
         if self.kind == "extension":
-            return text + (f", F0 {self.initial_tension:.4g} N, max load {self.max_load:.4g} N, "
-                           f"max length {self.max_length * 1e3:.4g} mm")
+            return text + (
+                f", F0 {self.initial_tension:.4g} N, max load {self.max_load:.4g} N, "
+                f"max length {self.max_length * 1e3:.4g} mm"
+            )
         return text + f", max load {self.max_load:.4g} N, solid length {self.min_length * 1e3:.4g} mm"
 
 
@@ -134,24 +138,49 @@ def part_spring(part: StockPart, spring: Spring) -> Spring:
     so does its envelope (``max_outer_diameter``).
     """
     kind = stock_kind(spring)
-    if kind is None or not isinstance(spring, TwoPointSpring):   # (a stock kind is a two-point spring's)
-        raise InputError(f"spring {spring.name!r} ({spring.kind}) cannot be a catalogue part; only extension and "
-                         "compression springs can")
+    if kind is None or not isinstance(spring, TwoPointSpring):  # (a stock kind is a two-point spring's)
+        raise InputError(
+            f"spring {spring.name!r} ({spring.kind}) cannot be a catalogue part; only extension and "
+            "compression springs can"
+        )
     if part.kind != kind:
-        raise InputError(f"part {part.part_number!r} is a {part.kind} spring; spring {spring.name!r} is a {kind} spring")
+        raise InputError(
+            f"part {part.part_number!r} is a {part.kind} spring; spring {spring.name!r} is a {kind} spring"
+        )
     max_force = part.max_load if spring.max_force is None else min(part.max_load, spring.max_force)
-    coil = {"material": part.material, "wire_diameter": part.wire_diameter, "mean_diameter": part.mean_diameter,
-            "active_coils": part.active_coils, "max_force": max_force, "min_length": spring.min_length,
-            "max_outer_diameter": getattr(spring, "max_outer_diameter", None), "part_number": part.part_number}
-    if getattr(spring, "routed", False):   # the part on the same path, with the same cable
+    coil = {
+        "material": part.material,
+        "wire_diameter": part.wire_diameter,
+        "mean_diameter": part.mean_diameter,
+        "active_coils": part.active_coils,
+        "max_force": max_force,
+        "min_length": spring.min_length,
+        "max_outer_diameter": getattr(spring, "max_outer_diameter", None),
+        "part_number": part.part_number,
+    }
+    if getattr(spring, "routed", False):  # the part on the same path, with the same cable
         coil.update(via=spring.via, cable_length=spring.parameters["cable_length"])
     if kind == "extension":
         max_length = part.max_length if spring.max_length is None else min(part.max_length, spring.max_length)
-        return HelicalExtensionSpring(spring.a, spring.b, spring.name, initial_tension=part.initial_tension,
-                                      max_length=max_length, keep_tension=True, **coil)
-    return HelicalCompressionSpring(spring.a, spring.b, spring.name, free_length=part.free_length,
-                                    max_length=spring.max_length, stays_compressed=True,
-                                    guided=bool(getattr(spring, "guided", False)), **coil)
+        return HelicalExtensionSpring(
+            spring.a,
+            spring.b,
+            spring.name,
+            initial_tension=part.initial_tension,
+            max_length=max_length,
+            keep_tension=True,
+            **coil,
+        )
+    return HelicalCompressionSpring(
+        spring.a,
+        spring.b,
+        spring.name,
+        free_length=part.free_length,
+        max_length=spring.max_length,
+        stays_compressed=True,
+        guided=bool(getattr(spring, "guided", False)),
+        **coil,
+    )
 
 
 def part_distance(part: StockPart, lengths: npt.ArrayLike, forces: npt.ArrayLike) -> float:
@@ -176,7 +205,7 @@ def part_distance(part: StockPart, lengths: npt.ArrayLike, forces: npt.ArrayLike
     """
     lengths = np.asarray(lengths, dtype=float)
     forces = np.asarray(forces, dtype=float)
-    scale = max(float(np.max(np.abs(forces))), 1e-9)                  # F_max [N]
+    scale = max(float(np.max(np.abs(forces))), 1e-9)  # F_max [N]
     if part.kind == "extension":
         part_forces = part.initial_tension + part.rate * (lengths - part.free_length)
         stroke = part.max_length - part.free_length
@@ -202,8 +231,12 @@ class StockTrial:
     status: str
 
     def to_dict(self) -> dict[str, Any]:
-        return {"part_number": self.part.part_number, "distance": self.distance, "objective": self.objective,
-                "status": self.status}
+        return {
+            "part_number": self.part.part_number,
+            "distance": self.distance,
+            "objective": self.objective,
+            "status": self.status,
+        }
 
 
 @dataclasses.dataclass
@@ -229,9 +262,14 @@ class StockChoice:
     trials: list
 
     def to_dict(self) -> dict[str, Any]:
-        return {"spring": self.spring, "type": self.kind, "designed": dict(self.designed),
-                "part": self.part.to_dict(), "objective": self.objective,
-                "trials": [trial.to_dict() for trial in self.trials]}
+        return {
+            "spring": self.spring,
+            "type": self.kind,
+            "designed": dict(self.designed),
+            "part": self.part.to_dict(),
+            "objective": self.objective,
+            "trials": [trial.to_dict() for trial in self.trials],
+        }
 
 
 @dataclasses.dataclass
@@ -280,25 +318,42 @@ class StockSelection:
             designed = choice.designed
             preload_key = "initial_tension" if choice.kind == "extension" else "preload"
             feasible = sum(trial.objective is not None for trial in choice.trials)
-            values = (f"k {designed['stiffness']:.4g} N/m, l0 {designed['free_length'] * 1e3:.4g} mm, "
-                      f"F0 {designed.get(preload_key, 0.0):.4g} N, " if "stiffness" in designed else "")
-            lines.append(f"  {choice.spring} ({choice.kind}): designed {values}tension {designed['min_force']:.4g} … "
-                         f"{designed['max_force']:.4g} N over {designed['min_length'] * 1e3:.4g} … "
-                         f"{designed['max_length'] * 1e3:.4g} mm")
+            values = (
+                f"k {designed['stiffness']:.4g} N/m, l0 {designed['free_length'] * 1e3:.4g} mm, "
+                f"F0 {designed.get(preload_key, 0.0):.4g} N, "
+                if "stiffness" in designed
+                else ""
+            )
+            lines.append(
+                f"  {choice.spring} ({choice.kind}): designed {values}tension {designed['min_force']:.4g} … "
+                f"{designed['max_force']:.4g} N over {designed['min_length'] * 1e3:.4g} … "
+                f"{designed['max_length'] * 1e3:.4g} mm"
+            )
             lines.append(f"    → {choice.part.describe()}")
-            lines.append(f"    {feasible} of {len(choice.trials)} candidates feasible; {self.objective} after this "
-                         f"choice {choice.objective:.6g} {self.unit}")
+            lines.append(
+                f"    {feasible} of {len(choice.trials)} candidates feasible; {self.objective} after this "
+                f"choice {choice.objective:.6g} {self.unit}"
+            )
         change = self.cost_percent
         relative = "" if not np.isfinite(change) else f" ({change:+.1f} %)"
-        lines.append(f"  objective {self.objective}: continuous {self.continuous_objective:.6g} {self.unit} → "
-                     f"stock {self.stock_objective:.6g} {self.unit}{relative}")
+        lines.append(
+            f"  objective {self.objective}: continuous {self.continuous_objective:.6g} {self.unit} → "
+            f"stock {self.stock_objective:.6g} {self.unit}{relative}"
+        )
         lines += [f"  note: {note}" for note in self.notes]
         return "\n".join(lines)
 
     def to_dict(self) -> dict[str, Any]:
-        return {"objective": self.objective, "unit": self.unit, "continuous_objective": self.continuous_objective,
-                "stock_objective": self.stock_objective, "cost": self.cost, "parts": self.parts(),
-                "choices": [choice.to_dict() for choice in self.choices], "notes": list(self.notes)}
+        return {
+            "objective": self.objective,
+            "unit": self.unit,
+            "continuous_objective": self.continuous_objective,
+            "stock_objective": self.stock_objective,
+            "cost": self.cost,
+            "parts": self.parts(),
+            "choices": [choice.to_dict() for choice in self.choices],
+            "notes": list(self.notes),
+        }
 
 
 def warm_started(problem: DesignProblem, x: np.ndarray) -> list[Spring]:
@@ -319,7 +374,7 @@ def warm_started(problem: DesignProblem, x: np.ndarray) -> list[Spring]:
                 continue
             coordinates = np.array([base[names.index(f"{spring.name}.{end}.{label}")] for label in region.labels])
             point = anchor.point
-            if isinstance(point, Free):        # a box: init is the whole point
+            if isinstance(point, Free):  # a box: init is the whole point
                 init = np.clip(region.point(coordinates), point.lower, point.upper).tolist()
                 record[end]["box"]["init"] = init
             elif isinstance(point, Segment):

@@ -96,7 +96,7 @@ class StructuredNlp:
         self._outputs = ca.MX.sym("Y", m * self.n_samples)
         grid = ca.reshape(self._outputs, m, self.n_samples)
         design = ca.MX.sym("z", n_x)
-        self.nlp = nlp = problem.assemble(design, grid[:nv, :], grid[nv, :], grid[nv + 1:, :], objective)
+        self.nlp = nlp = problem.assemble(design, grid[:nv, :], grid[nv, :], grid[nv + 1 :, :], objective)
         both = ca.vertcat(nlp.cost, nlp.rows)
         if nlp.size > n_x and not _linear_in(both, ca.vertcat(*nlp.z.primitives()[1:])):
             raise NotStructured("the objective's extra variables enter its NLP nonlinearly")
@@ -106,10 +106,11 @@ class StructuredNlp:
         self.extra_start: Callable[[np.ndarray], np.ndarray] | None = None
         if nlp.size > n_x:
             starts = nlp.extra_start
-            assert starts is not None   # an NLP with extra (epigraph) variables has their start
+            assert starts is not None  # an NLP with extra (epigraph) variables has their start
 
             def extra_start(z: np.ndarray) -> np.ndarray:
                 return starts(problem.evaluate(problem.scale(z)).tau * problem.weights)
+
             self.extra_start = extra_start
         # the first sample each row depends on (n_samples for rows of no sample: linear, or of the extras only)
         rows_of, columns_of = ca.jacobian(nlp.rows, self._outputs).sparsity().get_triplet()
@@ -132,7 +133,9 @@ class StructuredNlp:
             hessian += ca.mtimes(jacobian.T, ca.diag(curvature) @ jacobian)
         self._sample_outputs = compiled(ca.Function("sample_outputs", [z, data], [y]))
         self._sample_jacobian = compiled(ca.Function("sample_jacobian", [z, data], [y, ca.jacobian(y, z).T]))
-        self._sample_hessian = compiled(ca.Function("sample_hessian", [z, data, weights, curvature], [ca.triu(hessian)]))
+        self._sample_hessian = compiled(
+            ca.Function("sample_hessian", [z, data, weights, curvature], [ca.triu(hessian)])
+        )
         self._data = np.asarray(problem.data)
         x = ca.MX.sym("x", nlp.size)
         self._all_rows = ca.Function("all_rows", [x], [self._oracle(x, np.arange(self.n_samples), nlp.rows)[1]])
@@ -140,7 +143,8 @@ class StructuredNlp:
     def _oracle(self, x: ca.MX, samples: np.ndarray, rows: ca.MX) -> tuple[ca.MX, ca.MX]:
         """``(f, g)`` at ``x`` with the per-sample outputs of ``samples`` only (the others are not needed)."""
         outputs = self._sample_outputs.map("outputs", "serial", samples.size, [0], [])(
-            x[: self.n_design], ca.MX(ca.DM(self._data[:, samples])))
+            x[: self.n_design], ca.MX(ca.DM(self._data[:, samples]))
+        )
         phi = ca.Function("phi", [self._outputs, self.nlp.z], [self.nlp.cost, rows])
         # casadi's stubs type a call as one MX; a function of two outputs returns the tuple of both
         return phi(self._scatter(samples) @ ca.vec(outputs), x)  # type: ignore[return-value]
@@ -149,8 +153,10 @@ class StructuredNlp:
         """The sparse 0/1 matrix that places the outputs of ``samples`` in vec(Y) (zeros elsewhere)."""
         m = self.n_outputs
         positions = (samples[:, None] * m + np.arange(m)[None, :]).reshape(-1)
-        return ca.DM(ca.Sparsity.triplet(m * self.n_samples, positions.size, positions.tolist(),
-                                         list(range(positions.size))), 1.0)
+        return ca.DM(
+            ca.Sparsity.triplet(m * self.n_samples, positions.size, positions.tolist(), list(range(positions.size))),
+            1.0,
+        )
 
     def row_values(self, x: np.ndarray) -> np.ndarray:
         """Every row of the NLP at ``x`` (design and extra variables, scaled)."""
@@ -186,18 +192,26 @@ class StructuredNlp:
         diagonal = not linear and self._curved is not None
         curved = self._curved_list
         if linear or diagonal:
-            curvature = (ca.reshape(ca.jtimes(ybar, local, ca.DM.ones(m * count)), m, count)[curved, :] if diagonal
-                         else ca.MX(len(curved), count))
+            curvature = (
+                ca.reshape(ca.jtimes(ybar, local, ca.DM.ones(m * count)), m, count)[curved, :]
+                if diagonal
+                else ca.MX(len(curved), count)
+            )
             phi_hessian = ca.Function("phi_hessian", [local, nlp.z, lam_f, lam_g], [ybar, curvature])
         else:
             directions = ca.MX.sym("J", m * count, n_x)
-            phi_hessian = ca.Function("phi_hessian", [local, nlp.z, lam_f, lam_g, directions],
-                                      [ybar, ca.mtimes(directions.T, ca.jtimes(ybar, local, directions))])
+            phi_hessian = ca.Function(
+                "phi_hessian",
+                [local, nlp.z, lam_f, lam_g, directions],
+                [ybar, ca.mtimes(directions.T, ca.jtimes(ybar, local, directions))],
+            )
         phi = ca.Function("phi", [local, nlp.z], [f_local, g_local])
-        phi_gradient = ca.Function("phi_gradient", [local, nlp.z], [f_local, ca.gradient(f_local, local),
-                                                                    ca.gradient(f_local, nlp.z)])
-        phi_jacobian = ca.Function("phi_jacobian", [local, nlp.z], [g_local, ca.jacobian(g_local, local),
-                                                                    ca.jacobian(g_local, nlp.z)])
+        phi_gradient = ca.Function(
+            "phi_gradient", [local, nlp.z], [f_local, ca.gradient(f_local, local), ca.gradient(f_local, nlp.z)]
+        )
+        phi_jacobian = ca.Function(
+            "phi_jacobian", [local, nlp.z], [g_local, ca.jacobian(g_local, local), ca.jacobian(g_local, nlp.z)]
+        )
         return samples, n_g, linear, diagonal, phi, phi_gradient, phi_jacobian, phi_hessian
 
     def callbacks(self, rows: np.ndarray) -> tuple:
@@ -216,27 +230,50 @@ class StructuredNlp:
         values_j, transposed = self._sample_jacobian.map("jacobian", "serial", count, [0], [])(zx, columns)
         values_j = ca.vec(values_j)
         cost_j, cost_y, cost_w = phi_gradient(values_j, x)
-        grad_f = ca.Function("nlp_grad_f", [x, p], [cost_j, cost_w + ca.vertcat(ca.mtimes(transposed, cost_y), ca.MX(n_extra, 1))],
-                             ["x", "p"], ["f", "grad_f_x"])
+        grad_f = ca.Function(
+            "nlp_grad_f",
+            [x, p],
+            [cost_j, cost_w + ca.vertcat(ca.mtimes(transposed, cost_y), ca.MX(n_extra, 1))],
+            ["x", "p"],
+            ["f", "grad_f_x"],
+        )
         rows_j, rows_y, rows_w = phi_jacobian(values_j, x)
-        jac_g = ca.Function("nlp_jac_g", [x, p], [rows_j, rows_w + ca.horzcat(ca.mtimes(rows_y, transposed.T), ca.MX(n_g, n_extra))],
-                            ["x", "p"], ["g", "jac_g_x"])
+        jac_g = ca.Function(
+            "nlp_jac_g",
+            [x, p],
+            [rows_j, rows_w + ca.horzcat(ca.mtimes(rows_y, transposed.T), ca.MX(n_g, n_extra))],
+            ["x", "p"],
+            ["g", "jac_g_x"],
+        )
         weight_f, weight_g = ca.MX.sym("lam_f"), ca.MX.sym("lam_g", n_g)
-        if linear or diagonal:   # no per-sample Jacobians needed (nor outputs, when linear): only the samples' Hessians
+        if linear or diagonal:  # no per-sample Jacobians needed (nor outputs, when linear): only the samples' Hessians
             ybar_value, diagonal_value = phi_hessian(values if diagonal else ca.MX(m * count, 1), x, weight_f, weight_g)
             gauss_newton = ca.MX(n_x, n_x)
         else:
             ybar_value, gauss_newton = phi_hessian(values_j, x, weight_f, weight_g, transposed.T)
             diagonal_value = ca.MX(len(curved), count)
         summed = self._sample_hessian.map("hessian", "serial", count, [0], [0])(
-            zx, columns, ca.reshape(ybar_value, m, count), diagonal_value)
+            zx, columns, ca.reshape(ybar_value, m, count), diagonal_value
+        )
         hessian = ca.diagcat(summed + ca.triu(gauss_newton), ca.MX(n_extra, n_extra))
-        hess_lag = ca.Function("nlp_hess_l", [x, p, weight_f, weight_g], [ca.triu(hessian)],
-                               ["x", "p", "lam_f", "lam_g"], ["triu_hess_gamma_x_x"])
+        hess_lag = ca.Function(
+            "nlp_hess_l",
+            [x, p, weight_f, weight_g],
+            [ca.triu(hessian)],
+            ["x", "p", "lam_f", "lam_g"],
+            ["triu_hess_gamma_x_x"],
+        )
         return x, cost, constraints, {"grad_f": grad_f, "jac_g": jac_g, "hess_lag": hess_lag}
 
-    def solve(self, start: np.ndarray, lower: np.ndarray, upper: np.ndarray, options: dict,
-              max_iterations: int, lam_g: np.ndarray | None = None) -> tuple[np.ndarray, str, int, np.ndarray]:
+    def solve(
+        self,
+        start: np.ndarray,
+        lower: np.ndarray,
+        upper: np.ndarray,
+        options: dict,
+        max_iterations: int,
+        lam_g: np.ndarray | None = None,
+    ) -> tuple[np.ndarray, str, int, np.ndarray]:
         """IPOPT from ``start`` (design and extra variables) within the bounds, rows ≥ 0, on a working set
         grown until no other row is violated. Returns ``(x, IPOPT's status, iterations, lam_g)``: the
         iterations of all rounds share ``max_iterations``; ``lam_g`` are every row's multipliers at ``x``
@@ -249,11 +286,13 @@ class StructuredNlp:
         # the rows of the first samples (a workspace's samples are space-filling in any prefix), the rows
         # of no sample, the violated rows and the closest to binding
         active = (self._row_sample < min(SPREAD_SAMPLES, self.n_samples // 8)) | (self._row_sample == self.n_samples)
-        violated = np.flatnonzero(values < ROW_TOLERANCE)   # at most `keep` of them, the worst: later rounds add the rest
+        violated = np.flatnonzero(
+            values < ROW_TOLERANCE
+        )  # at most `keep` of them, the worst: later rounds add the rest
         active[violated[np.argsort(values[violated])[:keep]]] = True
         multipliers = None
         if lam_g is not None:
-            held = np.flatnonzero(lam_g != 0)   # at most `keep` of them, of the largest multipliers
+            held = np.flatnonzero(lam_g != 0)  # at most `keep` of them, of the largest multipliers
             active[held[np.argsort(lam_g[held])[:keep]]] = True
             multipliers = (np.zeros(self.nlp.size), np.asarray(lam_g, dtype=float))
         active[_closest(values, active, keep)] = True
@@ -266,13 +305,16 @@ class StructuredNlp:
             # first rounds used it up (all rounds together stop at twice the budget)
             round_options = {**options, "ipopt.max_iter": max(1, max_iterations - iterations, max_iterations // 2)}
             arguments = {"x0": x, "lbx": lower, "ubx": upper, "lbg": 0.0, "ubg": np.inf}
-            if multipliers is not None:   # warm start: the previous round's multipliers, 0 for the new rows
+            if multipliers is not None:  # warm start: the previous round's multipliers, 0 for the new rows
                 lam_x, lam_g = multipliers
                 arguments.update(lam_x0=lam_x, lam_g0=lam_g[rows])
                 round_options.update(warm_start_options())
-                if self.extra_start is not None:   # the epigraph bounds of the design reached, over every sample
-                    x[self.n_design:] = np.clip(np.maximum(x[self.n_design:], self.extra_start(x[: self.n_design])),
-                                                lower[self.n_design:], upper[self.n_design:])
+                if self.extra_start is not None:  # the epigraph bounds of the design reached, over every sample
+                    x[self.n_design :] = np.clip(
+                        np.maximum(x[self.n_design :], self.extra_start(x[: self.n_design])),
+                        lower[self.n_design :],
+                        upper[self.n_design :],
+                    )
             solver = self._solver(rows, round_options)
             result = solver(**arguments)
             stats = solver.stats()
@@ -289,16 +331,20 @@ class StructuredNlp:
             added = violated.copy()
             added[_closest(values, active | violated, keep // 2)] = True
             active |= added
-        assert multipliers is not None   # every round sets them (MAX_ROUNDS ≥ 1)
+        assert multipliers is not None  # every round sets them (MAX_ROUNDS ≥ 1)
         return x, status, iterations, multipliers[1]
 
 
 def warm_start_options() -> dict:
     """IPOPT's options for a start from a point and multipliers near the solution: the point and the
     multipliers pushed only :data:`WARM_PUSH` into the interior."""
-    return {"ipopt.warm_start_init_point": "yes",
-            **{f"ipopt.warm_start_{name}": WARM_PUSH for name in (
-                "bound_push", "bound_frac", "slack_bound_push", "slack_bound_frac", "mult_bound_push")}}
+    return {
+        "ipopt.warm_start_init_point": "yes",
+        **{
+            f"ipopt.warm_start_{name}": WARM_PUSH
+            for name in ("bound_push", "bound_frac", "slack_bound_push", "slack_bound_frac", "mult_bound_push")
+        },
+    }
 
 
 def _closest(values: np.ndarray, taken: np.ndarray, count: int) -> np.ndarray:

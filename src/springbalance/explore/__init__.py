@@ -13,5 +13,15 @@ from springbalance.explore.study import Study, StudyResult, load_study
 from springbalance.explore.task import solve_task
 from springbalance.explore.topology import Reachability, enumerate_topologies
 
-__all__ = ["Candidate", "Reachability", "Study", "StudyResult", "auto_candidates", "candidates_from_records",
-           "enumerate_topologies", "load_study", "make_client", "solve_task"]
+__all__ = [
+    "Candidate",
+    "Reachability",
+    "Study",
+    "StudyResult",
+    "auto_candidates",
+    "candidates_from_records",
+    "enumerate_topologies",
+    "load_study",
+    "make_client",
+    "solve_task",
+]

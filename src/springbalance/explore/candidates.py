@@ -52,8 +52,10 @@ class Candidate:
 
     def anchors(self) -> tuple[dict, dict]:
         """The two ends as anchor records ``{body, box: {lower, upper}}``."""
-        a, b = ({"body": body, "box": {"lower": list(box[0]), "upper": list(box[1])}}
-                for body, box in ((self.a, self.box_a), (self.b, self.box_b)))
+        a, b = (
+            {"body": body, "box": {"lower": list(box[0]), "upper": list(box[1])}}
+            for body, box in ((self.a, self.box_a), (self.b, self.box_b))
+        )
         return a, b
 
     def to_dict(self) -> dict[str, Any]:
@@ -102,19 +104,21 @@ def _geometry(mechanism: Mechanism) -> pin.GeometryModel | None:
         return None
 
 
-def _box(mechanism: Mechanism, geometry: pin.GeometryModel | None, body: str, margin: float,
-         default: float) -> tuple[tuple[float, ...], tuple[float, ...]]:
+def _box(
+    mechanism: Mechanism, geometry: pin.GeometryModel | None, body: str, margin: float, default: float
+) -> tuple[tuple[float, ...], tuple[float, ...]]:
     if geometry is not None and not mechanism.is_ground(body):
         try:
             lower, upper = body_bounds(mechanism, geometry, body)
             return tuple(map(float, lower - margin)), tuple(map(float, upper + margin))
         except InputError:
-            pass   # no collision geometry on this body
+            pass  # no collision geometry on this body
     return (-default,) * 3, (default,) * 3
 
 
-def auto_candidates(mechanism: Mechanism, span: int = 2, margin: float = DEFAULT_MARGIN,
-                    default: float = DEFAULT_HALF_WIDTH) -> list[Candidate]:
+def auto_candidates(
+    mechanism: Mechanism, span: int = 2, margin: float = DEFAULT_MARGIN, default: float = DEFAULT_HALF_WIDTH
+) -> list[Candidate]:
     """The ``auto`` candidates of ``mechanism`` (see the module documentation), ground pairs first."""
     if isinstance(span, bool) or not isinstance(span, int) or span < 1:
         raise InputError(f"explore.span must be an integer ≥ 1 (joints a spring may cross), got {span!r}")
@@ -122,19 +126,31 @@ def auto_candidates(mechanism: Mechanism, span: int = 2, margin: float = DEFAULT
     moving = sorted(joint for joint in tree.body_of if joint != 0)
     pairs = [(0, joint) for joint in moving]
     for joint in moving:
-        for ancestor in tree.ancestors(joint)[:-1]:          # moving ancestors only (the ground is above)
+        for ancestor in tree.ancestors(joint)[:-1]:  # moving ancestors only (the ground is above)
             if tree.span(ancestor, joint) <= span:
                 pairs.append((ancestor, joint))
     candidates = []
     for first, second in dict.fromkeys(pairs):
         a, b = tree.body_of[first], tree.body_of[second]
-        candidates.append(Candidate(a, b, _box(mechanism, geometry, a, margin, default),
-                                    _box(mechanism, geometry, b, margin, default), tree.span(first, second)))
+        candidates.append(
+            Candidate(
+                a,
+                b,
+                _box(mechanism, geometry, a, margin, default),
+                _box(mechanism, geometry, b, margin, default),
+                tree.span(first, second),
+            )
+        )
     return candidates
 
 
-def candidates_from_records(mechanism: Mechanism, records: Sequence, margin: float = DEFAULT_MARGIN,
-                            default: float = DEFAULT_HALF_WIDTH, where: str = "explore.candidates") -> list[Candidate]:
+def candidates_from_records(
+    mechanism: Mechanism,
+    records: Sequence,
+    margin: float = DEFAULT_MARGIN,
+    default: float = DEFAULT_HALF_WIDTH,
+    where: str = "explore.candidates",
+) -> list[Candidate]:
     """Candidates a config names: ``[body_a, body_b]`` (boxes as for ``auto``) or ``{a: anchor, b: anchor}``
     with boxes. Bodies welded to each other count once (a repeated candidate is an error)."""
     if not isinstance(records, list) or not records:
@@ -148,21 +164,29 @@ def candidates_from_records(mechanism: Mechanism, records: Sequence, margin: flo
             ends = []
             for body in record:
                 if body not in mechanism.body_names:
-                    raise InputError(f"{here}: unknown body {body!r} in mechanism {mechanism.name!r}; bodies: "
-                                     f"{', '.join(mechanism.body_names)}")
+                    raise InputError(
+                        f"{here}: unknown body {body!r} in mechanism {mechanism.name!r}; bodies: "
+                        f"{', '.join(mechanism.body_names)}"
+                    )
                 ends.append((body, _box(mechanism, geometry, body, margin, default)))
         elif isinstance(record, dict) and set(record) == {"a", "b"}:
             ends = []
             for end in ("a", "b"):
                 anchor = anchor_from_dict(record[end], f"{here}.{end}")
                 if anchor.body not in mechanism.body_names:
-                    raise InputError(f"{here}.{end}.body: unknown body {anchor.body!r} in mechanism "
-                                     f"{mechanism.name!r}; bodies: {', '.join(mechanism.body_names)}")
+                    raise InputError(
+                        f"{here}.{end}.body: unknown body {anchor.body!r} in mechanism "
+                        f"{mechanism.name!r}; bodies: {', '.join(mechanism.body_names)}"
+                    )
                 if not isinstance(anchor.point, Free):
                     raise InputError(f"{here}.{end}: a candidate's end is a box {{body, box: {{lower, upper}}}}")
-                ends.append((anchor.body, (tuple(map(float, anchor.point.lower)), tuple(map(float, anchor.point.upper)))))
+                ends.append(
+                    (anchor.body, (tuple(map(float, anchor.point.lower)), tuple(map(float, anchor.point.upper))))
+                )
         else:
-            raise InputError(f"{here}: expected [body_a, body_b] or {{a: {{body, box}}, b: {{body, box}}}}, got {record!r}")
+            raise InputError(
+                f"{here}: expected [body_a, body_b] or {{a: {{body, box}}, b: {{body, box}}}}, got {record!r}"
+            )
         (a, box_a), (b, box_b) = ends
         joints = (tree.joint_of[a], tree.joint_of[b])
         if joints[0] == joints[1]:

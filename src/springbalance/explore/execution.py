@@ -47,8 +47,9 @@ def progress_bar(total: int, show: bool) -> ProgressBar:
     return tqdm(total=total, desc="topologies", unit="task", leave=False)
 
 
-def execute(tasks: Sequence[Task], client: Client | None, base_dir: Path, starts: int,
-            seed: int) -> Iterator[dict[str, Any]]:
+def execute(
+    tasks: Sequence[Task], client: Client | None, base_dir: Path, starts: int, seed: int
+) -> Iterator[dict[str, Any]]:
     """Yield each task's result as it finishes (in this process, or on the Dask cluster)."""
     payloads = [task_payload(task, base_dir, starts, seed) for task in tasks]
     if client is None:
@@ -57,14 +58,14 @@ def execute(tasks: Sequence[Task], client: Client | None, base_dir: Path, starts
         return
     from dask.distributed import as_completed
 
-    futures = [client.submit(solve_task, payload, key=f"springbalance-{payload['id']}", pure=False)
-               for payload in payloads]
+    futures = [
+        client.submit(solve_task, payload, key=f"springbalance-{payload['id']}", pure=False) for payload in payloads
+    ]
     for future in as_completed(futures):
         yield future.result()
 
 
-def make_client(scheduler: str | None = None, workers: int | None = None,
-                timeout: float = CONNECT_TIMEOUT) -> Client:
+def make_client(scheduler: str | None = None, workers: int | None = None, timeout: float = CONNECT_TIMEOUT) -> Client:
     """A Dask ``Client``: on the scheduler at ``scheduler`` (``tcp://host:port``), or on a new
     ``LocalCluster`` of ``workers`` processes (default: one per core), one thread each;
     ``timeout`` [s] bounds the wait for a scheduler given by address."""
@@ -76,11 +77,17 @@ def make_client(scheduler: str | None = None, workers: int | None = None,
         try:
             return Client(scheduler, timeout=f"{timeout}s")
         except (OSError, TimeoutError, ValueError) as error:
-            raise InputError(f"cannot reach the Dask scheduler at {scheduler!r} within {timeout:g} s "
-                             f"({type(error).__name__}: {str(error).splitlines()[0] if str(error) else 'no answer'})") \
-                from None
+            raise InputError(
+                f"cannot reach the Dask scheduler at {scheduler!r} within {timeout:g} s "
+                f"({type(error).__name__}: {str(error).splitlines()[0] if str(error) else 'no answer'})"
+            ) from None
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
         raise InputError(f"workers must be an integer ≥ 1, got {workers!r}")
-    cluster = LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1, processes=True,
-                           dashboard_address=":0", silence_logs=logging.ERROR)
+    cluster = LocalCluster(
+        n_workers=workers or os.cpu_count() or 1,
+        threads_per_worker=1,
+        processes=True,
+        dashboard_address=":0",
+        silence_logs=logging.ERROR,
+    )
     return Client(cluster)

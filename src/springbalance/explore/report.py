@@ -36,9 +36,17 @@ def pareto_svg(records: list[dict]) -> str:
         points = [(a, b) for a, b, record in zip(x, y, records) if bool(record.get("buildable")) == buildable]
         if points:
             xs, ys = zip(*points)
-            axes.scatter(xs, ys, s=36, marker=marker, facecolors="C0" if buildable else "none",
-                         edgecolors="C0", label="buildable (every spring a coil that passes its spec sheet)" if buildable
-                         else "not shown buildable (ideal laws, or a spec sheet fails)")
+            axes.scatter(
+                xs,
+                ys,
+                s=36,
+                marker=marker,
+                facecolors="C0" if buildable else "none",
+                edgecolors="C0",
+                label="buildable (every spring a coil that passes its spec sheet)"
+                if buildable
+                else "not shown buildable (ideal laws, or a spec sheet fails)",
+            )
     front, best = [], float("inf")
     for a, b in sorted(zip(x, y)):
         if b < best:
@@ -56,18 +64,27 @@ def pareto_svg(records: list[dict]) -> str:
     figure.savefig(stream, format="svg")
     plt.close(figure)
     text = stream.getvalue()
-    return text[text.index("<svg"):]
+    return text[text.index("<svg") :]
 
 
 def _rows(records: list[dict], columns: list[tuple[str, Callable[[dict], Any]]]) -> str:
     head = "".join(f"<th>{html.escape(title)}</th>" for title, _ in columns)
-    body = "".join("<tr>" + "".join(f"<td>{html.escape(str(cell(record)))}</td>" for _, cell in columns) + "</tr>"
-                   for record in records)
+    body = "".join(
+        "<tr>" + "".join(f"<td>{html.escape(str(cell(record)))}</td>" for _, cell in columns) + "</tr>"
+        for record in records
+    )
     return f"<table><tr>{head}</tr>{body}</table>"
 
 
-def write_study_report(folder: str | Path, mechanism_name: str, summary: Mapping[str, Any], max_springs: int,
-                       results: Mapping[str, dict], dominated: list[dict], best: Mapping[int, dict]) -> None:
+def write_study_report(
+    folder: str | Path,
+    mechanism_name: str,
+    summary: Mapping[str, Any],
+    max_springs: int,
+    results: Mapping[str, dict],
+    dominated: list[dict],
+    best: Mapping[int, dict],
+) -> None:
     """Write ``report.html`` into the study ``folder``.
 
     ``summary`` is the study's enumeration and pruning (``Study.summary()``: candidates, topology
@@ -75,8 +92,9 @@ def write_study_report(folder: str | Path, mechanism_name: str, summary: Mapping
     ``dominated`` the topologies skipped because a subset balances exactly, ``best`` the best solved
     task per spring count (``StudyResult.best()``).
     """
-    solved = sorted((r for r in results.values() if r.get("status") == "solved"),
-                    key=lambda r: (r["count"], r["relative_residual"]))
+    solved = sorted(
+        (r for r in results.values() if r.get("status") == "solved"), key=lambda r: (r["count"], r["relative_residual"])
+    )
     failed = [r for r in results.values() if r.get("status") != "solved"]
     grid = lambda r: json.dumps(r.get("grid", {}), sort_keys=True) if r.get("grid") else ""  # noqa: E731
     springs = lambda r: " + ".join(r.get("springs", []))  # noqa: E731
@@ -92,24 +110,38 @@ def write_study_report(folder: str | Path, mechanism_name: str, summary: Mapping
         f"{len(solved)} solved, {len(failed)} failed.</p>",
         pareto_svg(solved) if solved else "<p>No topology was solved.</p>",
         "<h2>Best design per spring count</h2>",
-        _rows([{**record, "file": f"best_{count}_springs.json"} for count, record in best.items()],
-              [("springs", springs), ("grid", grid), ("residual / unbalanced", lambda r: f"{r['relative_residual']:.3g}"),
-               ("exact", lambda r: "yes" if r["exact"] else ""), ("buildable", lambda r: "yes" if r["buildable"] else ""),
-               ("design file", lambda r: r["file"])]),
+        _rows(
+            [{**record, "file": f"best_{count}_springs.json"} for count, record in best.items()],
+            [
+                ("springs", springs),
+                ("grid", grid),
+                ("residual / unbalanced", lambda r: f"{r['relative_residual']:.3g}"),
+                ("exact", lambda r: "yes" if r["exact"] else ""),
+                ("buildable", lambda r: "yes" if r["buildable"] else ""),
+                ("design file", lambda r: r["file"]),
+            ],
+        ),
         "<h2>Solved topologies</h2>",
-        _rows(solved, [("springs", springs), ("grid", grid), ("objective", lambda r: f"{r['objective']} "
-                                                                                     f"{r['objective_value']:.4g}"),
-                       ("residual / unbalanced", lambda r: f"{r['relative_residual']:.3g}"),
-                       ("exact", lambda r: "yes" if r["exact"] else ""),
-                       ("buildable", lambda r: "yes" if r["buildable"] else ""),
-                       ("time [s]", lambda r: f"{r['seconds']:.1f}")]),
+        _rows(
+            solved,
+            [
+                ("springs", springs),
+                ("grid", grid),
+                ("objective", lambda r: f"{r['objective']} {r['objective_value']:.4g}"),
+                ("residual / unbalanced", lambda r: f"{r['relative_residual']:.3g}"),
+                ("exact", lambda r: "yes" if r["exact"] else ""),
+                ("buildable", lambda r: "yes" if r["buildable"] else ""),
+                ("time [s]", lambda r: f"{r['seconds']:.1f}"),
+            ],
+        ),
         "<h2>Not solved</h2>",
-        _rows([{**item, "why": "proven unreachable: " + item["reason"]} for item in summary["unreachable"]]
-              + [{**item, "why": "degenerate: " + item["reason"]} for item in summary["degenerate"]]
-              + [{**item, "why": "dominated: " + " + ".join(item["because"]) + " balances exactly"}
-                 for item in dominated]
-              + [{**item, "why": "failed: " + item.get("error", "")} for item in failed],
-              [("springs", springs), ("grid", grid), ("why", lambda r: r["why"])]),
+        _rows(
+            [{**item, "why": "proven unreachable: " + item["reason"]} for item in summary["unreachable"]]
+            + [{**item, "why": "degenerate: " + item["reason"]} for item in summary["degenerate"]]
+            + [{**item, "why": "dominated: " + " + ".join(item["because"]) + " balances exactly"} for item in dominated]
+            + [{**item, "why": "failed: " + item.get("error", "")} for item in failed],
+            [("springs", springs), ("grid", grid), ("why", lambda r: r["why"])],
+        ),
         "</body></html>",
     ]
     write_text_atomic(Path(folder) / "report.html", "\n".join(parts))
@@ -118,9 +150,18 @@ def write_study_report(folder: str | Path, mechanism_name: str, summary: Mapping
 def write_report(result: Any) -> None:
     """Deprecated: write ``report.html`` of a ``StudyResult`` (use :func:`write_study_report`, or
     ``StudyResult.write``)."""
-    warn_deprecated("springbalance.explore.report.write_report(result)",
-                    "write_study_report(folder, mechanism_name, summary, max_springs, results, dominated, best) "
-                    "or StudyResult.write()")
+    warn_deprecated(
+        "springbalance.explore.report.write_report(result)",
+        "write_study_report(folder, mechanism_name, summary, max_springs, results, dominated, best) "
+        "or StudyResult.write()",
+    )
     study = result.study
-    write_study_report(result.folder, study.mechanism.name, study.summary(), study.max_springs, result.results,
-                       result.dominated, result.best())
+    write_study_report(
+        result.folder,
+        study.mechanism.name,
+        study.summary(),
+        study.max_springs,
+        result.results,
+        result.dominated,
+        result.best(),
+    )

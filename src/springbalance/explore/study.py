@@ -68,11 +68,36 @@ if TYPE_CHECKING:
     from distributed import Client
 
 #: keys of the ``explore`` section
-EXPLORE_KEYS = ("candidates", "span", "margin", "default_box", "max_springs", "spring", "starts", "seed", "grid",
-                "prune")
+EXPLORE_KEYS = (
+    "candidates",
+    "span",
+    "margin",
+    "default_box",
+    "max_springs",
+    "spring",
+    "starts",
+    "seed",
+    "grid",
+    "prune",
+)
 #: the columns of ``results.csv``
-COLUMNS = ("id", "status", "springs", "count", "grid", "objective", "objective_value", "objective_before",
-           "peak_residual", "relative_residual", "exact", "spring_mass", "buildable", "seconds", "error")
+COLUMNS = (
+    "id",
+    "status",
+    "springs",
+    "count",
+    "grid",
+    "objective",
+    "objective_value",
+    "objective_before",
+    "peak_residual",
+    "relative_residual",
+    "exact",
+    "spring_mass",
+    "buildable",
+    "seconds",
+    "error",
+)
 #: names that moved out of this module: where they live now (each still importable from here, with a
 #: DeprecationWarning, for one release). ``make_client`` (now :mod:`springbalance.explore.execution`) is
 #: still imported above without a warning while the command line imports it from here.
@@ -129,19 +154,22 @@ class Study:
             self.explore["max_springs"] = max_springs
         self.max_springs = self.explore.get("max_springs", 2)
         if isinstance(self.max_springs, bool) or not isinstance(self.max_springs, int) or self.max_springs < 1:
-            raise InputError(f"{label}: explore.max_springs (--max-springs) must be an integer ≥ 1, got "
-                             f"{self.max_springs!r}")
+            raise InputError(
+                f"{label}: explore.max_springs (--max-springs) must be an integer ≥ 1, got {self.max_springs!r}"
+            )
         law = self.explore.get("spring", {"type": "zero_free_length", "stiffness": {"lower": 0.0, "upper": 5000.0}})
         if not isinstance(law, dict) or any(key in law for key in ("a", "b", "name", "joint", "path")):
-            raise InputError(f"{label}: explore.spring: the law of every spring, a spring record without name and "
-                             f"ends, got {law!r}")
+            raise InputError(
+                f"{label}: explore.spring: the law of every spring, a spring record without name and ends, got {law!r}"
+            )
         self.law = law
         self.starts = self.explore.get("starts", (self.base.get("solve") or {}).get("starts", 4))
         self.seed = self.explore.get("seed", (self.base.get("solve") or {}).get("seed", 0))
         for key, value in (("starts", self.starts), ("seed", self.seed)):
             if isinstance(value, bool) or not isinstance(value, int) or value < (1 if key == "starts" else 0):
-                raise InputError(f"{label}: explore.{key} must be an integer ≥ {1 if key == 'starts' else 0}, "
-                                 f"got {value!r}")
+                raise InputError(
+                    f"{label}: explore.{key} must be an integer ≥ {1 if key == 'starts' else 0}, got {value!r}"
+                )
         if "mechanism" not in self.base:
             raise InputError(f"{label}: missing section 'mechanism'")
         self.margin = self.explore.get("margin", DEFAULT_MARGIN)
@@ -153,12 +181,13 @@ class Study:
         if not isinstance(self.prune, bool):
             raise InputError(f"{label}: explore.prune must be true or false, got {self.prune!r}")
         self._layouts: dict[str, Layout] = {}
-        layout = self._layout(self.base["mechanism"])   # the base mechanism's (a grid may sweep others)
+        layout = self._layout(self.base["mechanism"])  # the base mechanism's (a grid may sweep others)
         self.mechanism, self.candidates, self.reachability_note = layout.mechanism, layout.candidates, layout.note
         self.topologies, self.verdicts = layout.topologies, layout.verdicts
         self.grid = self._grid(self.explore.get("grid") or {})
-        self.fingerprint = _fingerprint({**self.base, "explore": {k: v for k, v in self.explore.items()
-                                                                   if k != "max_springs"}})
+        self.fingerprint = _fingerprint(
+            {**self.base, "explore": {k: v for k, v in self.explore.items() if k != "max_springs"}}
+        )
         self.tasks = [task for point in self.grid for task in self._tasks(point)]
         # a config error (a bad grid value, a bad law) shows here, not on a worker
         if self.tasks:
@@ -198,8 +227,9 @@ class Study:
             if not isinstance(grid[key], list) or not grid[key]:
                 raise InputError(f"{self.label}: explore.grid.{key}: expected a non-empty list of values")
             if key.split(".")[0] in ("explore", "springs"):
-                raise InputError(f"{self.label}: explore.grid.{key}: a grid sweeps the design config, not "
-                                 f"{key.split('.')[0]!r}")
+                raise InputError(
+                    f"{self.label}: explore.grid.{key}: a grid sweeps the design config, not {key.split('.')[0]!r}"
+                )
         return [dict(zip(keys, values)) for values in itertools.product(*(grid[key] for key in keys))] or [{}]
 
     def _tasks(self, point: dict[str, Any]) -> list[Task]:
@@ -228,12 +258,18 @@ class Study:
         by_kind: dict[str, list] = {}
         for topology, verdict in self.verdicts.items():
             by_kind.setdefault(verdict.kind, []).append(
-                {"springs": [self.candidates[index].label for index in topology], "reason": verdict.reason})
-        return {"candidates": [{"label": c.label, **c.to_dict()} for c in self.candidates],
-                "topologies": total, "orderings": orderings, "grid_points": len(self.grid),
-                "reachability": self.reachability_note,
-                "unreachable": by_kind.get("unreachable", []), "degenerate": by_kind.get("degenerate", []),
-                "tasks": len(self.tasks)}
+                {"springs": [self.candidates[index].label for index in topology], "reason": verdict.reason}
+            )
+        return {
+            "candidates": [{"label": c.label, **c.to_dict()} for c in self.candidates],
+            "topologies": total,
+            "orderings": orderings,
+            "grid_points": len(self.grid),
+            "reachability": self.reachability_note,
+            "unreachable": by_kind.get("unreachable", []),
+            "degenerate": by_kind.get("degenerate", []),
+            "tasks": len(self.tasks),
+        }
 
     # ---------------------------------------------------------------- running
     def pending(self, folder: str | Path) -> int:
@@ -241,8 +277,14 @@ class Study:
         results = Path(folder) / "results"
         return sum(1 for task in self.tasks if not (results / f"{task.id}.json").exists())
 
-    def run(self, folder: str | Path, client: Client | None = None, force: bool = False, progress: bool = True,
-            on_result: Callable[[dict], None] | None = None) -> StudyResult:
+    def run(
+        self,
+        folder: str | Path,
+        client: Client | None = None,
+        force: bool = False,
+        progress: bool = True,
+        on_result: Callable[[dict], None] | None = None,
+    ) -> StudyResult:
         """Solve every task not solved yet (see the module documentation); ``client`` is a Dask
         ``Client`` (None: one after another in this process)."""
         folder = Path(folder)
@@ -253,7 +295,7 @@ class Study:
             try:
                 record = json.loads(path.read_text(encoding="utf-8"))
             except (OSError, ValueError):
-                continue   # a damaged file: the task is solved again
+                continue  # a damaged file: the task is solved again
             if isinstance(record, dict) and record.get("id") == path.stem:
                 done[path.stem] = record
         resumed = sum(1 for task in self.tasks if task.id in done)
@@ -264,11 +306,23 @@ class Study:
             for task in self.tasks:
                 if task.count != count or task.id in done:
                     continue
-                exact = [other for other in self.tasks if other.count < count and other.grid == task.grid
-                         and set(other.topology) < set(task.topology) and done.get(other.id, {}).get("exact")]
+                exact = [
+                    other
+                    for other in self.tasks
+                    if other.count < count
+                    and other.grid == task.grid
+                    and set(other.topology) < set(task.topology)
+                    and done.get(other.id, {}).get("exact")
+                ]
                 if exact:
-                    dominated.append({"id": task.id, "springs": list(task.labels), "grid": task.grid,
-                                      "because": list(exact[0].labels)})
+                    dominated.append(
+                        {
+                            "id": task.id,
+                            "springs": list(task.labels),
+                            "grid": task.grid,
+                            "because": list(exact[0].labels),
+                        }
+                    )
                     bar.update(1)
                     continue
                 level.append(task)
@@ -281,8 +335,9 @@ class Study:
                 if on_result is not None:
                     on_result(record)
         bar.close()
-        result = StudyResult(self, folder, {task.id: done[task.id] for task in self.tasks if task.id in done},
-                             dominated, solved, resumed)
+        result = StudyResult(
+            self, folder, {task.id: done[task.id] for task in self.tasks if task.id in done}, dominated, solved, resumed
+        )
         result.write()
         return result
 
@@ -296,15 +351,20 @@ class Study:
                 previous = None
             if previous != self.fingerprint:
                 if not force:
-                    raise InputError(f"study folder {str(folder)!r} holds the results of a different config "
-                                     f"(fingerprint {previous} ≠ {self.fingerprint}); use another --out, or --force "
-                                     "to discard them")
+                    raise InputError(
+                        f"study folder {str(folder)!r} holds the results of a different config "
+                        f"(fingerprint {previous} ≠ {self.fingerprint}); use another --out, or --force "
+                        "to discard them"
+                    )
                 shutil.rmtree(folder / "results", ignore_errors=True)
         elif folder.exists() and any(folder.iterdir()) and not force:
-            raise InputError(f"study folder {str(folder)!r} is not empty and holds no study; use another --out, or "
-                             "--force")
-        write_json_atomic(marker, {"fingerprint": self.fingerprint, "config": {**self.base, "explore": self.explore},
-                                   **self.summary()})
+            raise InputError(
+                f"study folder {str(folder)!r} is not empty and holds no study; use another --out, or --force"
+            )
+        write_json_atomic(
+            marker,
+            {"fingerprint": self.fingerprint, "config": {**self.base, "explore": self.explore}, **self.summary()},
+        )
 
     def _write_table(self, folder: Path, done: dict) -> None:
         rows = [done[task.id] for task in self.tasks if task.id in done]
@@ -316,8 +376,13 @@ def _csv(rows: Sequence[dict]) -> str:
     writer = csv.DictWriter(stream, fieldnames=COLUMNS, extrasaction="ignore")
     writer.writeheader()
     for row in rows:
-        writer.writerow({**row, "springs": " + ".join(row.get("springs", [])),
-                         "grid": json.dumps(row.get("grid", {}), sort_keys=True)})
+        writer.writerow(
+            {
+                **row,
+                "springs": " + ".join(row.get("springs", [])),
+                "grid": json.dumps(row.get("grid", {}), sort_keys=True),
+            }
+        )
     return stream.getvalue()
 
 
@@ -355,8 +420,15 @@ class StudyResult:
         summary = json.loads(marker.read_text(encoding="utf-8"))
         summary["dominated"] = self.dominated
         write_json_atomic(marker, summary)
-        write_study_report(self.folder, self.study.mechanism.name, self.study.summary(), self.study.max_springs,
-                           self.results, self.dominated, self.best())
+        write_study_report(
+            self.folder,
+            self.study.mechanism.name,
+            self.study.summary(),
+            self.study.max_springs,
+            self.results,
+            self.dominated,
+            self.best(),
+        )
 
 
 # ---------------------------------------------------------------------- entry points

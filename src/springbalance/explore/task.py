@@ -46,8 +46,15 @@ class Task:
 def task_payload(task: Task, base_dir: Path, starts: int, seed: int) -> dict[str, Any]:
     """The mapping :func:`solve_task` takes: the task's record, the folder its relative paths start from,
     and the multi-start's ``starts`` and ``seed``."""
-    return {"id": task.id, "labels": list(task.labels), "grid": task.grid, "record": task.record,
-            "base_dir": str(base_dir), "starts": starts, "seed": seed}
+    return {
+        "id": task.id,
+        "labels": list(task.labels),
+        "grid": task.grid,
+        "record": task.record,
+        "base_dir": str(base_dir),
+        "starts": starts,
+        "seed": seed,
+    }
 
 
 def solve_task(payload: dict[str, Any]) -> dict[str, Any]:
@@ -56,19 +63,41 @@ def solve_task(payload: dict[str, Any]) -> dict[str, Any]:
     Returns the row of ``results.csv`` plus ``design``, the design's saved record (None when it failed).
     """
     clock = time.perf_counter()
-    row: dict[str, Any] = {"id": payload["id"], "springs": payload["labels"], "count": len(payload["labels"]),
-                           "grid": payload["grid"], "starts": payload["starts"], "seed": payload["seed"]}
+    row: dict[str, Any] = {
+        "id": payload["id"],
+        "springs": payload["labels"],
+        "count": len(payload["labels"]),
+        "grid": payload["grid"],
+        "starts": payload["starts"],
+        "seed": payload["seed"],
+    }
     try:
         config = config_from_dict(payload["record"], payload["base_dir"], f"task {payload['id']}")
         # one process and one thread per task: the study spreads tasks over the cores, not the starts of one task
         with one_thread():
             result = solve(config, starts=payload["starts"], seed=payload["seed"], progress=False, workers=1)
     except (SolverError, SpringBalanceError) as error:
-        return {**row, "status": "failed", "error": str(error).splitlines()[0], "exact": False, "design": None,
-                "seconds": time.perf_counter() - clock}
-    except (ArithmeticError, ValueError, RuntimeError) as error:   # numerical trouble: this topology fails, not the study
-        return {**row, "status": "failed", "error": f"{type(error).__name__}: {str(error).splitlines()[0]}",
-                "exact": False, "design": None, "seconds": time.perf_counter() - clock}
+        return {
+            **row,
+            "status": "failed",
+            "error": str(error).splitlines()[0],
+            "exact": False,
+            "design": None,
+            "seconds": time.perf_counter() - clock,
+        }
+    except (
+        ArithmeticError,
+        ValueError,
+        RuntimeError,
+    ) as error:  # numerical trouble: this topology fails, not the study
+        return {
+            **row,
+            "status": "failed",
+            "error": f"{type(error).__name__}: {str(error).splitlines()[0]}",
+            "exact": False,
+            "design": None,
+            "seconds": time.perf_counter() - clock,
+        }
     return {**row, **_solved_row(result), "seconds": time.perf_counter() - clock}
 
 
@@ -84,12 +113,21 @@ def _solved_row(result: DesignResult) -> dict[str, Any]:
     flags = [flag.kind for flag in result.warnings()]
     # buildable: every spring is a coil whose spec sheet passes (an ideal law, such as a zero-free-length
     # spring, says nothing about a part that could be wound)
-    buildable = (len(sheets) == len(result.springs) and all(sheets)
-                 and not any(kind in ("unbuildable", "unbuildable_ideal") for kind in flags))
-    return {"status": "solved", "objective": objective,
-            "objective_value": metrics["objectives"][objective]["after"],
-            "objective_before": metrics["objectives"][objective]["before"],
-            "peak_residual": balance["residual"], "relative_residual": balance["relative_residual"],
-            "exact": bool(balance["relative_residual"] < EXACT),
-            "spring_mass": float(sum(known)) if masses and len(known) == len(masses) else None,
-            "buildable": bool(buildable), "error": "", "design": result.to_dict()}
+    buildable = (
+        len(sheets) == len(result.springs)
+        and all(sheets)
+        and not any(kind in ("unbuildable", "unbuildable_ideal") for kind in flags)
+    )
+    return {
+        "status": "solved",
+        "objective": objective,
+        "objective_value": metrics["objectives"][objective]["after"],
+        "objective_before": metrics["objectives"][objective]["before"],
+        "peak_residual": balance["residual"],
+        "relative_residual": balance["relative_residual"],
+        "exact": bool(balance["relative_residual"] < EXACT),
+        "spring_mass": float(sum(known)) if masses and len(known) == len(masses) else None,
+        "buildable": bool(buildable),
+        "error": "",
+        "design": result.to_dict(),
+    }

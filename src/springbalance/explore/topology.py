@@ -74,22 +74,31 @@ class Reachability:
         n = self.chain.size
         needed = math.ceil(n * (n - 1) / 4)
         if len(topology) < needed:
-            return Verdict("unreachable", f"{len(topology)} spring(s) give {4 * len(topology)} anchor coordinates for "
-                                          f"{n * (n - 1)} conditions: at least {needed} springs are needed")
+            return Verdict(
+                "unreachable",
+                f"{len(topology)} spring(s) give {4 * len(topology)} anchor coordinates for "
+                f"{n * (n - 1)} conditions: at least {needed} springs are needed",
+            )
         reach = [self._reached(self.ends[index]) for index in topology]
         names = self.chain.bodies
         for j in self.loaded:
             if not any((0, j) in blocks for blocks in reach):
-                return Verdict("unreachable", f"the weight moment of {names[j]!r} and beyond (block K_0{j}) is reached "
-                                              f"by no spring from the ground to {names[j]!r} or further out")
+                return Verdict(
+                    "unreachable",
+                    f"the weight moment of {names[j]!r} and beyond (block K_0{j}) is reached "
+                    f"by no spring from the ground to {names[j]!r} or further out",
+                )
         counts: dict[tuple[int, int], int] = {}
         for blocks in reach:
             for block in blocks:
                 counts[block] = counts.get(block, 0) + 1
         for (i, j), count in sorted(counts.items()):
             if count == 1 and not (i == 0 and j in self.loaded):
-                return Verdict("degenerate", f"block K_{i}{j} ({names[i]!r}, {names[j]!r}) is reached by one spring "
-                                             "only: it vanishes only with an anchor on a joint axis (another topology)")
+                return Verdict(
+                    "degenerate",
+                    f"block K_{i}{j} ({names[i]!r}, {names[j]!r}) is reached by one spring "
+                    "only: it vanishes only with an anchor on a joint axis (another topology)",
+                )
         return None
 
 
@@ -97,8 +106,11 @@ def enumerate_topologies(count: int, max_springs: int) -> list[tuple[int, ...]]:
     """Every set of 1 … ``max_springs`` of ``count`` candidates, fewer springs first."""
     if isinstance(max_springs, bool) or not isinstance(max_springs, int) or max_springs < 1:
         raise InputError(f"max_springs must be an integer ≥ 1, got {max_springs!r}")
-    return [combination for size in range(1, min(max_springs, count) + 1)
-            for combination in itertools.combinations(range(count), size)]
+    return [
+        combination
+        for size in range(1, min(max_springs, count) + 1)
+        for combination in itertools.combinations(range(count), size)
+    ]
 
 
 def reachability(mechanism: Mechanism, candidates: Sequence[Candidate], law: str) -> tuple[Reachability | None, str]:

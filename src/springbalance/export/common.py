@@ -17,8 +17,17 @@ from springbalance.errors import InputError
 from springbalance.model.mechanism import Mechanism
 from springbalance.springs.laws.spring import Spring
 
-__all__ = ["GROUND", "ExportReport", "anchor_link_name", "law_warnings", "number", "resolve_package", "source_urdf",
-           "spring_name", "vector"]
+__all__ = [
+    "GROUND",
+    "ExportReport",
+    "anchor_link_name",
+    "law_warnings",
+    "number",
+    "resolve_package",
+    "source_urdf",
+    "spring_name",
+    "vector",
+]
 
 GROUND = "universe"
 
@@ -83,7 +92,7 @@ def anchor_link_name(spring: str, end: str) -> str:
 def resolve_package(filename: str, directories: Iterable[str | Path]) -> Path | None:
     """The file a ``package://<package>/<path>`` mesh name stands for: ``<directory>/<package>/<path>`` or
     ``<directory>/<path>`` of the first of ``directories`` that has it (None when none has)."""
-    relative = filename[len("package://"):]
+    relative = filename[len("package://") :]
     for directory in directories:
         candidate = Path(directory) / relative
         if candidate.is_file():

@@ -34,6 +34,7 @@ prints 6 significant digits) and loaded back through ``mujoco.MjSpec`` and compi
 saved. With zero velocity and acceleration, ``mj_inverse``'s ``qfrc_inverse`` minus the
 actuators' ``qfrc_actuator`` is the holding torque ``design.residual_torque(q)`` [N·m].
 """
+
 from __future__ import annotations
 
 import os
@@ -48,20 +49,17 @@ from springbalance.errors import InputError
 from springbalance.export.common import (
     GROUND,
     ExportReport,
-    anchor_link_name,
     law_warnings,
     number,
     resolve_package,
     source_urdf,
-    spring_name,
     vector,
 )
+from springbalance.export.mjcf_springs import SpringElements
 from springbalance.files import write_text_atomic
 from springbalance.model import robots
-from springbalance.springs.laws.spring import Spring
-from springbalance.springs.laws.two_point import TwoPointSpring
 
-if TYPE_CHECKING:   # lxml and yourdfpy (no stubs) are imported when a model is exported
+if TYPE_CHECKING:  # lxml and yourdfpy (no stubs) are imported when a model is exported
     from lxml.etree import _Element
     from yourdfpy import Collision, Joint, Link, Mesh, Visual
 
@@ -92,8 +90,10 @@ def mjcf_string(design: EvaluatedDesign) -> tuple[str, list[str]]:
         if "inertia must satisfy" not in message:
             raise InputError(f"MuJoCo rejects the exported model: {message}") from None
         builder.compiler.set("balanceinertia", "true")
-        builder.warnings.append(f"MuJoCo rejects an URDF inertia ({message}); balanceinertia is on, which changes "
-                                "rotational inertias (static torques are unaffected)")
+        builder.warnings.append(
+            f"MuJoCo rejects an URDF inertia ({message}); balanceinertia is on, which changes "
+            "rotational inertias (static torques are unaffected)"
+        )
         xml = etree.tostring(builder.root, pretty_print=True, encoding="unicode")
         try:
             mujoco.MjSpec.from_string(xml).compile()
@@ -102,7 +102,7 @@ def mjcf_string(design: EvaluatedDesign) -> tuple[str, list[str]]:
     return xml, law_warnings(design) + builder.warnings
 
 
-class _MjcfBuilder:
+class _MjcfBuilder(SpringElements):
     """Builds the MJCF tree of the balanced arm from the design's URDF and values."""
 
     def __init__(self, design: EvaluatedDesign, urdf_text: str, folder: Path | None) -> None:
@@ -124,9 +124,18 @@ class _MjcfBuilder:
         E = etree.SubElement
         robot = self.urdf.robot
         self.root = root = etree.Element("mujoco", model=robot.name or "springbalance")
-        self.compiler = E(root, "compiler", angle="radian", inertiafromgeom="false", balanceinertia="false",
-                          fusestatic="false", discardvisual="false", boundmass="0", boundinertia="0",
-                          autolimits="true")
+        self.compiler = E(
+            root,
+            "compiler",
+            angle="radian",
+            inertiafromgeom="false",
+            balanceinertia="false",
+            fusestatic="false",
+            discardvisual="false",
+            boundmass="0",
+            boundinertia="0",
+            autolimits="true",
+        )
         E(root, "option", gravity=vector(self.mechanism.gravity))
         self.asset = E(root, "asset")
         world = E(root, "worldbody")
@@ -147,8 +156,14 @@ class _MjcfBuilder:
         return root
 
     # ---------------------------------------------------------------- bodies
-    def _add_body(self, parent: _Element, link: Link, joint: Joint | None, links: dict[str, Link],
-                  children: dict[str, list[Joint]]) -> None:
+    def _add_body(
+        self,
+        parent: _Element,
+        link: Link,
+        joint: Joint | None,
+        links: dict[str, Link],
+        children: dict[str, list[Joint]],
+    ) -> None:
         from lxml import etree
 
         E = etree.SubElement
@@ -165,9 +180,15 @@ class _MjcfBuilder:
             origin = inertial.origin if inertial.origin is not None else np.eye(4)
             rotation = origin[:3, :3]
             inertia = rotation @ (inertial.inertia if inertial.inertia is not None else np.zeros((3, 3))) @ rotation.T
-            E(body, "inertial", pos=vector(origin[:3, 3]), mass=number(inertial.mass),
-              fullinertia=vector([inertia[0, 0], inertia[1, 1], inertia[2, 2],
-                                   inertia[0, 1], inertia[0, 2], inertia[1, 2]]))
+            E(
+                body,
+                "inertial",
+                pos=vector(origin[:3, 3]),
+                mass=number(inertial.mass),
+                fullinertia=vector(
+                    [inertia[0, 0], inertia[1, 1], inertia[2, 2], inertia[0, 1], inertia[0, 2], inertia[1, 2]]
+                ),
+            )
         if joint is not None and joint.type != "fixed":
             self._add_joint(body, joint)
         for index, visual in enumerate(link.visuals):
@@ -182,13 +203,20 @@ class _MjcfBuilder:
 
         kinds = {"revolute": "hinge", "continuous": "hinge", "prismatic": "slide"}
         if joint.type not in kinds:
-            raise InputError(f"joint {joint.name!r} is {joint.type}; the MuJoCo export supports revolute, "
-                             "continuous, prismatic and fixed joints")
+            raise InputError(
+                f"joint {joint.name!r} is {joint.type}; the MuJoCo export supports revolute, "
+                "continuous, prismatic and fixed joints"
+            )
         axis = joint.axis if joint.axis is not None else np.array([1.0, 0.0, 0.0])
         attributes = {"name": joint.name, "type": kinds[joint.type], "axis": vector(axis)}
         limit = joint.limit
-        if joint.type != "continuous" and limit is not None and limit.lower is not None and limit.upper is not None \
-                and limit.lower < limit.upper:
+        if (
+            joint.type != "continuous"
+            and limit is not None
+            and limit.lower is not None
+            and limit.upper is not None
+            and limit.lower < limit.upper
+        ):
             attributes["range"] = vector([limit.lower, limit.upper])
             attributes["limited"] = "true"
         else:
@@ -234,15 +262,17 @@ class _MjcfBuilder:
         if filename.startswith("package://"):
             resolved = resolve_package(filename, robots.package_directories())
         elif filename.startswith("file://"):
-            resolved = Path(filename[len("file://"):])
+            resolved = Path(filename[len("file://") :])
         else:
             resolved = Path(filename) if os.path.isabs(filename) or self.folder is None else self.folder / filename
         if resolved is None or not Path(resolved).is_file():
             self.warnings.append(f"mesh {filename!r} not found; geom {name!r} left out of the MuJoCo model")
             return None
         if Path(resolved).suffix.lower() not in MUJOCO_MESH_FORMATS:
-            self.warnings.append(f"mesh {filename!r}: MuJoCo does not load {Path(resolved).suffix} files; "
-                                 f"geom {name!r} left out of the MuJoCo model")
+            self.warnings.append(
+                f"mesh {filename!r}: MuJoCo does not load {Path(resolved).suffix} files; "
+                f"geom {name!r} left out of the MuJoCo model"
+            )
             return None
         key = str(Path(resolved).resolve())
         scale = mesh.scale
@@ -258,136 +288,6 @@ class _MjcfBuilder:
         return self.meshes[key_scale]
 
     # ---------------------------------------------------------------- springs
-    def _add_springs(self, root: _Element) -> None:
-        from lxml import etree
-
-        E = etree.SubElement
-        tendon = E(root, "tendon")
-        actuator = E(root, "actuator")
-        for spring, record in zip(self.design.problem.springs, self.design.springs):
-            if not spring.anchors:
-                self._add_torsional(actuator, spring, record)
-                continue
-            sites = []   # the tendon's path through the sites; a pulley's cylinder is drawn, not wrapped
-            for end, radius in zip(spring.anchors, getattr(spring, "radii", [0.0] * len(spring.anchors))):
-                body = self._body(record[end]["body"])
-                name = anchor_link_name(spring_name(spring), end)
-                E(body, "site", name=name, pos=vector(record[end]["point"]), size="0.01")
-                sites.append(name)
-                if radius > 0:
-                    self._add_pulley(body, spring, end, record, radius)
-            if any(radius > 0 for radius in getattr(spring, "radii", ())):
-                self.warnings.append(self._pulley_warning(spring, record))
-            lengths = self.design.evaluation.lengths[:, self.design.problem.springs.index(spring)]
-            stiffness, spring_length, constant, deviation = _tendon_law(spring, record, lengths)  # [N/m], [m], [N], [N]
-            if deviation > 0:
-                self.warnings.append(
-                    f"spring {spring.name!r} ({spring.kind}) is nonlinear: its MuJoCo tendon is the least-squares line "
-                    f"F = {stiffness:.6g} N/m · (L − {spring_length:.6g} m) + {constant:.6g} N over the workspace "
-                    f"lengths, off the law by up to {deviation:.3g} N")
-            attributes = {"name": spring.name, "stiffness": number(stiffness), "width": "0.004",
-                          "rgba": "0.9 0.6 0.1 1"}
-            if stiffness > 0:
-                attributes["springlength"] = vector([spring_length, spring_length])
-            spatial = E(tendon, "spatial", **attributes)
-            for site in sites:
-                E(spatial, "site", site=site)
-            if constant != 0:
-                # constant tension F0 pulls: the actuator force (positive lengthens) is -F0, whatever the control
-                E(actuator, "general", name=f"{spring.name}_constant_force", tendon=spring.name, gainprm="0",
-                  biastype="affine", biasprm=vector([-constant, 0, 0]))
-            mass = record.get("mass")
-            if mass:
-                for end in getattr(spring, "spring_ends", spring.anchors):
-                    body_name = record[end]["body"]
-                    if self.mechanism.is_ground(body_name):
-                        continue
-                    point_mass = E(self._body(body_name), "body", name=f"{spring.name}_mass_{end}",
-                                   pos=vector(record[end]["point"]))
-                    E(point_mass, "inertial", pos="0 0 0", mass=number(0.5 * mass), diaginertia="0 0 0")
-        self._finish_torsional(actuator)
-        for element in (tendon, actuator):
-            if not len(element):
-                root.remove(element)
-
-    def _add_pulley(self, body: _Element, spring: Spring, end: str, record: dict, radius: float) -> None:
-        """A cylinder of ``radius`` [m] drawn at the pulley ``end`` of a routed spring (no contact, no
-        mass), its axis normal to the plane of the pulley and its neighbours at the reference pose."""
-        from lxml import etree
-
-        ends = list(spring.anchors)
-        index = ends.index(end)
-        centre = np.asarray(record[end]["point"], dtype=float)
-        rotation, translation = self._reference_placement(record[end]["body"])
-        neighbours = []
-        for other in (ends[index - 1], ends[index + 1]):
-            r_other, t_other = self._reference_placement(record[other]["body"])
-            point = r_other @ np.asarray(record[other]["point"], dtype=float) + t_other
-            neighbours.append(rotation.T @ (point - translation) - centre)       # in the pulley's body frame
-        axis = np.cross(neighbours[0], neighbours[1])
-        for fallback in ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]):
-            if np.linalg.norm(axis) >= 1e-9:
-                break
-            axis = np.cross(neighbours[0], fallback)
-        etree.SubElement(body, "geom", name=f"{anchor_link_name(spring_name(spring), end)}_pulley", type="cylinder",
-                         pos=vector(centre), zaxis=vector(axis / np.linalg.norm(axis)),
-                         size=vector([radius, 0.005]), contype="0", conaffinity="0", mass="0",
-                         rgba="0.3 0.3 0.3 1")
-
-    def _pulley_warning(self, spring: Spring, record: dict) -> str:
-        """How far MuJoCo's tendon (through the pulleys' centres) is from the wrapped cable over the workspace."""
-        problem = self.design.problem
-        kinematics = problem.base_workspace.kinematics()
-        points = []   # world positions (N×3) [m] of the path's points
-        for end in spring.anchors:
-            body, local = record[end]["body"], np.asarray(record[end]["point"], dtype=float)
-            if self.mechanism.is_ground(body):
-                rotation, translation = self._reference_placement(body)
-                points.append(np.broadcast_to(rotation @ local + translation, (problem.base_workspace.size, 3)))
-            else:
-                points.append(kinematics.body(body).points(local))
-        centres = sum(np.linalg.norm(second - first, axis=1) for first, second in zip(points, points[1:]))   # [m]
-        column = problem.springs.index(spring)
-        wrapped = self.design.evaluation.lengths[:problem.base_workspace.size, column] + float(record["cable_length"])
-        error = float(np.max(np.abs(wrapped - centres)))
-        return (f"spring {spring.name!r}: MuJoCo's spatial tendon runs through the centres of its wrapping pulleys "
-                f"(a MuJoCo wrapping geom only deflects a tendon that would cut through it, and a pulley sits inside the "
-                f"cable's bend), so its length is off the wrapped cable's by up to {error:.3g} m over the workspace; "
-                f"the pulleys are drawn as cylinders")
-
-    def _reference_placement(self, body: str) -> tuple[np.ndarray, np.ndarray]:
-        """World rotation and translation of ``body`` at the model's reference pose (all joints 0)."""
-        import pinocchio as pin
-
-        mechanism = self.design.problem.mechanism
-        data = mechanism.model.createData()
-        pin.framesForwardKinematics(mechanism.model, data, pin.neutral(mechanism.model))
-        placement = data.oMf[mechanism.frame_id(body)]
-        return np.array(placement.rotation), np.array(placement.translation)
-
-    def _add_torsional(self, actuator: _Element, spring: Spring, record: dict) -> None:
-        """Collect a torsional spring; :meth:`_finish_torsional` writes each joint's sum."""
-        stiffness, neutral, preload = record["stiffness"], record["neutral_angle"], record.get("preload", 0.0)
-        total = self.joint_springs.setdefault(record["joint"], [0.0, 0.0, []])
-        total[0] += stiffness                                  # Σ k [N·m/rad]
-        total[1] += stiffness * neutral - preload              # Σ (k q0 - τ0) [N·m]
-        total[2].append(spring.name)
-
-    def _finish_torsional(self, actuator: _Element) -> None:
-        from lxml import etree
-
-        for joint_name, (stiffness, offset, names) in self.joint_springs.items():
-            joint = self.root.find(f".//body/joint[@name='{joint_name}']")
-            # Σ k_i (q - q0_i) + τ0_i = k (q - q_ref) with k = Σ k_i, q_ref = Σ (k_i q0_i - τ0_i) / k;
-            # MuJoCo's joint spring applies -k (q - springref)
-            if stiffness > 0:
-                joint.set("stiffness", number(stiffness))
-                joint.set("springref", number(offset / stiffness))
-            elif offset != 0:
-                # constant torque τ0 = -offset held by the springs; the actuator applies -τ0 whatever its control
-                etree.SubElement(actuator, "general", name=f"{'_'.join(names)}_constant_torque", joint=joint_name,
-                                 gainprm="0", biastype="affine", biasprm=vector([offset, 0, 0]))
-
     def _add_mimic(self, root: _Element) -> None:
         from lxml import etree
 
@@ -398,36 +298,18 @@ class _MjcfBuilder:
         for joint in mimics:
             multiplier = joint.mimic.multiplier if joint.mimic.multiplier is not None else 1.0
             offset = joint.mimic.offset if joint.mimic.offset is not None else 0.0
-            etree.SubElement(equality, "joint", joint1=joint.name, joint2=joint.mimic.joint,
-                             polycoef=vector([offset, multiplier, 0, 0, 0]))
+            etree.SubElement(
+                equality,
+                "joint",
+                joint1=joint.name,
+                joint2=joint.mimic.joint,
+                polycoef=vector([offset, multiplier, 0, 0, 0]),
+            )
             self.warnings.append(
                 f"mimic joint {joint.name!r} follows {joint.mimic.joint!r} through a joint equality constraint in "
                 f"MuJoCo, which has a DOF for each: the holding torque of {joint.mimic.joint!r} is MuJoCo's torque on "
-                f"it plus {multiplier:g} × the torque on {joint.name!r}")
-
-    def _body(self, name: str) -> _Element:
-        if name == GROUND:
-            return self.bodies[GROUND]
-        return self.bodies[name]
-
-
-def _tendon_law(spring: Spring, record: dict, lengths: np.ndarray) -> tuple[float, float, float, float]:
-    """MuJoCo tendon ``(stiffness k [N/m], springlength L_s [m], constant tension F_c [N], deviation [N])``
-    with ``F(L) = k (L - L_s) + F_c`` the spring's law (:meth:`~springbalance.springs.laws.base.TwoPointSpring.tendon_law`:
-    exact for a linear law; a nonlinear one gives its best line over the workspace ``lengths`` [m]
-    and the largest deviation there)."""
-    if not isinstance(spring, TwoPointSpring):
-        raise InputError(f"spring {spring.name!r} ({spring.kind}): a MuJoCo tendon is made of a two-point spring only")
-    k, constant, deviation = spring.tendon_law(record, lengths)          # F = k L + constant
-    if getattr(spring, "routed", False):
-        # MuJoCo's tendon is the whole path, ℓ = L + cable: F = k ℓ + (constant − k cable)
-        constant -= k * float(record["cable_length"])
-    if k <= 0:
-        return 0.0, 0.0, constant, deviation
-    length = -constant / k                         # L_s with F = k (L - L_s)
-    if length == -1.0:                             # MuJoCo's "length at qpos0" sentinel
-        return k, 0.0, constant, deviation
-    return k, length, 0.0, deviation
+                f"it plus {multiplier:g} × the torque on {joint.name!r}"
+            )
 
 
 def _quaternion(rotation: npt.ArrayLike) -> np.ndarray:

@@ -52,8 +52,9 @@ URDF_NAMESPACE = "urn:springbalance:urdf-spring:1"
 SIDECAR_FORMAT = "springbalance-urdf-springs/1"
 
 
-def export_urdf(design: EvaluatedDesign, path: str | Path, resolve_packages: bool = False,
-                sidecar: bool = True) -> ExportReport:
+def export_urdf(
+    design: EvaluatedDesign, path: str | Path, resolve_packages: bool = False, sidecar: bool = True
+) -> ExportReport:
     """Write the design's URDF with anchor links and spring records; see the module docstring.
 
     ``resolve_packages``: replace ``package://`` mesh paths by absolute paths (example-robot-data's
@@ -70,8 +71,9 @@ def export_urdf(design: EvaluatedDesign, path: str | Path, resolve_packages: boo
     return ExportReport(path, files, law_warnings(design))
 
 
-def urdf_strings(design: EvaluatedDesign, name: str = "balanced.urdf",
-                 resolve_packages: bool = False) -> tuple[str, str]:
+def urdf_strings(
+    design: EvaluatedDesign, name: str = "balanced.urdf", resolve_packages: bool = False
+) -> tuple[str, str]:
     """(URDF text, sidecar JSON text) of :func:`export_urdf`, checked to load back."""
     from lxml import etree
 
@@ -94,9 +96,15 @@ def urdf_strings(design: EvaluatedDesign, name: str = "balanced.urdf",
     etree.indent(robot, space="  ")
     xml = etree.tostring(robot, xml_declaration=True, encoding="utf-8", pretty_print=True).decode()
     _check_urdf(xml, mechanism)
-    sidecar = {"format": SIDECAR_FORMAT, "urdf": name, "namespace": URDF_NAMESPACE,
-               "gravity": mechanism.gravity.tolist(), "mimic": bool(mechanism.source.get("mimic", False)),
-               "joints": mechanism.joint_names, "springs": records}
+    sidecar = {
+        "format": SIDECAR_FORMAT,
+        "urdf": name,
+        "namespace": URDF_NAMESPACE,
+        "gravity": mechanism.gravity.tolist(),
+        "mimic": bool(mechanism.source.get("mimic", False)),
+        "joints": mechanism.joint_names,
+        "springs": records,
+    }
     return xml, json.dumps(sidecar, indent=1) + "\n"
 
 
@@ -121,16 +129,21 @@ def _add_springs(root: Any, design: EvaluatedDesign) -> list[dict]:
             link_name = anchor_link_name(spring_name(spring), end)
             joint_name = link_name + "_joint"
             if link_name in links or joint_name in joints:
-                raise InputError(f"cannot add the anchor link {link_name!r}: the URDF already has a link or joint "
-                                 f"called {link_name!r} or {joint_name!r}")
+                raise InputError(
+                    f"cannot add the anchor link {link_name!r}: the URDF already has a link or joint "
+                    f"called {link_name!r} or {joint_name!r}"
+                )
             body = values[end]["body"]
             parent = base if body == GROUND else body
             anchor_elements += _anchor_elements(link_name, joint_name, parent, values[end]["point"])
             attributes[f"anchor_{end}"] = link_name
             entry = {"body": body, "point": [float(v) for v in values[end]["point"]], "link": link_name}
-            if saved.get("type") == "routed":   # the path's points, in order a, via1 …, b
+            if saved.get("type") == "routed":  # the path's points, in order a, via1 …, b
                 index = list(spring.anchors).index(end)
-                saved["path"][index] = {**entry, **({"pulley": values[end]["pulley"]} if "pulley" in values[end] else {})}
+                saved["path"][index] = {
+                    **entry,
+                    **({"pulley": values[end]["pulley"]} if "pulley" in values[end] else {}),
+                }
             else:
                 saved[end] = entry
         element = etree.SubElement(root, f"{{{URDF_NAMESPACE}}}spring", attrib=attributes)
@@ -157,8 +170,9 @@ def _anchor_elements(link_name: str, joint_name: str, parent: str, point: Iterab
     writer = yourdfpy.URDF(robot=yourdfpy.Robot(name="anchor"), build_scene_graph=False, load_meshes=False)
     holder = etree.Element("robot")
     writer._write_link(holder, yourdfpy.Link(name=link_name))
-    writer._write_joint(holder, yourdfpy.Joint(name=joint_name, type="fixed", parent=parent, child=link_name,
-                                               origin=origin))
+    writer._write_joint(
+        holder, yourdfpy.Joint(name=joint_name, type="fixed", parent=parent, child=link_name, origin=origin)
+    )
     elements = list(holder)
     # yourdfpy writes str(float), which reads back exactly; keep the rpy text plain zeros
     for element in elements:
@@ -201,8 +215,9 @@ def _check_urdf(xml: str, mechanism: Mechanism) -> None:
 
     try:
         source = mechanism.source
-        Mechanism.from_urdf_string(xml, mimic=bool(source.get("mimic", False)),
-                                   validate=source.get("validate", True) is not False)
+        Mechanism.from_urdf_string(
+            xml, mimic=bool(source.get("mimic", False)), validate=source.get("validate", True) is not False
+        )
         yourdfpy.URDF.load(io.BytesIO(xml.encode()), build_scene_graph=False, load_meshes=False)
     except Exception as error:
         raise InputError(f"the exported URDF does not load back: {error}") from None

@@ -40,9 +40,20 @@ from springbalance.springs.sizing import MATERIALS, spring_rate
 __all__ = ["COLUMNS", "RATE_TOLERANCE", "StockPart", "read_catalogue"]
 
 #: column name → unit, in the order of :class:`StockPart`.
-COLUMNS = {"part_number": "", "type": "", "material": "", "wire_diameter": "m", "mean_diameter": "m",
-           "active_coils": "1", "free_length": "m", "initial_tension": "N", "rate": "N/m", "max_load": "N",
-           "max_length": "m", "min_length": "m"}
+COLUMNS = {
+    "part_number": "",
+    "type": "",
+    "material": "",
+    "wire_diameter": "m",
+    "mean_diameter": "m",
+    "active_coils": "1",
+    "free_length": "m",
+    "initial_tension": "N",
+    "rate": "N/m",
+    "max_load": "N",
+    "max_length": "m",
+    "min_length": "m",
+}
 NUMBERS = tuple(column for column, unit in COLUMNS.items() if unit)
 #: largest relative difference between the rate column and G d⁴/(8 D³ n).
 RATE_TOLERANCE = 0.02
@@ -55,8 +66,11 @@ def read_catalogue(path: str | Path) -> list[StockPart]:
     path = Path(path)
     label = str(path)
     text = read_input_text(path, "stock catalogue", InputError, encoding="utf-8-sig")
-    lines = [(number, line) for number, line in enumerate(text.splitlines(), start=1)
-             if line.strip() and not line.lstrip().startswith("#")]
+    lines = [
+        (number, line)
+        for number, line in enumerate(text.splitlines(), start=1)
+        if line.strip() and not line.lstrip().startswith("#")
+    ]
     if not lines:
         raise InputError(f"{label}: empty stock catalogue; expected a header row with the columns {', '.join(COLUMNS)}")
     try:
@@ -70,8 +84,10 @@ def read_catalogue(path: str | Path) -> list[StockPart]:
         raise InputError(f"{label} line {header_line}: column(s) {', '.join(repeated)} appear more than once")
     missing = [column for column in COLUMNS if column not in header]
     if missing:
-        raise InputError(f"{label} line {header_line}: missing column(s) {', '.join(missing)}; a stock catalogue has "
-                         f"the columns {', '.join(COLUMNS)}")
+        raise InputError(
+            f"{label} line {header_line}: missing column(s) {', '.join(missing)}; a stock catalogue has "
+            f"the columns {', '.join(COLUMNS)}"
+        )
     position = {column: header.index(column) for column in COLUMNS}
     parts: list[StockPart] = []
     seen: dict[str, int] = {}
@@ -81,8 +97,10 @@ def read_catalogue(path: str | Path) -> list[StockPart]:
         cells = {column: row[index].strip() for column, index in position.items()}
         part = _part(cells, f"{label} line {number}")
         if part.part_number in seen:
-            raise InputError(f"{label} line {number}, column 'part_number': {part.part_number!r} is already the part of "
-                             f"line {seen[part.part_number]}")
+            raise InputError(
+                f"{label} line {number}, column 'part_number': {part.part_number!r} is already the part of "
+                f"line {seen[part.part_number]}"
+            )
         seen[part.part_number] = number
         parts.append(part)
     if not parts:
@@ -124,10 +142,13 @@ def _part(cells: dict[str, str], where: str) -> StockPart:
     d, D, n, l0 = values["wire_diameter"], values["mean_diameter"], values["active_coils"], values["free_length"]
     if D <= d:
         fail("mean_diameter", f"{D:g} m must exceed the wire diameter {d:g} m")
-    expected = spring_rate(MATERIALS[material].shear_modulus, d, D, n)          # [N/m]
+    expected = spring_rate(MATERIALS[material].shear_modulus, d, D, n)  # [N/m]
     if abs(values["rate"] - expected) > RATE_TOLERANCE * expected:
-        fail("rate", f"{values['rate']:.6g} N/m differs by {100 * (values['rate'] / expected - 1):+.1f} % from "
-                     f"G d⁴/(8 D³ n) = {expected:.6g} N/m of {material} (more than {100 * RATE_TOLERANCE:g} %)")
+        fail(
+            "rate",
+            f"{values['rate']:.6g} N/m differs by {100 * (values['rate'] / expected - 1):+.1f} % from "
+            f"G d⁴/(8 D³ n) = {expected:.6g} N/m of {material} (more than {100 * RATE_TOLERANCE:g} %)",
+        )
 
     def same_length(column: str, meaning: str) -> None:
         if abs(values[column] - l0) > LENGTH_TOLERANCE * l0:

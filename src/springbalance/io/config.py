@@ -69,10 +69,29 @@ from springbalance.pipeline.run import solve
 from springbalance.results.result import DesignResult
 from springbalance.springs.laws import Spring
 
-__all__ = ["CASE_KEYS", "COUPLING_KEYS", "MECHANISM_KEYS", "PAYLOAD_KEYS", "PAYLOAD_RANGE_KEYS", "REQUIRED_SECTIONS",
-           "SCENARIOS_KEYS", "SECTIONS", "SOLVE_KEYS", "WORKSPACE_KEYS", "WORKSPACE_KINDS", "Config", "config_from_dict",
-           "load_config", "load_workspace", "mechanism_from_dict", "read_config_file", "scenarios_from_dict",
-           "solve_options_from_dict", "springs_from_list", "workspace_from_dict"]
+__all__ = [
+    "CASE_KEYS",
+    "COUPLING_KEYS",
+    "MECHANISM_KEYS",
+    "PAYLOAD_KEYS",
+    "PAYLOAD_RANGE_KEYS",
+    "REQUIRED_SECTIONS",
+    "SCENARIOS_KEYS",
+    "SECTIONS",
+    "SOLVE_KEYS",
+    "WORKSPACE_KEYS",
+    "WORKSPACE_KINDS",
+    "Config",
+    "config_from_dict",
+    "load_config",
+    "load_workspace",
+    "mechanism_from_dict",
+    "read_config_file",
+    "scenarios_from_dict",
+    "solve_options_from_dict",
+    "springs_from_list",
+    "workspace_from_dict",
+]
 
 #: the keys of each record (the schema's fields); SECTIONS and REQUIRED_SECTIONS are the top-level sections.
 MECHANISM_KEYS = tuple(MechanismRecord.model_fields)
@@ -124,7 +143,9 @@ def load_config(path: str | Path) -> Config:
     return config_from_dict(record, base_dir=path.parent, label=str(path), path=path)
 
 
-def config_from_dict(record: Any, base_dir: str | Path = ".", label: str = "config", path: Path | None = None) -> Config:
+def config_from_dict(
+    record: Any, base_dir: str | Path = ".", label: str = "config", path: Path | None = None
+) -> Config:
     """Build a :class:`Config` from an already parsed mapping.
 
     ``base_dir`` resolves relative file paths; ``label`` starts every error message.
@@ -141,10 +162,21 @@ def config_from_dict(record: Any, base_dir: str | Path = ".", label: str = "conf
         weights = weights_from_record(mechanism, model.weights, f"{label}: weights")
         solve_options = solve_options_from_record(model.solve)
         scenario_options = scenarios_from_record(mechanism, model.scenarios, f"{label}: scenarios")
-        clearance = (Clearance.from_dict(model.clearance.model_dump(exclude_none=True), f"{label}: clearance")
-                     if model.clearance is not None else None)
-        problem = DesignProblem(mechanism, workspace, springs, objective=model.objective, weights=weights,
-                                no_joint_worse=model.no_joint_worse, clearance=clearance, **scenario_options)
+        clearance = (
+            Clearance.from_dict(model.clearance.model_dump(exclude_none=True), f"{label}: clearance")
+            if model.clearance is not None
+            else None
+        )
+        problem = DesignProblem(
+            mechanism,
+            workspace,
+            springs,
+            objective=model.objective,
+            weights=weights,
+            no_joint_worse=model.no_joint_worse,
+            clearance=clearance,
+            **scenario_options,
+        )
         check_bounds(problem)  # contradictions between the springs' bounds, named before any solve
     return Config(path, mechanism, workspace, springs, problem, solve_options)
 
@@ -186,8 +218,9 @@ def read_config_file(path: str | Path) -> Any:
             raise ConfigError(f"{label}: duplicate key {error.key!r} in a JSON object") from None
         except ValueError as error:  # json.JSONDecodeError
             syntax = cast(json.JSONDecodeError, error)
-            raise ConfigError(f"{label}: JSON syntax error at line {syntax.lineno}, column {syntax.colno}: "
-                              f"{syntax.msg}") from None
+            raise ConfigError(
+                f"{label}: JSON syntax error at line {syntax.lineno}, column {syntax.colno}: {syntax.msg}"
+            ) from None
     try:
         return load_yaml(text)
     except LimitError as error:
@@ -207,7 +240,9 @@ def mechanism_from_dict(record: Any, base_dir: str | Path = ".", where: str = "m
     return mechanism_from_record(validated(MechanismRecord, record, where), base_dir, where)
 
 
-def workspace_from_dict(mechanism: Mechanism, record: Any, base_dir: str | Path = ".", where: str = "workspace") -> Workspace:
+def workspace_from_dict(
+    mechanism: Mechanism, record: Any, base_dir: str | Path = ".", where: str = "workspace"
+) -> Workspace:
     """Build a :class:`Workspace` of ``mechanism`` from a ``workspace`` mapping (see docs/guides/config.md).
 
     Keys: ``kind`` (grid | sobol | random | sweep | array, default sobol), ``n``, ``seed``,
@@ -235,7 +270,6 @@ def scenarios_from_dict(mechanism: Mechanism, record: Any, where: str = "scenari
     ``cases``: list of ``{name, payloads?: [{body, mass, point?}], mass_scale?: β | {body: β}}``;
     ``payload_range``: ``{body, point?, masses: [m1, m2, ...]}``, one scenario per mass [kg].
     """
-    return scenarios_from_record(mechanism, None if record is None else validated(ScenariosRecord, record, where),
-                      where)
-
-
+    return scenarios_from_record(
+        mechanism, None if record is None else validated(ScenariosRecord, record, where), where
+    )

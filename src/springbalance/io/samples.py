@@ -29,8 +29,9 @@ def value_rows(mechanism: Mechanism, values: Any, where: str) -> np.ndarray:
         return np.array(values, dtype=float)[:, None]
     for index, row in enumerate(values):
         if not isinstance(row, list) or len(row) != mechanism.nv or not all(_is_number(v) for v in row):
-            raise ConfigError(f"{where}[{index}]: expected {mechanism.nv} numbers ({', '.join(mechanism.joint_names)}), "
-                              f"got {row!r}")
+            raise ConfigError(
+                f"{where}[{index}]: expected {mechanism.nv} numbers ({', '.join(mechanism.joint_names)}), got {row!r}"
+            )
     return np.array(values, dtype=float)
 
 
@@ -42,27 +43,18 @@ def read_samples_file(mechanism: Mechanism, path: Path, where: str) -> np.ndarra
     per_byte = budget.NPY_BYTES_PER_BYTE if suffix == ".npy" else budget.CSV_BYTES_PER_BYTE
     budget.require(budget.file_bytes(path) * per_byte, f"{where}: reading samples file {str(path)!r}")
     if suffix == ".npy":
-        try:
-            values = np.load(path, allow_pickle=False)
-        except (OSError, ValueError) as error:
-            raise ConfigError(f"{where}: cannot read {str(path)!r} as a NumPy array: {one_line(error)}") from None
-        if values.ndim == 1 and mechanism.nv == 1:
-            values = values[:, None]
-        try:
-            values = np.asarray(values, dtype=float)
-        except (TypeError, ValueError):
-            raise ConfigError(f"{where}: {str(path)!r} does not hold numbers (dtype {values.dtype})") from None
-        if not np.all(np.isfinite(values)):
-            raise ConfigError(f"{where}: {str(path)!r} holds values that are not finite numbers")
-        return values
+        return _read_npy(mechanism, path, where)
     if suffix != ".csv":
         raise ConfigError(f"{where}: samples file {str(path)!r} must end in .csv or .npy")
     try:
         lines = path.read_text(encoding="utf-8").splitlines()
     except (OSError, UnicodeDecodeError) as error:
         raise ConfigError(f"{where}: cannot read {str(path)!r}: {one_line(error)}") from None
-    numbered = [(number, line) for number, line in enumerate(lines, start=1)
-                if line.strip() and not line.lstrip().startswith("#")]
+    numbered = [
+        (number, line)
+        for number, line in enumerate(lines, start=1)
+        if line.strip() and not line.lstrip().startswith("#")
+    ]
     if not numbered:
         raise ConfigError(f"{where}: {str(path)!r} holds no samples")
     rows = list(csv.reader(line for _, line in numbered))
@@ -72,15 +64,19 @@ def read_samples_file(mechanism: Mechanism, path: Path, where: str) -> np.ndarra
         unknown = [name for name in names if name not in mechanism.joint_names]
         missing = [name for name in mechanism.joint_names if name not in names]
         if unknown or missing or len(names) != len(set(names)):
-            raise ConfigError(f"{where}: header of {str(path)!r} must name each joint once "
-                              f"({', '.join(mechanism.joint_names)}), got {', '.join(names)}")
+            raise ConfigError(
+                f"{where}: header of {str(path)!r} must name each joint once "
+                f"({', '.join(mechanism.joint_names)}), got {', '.join(names)}"
+            )
         columns, width = [names.index(name) for name in mechanism.joint_names], len(names)
         rows, numbered = rows[1:], numbered[1:]
     values = []
     for (number, _), row in zip(numbered, rows):
         if len(row) != width:
-            raise ConfigError(f"{where}: {str(path)!r} line {number}: expected {mechanism.nv} values "
-                              f"({', '.join(mechanism.joint_names)}), got {len(row)}")
+            raise ConfigError(
+                f"{where}: {str(path)!r} line {number}: expected {mechanism.nv} values "
+                f"({', '.join(mechanism.joint_names)}), got {len(row)}"
+            )
         try:
             numbers = [float(row[column]) for column in columns]
         except ValueError:
@@ -92,6 +88,22 @@ def read_samples_file(mechanism: Mechanism, path: Path, where: str) -> np.ndarra
         raise ConfigError(f"{where}: {str(path)!r} holds no samples")
     return np.array(values)
 
+
+def _read_npy(mechanism: Mechanism, path: Path, where: str) -> np.ndarray:
+    """Samples from a ``.npy`` array (N×nv; a 1-D array for a mechanism of one joint), finite numbers only."""
+    try:
+        values = np.load(path, allow_pickle=False)
+    except (OSError, ValueError) as error:
+        raise ConfigError(f"{where}: cannot read {str(path)!r} as a NumPy array: {one_line(error)}") from None
+    if values.ndim == 1 and mechanism.nv == 1:
+        values = values[:, None]
+    try:
+        values = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        raise ConfigError(f"{where}: {str(path)!r} does not hold numbers (dtype {values.dtype})") from None
+    if not np.all(np.isfinite(values)):
+        raise ConfigError(f"{where}: {str(path)!r} holds values that are not finite numbers")
+    return values
 
 
 def _is_number(value: Any) -> bool:

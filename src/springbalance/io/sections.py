@@ -35,7 +35,9 @@ def mechanism_from_record(model: MechanismRecord, base_dir: str | Path, where: s
     sources = [key for key in ("urdf", "robot") if getattr(model, key) is not None]
     if len(sources) != 1:
         given = f" (got {' and '.join(sources)})" if sources else ""
-        raise ConfigError(f"{where}: give exactly one of 'urdf' (a file) or 'robot' (an example-robot-data name){given}")
+        raise ConfigError(
+            f"{where}: give exactly one of 'urdf' (a file) or 'robot' (an example-robot-data name){given}"
+        )
     gravity, mimic, validate = model.gravity, model.mimic, model.validate
     if model.urdf is not None:
         urdf_path = Path(base_dir) / Path(model.urdf).expanduser()
@@ -45,16 +47,19 @@ def mechanism_from_record(model: MechanismRecord, base_dir: str | Path, where: s
         return Mechanism.from_robot(model.robot, gravity=gravity, mimic=mimic, validate=validate)
 
 
-def workspace_from_record(mechanism: Mechanism, model: WorkspaceRecord | None, base_dir: str | Path,
-                          where: str) -> Workspace:
+def workspace_from_record(
+    mechanism: Mechanism, model: WorkspaceRecord | None, base_dir: str | Path, where: str
+) -> Workspace:
     """The :class:`Workspace` of a validated ``workspace`` record (None: 1024 Sobol points of the URDF limits)."""
     model = WorkspaceRecord() if model is None else model
     kind = model.kind
     for key in tuple(WorkspaceRecord.model_fields):
         if key in model.model_fields_set and key not in ("kind", "degrees") and key not in KIND_KEYS[kind]:
             users = [k for k, keys in KIND_KEYS.items() if key in keys]
-            raise ConfigError(f"{where}: key {key!r} does not apply to kind {kind!r} (only to {', '.join(users)}); "
-                              f"keys of {kind}: kind, degrees, {', '.join(KIND_KEYS[kind])}")
+            raise ConfigError(
+                f"{where}: key {key!r} does not apply to kind {kind!r} (only to {', '.join(users)}); "
+                f"keys of {kind}: kind, degrees, {', '.join(KIND_KEYS[kind])}"
+            )
     degrees = model.degrees
     ranges = _ranges(mechanism, model.ranges, f"{where}.ranges")
     couplings = _couplings(mechanism, model.couplings, degrees, f"{where}.couplings")
@@ -66,16 +71,25 @@ def workspace_from_record(mechanism: Mechanism, model: WorkspaceRecord | None, b
         if kind == "grid":
             if isinstance(n, dict):
                 n = dict(_joint_mapping(mechanism, n, f"{where}.n"))
-            return Workspace.grid(mechanism, n=16 if n is None else n, ranges=ranges, couplings=couplings,
-                                  degrees=degrees)
-        assert not isinstance(n, dict)   # a mapping is rejected above for every kind but grid
+            return Workspace.grid(
+                mechanism, n=16 if n is None else n, ranges=ranges, couplings=couplings, degrees=degrees
+            )
+        assert not isinstance(n, dict)  # a mapping is rejected above for every kind but grid
         if kind in ("sobol", "random"):
             constructor = Workspace.sobol if kind == "sobol" else Workspace.random
-            return constructor(mechanism, n=1024 if n is None else n, ranges=ranges, couplings=couplings,
-                               degrees=degrees, seed=model.seed)
+            return constructor(
+                mechanism,
+                n=1024 if n is None else n,
+                ranges=ranges,
+                couplings=couplings,
+                degrees=degrees,
+                seed=model.seed,
+            )
         if kind == "sweep":
             if model.joint is None:
-                raise ConfigError(f"{where}: kind 'sweep' needs key 'joint' (one of {', '.join(mechanism.joint_names)})")
+                raise ConfigError(
+                    f"{where}: kind 'sweep' needs key 'joint' (one of {', '.join(mechanism.joint_names)})"
+                )
             joint = _known_joint(mechanism, model.joint, f"{where}.joint")
             n = 181 if n is None else n
             if n < 2:
@@ -102,12 +116,16 @@ def springs_from_records(mechanism: Mechanism, records: list, where: str) -> lis
         for end, anchor in spring.anchors.items():
             body = anchor.body
             if body not in mechanism.body_names:
-                raise ConfigError(f"{label}{name}.{end}.body: unknown body {body!r} in mechanism {mechanism.name!r}; "
-                                  f"bodies: {', '.join(mechanism.body_names)}")
+                raise ConfigError(
+                    f"{label}{name}.{end}.body: unknown body {body!r} in mechanism {mechanism.name!r}; "
+                    f"bodies: {', '.join(mechanism.body_names)}"
+                )
         for joint in spring.joints:
             if joint not in mechanism.joint_names:
-                raise ConfigError(f"{label}{name}.joint: unknown joint {joint!r} in mechanism {mechanism.name!r}; "
-                                  f"joints: {', '.join(mechanism.joint_names)}")
+                raise ConfigError(
+                    f"{label}{name}.joint: unknown joint {joint!r} in mechanism {mechanism.name!r}; "
+                    f"joints: {', '.join(mechanism.joint_names)}"
+                )
         springs.append(spring)
     return springs
 
@@ -154,8 +172,9 @@ def scenarios_from_record(mechanism: Mechanism, model: ScenariosRecord | None, w
 
 def _known_body(mechanism: Mechanism, name: Any, where: str) -> str:
     if not isinstance(name, str) or name not in mechanism.body_names:
-        raise ConfigError(f"{where}: unknown body {name!r} in mechanism {mechanism.name!r}; "
-                          f"bodies: {', '.join(mechanism.body_names)}")
+        raise ConfigError(
+            f"{where}: unknown body {name!r} in mechanism {mechanism.name!r}; bodies: {', '.join(mechanism.body_names)}"
+        )
     return name
 
 
@@ -195,8 +214,10 @@ def _couplings(mechanism: Mechanism, records: list[CouplingRecord] | None, degre
             coupling = Coupling.parse(record.expression, lower, upper, degrees=degrees)
         for joint in coupling.coefficients:
             if joint not in mechanism.joint_names:
-                raise ConfigError(f"{label}.expression: unknown joint {joint!r} in {record.expression!r}; "
-                                  f"joints: {', '.join(mechanism.joint_names)}")
+                raise ConfigError(
+                    f"{label}.expression: unknown joint {joint!r} in {record.expression!r}; "
+                    f"joints: {', '.join(mechanism.joint_names)}"
+                )
         couplings.append(coupling)
     return couplings
 
@@ -213,6 +234,8 @@ def _joint_mapping(mechanism: Mechanism, record: Any, where: str) -> dict:
 def _known_joint(mechanism: Mechanism, name: Any, where: str) -> str:
     name = str(name)
     if name not in mechanism.joint_names:
-        raise ConfigError(f"{where}: unknown joint {name!r} in mechanism {mechanism.name!r}; "
-                          f"joints: {', '.join(mechanism.joint_names)}")
+        raise ConfigError(
+            f"{where}: unknown joint {name!r} in mechanism {mechanism.name!r}; "
+            f"joints: {', '.join(mechanism.joint_names)}"
+        )
     return name

@@ -45,7 +45,7 @@ def springs_from_urdf(path: str | Path) -> list[Spring]:
     for element in root.iter(f"{{{urdf.URDF_NAMESPACE}}}spring"):
         record = json.loads(element.text)
         routed = record.get("type") == "routed" and isinstance(record.get("path"), list)
-        if routed:   # the path's points are the ends a, via1 …, b
+        if routed:  # the path's points are the ends a, via1 …, b
             points = record["path"]
             ends = ["a", *(f"via{i}" for i in range(1, len(points) - 1)), "b"]
         else:

@@ -6,7 +6,15 @@ from __future__ import annotations
 from springbalance import loaders
 from springbalance.deprecation import moved_names
 
-_MOVED = ("MAX_BYTES", "MAX_DEPTH", "MAX_VALUES", "DuplicateKeyError", "LimitError", "ConfigLoader", "load_json",
-          "load_yaml")
+_MOVED = (
+    "MAX_BYTES",
+    "MAX_DEPTH",
+    "MAX_VALUES",
+    "DuplicateKeyError",
+    "LimitError",
+    "ConfigLoader",
+    "load_json",
+    "load_yaml",
+)
 
 __getattr__ = moved_names(__name__, {name: (loaders, name) for name in _MOVED})

@@ -131,8 +131,10 @@ def require(nbytes: float, what: str) -> None:
         change = f"raise {source}"
     else:
         change = f"raise the limit with --max-memory SIZE or the environment variable {ENV}"
-    raise InputError(f"{what} would need about {format_bytes(nbytes)} of memory (estimate), more than the limit of "
-                     f"{format_bytes(limit)} ({source}); ask for less, or {change}")
+    raise InputError(
+        f"{what} would need about {format_bytes(nbytes)} of memory (estimate), more than the limit of "
+        f"{format_bytes(limit)} ({source}); ask for less, or {change}"
+    )
 
 
 def format_bytes(nbytes: float) -> str:

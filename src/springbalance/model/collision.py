@@ -61,24 +61,32 @@ def collision_geometry(mechanism: Mechanism) -> pin.GeometryModel:
     source = mechanism.source
     kind = source.get("kind")
     if kind not in ("urdf", "robot", "urdf_string"):
-        raise InputError(f"mechanism {mechanism.name!r} was not loaded from a URDF (source {kind!r}); "
-                         "clearance and mounting need the URDF's collision geometry")
+        raise InputError(
+            f"mechanism {mechanism.name!r} was not loaded from a URDF (source {kind!r}); "
+            "clearance and mounting need the URDF's collision geometry"
+        )
     directories = robots.mesh_directories(source)
     where = repr(source["path"]) if kind in ("urdf", "robot") else "(URDF string)"
     try:
         with quiet_native_stderr():
             if kind == "urdf_string":
-                geometry = pin.buildGeomFromUrdfString(mechanism.model, source["text"], pin.GeometryType.COLLISION,
-                                                       package_dirs=directories)
+                geometry = pin.buildGeomFromUrdfString(
+                    mechanism.model, source["text"], pin.GeometryType.COLLISION, package_dirs=directories
+                )
             else:
-                geometry = pin.buildGeomFromUrdf(mechanism.model, source["path"], pin.GeometryType.COLLISION,
-                                                 package_dirs=directories)
+                geometry = pin.buildGeomFromUrdf(
+                    mechanism.model, source["path"], pin.GeometryType.COLLISION, package_dirs=directories
+                )
     except (RuntimeError, ValueError, OSError) as error:
-        raise InputError(f"mechanism {mechanism.name!r}: the collision geometry of {where} could not be loaded: "
-                         f"{' '.join(str(error).split())[:300]}") from None
+        raise InputError(
+            f"mechanism {mechanism.name!r}: the collision geometry of {where} could not be loaded: "
+            f"{' '.join(str(error).split())[:300]}"
+        ) from None
     if geometry.ngeoms == 0:
-        raise InputError(f"mechanism {mechanism.name!r} has no collision geometry: the URDF {where} has no "
-                         "<collision> elements, so there is nothing to keep the springs clear of")
+        raise InputError(
+            f"mechanism {mechanism.name!r} has no collision geometry: the URDF {where} has no "
+            "<collision> elements, so there is nothing to keep the springs clear of"
+        )
     return geometry
 
 
@@ -92,7 +100,7 @@ def capsule(start: np.ndarray, end: np.ndarray, radius: float) -> tuple[coal.Col
     if length < 1e-12:
         return coal.Sphere(radius), coal.Transform3s(np.eye(3), centre)
     z = axis / length
-    helper = np.eye(3)[int(np.argmin(np.abs(z)))]   # the axis least aligned with the segment
+    helper = np.eye(3)[int(np.argmin(np.abs(z)))]  # the axis least aligned with the segment
     x = np.cross(helper, z)
     x /= np.linalg.norm(x)
     rotation = np.column_stack([x, np.cross(z, x), z])  # capsule's local z along the segment
@@ -160,7 +168,7 @@ class CollisionScene:
 
         self.mechanism = mechanism
         geometry = collision_geometry(mechanism) if geometry is None else geometry
-        self._source = geometry   # the hulls may share memory with the meshes they were built from: keep them
+        self._source = geometry  # the hulls may share memory with the meshes they were built from: keep them
         self.geometry = _convex(geometry) if convex else geometry
         self.objects = list(self.geometry.geometryObjects)
         model = mechanism.model
@@ -183,8 +191,9 @@ class CollisionScene:
         pin.forwardKinematics(model, self._data, configuration)
         pin.updateFramePlacements(model, self._data)
         pin.updateGeometryPlacements(model, self._data, self.geometry, self._geometry_data)
-        self._placements = [coal.Transform3s(np.array(p.rotation), np.array(p.translation))
-                            for p in self._geometry_data.oMg]
+        self._placements = [
+            coal.Transform3s(np.array(p.rotation), np.array(p.translation)) for p in self._geometry_data.oMg
+        ]
 
     def frame(self, frame_id: int) -> pin.SE3:
         """World placement of a frame at the current configuration."""
@@ -196,14 +205,21 @@ class CollisionScene:
 
         shape, placement = capsule(start, end, radius)
         result = coal.DistanceResult()
-        distance = coal.distance(shape, placement, self.objects[index].geometry, self._placements[index],
-                                 self._request, result)
-        return Contact(float(distance), index, np.array(result.getNearestPoint1()),
-                       np.array(result.getNearestPoint2()), -np.array(result.normal))
+        distance = coal.distance(
+            shape, placement, self.objects[index].geometry, self._placements[index], self._request, result
+        )
+        return Contact(
+            float(distance),
+            index,
+            np.array(result.getNearestPoint1()),
+            np.array(result.getNearestPoint2()),
+            -np.array(result.normal),
+        )
 
 
-def capsule_contact(start_1: np.ndarray, end_1: np.ndarray, radius_1: float, start_2: np.ndarray, end_2: np.ndarray,
-                    radius_2: float) -> Contact:
+def capsule_contact(
+    start_1: np.ndarray, end_1: np.ndarray, radius_1: float, start_2: np.ndarray, end_2: np.ndarray, radius_2: float
+) -> Contact:
     """Signed distance between two capsules (world, [m]); ``normal`` points from capsule 2 to capsule 1,
     ``on_capsule`` lies on capsule 1 and ``on_object`` on capsule 2 (``index`` is -1)."""
     import coal
@@ -226,8 +242,9 @@ def capsule_contact(start_1: np.ndarray, end_1: np.ndarray, radius_1: float, sta
         else:
             normal = np.array([0.0, 0.0, 1.0])
         normal /= np.linalg.norm(normal)
-    return Contact(float(distance), -1, np.array(result.getNearestPoint1()), np.array(result.getNearestPoint2()),
-                   normal)
+    return Contact(
+        float(distance), -1, np.array(result.getNearestPoint1()), np.array(result.getNearestPoint2()), normal
+    )
 
 
 def body_objects(mechanism: Mechanism, geometry: pin.GeometryModel, body: str) -> list:
@@ -236,8 +253,9 @@ def body_objects(mechanism: Mechanism, geometry: pin.GeometryModel, body: str) -
     return [obj for obj in geometry.geometryObjects if mechanism.model.frames[obj.parentFrame].name == body]
 
 
-def surface_distance(mechanism: Mechanism, geometry: pin.GeometryModel, body: str,
-                     point: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
+def surface_distance(
+    mechanism: Mechanism, geometry: pin.GeometryModel, body: str, point: np.ndarray
+) -> tuple[float, np.ndarray, np.ndarray]:
     """Signed distance [m] from ``point`` (body frame, [m]) to the union of ``body``'s collision objects,
     the closest surface point (body frame) and the unit outward normal there (body frame).
 
@@ -247,20 +265,27 @@ def surface_distance(mechanism: Mechanism, geometry: pin.GeometryModel, body: st
 
     objects = body_objects(mechanism, geometry, body)
     if not objects:
-        raise InputError(f"body {body!r} has no collision geometry in the URDF, so an anchor cannot be mounted "
-                         "on it with 'on: collision'; give a box, point, segment or plane instead")
-    frame = mechanism.model.frames[mechanism.frame_id(body)].placement   # the body frame in its joint's frame
+        raise InputError(
+            f"body {body!r} has no collision geometry in the URDF, so an anchor cannot be mounted "
+            "on it with 'on: collision'; give a box, point, segment or plane instead"
+        )
+    frame = mechanism.model.frames[mechanism.frame_id(body)].placement  # the body frame in its joint's frame
     request = coal.DistanceRequest()
     request.enable_signed_distance = True
     probe = coal.Sphere(1e-9)
     best = None
     for obj in objects:
         shape = hull(obj.geometry)
-        local = frame.actInv(obj.placement)        # the object in the body frame
+        local = frame.actInv(obj.placement)  # the object in the body frame
         result = coal.DistanceResult()
-        distance = coal.distance(probe, coal.Transform3s(np.eye(3), np.asarray(point, dtype=float)), shape,
-                                 coal.Transform3s(np.array(local.rotation), np.array(local.translation)),
-                                 request, result)
+        distance = coal.distance(
+            probe,
+            coal.Transform3s(np.eye(3), np.asarray(point, dtype=float)),
+            shape,
+            coal.Transform3s(np.array(local.rotation), np.array(local.translation)),
+            request,
+            result,
+        )
         distance = float(distance) + 1e-9
         if best is None or distance < best[0]:
             best = (distance, np.array(result.getNearestPoint2()), -np.array(result.normal))

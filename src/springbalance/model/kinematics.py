@@ -81,7 +81,9 @@ def gravity_and_potential(model: pin.Model, configurations: np.ndarray) -> tuple
         pin.rneaInParallel(1, pin.ModelPool(model, 1), np.asfortranarray(configurations.T), zero, zero, gravity_torque)
         gravity_torque = np.ascontiguousarray(gravity_torque.T)
     else:
-        gravity_torque = np.array([pin.computeGeneralizedGravity(model, data, q) for q in configurations]).reshape(n, model.nv)
+        gravity_torque = np.array([pin.computeGeneralizedGravity(model, data, q) for q in configurations]).reshape(
+            n, model.nv
+        )
     centres = np.array([pin.centerOfMass(model, data, q, False) for q in configurations]).reshape(n, 3)
     potential = -data.mass[0] * (centres @ np.array(model.gravity.linear)) if n else np.zeros(0)
     return gravity_torque, potential
@@ -124,7 +126,9 @@ class WorkspaceKinematics:
                 placement = data.oMf[frame_id]
                 translations[slot, i] = placement.translation
                 rotations[slot, i] = placement.rotation
-                jacobians[slot, i] = np.reshape(pin.getFrameJacobian(model, data, frame_id, pin.LOCAL_WORLD_ALIGNED), (6, nv))
+                jacobians[slot, i] = np.reshape(
+                    pin.getFrameJacobian(model, data, frame_id, pin.LOCAL_WORLD_ALIGNED), (6, nv)
+                )
         for slot, name in enumerate(missing):
             self._bodies[name] = BodyKinematics(translations[slot], rotations[slot], jacobians[slot])
 
@@ -160,9 +164,11 @@ class StackedKinematics(WorkspaceKinematics):
         if name not in self._bodies:
             single = self.base.body(name)
             repeat = (self.n_blocks,) + (1,) * (single.translation.ndim - 1)
-            self._bodies[name] = BodyKinematics(np.tile(single.translation, repeat),
-                                                np.tile(single.rotation, (self.n_blocks, 1, 1)),
-                                                np.tile(single.jacobian, (self.n_blocks, 1, 1)))
+            self._bodies[name] = BodyKinematics(
+                np.tile(single.translation, repeat),
+                np.tile(single.rotation, (self.n_blocks, 1, 1)),
+                np.tile(single.jacobian, (self.n_blocks, 1, 1)),
+            )
         return self._bodies[name]
 
     def prepare(self, names: Iterable[str]) -> None:

@@ -28,6 +28,7 @@ GROUND = "universe"
 #: the largest magnitude of gravity [m/s²] taken (about 100 g): beyond it a number is a typo
 MAX_GRAVITY = 1e3
 
+
 class Mechanism:
     """A Pinocchio model with named degrees of freedom and bodies.
 
@@ -44,8 +45,13 @@ class Mechanism:
         source: how to rebuild this mechanism (saved with designs).
     """
 
-    def __init__(self, model: pin.Model, source: dict[str, Any] | None = None,
-                 gravity: npt.ArrayLike | None = None, validate: bool = True) -> None:
+    def __init__(
+        self,
+        model: pin.Model,
+        source: dict[str, Any] | None = None,
+        gravity: npt.ArrayLike | None = None,
+        validate: bool = True,
+    ) -> None:
         self.model = model.copy() if hasattr(model, "copy") else pin.Model(model)
         if gravity is not None:
             self.model.gravity.linear = _gravity_vector(gravity)
@@ -68,8 +74,9 @@ class Mechanism:
 
     # ----------------------------------------------------------------- constructors
     @classmethod
-    def from_urdf(cls, path: str | Path, gravity: npt.ArrayLike | None = None, mimic: bool = False,
-                  validate: bool = True) -> Mechanism:
+    def from_urdf(
+        cls, path: str | Path, gravity: npt.ArrayLike | None = None, mimic: bool = False, validate: bool = True
+    ) -> Mechanism:
         """Load a URDF file. ``gravity``: magnitude g (then (0, 0, -g)) or a 3-vector [m/s²];
         ``validate``: check the physics (see the class documentation)."""
         path = Path(path)
@@ -87,8 +94,9 @@ class Mechanism:
         return cls(model, source=source, gravity=gravity, validate=validate)
 
     @classmethod
-    def from_urdf_string(cls, text: str, gravity: npt.ArrayLike | None = None, mimic: bool = False,
-                         validate: bool = True) -> Mechanism:
+    def from_urdf_string(
+        cls, text: str, gravity: npt.ArrayLike | None = None, mimic: bool = False, validate: bool = True
+    ) -> Mechanism:
         """Parse a URDF given as XML text (``validate``: as :meth:`from_urdf`)."""
         if not isinstance(text, str):
             raise InputError(f"a URDF string must be text, got {type(text).__name__}")
@@ -100,12 +108,14 @@ class Mechanism:
             raise InputError(f"URDF string could not be parsed: {_one_line(exc)}") from None
         if not mimic:
             _warn_unused_mimic(text, "URDF string")
-        return cls(model, source={"kind": "urdf_string", "text": text, "mimic": mimic}, gravity=gravity,
-                   validate=validate)
+        return cls(
+            model, source={"kind": "urdf_string", "text": text, "mimic": mimic}, gravity=gravity, validate=validate
+        )
 
     @classmethod
-    def from_robot(cls, name: str, gravity: npt.ArrayLike | None = None, mimic: bool = False,
-                   validate: bool = True) -> Mechanism:
+    def from_robot(
+        cls, name: str, gravity: npt.ArrayLike | None = None, mimic: bool = False, validate: bool = True
+    ) -> Mechanism:
         """Load a robot of example-robot-data by name (``"ur5"``, ``"panda"``, ...; ``validate``: as :meth:`from_urdf`)."""
         mechanism = cls.from_urdf(robots.robot_urdf(name), gravity=gravity, mimic=mimic, validate=validate)
         mechanism.source = {**mechanism.source, "kind": "robot", "robot": name}
@@ -246,20 +256,26 @@ class Mechanism:
                     welded = fixed_inertias.get(frame.parentJoint, [])
                     mass = joint_inertia.mass - sum(item.mass for item in welded)
                     first_moment = joint_inertia.mass * joint_inertia.lever - sum(
-                        (item.mass * item.lever for item in welded), np.zeros(3))
+                        (item.mass * item.lever for item in welded), np.zeros(3)
+                    )
                     lever = first_moment / mass if abs(mass) > 1e-12 else np.zeros(3)
                     inertia = frame.placement.actInv(pin.Inertia(mass, lever, np.eye(3)))
-                parent_joint = parent.name if parent.type in (pin.FrameType.JOINT, pin.FrameType.FIXED_JOINT) \
-                    and frame.parentFrame != 0 else None
+                parent_joint = (
+                    parent.name
+                    if parent.type in (pin.FrameType.JOINT, pin.FrameType.FIXED_JOINT) and frame.parentFrame != 0
+                    else None
+                )
             ground = self.is_ground(name)
-            bodies.append({
-                "name": name,
-                "mass": _clean(inertia.mass),
-                "com": [_clean(value) for value in inertia.lever],
-                "parent_joint": parent_joint,
-                "moved_by": None if ground else model.names[frame.parentJoint],
-                "ground": ground,
-            })
+            bodies.append(
+                {
+                    "name": name,
+                    "mass": _clean(inertia.mass),
+                    "com": [_clean(value) for value in inertia.lever],
+                    "parent_joint": parent_joint,
+                    "moved_by": None if ground else model.names[frame.parentJoint],
+                    "ground": ground,
+                }
+            )
         return bodies
 
     def _summary_joints(self) -> list[dict[str, Any]]:
@@ -271,9 +287,16 @@ class Mechanism:
             if frame_id == 0 or frame.type not in (pin.FrameType.JOINT, pin.FrameType.FIXED_JOINT):
                 continue
             record: dict[str, Any] = {
-                "name": frame.name, "type": "fixed", "parent": frames[frame.parentFrame].name,
-                "child": children.get(frame_id), "axis": None, "dof": False, "lower": None, "upper": None,
-                "unit": None, "mimic": None,
+                "name": frame.name,
+                "type": "fixed",
+                "parent": frames[frame.parentFrame].name,
+                "child": children.get(frame_id),
+                "axis": None,
+                "dof": False,
+                "lower": None,
+                "upper": None,
+                "unit": None,
+                "mimic": None,
             }
             if frame.type == pin.FrameType.JOINT:
                 record.update(self._summary_moving_joint(frame))
@@ -295,8 +318,11 @@ class Mechanism:
         if joint_id in mimics:
             mimic = joint_model.extract()
             scaling = float(mimic.scaling)
-            record["mimic"] = {"joint": model.names[mimics[joint_id]], "multiplier": scaling,
-                               "offset": float(mimic.offset)}
+            record["mimic"] = {
+                "joint": model.names[mimics[joint_id]],
+                "multiplier": scaling,
+                "offset": float(mimic.offset),
+            }
             if scaling:
                 subspace = subspace / scaling  # a mimic joint's motion subspace is scaled
         angular = np.linalg.norm(subspace[3:]) > np.linalg.norm(subspace[:3])
@@ -354,10 +380,12 @@ def _warn_unused_mimic(text: str, where: str) -> None:
         return
     names = [joint.get("name", "?") for joint in root.iter("joint") if joint.find("mimic") is not None]
     if names:
-        warnings.warn(f"{where} declares mimic joints ({', '.join(names)}); they are loaded as independent joints. "
-                      "Pass mimic=True (config: mechanism.mimic: true; `springbalance inspect --mimic`) to couple them "
-                      "to their primary joints.",
-                      stacklevel=3)
+        warnings.warn(
+            f"{where} declares mimic joints ({', '.join(names)}); they are loaded as independent joints. "
+            "Pass mimic=True (config: mechanism.mimic: true; `springbalance inspect --mimic`) to couple them "
+            "to their primary joints.",
+            stacklevel=3,
+        )
 
 
 def _gravity_vector(gravity: npt.ArrayLike) -> np.ndarray:
@@ -382,5 +410,3 @@ def _clean(value: float) -> float:
 def _one_line(exc: Exception) -> str:
     text = " ".join(str(exc).split())
     return text[:300] if text else type(exc).__name__
-
-

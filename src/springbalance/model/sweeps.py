@@ -71,9 +71,11 @@ def animation_path(result: Designed, frames_per_joint: int = 48) -> np.ndarray:
     quarter = max(int(frames_per_joint) // 4, 1)
     for joint in moving_joints(result):
         j = joint.index_v
-        legs = [np.linspace(middle[j], upper[j], quarter + 1)[1:],
-                np.linspace(upper[j], lower[j], 2 * quarter + 1)[1:],
-                np.linspace(lower[j], middle[j], quarter + 1)[1:]]
+        legs = [
+            np.linspace(middle[j], upper[j], quarter + 1)[1:],
+            np.linspace(upper[j], lower[j], 2 * quarter + 1)[1:],
+            np.linspace(lower[j], middle[j], quarter + 1)[1:],
+        ]
         for value in np.concatenate(legs):
             row = middle.copy()
             row[j] = value

@@ -50,22 +50,36 @@ RELATIVE_TOLERANCE = 1e-3
 #: ... plus this much [kg·m²]
 ABSOLUTE_TOLERANCE = 1e-12
 #: the opt-out, as the message says it
-OPT_OUT = ("if the URDF means it, load it with validate=False (config: mechanism.validate: false; "
-           "springbalance inspect --no-validate)")
+OPT_OUT = (
+    "if the URDF means it, load it with validate=False (config: mechanism.validate: false; "
+    "springbalance inspect --no-validate)"
+)
 
 #: numeric attributes the URDF parser reads: (element path below <link>/<joint>, attribute, how many numbers)
 _LINK_NUMBERS = (
-    ("inertial/origin", "xyz", 3), ("inertial/origin", "rpy", 3), ("inertial/mass", "value", 1),
+    ("inertial/origin", "xyz", 3),
+    ("inertial/origin", "rpy", 3),
+    ("inertial/mass", "value", 1),
     *(("inertial/inertia", key, 1) for key in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")),
     *((f"{kind}/origin", key, 3) for kind in ("visual", "collision") for key in ("xyz", "rpy")),
     *((f"{kind}/geometry/box", "size", 3) for kind in ("visual", "collision")),
-    *((f"{kind}/geometry/{shape}", key, 1) for kind in ("visual", "collision")
-      for shape, key in (("sphere", "radius"), ("cylinder", "radius"), ("cylinder", "length"),
-                         ("capsule", "radius"), ("capsule", "length"))),
+    *(
+        (f"{kind}/geometry/{shape}", key, 1)
+        for kind in ("visual", "collision")
+        for shape, key in (
+            ("sphere", "radius"),
+            ("cylinder", "radius"),
+            ("cylinder", "length"),
+            ("capsule", "radius"),
+            ("capsule", "length"),
+        )
+    ),
     *((f"{kind}/geometry/mesh", "scale", 3) for kind in ("visual", "collision")),
 )
 _JOINT_NUMBERS = (
-    ("origin", "xyz", 3), ("origin", "rpy", 3), ("axis", "xyz", 3),
+    ("origin", "xyz", 3),
+    ("origin", "rpy", 3),
+    ("axis", "xyz", 3),
     *(("limit", key, 1) for key in ("lower", "upper", "effort", "velocity")),
     *(("mimic", key, 1) for key in ("multiplier", "offset")),
     *(("dynamics", key, 1) for key in ("damping", "friction")),
@@ -115,8 +129,9 @@ def check_model(model: pin.Model, where: str) -> None:
         inertia = model.inertias[joint_id]
         label = f"{where}: body of joint {model.names[joint_id]!r}"
         mass = float(inertia.mass)
-        _check_mass_and_inertia(mass, np.array(inertia.inertia, dtype=float), label, f"mass {mass:g}",
-                                "rotational inertia")
+        _check_mass_and_inertia(
+            mass, np.array(inertia.inertia, dtype=float), label, f"mass {mass:g}", "rotational inertia"
+        )
     lower, upper = np.asarray(model.lowerPositionLimit), np.asarray(model.upperPositionLimit)
     for joint_id in range(1, model.njoints):
         joint = model.joints[joint_id]
@@ -126,8 +141,9 @@ def check_model(model: pin.Model, where: str) -> None:
         if math.isnan(lo) or math.isnan(up):
             raise InputError(f"{where}: joint {model.names[joint_id]!r}: a position limit is nan")
         if lo > up:
-            raise InputError(f"{where}: joint {model.names[joint_id]!r}: lower position limit {lo:g} > upper {up:g}; "
-                             + OPT_OUT)
+            raise InputError(
+                f"{where}: joint {model.names[joint_id]!r}: lower position limit {lo:g} > upper {up:g}; " + OPT_OUT
+            )
 
 
 # ---------------------------------------------------------------------- pieces
@@ -169,40 +185,59 @@ def _check_inertial(link: ElementTree.Element, where: str) -> None:
             number = _numbers(inertia_element, key, 1, f"{where}: <inertia>")
             if number is not None:
                 values[key] = number[0]
-    matrix = np.array([[values["ixx"], values["ixy"], values["ixz"]],
-                       [values["ixy"], values["iyy"], values["iyz"]],
-                       [values["ixz"], values["iyz"], values["izz"]]])
-    _check_mass_and_inertia(mass, matrix, where, f"<mass value={mass_element.get('value')!r}>",
-                            "<inertia " + " ".join(f"{key}={values[key]:g}" for key in _INERTIA_KEYS) + ">")
+    matrix = np.array(
+        [
+            [values["ixx"], values["ixy"], values["ixz"]],
+            [values["ixy"], values["iyy"], values["iyz"]],
+            [values["ixz"], values["iyz"], values["izz"]],
+        ]
+    )
+    _check_mass_and_inertia(
+        mass,
+        matrix,
+        where,
+        f"<mass value={mass_element.get('value')!r}>",
+        "<inertia " + " ".join(f"{key}={values[key]:g}" for key in _INERTIA_KEYS) + ">",
+    )
 
 
 def _check_mass_and_inertia(mass: float, matrix: np.ndarray, where: str, mass_text: str, inertia_text: str) -> None:
     if not math.isfinite(mass) or mass < 0:
-        raise InputError(f"{where}: {mass_text} is {'negative' if mass < 0 else 'not finite'}; a mass is a finite "
-                         f"number ≥ 0 [kg]; " + OPT_OUT)
+        raise InputError(
+            f"{where}: {mass_text} is {'negative' if mass < 0 else 'not finite'}; a mass is a finite "
+            f"number ≥ 0 [kg]; " + OPT_OUT
+        )
     if not np.all(np.isfinite(matrix)):
         raise InputError(f"{where}: {inertia_text} is not finite; " + OPT_OUT)
     diagonal = np.diag(matrix)
     largest = float(np.max(np.abs(matrix)))
     if mass == 0:
         if largest > ABSOLUTE_TOLERANCE:
-            raise InputError(f"{where}: {mass_text} but a non-zero {inertia_text}; a massless link has no inertia "
-                             f"[kg·m²]; " + OPT_OUT)
+            raise InputError(
+                f"{where}: {mass_text} but a non-zero {inertia_text}; a massless link has no inertia "
+                f"[kg·m²]; " + OPT_OUT
+            )
         return
     names = ("ixx", "iyy", "izz")
     for name, value in zip(names, diagonal):
         if value < -ABSOLUTE_TOLERANCE:
-            raise InputError(f"{where}: inertia {name}={value:g} is negative: {inertia_text} [kg·m²] is not positive "
-                             f"semi-definite; " + OPT_OUT)
+            raise InputError(
+                f"{where}: inertia {name}={value:g} is negative: {inertia_text} [kg·m²] is not positive "
+                f"semi-definite; " + OPT_OUT
+            )
     moments = np.linalg.eigvalsh((matrix + matrix.T) / 2)
     tolerance = RELATIVE_TOLERANCE * float(np.max(np.abs(moments))) + ABSOLUTE_TOLERANCE
     if moments[0] < -tolerance:
-        raise InputError(f"{where}: {inertia_text} is not positive semi-definite: principal moments "
-                         f"{', '.join(f'{m:.4g}' for m in moments)} [kg·m²]; " + OPT_OUT)
+        raise InputError(
+            f"{where}: {inertia_text} is not positive semi-definite: principal moments "
+            f"{', '.join(f'{m:.4g}' for m in moments)} [kg·m²]; " + OPT_OUT
+        )
     a, b, c = np.sort(np.maximum(moments, 0.0))
     if a + b < c - tolerance:
-        raise InputError(f"{where}: {inertia_text} violates the triangle inequality: principal moments "
-                         f"{a:.4g} + {b:.4g} < {c:.4g} [kg·m²], which no rigid body has; " + OPT_OUT)
+        raise InputError(
+            f"{where}: {inertia_text} violates the triangle inequality: principal moments "
+            f"{a:.4g} + {b:.4g} < {c:.4g} [kg·m²], which no rigid body has; " + OPT_OUT
+        )
 
 
 def _check_joint(joint: ElementTree.Element, where: str) -> None:
@@ -221,5 +256,7 @@ def _check_joint(joint: ElementTree.Element, where: str) -> None:
     upper = (_numbers(limit, "upper", 1, f"{where}: <limit>") or [0.0])[0]
     if lower > upper:
         unit = "m" if kind == "prismatic" else "rad"
-        raise InputError(f"{where}: <limit lower={limit.get('lower')!r} upper={limit.get('upper')!r}>: lower > upper "
-                         f"[{unit}]; " + OPT_OUT)
+        raise InputError(
+            f"{where}: <limit lower={limit.get('lower')!r} upper={limit.get('upper')!r}>: lower > upper "
+            f"[{unit}]; " + OPT_OUT
+        )

@@ -87,8 +87,13 @@ class Workspace:
         description: how the samples were made (saved with designs).
     """
 
-    def __init__(self, mechanism: Mechanism, joint_values: npt.ArrayLike, ordered: bool = False,
-                 description: dict[str, Any] | None = None) -> None:
+    def __init__(
+        self,
+        mechanism: Mechanism,
+        joint_values: npt.ArrayLike,
+        ordered: bool = False,
+        description: dict[str, Any] | None = None,
+    ) -> None:
         values = np.atleast_2d(np.asarray(joint_values, dtype=float))
         if values.ndim != 2 or values.shape[1] != mechanism.nv:
             raise InputError(
@@ -102,8 +107,9 @@ class Workspace:
             raise InputError(f"workspace sample {row} is not finite: {values[row].tolist()}")
         if np.any(np.abs(values) > MAX_JOINT_VALUE):
             row = int(np.argwhere(np.abs(values) > MAX_JOINT_VALUE)[0][0])
-            raise InputError(f"workspace sample {row} has a joint value beyond ±{MAX_JOINT_VALUE:g} rad or m: "
-                             f"{values[row].tolist()}")
+            raise InputError(
+                f"workspace sample {row} has a joint value beyond ±{MAX_JOINT_VALUE:g} rad or m: {values[row].tolist()}"
+            )
         self.mechanism = mechanism
         self.joint_values = values
         self.ordered = bool(ordered)
@@ -112,17 +118,26 @@ class Workspace:
 
     # ----------------------------------------------------------------- constructors
     @classmethod
-    def from_array(cls, mechanism: Mechanism, joint_values: npt.ArrayLike, ordered: bool = True,
-                   degrees: bool = False) -> Workspace:
+    def from_array(
+        cls, mechanism: Mechanism, joint_values: npt.ArrayLike, ordered: bool = True, degrees: bool = False
+    ) -> Workspace:
         """Explicit samples (rows). A trajectory is ordered; pass ``ordered=False`` for a cloud."""
         values = np.asarray(joint_values, dtype=float)
         if degrees:
             values = _to_radians(mechanism, values)
-        return cls(mechanism, values, ordered=ordered, description={"kind": "array", "n": int(np.atleast_2d(values).shape[0])})
+        return cls(
+            mechanism, values, ordered=ordered, description={"kind": "array", "n": int(np.atleast_2d(values).shape[0])}
+        )
 
     @classmethod
-    def grid(cls, mechanism: Mechanism, n: int | Mapping[str, int] = 16, ranges: Mapping[str, Sequence[float]] | None = None,
-             couplings: Sequence[Coupling] = (), degrees: bool = False) -> Workspace:
+    def grid(
+        cls,
+        mechanism: Mechanism,
+        n: int | Mapping[str, int] = 16,
+        ranges: Mapping[str, Sequence[float]] | None = None,
+        couplings: Sequence[Coupling] = (),
+        degrees: bool = False,
+    ) -> Workspace:
         """Tensor grid with ``n`` points per joint (an int, or a dict joint → count).
 
         A joint with a zero-width range, or a count of 1, is held at the range's midpoint.
@@ -131,7 +146,11 @@ class Workspace:
         lower, upper = _ranges(mechanism, ranges, degrees)
         counts = []
         for joint in mechanism.joints:
-            count = n.get(joint.name, 1 if lower[joint.index_v] == upper[joint.index_v] else 16) if isinstance(n, Mapping) else n
+            count = (
+                n.get(joint.name, 1 if lower[joint.index_v] == upper[joint.index_v] else 16)
+                if isinstance(n, Mapping)
+                else n
+            )
             count = _count(count, f"grid count for joint {joint.name!r}")
             if lower[joint.index_v] == upper[joint.index_v]:
                 count = 1
@@ -140,30 +159,59 @@ class Workspace:
             for name in n:
                 mechanism.joint(name)
         total = int(np.prod(counts, dtype=object))
-        budget.require(_workspace_bytes(mechanism, "grid", total),
-                       f"a grid workspace of {' × '.join(map(str, counts))} = {total} samples")
-        axes = [np.linspace(lo, hi, c) if c > 1 else np.array([(lo + hi) / 2]) for lo, hi, c in zip(lower, upper, counts)]
+        budget.require(
+            _workspace_bytes(mechanism, "grid", total),
+            f"a grid workspace of {' × '.join(map(str, counts))} = {total} samples",
+        )
+        axes = [
+            np.linspace(lo, hi, c) if c > 1 else np.array([(lo + hi) / 2]) for lo, hi, c in zip(lower, upper, counts)
+        ]
         values = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, mechanism.nv)
         values = _apply_couplings(mechanism, values, couplings)
-        description = {"kind": "grid", "n": [int(c) for c in counts], "lower": lower.tolist(), "upper": upper.tolist(),
-                       "couplings": [_coupling_record(c) for c in couplings]}
+        description = {
+            "kind": "grid",
+            "n": [int(c) for c in counts],
+            "lower": lower.tolist(),
+            "upper": upper.tolist(),
+            "couplings": [_coupling_record(c) for c in couplings],
+        }
         return cls(mechanism, values, ordered=True, description=description)
 
     @classmethod
-    def sobol(cls, mechanism: Mechanism, n: int = 1024, ranges: Mapping[str, Sequence[float]] | None = None,
-              couplings: Sequence[Coupling] = (), degrees: bool = False, seed: int = 0) -> Workspace:
+    def sobol(
+        cls,
+        mechanism: Mechanism,
+        n: int = 1024,
+        ranges: Mapping[str, Sequence[float]] | None = None,
+        couplings: Sequence[Coupling] = (),
+        degrees: bool = False,
+        seed: int = 0,
+    ) -> Workspace:
         """``n`` scrambled Sobol points over the joint ranges (deterministic given ``seed``)."""
         return cls._sampled(mechanism, n, ranges, couplings, degrees, seed, "sobol")
 
     @classmethod
-    def random(cls, mechanism: Mechanism, n: int = 1024, ranges: Mapping[str, Sequence[float]] | None = None,
-               couplings: Sequence[Coupling] = (), degrees: bool = False, seed: int = 0) -> Workspace:
+    def random(
+        cls,
+        mechanism: Mechanism,
+        n: int = 1024,
+        ranges: Mapping[str, Sequence[float]] | None = None,
+        couplings: Sequence[Coupling] = (),
+        degrees: bool = False,
+        seed: int = 0,
+    ) -> Workspace:
         """``n`` uniform random points over the joint ranges (deterministic given ``seed``)."""
         return cls._sampled(mechanism, n, ranges, couplings, degrees, seed, "random")
 
     @classmethod
-    def sweep(cls, mechanism: Mechanism, joint: str, n: int = 181, ranges: Mapping[str, Sequence[float]] | None = None,
-              degrees: bool = False) -> Workspace:
+    def sweep(
+        cls,
+        mechanism: Mechanism,
+        joint: str,
+        n: int = 181,
+        ranges: Mapping[str, Sequence[float]] | None = None,
+        degrees: bool = False,
+    ) -> Workspace:
         """Ordered sweep of one joint over its range, the others at their range midpoints."""
         index = mechanism.joint(joint).index_v
         n = _count(n, "sweep point count")
@@ -174,10 +222,20 @@ class Workspace:
         return cls(mechanism, values, ordered=True, description={"kind": "sweep", "joint": joint, "n": n})
 
     @classmethod
-    def _sampled(cls, mechanism: Mechanism, n: int, ranges: Mapping[str, Sequence[float]] | None,
-                 couplings: Sequence[Coupling], degrees: bool, seed: int, kind: str) -> Workspace:
+    def _sampled(
+        cls,
+        mechanism: Mechanism,
+        n: int,
+        ranges: Mapping[str, Sequence[float]] | None,
+        couplings: Sequence[Coupling],
+        degrees: bool,
+        seed: int,
+        kind: str,
+    ) -> Workspace:
         n = _count(n, "workspace sample count")
-        budget.require(_workspace_bytes(mechanism, kind, n), f"a {kind} workspace of {n} samples of {mechanism.nv} joints")
+        budget.require(
+            _workspace_bytes(mechanism, kind, n), f"a {kind} workspace of {n} samples of {mechanism.nv} joints"
+        )
         lower, upper = _ranges(mechanism, ranges, degrees)
         rng = np.random.default_rng(seed)
         sampler = sobol_engine(mechanism.nv, rng) if kind == "sobol" else None
@@ -198,8 +256,14 @@ class Workspace:
                     f"couplings {', '.join(c.describe() for c in couplings)} leave almost no room in the joint "
                     f"ranges: {accepted.shape[0]} of {drawn} samples accepted"
                 )
-        description = {"kind": kind, "n": n, "seed": seed, "lower": lower.tolist(), "upper": upper.tolist(),
-                       "couplings": [_coupling_record(c) for c in couplings]}
+        description = {
+            "kind": kind,
+            "n": n,
+            "seed": seed,
+            "lower": lower.tolist(),
+            "upper": upper.tolist(),
+            "couplings": [_coupling_record(c) for c in couplings],
+        }
         return cls(mechanism, accepted[:n], ordered=False, description=description)
 
     # ----------------------------------------------------------------- data
@@ -220,8 +284,10 @@ class Workspace:
         """The numeric cache of gravity torques, placements and Jacobians (computed once)."""
         if self._kinematics is None:
             model = self.mechanism.model
-            budget.require(budget.kinematics_bytes(self.size, model.nv, model.nq),
-                           f"the gravity torques of a workspace of {self.size} samples")
+            budget.require(
+                budget.kinematics_bytes(self.size, model.nv, model.nq),
+                f"the gravity torques of a workspace of {self.size} samples",
+            )
             self._kinematics = WorkspaceKinematics(self)
         return self._kinematics
 
@@ -247,7 +313,9 @@ def _count(n: object, what: str) -> int:
     return count
 
 
-def _ranges(mechanism: Mechanism, ranges: Mapping[str, Sequence[float]] | None, degrees: bool) -> tuple[np.ndarray, np.ndarray]:
+def _ranges(
+    mechanism: Mechanism, ranges: Mapping[str, Sequence[float]] | None, degrees: bool
+) -> tuple[np.ndarray, np.ndarray]:
     lower = np.array([joint.lower for joint in mechanism.joints])
     upper = np.array([joint.upper for joint in mechanism.joints])
     for name, bounds in (ranges or {}).items():
@@ -267,8 +335,9 @@ def _ranges(mechanism: Mechanism, ranges: Mapping[str, Sequence[float]] | None, 
     return lower, upper
 
 
-def _apply_couplings(mechanism: Mechanism, values: np.ndarray, couplings: Sequence[Coupling],
-                     allow_empty: bool = False) -> np.ndarray:
+def _apply_couplings(
+    mechanism: Mechanism, values: np.ndarray, couplings: Sequence[Coupling], allow_empty: bool = False
+) -> np.ndarray:
     keep = np.ones(values.shape[0], dtype=bool)
     for coupling in couplings:
         lo, hi = coupling.bounds()
@@ -282,8 +351,12 @@ def _apply_couplings(mechanism: Mechanism, values: np.ndarray, couplings: Sequen
 
 
 def _coupling_record(coupling: Coupling) -> dict:
-    return {"coefficients": dict(coupling.coefficients), "lower": coupling.lower, "upper": coupling.upper,
-            "degrees": coupling.degrees}
+    return {
+        "coefficients": dict(coupling.coefficients),
+        "lower": coupling.lower,
+        "upper": coupling.upper,
+        "degrees": coupling.degrees,
+    }
 
 
 def _to_radians(mechanism: Mechanism, values: np.ndarray) -> np.ndarray:

@@ -40,9 +40,16 @@ from springbalance.springs.laws import Spring
 from springbalance.springs.records import spring_from_dict
 
 
-def payload_range(result: EvaluatedDesign, body: str, point: Sequence[float] = (0.0, 0.0, 0.0),
-                  max_residual: float | None = None, masses: npt.ArrayLike | None = None,
-                  rounds: int = 3, points: int = 9, starts: int = 1) -> PayloadRange:
+def payload_range(
+    result: EvaluatedDesign,
+    body: str,
+    point: Sequence[float] = (0.0, 0.0, 0.0),
+    max_residual: float | None = None,
+    masses: npt.ArrayLike | None = None,
+    rounds: int = 3,
+    points: int = 9,
+    starts: int = 1,
+) -> PayloadRange:
     """Largest payload an adjustable design can balance, and its anchor against the payload.
 
     Args:
@@ -81,8 +88,11 @@ def _checked_max_residual(problem: DesignProblem, max_residual: float | None) ->
     mechanism's peak gravity torque (exact balance)."""
     if max_residual is None:
         max_residual = 1e-6 * float(np.max(np.abs(problem.base_workspace.kinematics().gravity_torque)))
-    elif isinstance(max_residual, bool) or not isinstance(max_residual, (int, float, np.integer, np.floating)) \
-            or not (np.isfinite(max_residual) and max_residual > 0):
+    elif (
+        isinstance(max_residual, bool)
+        or not isinstance(max_residual, (int, float, np.integer, np.floating))
+        or not (np.isfinite(max_residual) and max_residual > 0)
+    ):
         raise InputError(f"max residual must be a finite number > 0 [N·m], got {max_residual!r}")
     return float(max_residual)
 
@@ -90,8 +100,15 @@ def _checked_max_residual(problem: DesignProblem, max_residual: float | None) ->
 class _PayloadSolves:
     """The payloads solved so far (mass [kg] → :class:`PayloadRow`); :meth:`sweep` solves the new ones at once."""
 
-    def __init__(self, problem: DesignProblem, springs: list[Spring], body: str, point: tuple[float, ...],
-                 max_residual: float, starts: int) -> None:
+    def __init__(
+        self,
+        problem: DesignProblem,
+        springs: list[Spring],
+        body: str,
+        point: tuple[float, ...],
+        max_residual: float,
+        starts: int,
+    ) -> None:
         self.problem, self.springs, self.body, self.point = problem, springs, body, point
         self.max_residual, self.starts = max_residual, starts
         self.solved: dict[float, PayloadRow] = {}
@@ -100,8 +117,9 @@ class _PayloadSolves:
         """Solve the masses [kg] of ``candidates`` not solved yet (one stacked problem)."""
         new = [float(m) for m in candidates if float(m) not in self.solved]
         if new:
-            for row in _solve_payloads(self.problem, self.springs, self.body, self.point, new, self.max_residual,
-                                       self.starts):
+            for row in _solve_payloads(
+                self.problem, self.springs, self.body, self.point, new, self.max_residual, self.starts
+            ):
                 self.solved[row.mass] = row
 
 
@@ -158,25 +176,44 @@ def _adjustable_springs(problem: DesignProblem, x: np.ndarray) -> list[Spring]:
     return springs
 
 
-def _solve_payloads(problem: DesignProblem, springs: list[Spring], body: str, point: tuple[float, ...],
-                    masses: list[float], max_residual: float, starts: int) -> list[PayloadRow]:
+def _solve_payloads(
+    problem: DesignProblem,
+    springs: list[Spring],
+    body: str,
+    point: tuple[float, ...],
+    masses: list[float],
+    max_residual: float,
+    starts: int,
+) -> list[PayloadRow]:
     """Every payload of ``masses`` [kg] as one scenario of a stacked problem, solved at once, then refined."""
-    stacked = DesignProblem(problem.mechanism, problem.base_workspace, springs, objective="rms",
-                            weights=problem.weights_by_name(), scenarios=payload_cases(body, point, masses),
-                            per_scenario=problem.per_scenario)
+    stacked = DesignProblem(
+        problem.mechanism,
+        problem.base_workspace,
+        springs,
+        objective="rms",
+        weights=problem.weights_by_name(),
+        scenarios=payload_cases(body, point, masses),
+        per_scenario=problem.per_scenario,
+    )
     solution = run_steps(stacked, SolveOptions(starts=starts, progress=False, max_iterations=200, tolerance=1e-12))
     design = EvaluatedDesign(stacked, refine(stacked, solution.x), method=solution.method, status=solution.status)
     peak, rms = per_block(stacked, design.evaluation.tau, len(masses))
     model = stacked.model
     names = [model.base_variables.names[i] for i in model.per_scenario]
-    ends = [(spring, end) for spring in stacked.springs for end, anchor in spring.anchors.items()
-            if any(name.startswith(f"{spring.name}.{end}.") for name in names)]
+    ends = [
+        (spring, end)
+        for spring in stacked.springs
+        for end, anchor in spring.anchors.items()
+        if any(name.startswith(f"{spring.name}.{end}.") for name in names)
+    ]
     rows = []
     for s, mass in enumerate(masses):
         base = model.scenario_vector(design.x, s)
         variables = {name: float(base[i]) for name, i in zip(names, model.per_scenario)}
-        anchors = {f"{spring.name}.{end}": model.anchor_point(spring, end, design.x, s).tolist()
-                   for spring, end in ends}
-        rows.append(PayloadRow(float(mass), variables, anchors, float(peak[s]), float(rms[s]),
-                               bool(peak[s] <= max_residual)))
+        anchors = {
+            f"{spring.name}.{end}": model.anchor_point(spring, end, design.x, s).tolist() for spring, end in ends
+        }
+        rows.append(
+            PayloadRow(float(mass), variables, anchors, float(peak[s]), float(rms[s]), bool(peak[s] <= max_residual))
+        )
     return rows

@@ -27,11 +27,20 @@ from springbalance.results.result import DesignResult
 STOCK_STARTS = 2
 
 
-def solve(problem_or_config: DesignProblem | ConfiguredProblem, *, starts: int | None = None,
-          seed: int | None = None, method: str | None = None, progress: bool | None = None,
-          max_iterations: int | None = None, tolerance: float | None = None, polish_iterations: int | None = None,
-          standard_wire: bool | None = None, workers: int | None = None,
-          stock: Sequence[StockPart] | None = None) -> DesignResult:
+def solve(
+    problem_or_config: DesignProblem | ConfiguredProblem,
+    *,
+    starts: int | None = None,
+    seed: int | None = None,
+    method: str | None = None,
+    progress: bool | None = None,
+    max_iterations: int | None = None,
+    tolerance: float | None = None,
+    polish_iterations: int | None = None,
+    standard_wire: bool | None = None,
+    workers: int | None = None,
+    stock: Sequence[StockPart] | None = None,
+) -> DesignResult:
     """Design the springs: the best feasible design of a multi-start solve, as a :class:`DesignResult`.
 
     Args:
@@ -61,17 +70,36 @@ def solve(problem_or_config: DesignProblem | ConfiguredProblem, *, starts: int |
         Interrupted: Ctrl-C; it carries the starts that had finished and the best design so far.
     """
     problem, given = _problem_and_options(problem_or_config)
-    options = SolveOptions.merged(given, {"starts": starts, "seed": seed, "method": method, "progress": progress,
-                                          "max_iterations": max_iterations, "tolerance": tolerance,
-                                          "polish_iterations": polish_iterations, "standard_wire": standard_wire,
-                                          "workers": workers})
+    options = SolveOptions.merged(
+        given,
+        {
+            "starts": starts,
+            "seed": seed,
+            "method": method,
+            "progress": progress,
+            "max_iterations": max_iterations,
+            "tolerance": tolerance,
+            "polish_iterations": polish_iterations,
+            "standard_wire": standard_wire,
+            "workers": workers,
+        },
+    )
     result = run_steps(problem, options)
     if stock is None:
         return result
     selection = _select_stock(problem, result, stock, options)
     stocked = selection.result
-    return DesignResult(stocked.problem, stocked.x, starts=stocked.starts, method=stocked.method, seed=stocked.seed,
-                        status=stocked.status, wire_rounding=stocked.wire_rounding, fit=stocked.fit, stock=selection)
+    return DesignResult(
+        stocked.problem,
+        stocked.x,
+        starts=stocked.starts,
+        method=stocked.method,
+        seed=stocked.seed,
+        status=stocked.status,
+        wire_rounding=stocked.wire_rounding,
+        fit=stocked.fit,
+        stock=selection,
+    )
 
 
 def _problem_and_options(source: DesignProblem | ConfiguredProblem) -> tuple[DesignProblem, dict]:
@@ -84,10 +112,19 @@ def _problem_and_options(source: DesignProblem | ConfiguredProblem) -> tuple[Des
     return problem, dict(getattr(source, "solve_options", None) or {})
 
 
-def _select_stock(problem: DesignProblem, result: DesignResult, parts: Sequence[StockPart],
-                  options: SolveOptions) -> StockSelection:
+def _select_stock(
+    problem: DesignProblem, result: DesignResult, parts: Sequence[StockPart], options: SolveOptions
+) -> StockSelection:
     """Catalogue parts for the continuous design ``result``; each candidate part is solved from the warm
     start at the continuous anchors plus one Sobol start."""
-    return select_stock(problem, result, parts, starts=min(options.starts, STOCK_STARTS), seed=options.seed,
-                        method=options.method, max_iterations=options.max_iterations, tolerance=options.tolerance,
-                        workers=options.workers)
+    return select_stock(
+        problem,
+        result,
+        parts,
+        starts=min(options.starts, STOCK_STARTS),
+        seed=options.seed,
+        method=options.method,
+        max_iterations=options.max_iterations,
+        tolerance=options.tolerance,
+        workers=options.workers,
+    )

@@ -21,12 +21,22 @@ def run_steps(problem: DesignProblem, options: SolveOptions) -> DesignResult:
         for step in STEPS:
             state = step(state)
     solution = state.solved
-    return DesignResult(state.problem, solution.x, starts=solution.starts, method=solution.method,
-                        seed=solution.seed, status=solution.status, wire_rounding=state.wire_rounding, fit=state.fit)
+    return DesignResult(
+        state.problem,
+        solution.x,
+        starts=solution.starts,
+        method=solution.method,
+        seed=solution.seed,
+        status=solution.status,
+        wire_rounding=state.wire_rounding,
+        fit=state.fit,
+    )
 
 
 def _check_starts(problem: DesignProblem, starts: object) -> None:
     """The start points must fit the memory budget (a bad count is the solver's error, named there)."""
     if isinstance(starts, (int, np.integer)) and not isinstance(starts, bool) and starts > 0:
-        budget.require(budget.FLOAT * 4 * int(starts) * max(problem.variables.size, 1),
-                       f"{starts} starts of {problem.variables.size} design variables")
+        budget.require(
+            budget.FLOAT * 4 * int(starts) * max(problem.variables.size, 1),
+            f"{starts} starts of {problem.variables.size} design variables",
+        )

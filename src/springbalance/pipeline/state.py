@@ -63,13 +63,19 @@ class SolveOptions:
         options = {**given, **{key: value for key, value in overrides.items() if value is not None}}
         unknown = sorted(set(options) - names)
         if unknown:
-            raise InputError(f"unknown solve option(s) {', '.join(map(repr, unknown))}; valid: {', '.join(sorted(names))}")
+            raise InputError(
+                f"unknown solve option(s) {', '.join(map(repr, unknown))}; valid: {', '.join(sorted(names))}"
+            )
         return cls(**options)
 
     def solver_options(self) -> dict[str, Any]:
         """The options every solve of the pipeline passes on: method, iteration limits, tolerance."""
-        return {"method": self.method, "max_iterations": self.max_iterations, "tolerance": self.tolerance,
-                "polish_iterations": self.polish_iterations}
+        return {
+            "method": self.method,
+            "max_iterations": self.max_iterations,
+            "tolerance": self.tolerance,
+            "polish_iterations": self.polish_iterations,
+        }
 
 
 @dataclasses.dataclass(frozen=True)

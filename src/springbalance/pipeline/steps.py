@@ -32,11 +32,21 @@ def first_guess(state: SolveState) -> SolveState:
     if not coil_start.coil_springs(problem):
         return state
     try:
-        initial = coil_start.coil_start(problem, starts=options.starts, seed=options.seed, method=options.method,
-                                        max_iterations=options.max_iterations, tolerance=options.tolerance)
-    except Interrupted:   # the ideal twin's starts are not designs of this problem
-        raise Interrupted("interrupted while finding the coils' first guess: no start of the design had "
-                          f"finished (0 of {options.starts})", problem=problem, total=options.starts) from None
+        initial = coil_start.coil_start(
+            problem,
+            starts=options.starts,
+            seed=options.seed,
+            method=options.method,
+            max_iterations=options.max_iterations,
+            tolerance=options.tolerance,
+        )
+    except Interrupted:  # the ideal twin's starts are not designs of this problem
+        raise Interrupted(
+            "interrupted while finding the coils' first guess: no start of the design had "
+            f"finished (0 of {options.starts})",
+            problem=problem,
+            total=options.starts,
+        ) from None
     return state.but(initial=initial)
 
 
@@ -51,8 +61,14 @@ def mount_rows(state: SolveState) -> SolveState:
 def multi_start(state: SolveState) -> SolveState:
     """Every start, screened then polished; the best feasible design (SolverError when none is)."""
     options = state.options
-    solution = solve_problem(state.problem, starts=options.starts, seed=options.seed, progress=options.progress,
-                             initial=state.initial, **options.solver_options())
+    solution = solve_problem(
+        state.problem,
+        starts=options.starts,
+        seed=options.seed,
+        progress=options.progress,
+        initial=state.initial,
+        **options.solver_options(),
+    )
     return state.but(solution=solution)
 
 
@@ -62,8 +78,7 @@ def fit_to_arm(state: SolveState) -> SolveState:
     if problem.clearance is None and not problem.mounts:
         return state
     with _interrupted_after_starts(state, "fitting the springs to the arm"):
-        solution, fit, problem = clearance_fit.fit_from_starts(problem, state.solved,
-                                                               **state.options.solver_options())
+        solution, fit, problem = clearance_fit.fit_from_starts(problem, state.solved, **state.options.solver_options())
     return state.but(problem=problem, solution=solution, fit=fit)
 
 
@@ -72,8 +87,7 @@ def round_wires(state: SolveState) -> SolveState:
     if not state.options.standard_wire or not standard_wire.coils_with_free_wire(state.problem):
         return state
     with _interrupted_after_starts(state, "rounding the wires"):
-        solution, rounding = standard_wire.round_wires(state.problem, state.solved,
-                                                       **state.options.solver_options())
+        solution, rounding = standard_wire.round_wires(state.problem, state.solved, **state.options.solver_options())
     return state.but(solution=solution, wire_rounding=rounding)
 
 
@@ -89,11 +103,14 @@ class _interrupted_after_starts:
     def __exit__(self, kind: type | None, error: BaseException | None, traceback: object) -> None:
         if isinstance(error, Interrupted):
             solution = self.state.solved
-            raise Interrupted(f"interrupted while {self.phase}: all {len(solution.starts)} starts had finished",
-                              problem=self.state.problem, starts=solution.starts, total=len(solution.starts),
-                              best_x=solution.x) from None
+            raise Interrupted(
+                f"interrupted while {self.phase}: all {len(solution.starts)} starts had finished",
+                problem=self.state.problem,
+                starts=solution.starts,
+                total=len(solution.starts),
+                best_x=solution.x,
+            ) from None
 
 
 #: The solve, step by step.
-STEPS: tuple[Callable[[SolveState], SolveState], ...] = (first_guess, mount_rows, multi_start, fit_to_arm,
-                                                          round_wires)
+STEPS: tuple[Callable[[SolveState], SolveState], ...] = (first_guess, mount_rows, multi_start, fit_to_arm, round_wires)

@@ -28,9 +28,19 @@ from springbalance.springs.laws import Spring
 from springbalance.springs.params import Free
 
 
-def select_stock(problem: DesignProblem, continuous: np.ndarray | object, parts: Sequence[StockPart], *, candidates: int = CANDIDATES,
-                 starts: int = 2, seed: int = 0, method: str = "auto", max_iterations: int = 100,
-                 tolerance: float = 1e-8, workers: int | None = None) -> StockSelection:
+def select_stock(
+    problem: DesignProblem,
+    continuous: np.ndarray | object,
+    parts: Sequence[StockPart],
+    *,
+    candidates: int = CANDIDATES,
+    starts: int = 2,
+    seed: int = 0,
+    method: str = "auto",
+    max_iterations: int = 100,
+    tolerance: float = 1e-8,
+    workers: int | None = None,
+) -> StockSelection:
     """Replace each extension and compression spring of a continuous design by a catalogue part.
 
     Args:
@@ -55,37 +65,59 @@ def select_stock(problem: DesignProblem, continuous: np.ndarray | object, parts:
     names = _stock_springs(problem, x, parts, candidates)
     objective = _inner_objective(problem)
     continuous_value = problem.objective_value(problem.evaluate(x))
-    options = SolveOptions(starts=int(starts), seed=int(seed), method=method, progress=False,
-                           max_iterations=int(max_iterations), tolerance=float(tolerance), workers=workers)
+    options = SolveOptions(
+        starts=int(starts),
+        seed=int(seed),
+        method=method,
+        progress=False,
+        max_iterations=int(max_iterations),
+        tolerance=float(tolerance),
+        workers=workers,
+    )
     current, current_x = problem, x
     choices, notes = [], []
     for name in names:
         column = [spring.name for spring in current.springs].index(name)
         spring = current.springs[column]
         kind = stock_kind(spring)
-        assert kind is not None   # only springs of a stock kind are named above
+        assert kind is not None  # only springs of a stock kind are named above
         evaluation = current.evaluate(current_x)
         values = current.model.spring_values(spring, current_x)
         lengths, forces = evaluation.lengths[:, column], evaluation.tensions[:, column]
         same_kind = [part for part in parts if part.kind == kind]
         if not same_kind:
             raise SolverError(f"no stock part fits spring {name!r}: the catalogue holds no {kind} springs")
-        ranked = sorted(((part_distance(part, lengths, forces), part) for part in same_kind),
-                        key=lambda pair: pair[0])[:int(candidates)]
+        ranked = sorted(((part_distance(part, lengths, forces), part) for part in same_kind), key=lambda pair: pair[0])[
+            : int(candidates)
+        ]
         trials, best = _try_parts(current, current_x, name, ranked, objective, options)
         if best is None:
             tried = "; ".join(f"{trial.part.part_number}: {trial.status}" for trial in trials)
-            raise SolverError(f"no stock part fits spring {name!r}: none of the {len(trials)} {kind} parts nearest its "
-                              f"design (tension {np.min(forces):.4g} … {np.max(forces):.4g} N over "
-                              f"{np.min(lengths):.4g} … {np.max(lengths):.4g} m) gives a feasible design ({tried})")
+            raise SolverError(
+                f"no stock part fits spring {name!r}: none of the {len(trials)} {kind} parts nearest its "
+                f"design (tension {np.min(forces):.4g} … {np.max(forces):.4g} N over "
+                f"{np.min(lengths):.4g} … {np.max(lengths):.4g} m) gives a feasible design ({tried})"
+            )
         value, part, current, current_result, dropped = best
         current_x = current_result.x
         notes += [f"per-scenario variable {entry!r} is fixed by the stock part of {name!r}" for entry in dropped]
-        designed = {**values, "min_length": float(np.min(lengths)), "max_length": float(np.max(lengths)),
-                    "min_force": float(np.min(forces)), "max_force": float(np.max(forces))}
+        designed = {
+            **values,
+            "min_length": float(np.min(lengths)),
+            "max_length": float(np.max(lengths)),
+            "min_force": float(np.min(forces)),
+            "max_force": float(np.max(forces)),
+        }
         choices.append(StockChoice(name, kind, designed, part, value, trials))
-    return StockSelection(current_result, problem.objective.name, problem.objective.unit, continuous_value,
-                          choices[-1].objective, choices, notes)
+    return StockSelection(
+        current_result,
+        problem.objective.name,
+        problem.objective.unit,
+        continuous_value,
+        choices[-1].objective,
+        choices,
+        notes,
+    )
 
 
 def _stock_springs(problem: DesignProblem, x: np.ndarray, parts: list[StockPart], candidates: int) -> list[str]:
@@ -97,18 +129,28 @@ def _stock_springs(problem: DesignProblem, x: np.ndarray, parts: list[StockPart]
         raise InputError("the stock catalogue holds no parts")
     if int(candidates) < 1:
         raise InputError(f"candidates must be ≥ 1, got {candidates}")
-    names = [spring.name for spring in problem.springs   # (a problem names every spring)
-             if spring.name is not None and stock_kind(spring) is not None
-             and getattr(spring, "part_number", None) is None]
+    names = [
+        spring.name
+        for spring in problem.springs  # (a problem names every spring)
+        if spring.name is not None and stock_kind(spring) is not None and getattr(spring, "part_number", None) is None
+    ]
     if not names:
-        raise InputError("no spring to take from the catalogue: stock parts replace extension and compression "
-                         "springs without a part_number; this design has "
-                         + ", ".join(f"{spring.name} ({spring.kind})" for spring in problem.springs))
+        raise InputError(
+            "no spring to take from the catalogue: stock parts replace extension and compression "
+            "springs without a part_number; this design has "
+            + ", ".join(f"{spring.name} ({spring.kind})" for spring in problem.springs)
+        )
     return names
 
 
-def _try_parts(current: DesignProblem, current_x: np.ndarray, name: str, ranked: list[tuple[float, StockPart]],
-               objective: Objective, options: SolveOptions) -> tuple[list[StockTrial], tuple | None]:
+def _try_parts(
+    current: DesignProblem,
+    current_x: np.ndarray,
+    name: str,
+    ranked: list[tuple[float, StockPart]],
+    objective: Objective,
+    options: SolveOptions,
+) -> tuple[list[StockTrial], tuple | None]:
     """Each ranked part in place of spring ``name``, solved warm from ``current_x``: the trials, and the best
     feasible one as ``(objective value, part, problem, result, dropped per-scenario variables)`` (None if none)."""
     warm = warm_started(current, current_x)
@@ -152,6 +194,9 @@ def _variable_names(springs: list[Spring]) -> list[str]:
     for spring in springs:
         for end, anchor in spring.anchors.items():
             names += [f"{spring.name}.{end}.{label}" for label in anchor.region().labels]
-        names += [f"{spring.name}.{key}" for key, value in spring.parameters.items()
-                  if isinstance(value, Free) and value.upper > value.lower]
+        names += [
+            f"{spring.name}.{key}"
+            for key, value in spring.parameters.items()
+            if isinstance(value, Free) and value.upper > value.lower
+        ]
     return names

@@ -112,21 +112,36 @@ class ClearanceReport:
 
     def to_dict(self) -> dict[str, Any]:
         """The report as JSON-friendly data (lengths in m, joint values in rad or m)."""
-        return {"mechanism": self.mechanism, "margin": self.margin, "poses": self.poses, "clear": self.clear,
-                "collision_objects": list(self.collision_objects), "skipped": list(self.skipped),
-                "rows": [row.to_dict() for row in self.rows]}
+        return {
+            "mechanism": self.mechanism,
+            "margin": self.margin,
+            "poses": self.poses,
+            "clear": self.clear,
+            "collision_objects": list(self.collision_objects),
+            "skipped": list(self.skipped),
+            "rows": [row.to_dict() for row in self.rows],
+        }
 
     def cells(self, row: ClearanceRow) -> list[str]:
         """One row of the table as text: spring, radius [mm], clearance [mm], closest link, status,
         pose (angles in degrees, prismatic joints in m)."""
         if np.isfinite(row.distance):
             distance = f"{row.distance * 1e3:.1f}"
-            status = ("OVERLAP" if row.distance < 0 else "CONTACT" if row.distance == 0
-                      else "below margin" if row.below_margin else "ok")
+            status = (
+                "OVERLAP"
+                if row.distance < 0
+                else "CONTACT"
+                if row.distance == 0
+                else "below margin"
+                if row.below_margin
+                else "ok"
+            )
         else:
             distance, status = "-", "nothing to check"
-        pose = ", ".join(f"{name}={value:.4g} m" if self.joint_units.get(name) == "m" else f"{name}={np.degrees(value):.1f}°"
-                         for name, value in row.pose.items())
+        pose = ", ".join(
+            f"{name}={value:.4g} m" if self.joint_units.get(name) == "m" else f"{name}={np.degrees(value):.1f}°"
+            for name, value in row.pose.items()
+        )
         if row.scenario is not None:
             pose = f"{pose} ({row.scenario})"
         return [row.spring, f"{row.radius * 1e3:.1f}", distance, row.link or "-", status, pose or "-"]
@@ -136,8 +151,10 @@ class ClearanceReport:
 
         Distances are printed in mm, the pose's angles in degrees and prismatic joints in m.
         """
-        header = (f"Clearance of the springs to the collision geometry of {self.mechanism!r} "
-                  f"over {self.poses} poses (margin {self.margin * 1e3:.1f} mm; a spring's anchor bodies are exempt)")
+        header = (
+            f"Clearance of the springs to the collision geometry of {self.mechanism!r} "
+            f"over {self.poses} poses (margin {self.margin * 1e3:.1f} mm; a spring's anchor bodies are exempt)"
+        )
         table = [["spring", "radius [mm]", "clearance [mm]", "closest link", "status", "at pose"]]
         table += [self.cells(row) for row in self.rows]
         widths = [max(len(line[column]) for line in table) for column in range(len(table[0]))]
@@ -147,16 +164,24 @@ class ClearanceReport:
             text.append(f"not checked (they act in a joint): {', '.join(self.skipped)}")
         below = [row.spring for row in self.rows if row.below_margin]
         text.append("")
-        text.append(f"Clearance: {len(below)} of {len(self.rows)} springs below the margin ({', '.join(below)})"
-                    if below else f"Clearance: every spring clear by at least {self.margin * 1e3:.1f} mm")
+        text.append(
+            f"Clearance: {len(below)} of {len(self.rows)} springs below the margin ({', '.join(below)})"
+            if below
+            else f"Clearance: every spring clear by at least {self.margin * 1e3:.1f} mm"
+        )
         return text
 
     def __str__(self) -> str:
         return "\n".join(self.lines())
 
 
-def clearance(result: EvaluatedDesign, radius: float | None = None, samples: int | None = None,
-              margin: float | None = None, geometry: pin.GeometryModel | None = None) -> ClearanceReport:
+def clearance(
+    result: EvaluatedDesign,
+    radius: float | None = None,
+    samples: int | None = None,
+    margin: float | None = None,
+    geometry: pin.GeometryModel | None = None,
+) -> ClearanceReport:
     """Smallest distance from each spring of ``result`` to the arm's collision geometry.
 
     See the module documentation for the model (capsules, signed distances, the exemption of
@@ -192,21 +217,39 @@ def clearance(result: EvaluatedDesign, radius: float | None = None, samples: int
     rows = []
     for capsule in capsules:
         distance, index, sample, scenario = capsule["best"]
-        pose = ({joint.name: float(joint_values[sample, joint.index_v]) for joint in mechanism.joints}
-                if sample is not None else {})
-        rows.append(ClearanceRow(
-            spring=capsule["name"], radius=capsule["radius"], distance=distance,
-            link=links[index] if index is not None else None,
-            geometry=objects[index].name if index is not None else None,
-            pose=pose, sample=sample, scenario=scenario, exempt=capsule["bodies"],
-            below_margin=bool(np.isfinite(distance) and (distance < margin or distance <= 0))))
-    return ClearanceReport(rows=rows, margin=float(margin), poses=int(joint_values.shape[0]), mechanism=mechanism.name,
-                           collision_objects=[obj.name for obj in objects], skipped=skipped,
-                           joint_units={joint.name: joint.unit for joint in mechanism.joints})
+        pose = (
+            {joint.name: float(joint_values[sample, joint.index_v]) for joint in mechanism.joints}
+            if sample is not None
+            else {}
+        )
+        rows.append(
+            ClearanceRow(
+                spring=capsule["name"],
+                radius=capsule["radius"],
+                distance=distance,
+                link=links[index] if index is not None else None,
+                geometry=objects[index].name if index is not None else None,
+                pose=pose,
+                sample=sample,
+                scenario=scenario,
+                exempt=capsule["bodies"],
+                below_margin=bool(np.isfinite(distance) and (distance < margin or distance <= 0)),
+            )
+        )
+    return ClearanceReport(
+        rows=rows,
+        margin=float(margin),
+        poses=int(joint_values.shape[0]),
+        mechanism=mechanism.name,
+        collision_objects=[obj.name for obj in objects],
+        skipped=skipped,
+        joint_units={joint.name: joint.unit for joint in mechanism.joints},
+    )
 
 
-def _checked_options(problem: DesignProblem, radius: float | None, samples: int | None,
-                     margin: float | None) -> tuple[float, float | None]:
+def _checked_options(
+    problem: DesignProblem, radius: float | None, samples: int | None, margin: float | None
+) -> tuple[float, float | None]:
     """``(margin, radius)`` [m] of the check: the ones given, else the problem's clearance options; InputError
     naming a bad ``radius``, ``margin`` or ``samples``."""
     asked = problem.clearance
@@ -229,13 +272,19 @@ def _poses(problem: DesignProblem, samples: int | None) -> np.ndarray:
     mechanism, base = problem.mechanism, problem.base_workspace
     if samples is None:
         return base.joint_values
-    ranges = {joint.name: [float(np.min(base.joint_values[:, joint.index_v])),
-                           float(np.max(base.joint_values[:, joint.index_v]))] for joint in mechanism.joints}
+    ranges = {
+        joint.name: [
+            float(np.min(base.joint_values[:, joint.index_v])),
+            float(np.max(base.joint_values[:, joint.index_v])),
+        ]
+        for joint in mechanism.joints
+    }
     return Workspace.sobol(mechanism, n=int(samples), ranges=ranges, seed=0).joint_values
 
 
-def _capsules(result: EvaluatedDesign, scene: CollisionScene,
-              radius: float | None) -> tuple[list[dict[str, Any]], list[str]]:
+def _capsules(
+    result: EvaluatedDesign, scene: CollisionScene, radius: float | None
+) -> tuple[list[dict[str, Any]], list[str]]:
     """The capsules: per two-point spring, its radius [m], exempt bodies, their frames, the collision objects
     it is checked against and the anchor points [m] of each scenario (one per distinct pair); and the names
     of the springs not checked (torsional)."""
@@ -249,25 +298,36 @@ def _capsules(result: EvaluatedDesign, scene: CollisionScene,
             skipped.append(spring_name(spring))
             continue
         spring_radius = capsule_radius(record, radius)
-        ends = getattr(spring, "spring_ends", ("a", "b"))   # a routed spring: its first segment
+        ends = getattr(spring, "spring_ends", ("a", "b"))  # a routed spring: its first segment
         bodies = tuple(record[end]["body"] for end in ends)
         # (scenario name, point a, point b), one per distinct pair of anchor points
         variants: list[tuple[str | None, np.ndarray, np.ndarray]] = []
         for index, name in enumerate(scenario_names):
-            point_a, point_b = (np.asarray(problem.model.anchor_point(spring, end, result.x, scenario=index),
-                                           dtype=float) for end in ends)
+            point_a, point_b = (
+                np.asarray(problem.model.anchor_point(spring, end, result.x, scenario=index), dtype=float)
+                for end in ends
+            )
             if not any(np.array_equal(point_a, a) and np.array_equal(point_b, b) for _, a, b in variants):
                 variants.append((name, point_a, point_b))
         if len(variants) == 1:
             variants = [(None, variants[0][1], variants[0][2])]
-        capsules.append({"name": spring.name, "radius": spring_radius, "bodies": bodies, "variants": variants,
-                         "frames": tuple(mechanism.frame_id(body) for body in bodies),
-                         "checked": scene.indices_except(bodies), "best": (np.inf, None, None, None)})
+        capsules.append(
+            {
+                "name": spring.name,
+                "radius": spring_radius,
+                "bodies": bodies,
+                "variants": variants,
+                "frames": tuple(mechanism.frame_id(body) for body in bodies),
+                "checked": scene.indices_except(bodies),
+                "best": (np.inf, None, None, None),
+            }
+        )
     return capsules, skipped
 
 
-def _closest_approach(scene: CollisionScene, capsules: list[dict[str, Any]],
-                      configurations: Iterable[np.ndarray]) -> None:
+def _closest_approach(
+    scene: CollisionScene, capsules: list[dict[str, Any]], configurations: Iterable[np.ndarray]
+) -> None:
     """Set each capsule's ``best``: (smallest signed distance [m], collision object index, sample, scenario)
     over the configurations."""
     for sample, q in enumerate(configurations):

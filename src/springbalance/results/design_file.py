@@ -77,18 +77,23 @@ def _check_mechanism_source(value: Any, label: str) -> None:
     source = _mapping(value, f"{label}: mechanism")
     kind = source.get("kind")
     if not isinstance(kind, str) or kind not in _SOURCE_KINDS:
-        raise InputError(f"{label}: mechanism.kind: expected one of {', '.join(_SOURCE_KINDS)}, got {kind!r} "
-                         "(a bare Pinocchio model is not saved)")
+        raise InputError(
+            f"{label}: mechanism.kind: expected one of {', '.join(_SOURCE_KINDS)}, got {kind!r} "
+            "(a bare Pinocchio model is not saved)"
+        )
     needed = _SOURCE_KINDS[kind]
     if not isinstance(source.get(needed), str) or not source[needed]:
         raise InputError(f"{label}: mechanism.{needed}: expected a non-empty string, got {source.get(needed)!r}")
     if kind == "robot" and source.get("path") is not None and not isinstance(source["path"], str):
         raise InputError(f"{label}: mechanism.path: expected a string, got {source['path']!r}")
     gravity = source.get("gravity")
-    if gravity is not None and not (_is_number(gravity) or (isinstance(gravity, list) and len(gravity) == 3
-                                                            and all(_is_number(v) for v in gravity))):
-        raise InputError(f"{label}: mechanism.gravity: expected a finite magnitude or three finite numbers [m/s²], "
-                         f"got {_shown(gravity)}")
+    if gravity is not None and not (
+        _is_number(gravity) or (isinstance(gravity, list) and len(gravity) == 3 and all(_is_number(v) for v in gravity))
+    ):
+        raise InputError(
+            f"{label}: mechanism.gravity: expected a finite magnitude or three finite numbers [m/s²], "
+            f"got {_shown(gravity)}"
+        )
     for key in ("mimic", "validate"):
         if key in source and not isinstance(source[key], bool):
             raise InputError(f"{label}: mechanism.{key}: expected true or false, got {_shown(source[key])}")
@@ -120,8 +125,9 @@ def _check_weights_springs_variables(record: dict[str, Any], label: str) -> None
     weights = _mapping(record["weights"], f"{label}: weights")
     for joint, weight in weights.items():
         if not _is_number(weight) or not 0 <= weight <= MAX_VALUE:
-            raise InputError(f"{label}: weights.{joint}: expected a finite number from 0 to {MAX_VALUE:g}, "
-                             f"got {_shown(weight)}")
+            raise InputError(
+                f"{label}: weights.{joint}: expected a finite number from 0 to {MAX_VALUE:g}, got {_shown(weight)}"
+            )
     springs = record["springs"]
     if not isinstance(springs, list) or not springs:
         raise InputError(f"{label}: springs: expected a non-empty list of spring records, got {_shown(springs)}")
@@ -154,12 +160,14 @@ def _check_scenarios(scenarios: dict[str, Any] | None, label: str) -> None:
         raise InputError(f"{label}: scenarios.cases: expected a list of scenario records, got {_shown(cases)}")
     per_scenario = scenarios.get("per_scenario", [])
     if not isinstance(per_scenario, list) or not all(isinstance(name, str) for name in per_scenario):
-        raise InputError(f"{label}: scenarios.per_scenario: expected a list of variable names, "
-                         f"got {_shown(per_scenario)}")
+        raise InputError(
+            f"{label}: scenarios.per_scenario: expected a list of variable names, got {_shown(per_scenario)}"
+        )
 
 
-def check_design_mechanism(record: dict[str, Any], mechanism: Mechanism, label: str,
-                           own_workspace: bool = True) -> None:
+def check_design_mechanism(
+    record: dict[str, Any], mechanism: Mechanism, label: str, own_workspace: bool = True
+) -> None:
     """The record fits ``mechanism``: its joints (weights, sample width), and its springs' bodies and joints.
 
     ``own_workspace``: the saved samples are used (their width is checked too).
@@ -169,28 +177,36 @@ def check_design_mechanism(record: dict[str, Any], mechanism: Mechanism, label: 
     source = record.get("mechanism", {})
     made_for = source.get("robot") or source.get("path") or "another URDF"
     if saved_joints and saved_joints != joints:
-        raise InputError(f"{label}: this design was made for a different mechanism (joints {', '.join(saved_joints)}); "
-                         f"mechanism {mechanism.name!r} ({made_for}) has joints {', '.join(joints)}")
+        raise InputError(
+            f"{label}: this design was made for a different mechanism (joints {', '.join(saved_joints)}); "
+            f"mechanism {mechanism.name!r} ({made_for}) has joints {', '.join(joints)}"
+        )
     width = len(record["workspace"]["joint_values"][0])
     if own_workspace and width != mechanism.nv:
-        raise InputError(f"{label}: workspace.joint_values: rows of {width} values, but mechanism {mechanism.name!r} "
-                         f"has {mechanism.nv} joints ({', '.join(joints)}); this design was made for a different "
-                         "mechanism")
+        raise InputError(
+            f"{label}: workspace.joint_values: rows of {width} values, but mechanism {mechanism.name!r} "
+            f"has {mechanism.nv} joints ({', '.join(joints)}); this design was made for a different "
+            "mechanism"
+        )
     bodies = set(mechanism.body_names)
     for index, spring in enumerate(record["springs"]):
         ends = [(end, spring.get(end)) for end in ("a", "b")]
-        if isinstance(spring.get("path"), list):   # a routed spring: its anchors in order
+        if isinstance(spring.get("path"), list):  # a routed spring: its anchors in order
             ends += [(f"path[{i}]", anchor) for i, anchor in enumerate(spring["path"])]
         for end, anchor in ends:
             body = anchor.get("body") if isinstance(anchor, dict) else None
             if isinstance(body, str) and body not in bodies:
-                raise InputError(f"{label}: springs[{index}].{end}.body: this design was made for a different "
-                                 f"mechanism: body {body!r} is not in mechanism {mechanism.name!r} ({made_for}); "
-                                 f"bodies: {', '.join(mechanism.body_names)}")
+                raise InputError(
+                    f"{label}: springs[{index}].{end}.body: this design was made for a different "
+                    f"mechanism: body {body!r} is not in mechanism {mechanism.name!r} ({made_for}); "
+                    f"bodies: {', '.join(mechanism.body_names)}"
+                )
         joint = spring.get("joint")
         if isinstance(joint, str) and joint not in joints:
-            raise InputError(f"{label}: springs[{index}].joint: this design was made for a different mechanism: "
-                             f"joint {joint!r} is not in mechanism {mechanism.name!r}; joints: {', '.join(joints)}")
+            raise InputError(
+                f"{label}: springs[{index}].joint: this design was made for a different mechanism: "
+                f"joint {joint!r} is not in mechanism {mechanism.name!r}; joints: {', '.join(joints)}"
+            )
 
 
 def _mapping(value: Any, where: str) -> dict[str, Any]:
@@ -211,4 +227,4 @@ def _is_number(value: Any) -> bool:
 
 def _shown(value: Any, limit: int = 80) -> str:
     text = repr(value)
-    return text if len(text) <= limit else text[:limit - 1] + "…"
+    return text if len(text) <= limit else text[: limit - 1] + "…"

@@ -75,8 +75,13 @@ class Flag:
 
 def flags(result: EvaluatedDesign) -> list[Flag]:
     """Every warning about ``result``, in the order at_bound, worse_joint, law, unbuildable_ideal, unbuildable."""
-    return (at_bound_flags(result) + worse_joint_flags(result) + law_flags(result) + unbuildable_flags(result)
-            + unbuildable_coil_flags(result))
+    return (
+        at_bound_flags(result)
+        + worse_joint_flags(result)
+        + law_flags(result)
+        + unbuildable_flags(result)
+        + unbuildable_coil_flags(result)
+    )
 
 
 # ---------------------------------------------------------------------- at_bound
@@ -98,8 +103,9 @@ def at_bound_flags(result: EvaluatedDesign, tolerance: float = BOUND_TOLERANCE) 
     """Design variables at (within ``tolerance`` of their range of) a bound; fixed ones are skipped."""
     variables = result.problem.variables
     found = []
-    for name, unit, lower, upper, value in zip(variables.names, variables.units, variables.lower, variables.upper,
-                                               result.x.tolist()):
+    for name, unit, lower, upper, value in zip(
+        variables.names, variables.units, variables.lower, variables.upper, result.x.tolist()
+    ):
         width = upper - lower
         if not width > 0:
             continue
@@ -113,8 +119,10 @@ def at_bound_flags(result: EvaluatedDesign, tolerance: float = BOUND_TOLERANCE) 
         message = f"{name} = {_quantity(value, unit)} is at its {side} bound {_quantity(bound, unit)}"
         law = _nonnegative_parameter(result.problem, name)
         if side == "lower" and bound <= 0 and law is not None:
-            hint = (f"{name} cannot go below 0 ({law} law): the optimum wants less of it; free other "
-                    "variables (anchors, free length) or try another spring law")
+            hint = (
+                f"{name} cannot go below 0 ({law} law): the optimum wants less of it; free other "
+                "variables (anchors, free length) or try another spring law"
+            )
         else:
             hint = f"{direction} {name}'s {side} bound ({_quantity(bound, unit)})"
             if name.split("[", 1)[0].endswith(".s") and unit == "1":
@@ -134,20 +142,27 @@ def worse_joint_flags(result: EvaluatedDesign, tolerance: float = TORQUE_TOLERAN
     weights = dict(zip((joint.name for joint in result.problem.mechanism.joints), result.problem.weights.tolist()))
     found = []
     for row in rows:
-        worse = [label for label, key in (("peak", "peak"), ("RMS", "rms"))
-                 if row[f"{key}_after"] - row[f"{key}_before"] > negligible]
+        worse = [
+            label
+            for label, key in (("peak", "peak"), ("RMS", "rms"))
+            if row[f"{key}_after"] - row[f"{key}_before"] > negligible
+        ]
         if not worse:
             continue
         unit = row["unit"]
-        parts = [f"{label} {row[key + '_after']:.4g} {unit} with the springs vs {row[key + '_before']:.4g} {unit} "
-                 f"without" for label, key in (("peak", "peak"), ("RMS", "rms")) if label in worse]
+        parts = [
+            f"{label} {row[key + '_after']:.4g} {unit} with the springs vs {row[key + '_before']:.4g} {unit} without"
+            for label, key in (("peak", "peak"), ("RMS", "rms"))
+            if label in worse
+        ]
         message = f"joint {row['joint']} carries more torque with the springs than without: " + "; ".join(parts)
         if weights.get(row["joint"], 1.0) == 0:
-            hint = (f"{row['joint']} has weight 0, so the objective ignores it: give it a weight > 0, or move the "
-                    "springs that act across it")
+            hint = (
+                f"{row['joint']} has weight 0, so the objective ignores it: give it a weight > 0, or move the "
+                "springs that act across it"
+            )
         else:
-            hint = (f"move or soften the springs that act across {row['joint']}, or raise its weight in the "
-                    "objective")
+            hint = f"move or soften the springs that act across {row['joint']}, or raise its weight in the objective"
         found.append(Flag("worse_joint", row["joint"], message, hint))
     return found
 
@@ -205,19 +220,30 @@ def unbuildable_flags(result: EvaluatedDesign, material: str = DEFAULT_MATERIAL)
         lengths, forces = evaluation.lengths[:, column], evaluation.tensions[:, column]
         max_force = float(np.max(np.abs(forces)))
         try:
-            design = size_helical_spring(stiffness, free_length, float(np.max(lengths)), max_force,
-                                         material=chosen, kind=kind, min_length=float(np.min(lengths)))
+            design = size_helical_spring(
+                stiffness,
+                free_length,
+                float(np.max(lengths)),
+                max_force,
+                material=chosen,
+                kind=kind,
+                min_length=float(np.min(lengths)),
+            )
             feasible, reasons = design.feasible, list(design.reasons)
         except InputError as error:
             feasible, reasons = False, [str(error)]
         if feasible:
             continue
         material_name = getattr(chosen, "name", chosen)
-        message = (f"spring {spring.name!r} ({spring.kind}, k {stiffness:.4g} N/m, l0 {free_length:.4g} m, "
-                   f"lengths {float(np.min(lengths)):.4g}–{float(np.max(lengths)):.4g} m, largest force "
-                   f"{max_force:.4g} N): no helical {kind} spring of {material_name} realises it: " + "; ".join(reasons))
-        hint = ("lower the stiffness or the force, lengthen the free length, or give the spring a helical option "
-                "so that the optimisation keeps it buildable")
+        message = (
+            f"spring {spring.name!r} ({spring.kind}, k {stiffness:.4g} N/m, l0 {free_length:.4g} m, "
+            f"lengths {float(np.min(lengths)):.4g}–{float(np.max(lengths)):.4g} m, largest force "
+            f"{max_force:.4g} N): no helical {kind} spring of {material_name} realises it: " + "; ".join(reasons)
+        )
+        hint = (
+            "lower the stiffness or the force, lengthen the free length, or give the spring a helical option "
+            "so that the optimisation keeps it buildable"
+        )
         found.append(Flag("unbuildable_ideal", spring_name(spring), message, hint))
     return found
 
@@ -228,8 +254,13 @@ def unbuildable_coil_flags(result: EvaluatedDesign) -> list[Flag]:
     for record in result.springs:
         sheet = record.get("helical")
         if sheet is not None and not sheet["buildable"]:
-            found.append(Flag("unbuildable", record["name"],
-                              f"spring {record['name']!r} ({sheet['type']}) cannot be built: " + "; ".join(sheet["reasons"]),
-                              "widen the coil's bounds (wire, coil diameter, coils, envelope) or move its anchors so "
-                              "that it stretches less; more starts may find a feasible coil"))
+            found.append(
+                Flag(
+                    "unbuildable",
+                    record["name"],
+                    f"spring {record['name']!r} ({sheet['type']}) cannot be built: " + "; ".join(sheet["reasons"]),
+                    "widen the coil's bounds (wire, coil diameter, coils, envelope) or move its anchors so "
+                    "that it stretches less; more starts may find a feasible coil",
+                )
+            )
     return found

@@ -56,15 +56,25 @@ def spec_sheet_html(result: EvaluatedDesign) -> list[str]:
     sheets = [(record["name"], record["helical"]) for record in result.springs if "helical" in record]
     if not sheets:
         return []
-    parts = ['<h2 id="spec-sheets">Spec sheets</h2>',
-             '<p class="note">Each helical spring as a part to order or wind (Shigley, ch. 10); the verdict names '
-             'every rule it fails.</p>']
+    parts = [
+        '<h2 id="spec-sheets">Spec sheets</h2>',
+        '<p class="note">Each helical spring as a part to order or wind (Shigley, ch. 10); the verdict names '
+        "every rule it fails.</p>",
+    ]
     for name, sheet in sheets:
-        verdict = ("<b>buildable</b>" if sheet["buildable"] else
-                   "<b>not buildable</b>: " + "; ".join(e(reason) for reason in sheet["reasons"]))
+        verdict = (
+            "<b>buildable</b>"
+            if sheet["buildable"]
+            else "<b>not buildable</b>: " + "; ".join(e(reason) for reason in sheet["reasons"])
+        )
         parts.append(f"<h3>{e(name)}: {e(sheet['type'])} spring, {verdict}</h3>")
-        parts.append("<table>" + "".join(f"<tr><td class=l>{e(label)}</td><td>{e(value)}</td></tr>"
-                                         for label, value in spec_sheet_rows(sheet)) + "</table>")
+        parts.append(
+            "<table>"
+            + "".join(
+                f"<tr><td class=l>{e(label)}</td><td>{e(value)}</td></tr>" for label, value in spec_sheet_rows(sheet)
+            )
+            + "</table>"
+        )
     return parts
 
 
@@ -89,17 +99,25 @@ def design_rows(result: EvaluatedDesign) -> list[dict[str, Any]]:
             where = [("joint", record.get("joint", "?"), None)]
         state_unit = getattr(spring, "state_quantity", ("length", "m"))
         force_unit = getattr(spring, "force_quantity", ("tension", "N"))
-        rows.append({
-            "name": record["name"], "type": record["type"], "where": where,
-            "stiffness": record.get("stiffness"), "stiffness_unit": units.get("stiffness", ""),
-            "free_length": record.get("free_length"),
-            "preload": record.get(preload_key) if preload_key else None,
-            "preload_unit": units.get(preload_key, "") if preload_key else "",
-            "preload_name": preload_key or "",
-            "min_state": float(states.min()), "max_state": float(states.max()), "state": state_unit,
-            "max_force": float(np.max(np.abs(forces))), "force": force_unit,
-            "mass": record.get("mass"),
-        })
+        rows.append(
+            {
+                "name": record["name"],
+                "type": record["type"],
+                "where": where,
+                "stiffness": record.get("stiffness"),
+                "stiffness_unit": units.get("stiffness", ""),
+                "free_length": record.get("free_length"),
+                "preload": record.get(preload_key) if preload_key else None,
+                "preload_unit": units.get(preload_key, "") if preload_key else "",
+                "preload_name": preload_key or "",
+                "min_state": float(states.min()),
+                "max_state": float(states.max()),
+                "state": state_unit,
+                "max_force": float(np.max(np.abs(forces))),
+                "force": force_unit,
+                "mass": record.get("mass"),
+            }
+        )
     return rows
 
 
@@ -118,8 +136,14 @@ def _with_unit(value: float | None, unit: str, default_unit: str, digits: int = 
     return text if value is None or unit == default_unit else f"{text} {html.escape(unit)}"
 
 
-def report_html(result: EvaluatedDesign, scene: str | None = "scene.html", torques: str | None = "torques.svg",
-                histogram: str | None = "histogram.svg", legend: str = "", exports: Iterable[str] = ()) -> str:
+def report_html(
+    result: EvaluatedDesign,
+    scene: str | None = "scene.html",
+    torques: str | None = "torques.svg",
+    histogram: str | None = "histogram.svg",
+    legend: str = "",
+    exports: Iterable[str] = (),
+) -> str:
     """The report page; ``scene``, ``torques`` and ``histogram`` are relative links (None: left out);
     ``exports``: relative links to exported URDF/MJCF files (``springbalance export``).
 
@@ -153,7 +177,8 @@ def head_html(result: EvaluatedDesign) -> list[str]:
     problem = result.problem
     e = html.escape
     return [
-        "<!DOCTYPE html>", '<html lang="en"><head><meta charset="utf-8">',
+        "<!DOCTYPE html>",
+        '<html lang="en"><head><meta charset="utf-8">',
         f"<title>springbalance report: {e(problem.mechanism.name)}</title>",
         "<style>body{font:14px/1.45 sans-serif;margin:24px auto;max-width:1100px;color:#222;padding:0 16px}"
         "table{border-collapse:collapse;margin:8px 0 20px}th,td{border:1px solid #ccc;padding:3px 8px;"
@@ -172,8 +197,10 @@ def links_html(scene: str | None, legend: str, exports: Iterable[str]) -> list[s
     e = html.escape
     parts = []
     if scene:
-        parts.append(f'<p><a href="{e(scene)}"><b>Open the 3-D scene</b></a> (Meshcat: the arm and its springs, '
-                     "animated through a sweep of each joint; opens offline).</p>")
+        parts.append(
+            f'<p><a href="{e(scene)}"><b>Open the 3-D scene</b></a> (Meshcat: the arm and its springs, '
+            "animated through a sweep of each joint; opens offline).</p>"
+        )
         if legend:
             parts.append(f'<div style="position:relative;height:64px">{legend}</div>')
     if exports:
@@ -186,14 +213,16 @@ def springs_html(result: EvaluatedDesign) -> list[str]:
     """The "Springs" section: the table of :func:`design_rows` (anchors [m], stiffness [N/m], free length [m],
     preload [N], shortest and longest length [m], largest force [N])."""
     e = html.escape
-    parts = ["<h2>Springs</h2>",
-             "<p class=\"note\">Anchor points in the frame of their body [m]. Lengths and forces over the "
-             "workspace samples; max force is the largest magnitude (tension pulls the ends together, "
-             "a compression or gas spring pushes). A torsional spring gives its joint, angles [rad] and "
-             "torques [N·m].</p>",
-             "<table><tr><th class=l>spring</th><th class=l>type</th><th class=l>anchors (body, point [m])</th>"
-             "<th>stiffness [N/m]</th><th>free length [m]</th><th>preload [N]</th><th>min length [m]</th>"
-             "<th>max length [m]</th><th>max force [N]</th></tr>"]
+    parts = [
+        "<h2>Springs</h2>",
+        '<p class="note">Anchor points in the frame of their body [m]. Lengths and forces over the '
+        "workspace samples; max force is the largest magnitude (tension pulls the ends together, "
+        "a compression or gas spring pushes). A torsional spring gives its joint, angles [rad] and "
+        "torques [N·m].</p>",
+        "<table><tr><th class=l>spring</th><th class=l>type</th><th class=l>anchors (body, point [m])</th>"
+        "<th>stiffness [N/m]</th><th>free length [m]</th><th>preload [N]</th><th>min length [m]</th>"
+        "<th>max length [m]</th><th>max force [N]</th></tr>",
+    ]
     for row in design_rows(result):
         state_unit, force_unit = row["state"][1], row["force"][1]
         preload = _with_unit(row["preload"], row["preload_unit"], "N")
@@ -205,7 +234,8 @@ def springs_html(result: EvaluatedDesign) -> list[str]:
             f"<td>{_number(row['free_length'], 5)}</td><td>{preload}</td>"
             f"<td>{_with_unit(row['min_state'], state_unit, 'm', 4)}</td>"
             f"<td>{_with_unit(row['max_state'], state_unit, 'm', 4)}</td>"
-            f"<td>{_with_unit(row['max_force'], force_unit, 'N', 4)}</td></tr>")
+            f"<td>{_with_unit(row['max_force'], force_unit, 'N', 4)}</td></tr>"
+        )
     parts.append("</table>")
     return parts
 
@@ -215,25 +245,31 @@ def torque_html(metrics: dict[str, Any]) -> list[str]:
     :meth:`~springbalance.design.evaluated.EvaluatedDesign.metrics` (per joint peak and RMS torque [N·m or N]
     before/after with the reduction [%], every objective before/after)."""
     e = html.escape
-    parts = ["<h2>Actuator torque</h2>",
-             "<table><tr><th class=l>joint</th><th>peak before</th><th>peak after</th><th>reduction [%]</th>"
-             "<th>RMS before</th><th>RMS after</th><th>reduction [%]</th></tr>"]
+    parts = [
+        "<h2>Actuator torque</h2>",
+        "<table><tr><th class=l>joint</th><th>peak before</th><th>peak after</th><th>reduction [%]</th>"
+        "<th>RMS before</th><th>RMS after</th><th>reduction [%]</th></tr>",
+    ]
     for row in metrics["joints"]:
         parts.append(
             f"<tr><td class=l>{e(row['joint'])} [{e(row['unit'])}]</td><td>{_number(row['peak_before'])}</td>"
             f"<td>{_number(row['peak_after'])}</td><td>{_number(row['peak_reduction_percent'], 3)}</td>"
             f"<td>{_number(row['rms_before'])}</td><td>{_number(row['rms_after'])}</td>"
-            f"<td>{_number(row['rms_reduction_percent'], 3)}</td></tr>")
+            f"<td>{_number(row['rms_reduction_percent'], 3)}</td></tr>"
+        )
     parts.append("</table>")
-    parts.append("<table><tr><th class=l>objective</th><th>before</th><th>after</th><th>reduction [%]</th>"
-                 "<th class=l></th></tr>")
+    parts.append(
+        "<table><tr><th class=l>objective</th><th>before</th><th>after</th><th>reduction [%]</th><th class=l></th></tr>"
+    )
     for name, row in metrics["objectives"].items():
         mark = "optimised" if name == metrics["optimised"] else ""
         if not math.isfinite(row["before"]):
             mark = "needs an ordered workspace"
-        parts.append(f"<tr><td class=l>{e(name)} [{e(row['unit'])}]</td><td>{_number(row['before'])}</td>"
-                     f"<td>{_number(row['after'])}</td><td>{_number(row['reduction_percent'], 3)}</td>"
-                     f"<td class=l>{e(mark)}</td></tr>")
+        parts.append(
+            f"<tr><td class=l>{e(name)} [{e(row['unit'])}]</td><td>{_number(row['before'])}</td>"
+            f"<td>{_number(row['after'])}</td><td>{_number(row['reduction_percent'], 3)}</td>"
+            f"<td class=l>{e(mark)}</td></tr>"
+        )
     parts.append("</table>")
     return parts
 
@@ -245,14 +281,19 @@ def scenarios_html(result: EvaluatedDesign) -> list[str]:
     e = html.escape
     rows = problem.scenario_table(result.x)
     names = list(rows[0]["variables"]) if rows else []
-    parts = [f"<h2>Scenarios</h2><p>{len(rows)} load cases, objective aggregated as "
-             f"{e(problem.aggregate)}; the tables above cover every scenario's samples.</p>",
-             "<table><tr><th class=l>scenario</th><th>payload [kg]</th>"
-             + "".join(f"<th>{e(name)}</th>" for name in names) + "<th>peak [N·m]</th><th>rms [N·m]</th></tr>"]
+    parts = [
+        f"<h2>Scenarios</h2><p>{len(rows)} load cases, objective aggregated as "
+        f"{e(problem.aggregate)}; the tables above cover every scenario's samples.</p>",
+        "<table><tr><th class=l>scenario</th><th>payload [kg]</th>"
+        + "".join(f"<th>{e(name)}</th>" for name in names)
+        + "<th>peak [N·m]</th><th>rms [N·m]</th></tr>",
+    ]
     for row in rows:
-        parts.append(f"<tr><td class=l>{e(row['name'])}</td><td>{_number(row['payload'])}</td>"
-                     + "".join(f"<td>{_number(row['variables'][name], 6)}</td>" for name in names)
-                     + f"<td>{_number(row['peak'])}</td><td>{_number(row['rms'])}</td></tr>")
+        parts.append(
+            f"<tr><td class=l>{e(row['name'])}</td><td>{_number(row['payload'])}</td>"
+            + "".join(f"<td>{_number(row['variables'][name], 6)}</td>" for name in names)
+            + f"<td>{_number(row['peak'])}</td><td>{_number(row['rms'])}</td></tr>"
+        )
     parts.append("</table>")
     return parts
 
@@ -264,11 +305,15 @@ def plots_html(torques: str | None, histogram: str | None) -> list[str]:
     if torques or histogram:
         parts.append("<h2>Plots</h2>")
     if torques:
-        parts.append(f'<p>Torque of each joint along a sweep of that joint, the others at the middle of their '
-                     f'workspace ranges.</p><p><img src="{e(torques)}" alt="torque along a sweep of each joint"></p>')
+        parts.append(
+            f"<p>Torque of each joint along a sweep of that joint, the others at the middle of their "
+            f'workspace ranges.</p><p><img src="{e(torques)}" alt="torque along a sweep of each joint"></p>'
+        )
     if histogram:
-        parts.append(f'<p>Torque of each joint over all workspace samples.</p>'
-                     f'<p><img src="{e(histogram)}" alt="histogram of the torques over the workspace"></p>')
+        parts.append(
+            f"<p>Torque of each joint over all workspace samples.</p>"
+            f'<p><img src="{e(histogram)}" alt="histogram of the torques over the workspace"></p>'
+        )
     return parts
 
 
@@ -279,14 +324,18 @@ def clearance_html(result: EvaluatedDesign) -> list[str]:
     if report is None:
         return []
     e = html.escape
-    parts = ['<h2 id="clearance">Clearance</h2>',
-             f'<p class="note">{e(report.lines()[0])}.</p>',
-             "<table><tr><th class=l>spring</th><th>radius [mm]</th><th>clearance [mm]</th>"
-             "<th class=l>closest link</th><th class=l>status</th><th class=l>at pose</th></tr>"]
+    parts = [
+        '<h2 id="clearance">Clearance</h2>',
+        f'<p class="note">{e(report.lines()[0])}.</p>',
+        "<table><tr><th class=l>spring</th><th>radius [mm]</th><th>clearance [mm]</th>"
+        "<th class=l>closest link</th><th class=l>status</th><th class=l>at pose</th></tr>",
+    ]
     for row in report.rows:
         spring, radius, distance, link, status, pose = (e(cell) for cell in report.cells(row))
-        parts.append(f"<tr><td class=l>{spring}</td><td>{radius}</td><td>{distance}</td><td class=l>{link}</td>"
-                     f"<td class=l>{status.lower()}</td><td class=l>{pose}</td></tr>")
+        parts.append(
+            f"<tr><td class=l>{spring}</td><td>{radius}</td><td>{distance}</td><td class=l>{link}</td>"
+            f"<td class=l>{status.lower()}</td><td class=l>{pose}</td></tr>"
+        )
     parts.append("</table>")
     return parts
 
@@ -296,13 +345,16 @@ def warnings_html(flags: Sequence[Flag]) -> list[str]:
     e = html.escape
     if not flags:
         return ['<h2 id="warnings">Warnings</h2>', "<p>Warnings: none.</p>"]
-    parts = ['<h2 id="warnings">Warnings</h2>',
-             "<table><tr><th class=l>kind</th><th class=l>subject</th><th class=l>finding</th>"
-             "<th class=l>hint</th></tr>"]
+    parts = [
+        '<h2 id="warnings">Warnings</h2>',
+        "<table><tr><th class=l>kind</th><th class=l>subject</th><th class=l>finding</th><th class=l>hint</th></tr>",
+    ]
     for flag in flags:
-        parts.append(f'<tr class="warning {e(flag.kind)}"><td class=l><code>{e(flag.kind)}</code></td>'
-                     f"<td class=l>{e(flag.subject)}</td><td class=l>{e(flag.message)}</td>"
-                     f"<td class=l>{e(flag.hint or '')}</td></tr>")
+        parts.append(
+            f'<tr class="warning {e(flag.kind)}"><td class=l><code>{e(flag.kind)}</code></td>'
+            f"<td class=l>{e(flag.subject)}</td><td class=l>{e(flag.message)}</td>"
+            f"<td class=l>{e(flag.hint or '')}</td></tr>"
+        )
     parts.append("</table>")
     return parts
 

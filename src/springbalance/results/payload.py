@@ -58,9 +58,14 @@ class PayloadRow:
 
     def to_dict(self) -> dict[str, Any]:
         """The row as JSON-friendly data."""
-        return {"mass": self.mass, "variables": self.variables,
-                "anchors": {key: list(point) for key, point in self.anchors.items()},
-                "peak": self.peak, "rms": self.rms, "balanced": self.balanced}
+        return {
+            "mass": self.mass,
+            "variables": self.variables,
+            "anchors": {key: list(point) for key, point in self.anchors.items()},
+            "peak": self.peak,
+            "rms": self.rms,
+            "balanced": self.balanced,
+        }
 
 
 @dataclasses.dataclass
@@ -78,13 +83,23 @@ class PayloadRange:
     def table(self) -> str:
         """The rows as text: payload [kg], adjustable anchor points [m], peak and RMS residual [N·m]."""
         anchors = list(self.rows[0].anchors) if self.rows else []
-        header = f"  {'payload [kg]':>12s}" + "".join(f"{name + ' [m]':>28s}" for name in anchors) + \
-                 f"{'peak [N·m]':>13s}{'rms [N·m]':>12s}  balanced"
-        lines = [f"Payload range: payload at {list(self.point)} m of {self.body!r}, balanced when the peak "
-                 f"residual ≤ {self.max_residual:.3g} N·m", header]
+        header = (
+            f"  {'payload [kg]':>12s}"
+            + "".join(f"{name + ' [m]':>28s}" for name in anchors)
+            + f"{'peak [N·m]':>13s}{'rms [N·m]':>12s}  balanced"
+        )
+        lines = [
+            f"Payload range: payload at {list(self.point)} m of {self.body!r}, balanced when the peak "
+            f"residual ≤ {self.max_residual:.3g} N·m",
+            header,
+        ]
         for row in self.rows:
-            points = "".join(f"{'[' + ', '.join(f'{v:+.4f}' for v in row.anchors[name]) + ']':>28s}" for name in anchors)
-            lines.append(f"  {row.mass:12.4g}{points}{row.peak:13.4g}{row.rms:12.4g}  {'yes' if row.balanced else 'no'}")
+            points = "".join(
+                f"{'[' + ', '.join(f'{v:+.4f}' for v in row.anchors[name]) + ']':>28s}" for name in anchors
+            )
+            lines.append(
+                f"  {row.mass:12.4g}{points}{row.peak:13.4g}{row.rms:12.4g}  {'yes' if row.balanced else 'no'}"
+            )
         lines.append(f"  largest payload balanced: {self.max_payload:.6g} kg")
         return "\n".join(lines)
 
@@ -100,15 +115,29 @@ class PayloadRange:
             points = np.array([row.anchors[name] for row in rows])
             for axis in range(3):
                 if np.ptp(points[:, axis]) > 1e-12:
-                    anchor_axes.plot(masses, points[:, axis], color=ANCHOR_COLOR, marker="o", markersize=3,
-                                     linestyle=styles[index % len(styles)], label=f"{name} {'xyz'[axis]}")
+                    anchor_axes.plot(
+                        masses,
+                        points[:, axis],
+                        color=ANCHOR_COLOR,
+                        marker="o",
+                        markersize=3,
+                        linestyle=styles[index % len(styles)],
+                        label=f"{name} {'xyz'[axis]}",
+                    )
         anchor_axes.set_xlabel("payload [kg]")
         anchor_axes.set_ylabel("anchor coordinate [m]")
         anchor_axes.grid(True, alpha=0.3)
         if anchor_axes.lines:
             anchor_axes.legend(loc="best", fontsize="small")
-        residual_axes.plot(masses, [row.peak for row in rows], color=RESIDUAL_COLOR, marker="o", markersize=3,
-                           linewidth=2, label="peak residual")
+        residual_axes.plot(
+            masses,
+            [row.peak for row in rows],
+            color=RESIDUAL_COLOR,
+            marker="o",
+            markersize=3,
+            linewidth=2,
+            label="peak residual",
+        )
         residual_axes.axhline(self.max_residual, color="black", linewidth=0.6, linestyle="--", label="limit")
         if np.isfinite(self.max_payload):
             for axes in (anchor_axes, residual_axes):
@@ -117,16 +146,23 @@ class PayloadRange:
         residual_axes.set_ylabel("peak residual torque [N·m]")
         residual_axes.grid(True, alpha=0.3)
         residual_axes.legend(loc="best", fontsize="small")
-        figure.suptitle(f"Adjustable anchor against the payload on {self.body!r} "
-                        f"(largest balanced: {self.max_payload:.4g} kg)", fontsize="medium")
+        figure.suptitle(
+            f"Adjustable anchor against the payload on {self.body!r} (largest balanced: {self.max_payload:.4g} kg)",
+            fontsize="medium",
+        )
         if path is not None:
             save_figure(figure, path)
         return figure
 
     def to_dict(self) -> dict[str, Any]:
         """The study as JSON-friendly data."""
-        return {"body": self.body, "point": list(self.point), "max_residual": self.max_residual,
-                "max_payload": self.max_payload, "rows": [row.to_dict() for row in self.rows]}
+        return {
+            "body": self.body,
+            "point": list(self.point),
+            "max_residual": self.max_residual,
+            "max_payload": self.max_payload,
+            "rows": [row.to_dict() for row in self.rows],
+        }
 
 
 @dataclasses.dataclass
@@ -141,8 +177,10 @@ class PayloadSweep:
 
     def table(self) -> str:
         """The sweep as text: payload [kg], peak and RMS residual [N·m]."""
-        lines = [f"Residual torque against the payload at {list(self.point)} m of {self.body!r} (design fixed)",
-                 f"  {'payload [kg]':>12s}{'peak [N·m]':>13s}{'rms [N·m]':>12s}"]
+        lines = [
+            f"Residual torque against the payload at {list(self.point)} m of {self.body!r} (design fixed)",
+            f"  {'payload [kg]':>12s}{'peak [N·m]':>13s}{'rms [N·m]':>12s}",
+        ]
         lines += [f"  {m:12.4g}{p:13.4g}{r:12.4g}" for m, p, r in zip(self.masses, self.peak, self.rms)]
         return "\n".join(lines)
 
@@ -150,8 +188,9 @@ class PayloadSweep:
         """matplotlib figure: peak and RMS residual against the payload (PNG + SVG at ``path``)."""
         figure = new_figure(figsize=(4.6, 3.2), layout="constrained")
         axes = figure.add_subplot()
-        axes.plot(self.masses, self.peak, color=RESIDUAL_COLOR, marker="o", markersize=3, linewidth=2,
-                  label=f"{label}: peak")
+        axes.plot(
+            self.masses, self.peak, color=RESIDUAL_COLOR, marker="o", markersize=3, linewidth=2, label=f"{label}: peak"
+        )
         axes.plot(self.masses, self.rms, color=RESIDUAL_COLOR, linestyle="--", label=f"{label}: rms")
         axes.set_xlabel("payload [kg]")
         axes.set_ylabel("residual torque [N·m]")
@@ -163,20 +202,36 @@ class PayloadSweep:
 
     def to_dict(self) -> dict[str, Any]:
         """The sweep as JSON-friendly data."""
-        return {"body": self.body, "point": list(self.point), "masses": self.masses.tolist(),
-                "peak": self.peak.tolist(), "rms": self.rms.tolist()}
+        return {
+            "body": self.body,
+            "point": list(self.point),
+            "masses": self.masses.tolist(),
+            "peak": self.peak.tolist(),
+            "rms": self.rms.tolist(),
+        }
 
 
 # ---------------------------------------------------------------------- a fixed design's study
-def residual_vs_payload(result: EvaluatedDesign, body: str, masses: npt.ArrayLike,
-                        point: Sequence[float] = (0.0, 0.0, 0.0), scenario: int = 0) -> PayloadSweep:
+def residual_vs_payload(
+    result: EvaluatedDesign,
+    body: str,
+    masses: npt.ArrayLike,
+    point: Sequence[float] = (0.0, 0.0, 0.0),
+    scenario: int = 0,
+) -> PayloadSweep:
     """Peak and RMS residual torque [N·m] of a fixed design (its values in ``scenario``) with each payload."""
     problem = result.problem
     point = checked_point(problem, body, point)
     masses = checked_masses(masses)
     springs = problem.scenario_springs(result.x, scenario) if problem.scenarios else result.fixed_springs()
-    stacked = DesignProblem(problem.mechanism, problem.base_workspace, springs, objective="rms",
-                            weights=problem.weights_by_name(), scenarios=payload_cases(body, point, masses))
+    stacked = DesignProblem(
+        problem.mechanism,
+        problem.base_workspace,
+        springs,
+        objective="rms",
+        weights=problem.weights_by_name(),
+        scenarios=payload_cases(body, point, masses),
+    )
     peak, rms = per_block(stacked, stacked.evaluate(np.zeros(0)).tau, len(masses))
     return PayloadSweep(body, point, masses, peak, rms)
 
@@ -206,20 +261,26 @@ def checked_point(problem: DesignProblem, body: str, point: Sequence[float]) -> 
     if values.shape != (3,) or not np.all(np.isfinite(values)):
         raise InputError(f"payload point must be three finite numbers [m], got {point!r}")
     if float(np.linalg.norm(values)) > MAX_DISTANCE:
-        raise InputError(f"payload point {values.tolist()} is {np.linalg.norm(values):.3g} m from the origin of "
-                         f"{body!r}; a payload sits within {MAX_DISTANCE:g} m of its body")
+        raise InputError(
+            f"payload point {values.tolist()} is {np.linalg.norm(values):.3g} m from the origin of "
+            f"{body!r}; a payload sits within {MAX_DISTANCE:g} m of its body"
+        )
     return tuple(values.tolist())
 
 
 def payload_cases(body: str, point: tuple[float, ...], masses: Iterable[float]) -> list[Scenario]:
     """One scenario per payload mass [kg] at ``point`` [m] of ``body`` (none for a zero mass)."""
-    return [Scenario(f"payload {i}: {m:g} kg", [Payload(body, float(m), point)] if m > 0 else [])
-            for i, m in enumerate(masses)]
+    return [
+        Scenario(f"payload {i}: {m:g} kg", [Payload(body, float(m), point)] if m > 0 else [])
+        for i, m in enumerate(masses)
+    ]
 
 
 def per_block(problem: DesignProblem, tau: np.ndarray, blocks: int) -> tuple[np.ndarray, np.ndarray]:
     """Peak and RMS of the weighted residual torque [N·m] of each of ``blocks`` equal blocks of samples."""
     weighted = np.abs(tau * problem.weights)
     parts = np.split(weighted, blocks, axis=0)
-    return (np.array([float(np.max(part)) for part in parts]),
-            np.array([float(np.sqrt(np.mean(part**2))) for part in parts]))
+    return (
+        np.array([float(np.max(part)) for part in parts]),
+        np.array([float(np.sqrt(np.mean(part**2))) for part in parts]),
+    )

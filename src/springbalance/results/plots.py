@@ -62,8 +62,9 @@ def torque_sweeps(result: EvaluatedDesign, points: int = 121) -> list[dict[str, 
         workspace = sweeps.joint_sweep(result, joint.name, points)
         before = workspace.kinematics().gravity_torque[:, joint.index_v]
         after = result.evaluate_on(workspace).tau[:, joint.index_v]
-        rows.append({"joint": joint, "values": workspace.joint_values[:, joint.index_v], "before": before,
-                     "after": after})
+        rows.append(
+            {"joint": joint, "values": workspace.joint_values[:, joint.index_v], "before": before, "after": after}
+        )
     return rows
 
 
@@ -92,8 +93,9 @@ def plot_torques(result: EvaluatedDesign, points: int = 121, path: str | Path | 
         axes.grid(True, alpha=0.3)
         if index == 0:
             axes.legend(loc="best", fontsize="small")
-    figure.suptitle(f"{result.problem.mechanism.name}: torque along a sweep of each joint "
-                    "(others at mid-range)", fontsize="medium")
+    figure.suptitle(
+        f"{result.problem.mechanism.name}: torque along a sweep of each joint (others at mid-range)", fontsize="medium"
+    )
     if path is not None:
         save_figure(figure, path)
     return figure
@@ -114,17 +116,28 @@ def plot_histogram(result: EvaluatedDesign, bins: int = 40, path: str | Path | N
         low = min(before[:, j].min(), after[:, j].min())
         high = max(before[:, j].max(), after[:, j].max())
         edges = np.linspace(low, high, bins + 1) if high > low else bins
-        axes.hist(before[:, j], bins=edges,  # type: ignore[arg-type]  # matplotlib stub: bins may be an array
-                  color=BEFORE_COLOR, alpha=0.55, label="gravity only")
-        axes.hist(after[:, j], bins=edges,  # type: ignore[arg-type]  # matplotlib stub: bins may be an array
-                  color=AFTER_COLOR, alpha=0.7, label="with springs")
+        axes.hist(
+            before[:, j],
+            bins=edges,  # type: ignore[arg-type]  # matplotlib stub: bins may be an array
+            color=BEFORE_COLOR,
+            alpha=0.55,
+            label="gravity only",
+        )
+        axes.hist(
+            after[:, j],
+            bins=edges,  # type: ignore[arg-type]  # matplotlib stub: bins may be an array
+            color=AFTER_COLOR,
+            alpha=0.7,
+            label="with springs",
+        )
         axes.set_xlabel(f"{joint.name} torque [{joint.torque_unit}]")
         axes.set_ylabel("samples")
         axes.grid(True, alpha=0.3)
         if index == 0:
             axes.legend(loc="best", fontsize="small")
-    figure.suptitle(f"{problem.mechanism.name}: torque over the {problem.workspace.size} workspace samples",
-                    fontsize="medium")
+    figure.suptitle(
+        f"{problem.mechanism.name}: torque over the {problem.workspace.size} workspace samples", fontsize="medium"
+    )
     if path is not None:
         save_figure(figure, path)
     return figure

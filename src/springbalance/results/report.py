@@ -40,8 +40,10 @@ def result_table(result: EvaluatedDesign) -> str:
     if getattr(problem, "scenarios", None):
         lines.extend(scenario_lines(result))
     if metrics["max_violation"] > FEASIBILITY_TOLERANCE:
-        lines.append(f"\n  INFEASIBLE: largest constraint violation {metrics['max_violation']:.3g} "
-                     f"(tolerance {FEASIBILITY_TOLERANCE:g})")
+        lines.append(
+            f"\n  INFEASIBLE: largest constraint violation {metrics['max_violation']:.3g} "
+            f"(tolerance {FEASIBILITY_TOLERANCE:g})"
+        )
     lines.append("")
     lines.extend(clearance_section(result))
     lines.extend(warning_lines(flags(result)))
@@ -51,13 +53,17 @@ def result_table(result: EvaluatedDesign) -> str:
 def header_lines(result: EvaluatedDesign) -> list[str]:
     """The first line (mechanism, samples, objective, status) and the multi-start's spread of objectives."""
     problem = result.problem
-    lines = [f"springbalance: {problem.mechanism.name}, {problem.workspace.size} samples, "
-             f"objective {problem.objective.name}, status: {result.status}"]
+    lines = [
+        f"springbalance: {problem.mechanism.name}, {problem.workspace.size} samples, "
+        f"objective {problem.objective.name}, status: {result.status}"
+    ]
     spread = result.spread()
     if spread.get("starts", 0) > 1:
-        lines.append(f"multi-start: {spread['feasible']}/{spread['starts']} feasible, objective best "
-                     f"{spread.get('best', float('nan')):.6g}, median {spread.get('median', float('nan')):.6g}, "
-                     f"worst {spread.get('worst', float('nan')):.6g}")
+        lines.append(
+            f"multi-start: {spread['feasible']}/{spread['starts']} feasible, objective best "
+            f"{spread.get('best', float('nan')):.6g}, median {spread.get('median', float('nan')):.6g}, "
+            f"worst {spread.get('worst', float('nan')):.6g}"
+        )
     return lines
 
 
@@ -67,8 +73,11 @@ def spring_lines(result: EvaluatedDesign) -> list[str]:
     lines = ["Springs (anchor points in body frames) [m]"]
     evaluation = result.evaluation
     for column, record in enumerate(result.springs):
-        lines.extend(_spring_lines(result.problem.springs[column], record, evaluation.lengths[:, column],
-                                   evaluation.tensions[:, column]))
+        lines.extend(
+            _spring_lines(
+                result.problem.springs[column], record, evaluation.lengths[:, column], evaluation.tensions[:, column]
+            )
+        )
     return lines
 
 
@@ -79,7 +88,10 @@ def _spring_lines(spring: Spring, record: dict[str, Any], states: np.ndarray, fo
     lines = [f"  {record['name']} ({record['type']}{ideal}{part})"]
     for end in spring.anchors:
         point = ", ".join(f"{v:+.4f}" for v in record[end]["point"])
-        lines.append(f"    {end + ':':<5s} {record[end]['body']:<18s} [{point}]" + (f"  pulley r = {record[end]['pulley']['radius'] * 1e3:.4g} mm" if 'pulley' in record[end] else ''))
+        lines.append(
+            f"    {end + ':':<5s} {record[end]['body']:<18s} [{point}]"
+            + (f"  pulley r = {record[end]['pulley']['radius'] * 1e3:.4g} mm" if "pulley" in record[end] else "")
+        )
     if "joint" in record:
         lines.append(f"    joint: {record['joint']}")
     parameters = "  ".join(f"{key} {record[key]:.6g} {unit}" for key, unit in spring.parameter_units.items())
@@ -87,11 +99,17 @@ def _spring_lines(spring: Spring, record: dict[str, Any], states: np.ndarray, fo
     if "helical" in record:
         lines.extend(f"    {line}" for line in spec_sheet_lines(record["helical"]))
     elif "mass" in record:
-        wire = f" (wire diameter {1e3 * record['wire_diameter']:.3g} mm for this rate)" if "wire_diameter" in record else ""
+        wire = (
+            f" (wire diameter {1e3 * record['wire_diameter']:.3g} mm for this rate)"
+            if "wire_diameter" in record
+            else ""
+        )
         lines.append(f"    spring mass {record['mass']:.4g} kg, half at each end{wire}")
     (state, state_unit), (force, force_unit) = spring.state_quantity, spring.force_quantity
-    lines.append(f"    {state} {states.min():.4f} … {states.max():.4f} {state_unit}   "
-                 f"{force} {forces.min():.4g} … {forces.max():.4g} {force_unit}")
+    lines.append(
+        f"    {state} {states.min():.4f} … {states.max():.4f} {state_unit}   "
+        f"{force} {forces.min():.4g} … {forces.max():.4g} {force_unit}"
+    )
     return lines
 
 
@@ -100,8 +118,10 @@ def wire_rounding_lines(rounding: WireRounding | None) -> list[str]:
     if rounding is None:
         return []
     wires = ", ".join(f"{name} {1e3 * pair[0]:.3f} → {1e3 * pair[1]:.2f} mm" for name, pair in rounding.wires.items())
-    lines = [f"  standard wire: {wires or 'none rounded'}; objective {rounding.continuous_objective:.6g} → "
-             f"{rounding.objective:.6g} ({rounding.cost_percent:+.2f} %)"]
+    lines = [
+        f"  standard wire: {wires or 'none rounded'}; objective {rounding.continuous_objective:.6g} → "
+        f"{rounding.objective:.6g} ({rounding.cost_percent:+.2f} %)"
+    ]
     lines.extend(f"  wire of {name} left continuous: {reason}" for name, reason in rounding.unrounded.items())
     return lines
 
@@ -113,9 +133,11 @@ def fit_lines(fit: FitRecord | None) -> list[str]:
         return []
     closest = ", ".join(f"{name} {1e3 * value:.1f} mm" for name, value in fit.closest.items())
     mounts = ", ".join(f"{name} {1e3 * value:.2f} mm" for name, value in fit.mounts.items())
-    lines = [f"  fitted to the arm in {fit.rounds} round(s) ({fit.rows} linearised rows, "
-             f"{fit.seconds:.1f} s){'' if fit.converged else ' — NOT CONVERGED'}: objective "
-             f"{fit.objective_before:.6g} → {fit.objective:.6g} ({fit.cost_percent:+.2f} %)"]
+    lines = [
+        f"  fitted to the arm in {fit.rounds} round(s) ({fit.rows} linearised rows, "
+        f"{fit.seconds:.1f} s){'' if fit.converged else ' — NOT CONVERGED'}: objective "
+        f"{fit.objective_before:.6g} → {fit.objective:.6g} ({fit.cost_percent:+.2f} %)"
+    ]
     if closest:
         lines.append(f"  closest approach over {fit.poses} poses checked: {closest}")
     if mounts:
@@ -143,36 +165,51 @@ def torque_lines(metrics: dict[str, Any]) -> list[str]:
     header = f"  {'joint':<22s}{'peak before':>13s}{'peak after':>12s}{'Δ%':>8s}{'rms before':>13s}{'rms after':>12s}{'Δ%':>8s}"
     lines = ["Actuator torque (gravity only vs with springs)", header]
     for row in metrics["joints"]:
-        lines.append(f"  {row['joint'] + ' [' + row['unit'] + ']':<22s}{row['peak_before']:13.4g}{row['peak_after']:12.4g}"
-                     f"{_percent(row['peak_reduction_percent'])}{row['rms_before']:13.4g}{row['rms_after']:12.4g}"
-                     f"{_percent(row['rms_reduction_percent'])}")
+        lines.append(
+            f"  {row['joint'] + ' [' + row['unit'] + ']':<22s}{row['peak_before']:13.4g}{row['peak_after']:12.4g}"
+            f"{_percent(row['peak_reduction_percent'])}{row['rms_before']:13.4g}{row['rms_after']:12.4g}"
+            f"{_percent(row['rms_reduction_percent'])}"
+        )
     lines.append("")
     lines.append(f"  {'objective':<22s}{'before':>13s}{'after':>12s}{'Δ%':>8s}")
     for name, row in metrics["objectives"].items():
         mark = " *" if name == metrics["optimised"] else ""
         if np.isnan(row["before"]):
-            lines.append(f"  {name + ' [' + row['unit'] + ']':<22s}{'—':>13s}{'—':>12s}{'':>8s}  (needs an ordered workspace)")
+            lines.append(
+                f"  {name + ' [' + row['unit'] + ']':<22s}{'—':>13s}{'—':>12s}{'':>8s}  (needs an ordered workspace)"
+            )
             continue
-        lines.append(f"  {name + ' [' + row['unit'] + ']':<22s}{row['before']:13.4g}{row['after']:12.4g}"
-                     f"{_percent(row['reduction_percent'])}{mark}")
+        lines.append(
+            f"  {name + ' [' + row['unit'] + ']':<22s}{row['before']:13.4g}{row['after']:12.4g}"
+            f"{_percent(row['reduction_percent'])}{mark}"
+        )
     return lines
 
 
 #: the rows of a coil's spec sheet: (label, key, scale to the unit shown, unit, format)
 SPEC_SHEET_ROWS = (
-    ("material", "material", None, "", "s"), ("ends", "end_type", None, "", "s"),
-    ("wire diameter d", "wire_diameter", 1e3, "mm", ".3f"), ("mean coil diameter D", "mean_diameter", 1e3, "mm", ".2f"),
-    ("outer diameter", "outer_diameter", 1e3, "mm", ".2f"), ("index D/d", "index", 1.0, "", ".2f"),
-    ("active coils n", "active_coils", 1.0, "", ".2f"), ("free length", "free_length", 1e3, "mm", ".1f"),
-    ("body length", "body_length", 1e3, "mm", ".1f"), ("solid length", "solid_length", 1e3, "mm", ".1f"),
-    ("initial tension", "initial_tension", 1.0, "N", ".4g"), ("rate k", "rate", 1.0, "N/m", ".5g"),
-    ("largest load", "max_load", 1.0, "N", ".4g"), ("longest length", "longest_length", 1e3, "mm", ".1f"),
-    ("shortest length", "shortest_length", 1e3, "mm", ".1f"), ("largest stress", "max_stress", 1e-6, "MPa", ".0f"),
-    ("allowable stress", "allowable_stress", 1e-6, "MPa", ".0f"), ("hook bending stress", "hook_bending_stress", 1e-6,
-                                                                   "MPa", ".0f"),
+    ("material", "material", None, "", "s"),
+    ("ends", "end_type", None, "", "s"),
+    ("wire diameter d", "wire_diameter", 1e3, "mm", ".3f"),
+    ("mean coil diameter D", "mean_diameter", 1e3, "mm", ".2f"),
+    ("outer diameter", "outer_diameter", 1e3, "mm", ".2f"),
+    ("index D/d", "index", 1.0, "", ".2f"),
+    ("active coils n", "active_coils", 1.0, "", ".2f"),
+    ("free length", "free_length", 1e3, "mm", ".1f"),
+    ("body length", "body_length", 1e3, "mm", ".1f"),
+    ("solid length", "solid_length", 1e3, "mm", ".1f"),
+    ("initial tension", "initial_tension", 1.0, "N", ".4g"),
+    ("rate k", "rate", 1.0, "N/m", ".5g"),
+    ("largest load", "max_load", 1.0, "N", ".4g"),
+    ("longest length", "longest_length", 1e3, "mm", ".1f"),
+    ("shortest length", "shortest_length", 1e3, "mm", ".1f"),
+    ("largest stress", "max_stress", 1e-6, "MPa", ".0f"),
+    ("allowable stress", "allowable_stress", 1e-6, "MPa", ".0f"),
+    ("hook bending stress", "hook_bending_stress", 1e-6, "MPa", ".0f"),
     ("hook bending allowable", "hook_bending_allowable", 1e-6, "MPa", ".0f"),
     ("hook torsion stress", "hook_torsion_stress", 1e-6, "MPa", ".0f"),
-    ("hook torsion allowable", "hook_torsion_allowable", 1e-6, "MPa", ".0f"), ("mass", "mass", 1.0, "kg", ".4g"),
+    ("hook torsion allowable", "hook_torsion_allowable", 1e-6, "MPa", ".0f"),
+    ("mass", "mass", 1.0, "kg", ".4g"),
 )
 
 
@@ -237,12 +274,16 @@ def balance_statement(result: EvaluatedDesign) -> str:
             potential = ""
         elif len(balance["scenario_potentials"]) > 1:
             levels = ", ".join(f"{value:.6g}" for value in balance["scenario_potentials"])
-            potential = (f"; total potential constant within each scenario at {levels} J "
-                         f"(largest spread {balance['potential_spread']:.2g} J)")
+            potential = (
+                f"; total potential constant within each scenario at {levels} J "
+                f"(largest spread {balance['potential_spread']:.2g} J)"
+            )
         else:
             potential = f"; total potential constant at {balance['potential']:.6g} J (spread {balance['potential_spread']:.2g} J)"
-        return (f"Exactly balanced{joints}: residual torque ≤ {balance['residual']:.3g} {unit} "
-                f"({balance['relative_residual']:.2g} of the unbalanced peak) at every sample{potential}")
+        return (
+            f"Exactly balanced{joints}: residual torque ≤ {balance['residual']:.3g} {unit} "
+            f"({balance['relative_residual']:.2g} of the unbalanced peak) at every sample{potential}"
+        )
     return f"Largest residual torque{joints}: {100 * balance['relative_residual']:.3g} % of the unbalanced peak"
 
 
@@ -252,10 +293,14 @@ def scenario_lines(result: EvaluatedDesign) -> list[str]:
     rows = problem.scenario_table(result.x)
     names = list(rows[0]["variables"]) if rows else []
     shared = "every variable shared" if not names else f"per-scenario variables: {', '.join(problem.per_scenario)}"
-    lines = ["", f"Scenarios ({len(rows)}, objective aggregated as {problem.aggregate!r}; {shared}; "
-                 "the tables above cover all scenarios' samples)",
-             f"  {'scenario':<18s}{'payload [kg]':>13s}" + "".join(f"{name:>26s}" for name in names) +
-             f"{'peak [N·m]':>13s}{'rms [N·m]':>12s}"]
+    lines = [
+        "",
+        f"Scenarios ({len(rows)}, objective aggregated as {problem.aggregate!r}; {shared}; "
+        "the tables above cover all scenarios' samples)",
+        f"  {'scenario':<18s}{'payload [kg]':>13s}"
+        + "".join(f"{name:>26s}" for name in names)
+        + f"{'peak [N·m]':>13s}{'rms [N·m]':>12s}",
+    ]
     for row in rows:
         values = "".join(f"{row['variables'][name]:26.6g}" for name in names)
         lines.append(f"  {row['name']:<18s}{row['payload']:13.4g}{values}{row['peak']:13.4g}{row['rms']:12.4g}")

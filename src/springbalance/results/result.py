@@ -63,8 +63,9 @@ class DesignResult(EvaluatedDesign):
         return result_table(self)
 
     # ---------------------------------------------------------------- seeing the design
-    def show(self, joint_values: npt.ArrayLike | None = None, static: bool = False,
-             **options: Any) -> LiveScene | StaticScene:
+    def show(
+        self, joint_values: npt.ArrayLike | None = None, static: bool = False, **options: Any
+    ) -> LiveScene | StaticScene:
         """Draw the design in Meshcat: the arm, its springs as helices coloured by tension, animated.
 
         By default the scene goes to a local Meshcat server (127.0.0.1 only, started on
@@ -85,8 +86,9 @@ class DesignResult(EvaluatedDesign):
         the report's path. See :func:`springbalance.results.html_report.write_report`."""
         return write_report(self, folder, scene=scene, **scene_options)
 
-    def clearance(self, radius: float | None = None, samples: int | None = None,
-                  margin: float | None = None) -> ClearanceReport:
+    def clearance(
+        self, radius: float | None = None, samples: int | None = None, margin: float | None = None
+    ) -> ClearanceReport:
         """Smallest distance from each spring (a capsule) to the arm's URDF collision geometry, a
         check of the finished design; see :func:`springbalance.results.clearance.clearance`."""
         return clearance(self, radius=radius, samples=samples, margin=margin)
@@ -111,18 +113,26 @@ class DesignResult(EvaluatedDesign):
         return {
             "format": FORMAT,
             "mechanism": problem.mechanism.source,
-            "workspace": {"description": workspace.description, "ordered": workspace.ordered,
-                          "joint_values": workspace.joint_values.tolist()},
+            "workspace": {
+                "description": workspace.description,
+                "ordered": workspace.ordered,
+                "joint_values": workspace.joint_values.tolist(),
+            },
             "objective": problem.objective.name,
             "weights": self.problem.weights_by_name(),
             "springs": [spring.to_dict() for spring in problem.springs],
             "variables": self.variables,
             "design": self.springs,
             "sizing": {name: design.to_dict() for name, design in self.helical_sizing().items()},
-            "solver": {"method": self.method, "seed": self.seed, "status": self.status, "spread": self.spread(),
-                       "starts": [record.to_dict() for record in self.starts],
-                       **({"standard_wire": self.wire_rounding.to_dict()} if self.wire_rounding else {}),
-                       **({"fit": self.fit.to_dict()} if self.fit else {})},
+            "solver": {
+                "method": self.method,
+                "seed": self.seed,
+                "status": self.status,
+                "spread": self.spread(),
+                "starts": [record.to_dict() for record in self.starts],
+                **({"standard_wire": self.wire_rounding.to_dict()} if self.wire_rounding else {}),
+                **({"fit": self.fit.to_dict()} if self.fit else {}),
+            },
             "metrics": self.metrics(),
             "warnings": [flag.to_dict() for flag in self.warnings()],
             **problem.scenarios_record(),
@@ -133,8 +143,9 @@ class DesignResult(EvaluatedDesign):
         return write_json_atomic(path, self.to_dict())
 
     @classmethod
-    def load(cls, path: str | Path, mechanism: Mechanism | None = None,
-             workspace: Workspace | None = None) -> DesignResult:
+    def load(
+        cls, path: str | Path, mechanism: Mechanism | None = None, workspace: Workspace | None = None
+    ) -> DesignResult:
         """Read a design saved by :meth:`save`; values round-trip exactly.
 
         ``mechanism`` overrides the saved mechanism source; ``workspace`` evaluates the
@@ -142,22 +153,29 @@ class DesignResult(EvaluatedDesign):
         """
         path = Path(path)
         label = f"design file {str(path)!r}"
-        record = read_design_record(path)   # JSON without repeated keys, within the memory budget
+        record = read_design_record(path)  # JSON without repeated keys, within the memory budget
         check_design_record(record, label)  # types and finite numbers, before anything uses them
         try:
             mechanism = mechanism or Mechanism.from_source(record["mechanism"])
             check_design_mechanism(record, mechanism, label, own_workspace=workspace is None)
             if workspace is None:
                 saved = record["workspace"]
-                workspace = Workspace(mechanism, saved["joint_values"], ordered=saved["ordered"],
-                                      description=saved["description"])
+                workspace = Workspace(
+                    mechanism, saved["joint_values"], ordered=saved["ordered"], description=saved["description"]
+                )
             springs = [spring_from_dict(s, f"{path.name}: springs[{i}]") for i, s in enumerate(record["springs"])]
             check_magnitudes(springs)
             objective = record["objective"]
             if OBJECTIVES[objective].needs_path and not workspace.ordered:
                 objective = "rms"
-            problem = DesignProblem(mechanism, workspace, springs, objective=objective, weights=record["weights"],
-                                    **DesignProblem.scenario_options(record))
+            problem = DesignProblem(
+                mechanism,
+                workspace,
+                springs,
+                objective=objective,
+                weights=record["weights"],
+                **DesignProblem.scenario_options(record),
+            )
             values = record["variables"]
             missing = [name for name in problem.variables.names if name not in values]
             if missing:
@@ -170,8 +188,14 @@ class DesignResult(EvaluatedDesign):
         except (TypeError, ValueError, AttributeError, IndexError) as error:  # a record damaged past the checks
             raise InputError(f"{label} is damaged: {' '.join(str(error).split())[:300]}") from None
         solver = record.get("solver", {})
-        return cls(problem, x, method=solver.get("method", "evaluate"), seed=solver.get("seed"),
-                   status=solver.get("status", "loaded"), fit=FitRecord.from_dict(solver.get("fit")))
+        return cls(
+            problem,
+            x,
+            method=solver.get("method", "evaluate"),
+            seed=solver.get("seed"),
+            status=solver.get("status", "loaded"),
+            fit=FitRecord.from_dict(solver.get("fit")),
+        )
 
     def __repr__(self) -> str:
         return f"DesignResult({self.problem!r}, status={self.status!r})"

@@ -7,16 +7,16 @@ solver, the exports and the scenes find it.
 """
 
 from springbalance.springs.laws import (
-                                        SPRING_TYPES,
-                                        CompressionSpring,
-                                        ConstantForceSpring,
-                                        Contribution,
-                                        ExtensionSpring,
-                                        GasSpring,
-                                        Spring,
-                                        TorsionalSpring,
-                                        TwoPointSpring,
-                                        ZeroFreeLengthSpring,
+    SPRING_TYPES,
+    CompressionSpring,
+    ConstantForceSpring,
+    Contribution,
+    ExtensionSpring,
+    GasSpring,
+    Spring,
+    TorsionalSpring,
+    TwoPointSpring,
+    ZeroFreeLengthSpring,
 )
 from springbalance.springs.laws.helical_compression import HelicalCompressionSpring
 from springbalance.springs.laws.helical_extension import HelicalExtensionSpring
@@ -24,6 +24,25 @@ from springbalance.springs.mass import CoilMass, FixedMass
 from springbalance.springs.params import Anchor, Free, Plane, Pulley, Segment
 from springbalance.springs.records import spring_from_dict
 
-__all__ = ["SPRING_TYPES", "Anchor", "CoilMass", "CompressionSpring", "ConstantForceSpring", "Contribution",
-           "ExtensionSpring", "FixedMass", "Free", "GasSpring", "HelicalCompressionSpring", "HelicalExtensionSpring", "Plane", "Pulley", "Segment", "Spring", "TorsionalSpring",
-           "TwoPointSpring", "ZeroFreeLengthSpring", "spring_from_dict"]
+__all__ = [
+    "SPRING_TYPES",
+    "Anchor",
+    "CoilMass",
+    "CompressionSpring",
+    "ConstantForceSpring",
+    "Contribution",
+    "ExtensionSpring",
+    "FixedMass",
+    "Free",
+    "GasSpring",
+    "HelicalCompressionSpring",
+    "HelicalExtensionSpring",
+    "Plane",
+    "Pulley",
+    "Segment",
+    "Spring",
+    "TorsionalSpring",
+    "TwoPointSpring",
+    "ZeroFreeLengthSpring",
+    "spring_from_dict",
+]

@@ -190,16 +190,20 @@ class HelicalSpringExists:
     @property
     def parts(self) -> tuple[tuple[str, str, float], ...]:
         force_scale = self.helical.allowable_force(self.helical.material.diameter_range[1], self.kind) / 10  # [N]
-        return (("helical_stress", "N", force_scale), ("helical_max_wire", "N", force_scale),
-                ("helical_coils", "m", 1e-3), ("helical_min_wire", "m", 1e-3),
-                ("helical_max_stiffness", "N/m", self.helical.max_stiffness))
+        return (
+            ("helical_stress", "N", force_scale),
+            ("helical_max_wire", "N", force_scale),
+            ("helical_coils", "m", 1e-3),
+            ("helical_min_wire", "m", 1e-3),
+            ("helical_max_stiffness", "N/m", self.helical.max_stiffness),
+        )
 
     def rows(self, length: ValueT, force: ValueT, parameters: Parameters) -> ValueT | list[ValueT]:
         helical, kind = self.helical, self.kind
-        stiffness = parameters["stiffness"]                                          # [N/m]
-        room = parameters["free_length"] if kind == "extension" else length          # [m]
-        fit = helical.fitting_wire(room, stiffness, kind)                             # d_fit [m]
-        thinnest, thickest = helical.material.diameter_range                          # [m]
+        stiffness = parameters["stiffness"]  # [N/m]
+        room = parameters["free_length"] if kind == "extension" else length  # [m]
+        fit = helical.fitting_wire(room, stiffness, kind)  # d_fit [m]
+        thinnest, thickest = helical.material.diameter_range  # [m]
         force_scale = self.parts[0][2]
         return [
             (helical.allowable_force(fit, kind) ** 2 - force * force) / force_scale,
@@ -211,5 +215,16 @@ class HelicalSpringExists:
 
 
 #: any practical constraint of this module (what :meth:`~springbalance.springs.laws.spring.Spring.constraints` lists)
-Constraint = Union[StaysInTension, MaxStretch, MaxForce, MaxLength, FitsSegment, MinLength, StaysCompressed, Stroke,
-                   MaxTorque, MaxDeflection, HelicalSpringExists]
+Constraint = Union[
+    StaysInTension,
+    MaxStretch,
+    MaxForce,
+    MaxLength,
+    FitsSegment,
+    MinLength,
+    StaysCompressed,
+    Stroke,
+    MaxTorque,
+    MaxDeflection,
+    HelicalSpringExists,
+]

@@ -28,8 +28,8 @@ import numpy as np
 
 from springbalance.springs.values import ValueT
 
-MPA = 1e6   # [Pa]
-MM = 1e-3   # [m]
+MPA = 1e6  # [Pa]
+MM = 1e-3  # [m]
 
 
 # ---------------------------------------------------------------------- textbook relations
@@ -43,14 +43,16 @@ def bergstrasser_factor(index: ValueT) -> ValueT:
     return (4 * index + 2) / (4 * index - 3)
 
 
-def spring_rate(shear_modulus: float | ValueT, wire_diameter: ValueT, mean_diameter: ValueT,
-                active_coils: float | ValueT) -> ValueT:
+def spring_rate(
+    shear_modulus: float | ValueT, wire_diameter: ValueT, mean_diameter: ValueT, active_coils: float | ValueT
+) -> ValueT:
     r"""Rate :math:`k = G d^4 / (8 D^3 n)` [N/m] (Shigley Eq. 10-9); G [Pa], d and D [m]."""
     return shear_modulus * wire_diameter**4 / (8 * mean_diameter**3 * active_coils)
 
 
-def shear_stress(force: float | ValueT, wire_diameter: ValueT, mean_diameter: ValueT,
-                 factor: Callable[[Any], Any] = wahl_factor) -> ValueT:
+def shear_stress(
+    force: float | ValueT, wire_diameter: ValueT, mean_diameter: ValueT, factor: Callable[[Any], Any] = wahl_factor
+) -> ValueT:
     r"""Corrected shear stress :math:`\tau = K \, 8 F D / (\pi d^3)` [Pa] under axial force F [N].
 
     ``factor`` maps the index ``C = D/d`` to the correction (default the Wahl factor).
@@ -58,8 +60,14 @@ def shear_stress(force: float | ValueT, wire_diameter: ValueT, mean_diameter: Va
     return factor(mean_diameter / wire_diameter) * 8 * force * mean_diameter / (math.pi * wire_diameter**3)
 
 
-def coil_mass(stiffness: ValueT, coil_diameter: float, active_coils: float, wire_length: float, shear_modulus: float,
-              density: float) -> ValueT:
+def coil_mass(
+    stiffness: ValueT,
+    coil_diameter: float,
+    active_coils: float,
+    wire_length: float,
+    shear_modulus: float,
+    density: float,
+) -> ValueT:
     r"""Mass [kg] of a coil of fixed ``D`` and ``n`` whose wire diameter gives rate ``k``
     (docs/model.md §5): :math:`m_s = \rho \pi L_w \sqrt{D^3 n k / (2 G)}`.
 
@@ -78,8 +86,8 @@ def initial_stress_band(index: ValueT) -> tuple[ValueT, ValueT]:
     with :math:`\tau_i = 8 F_i D / (\pi d^3)` for an initial tension ``F_i`` [N]. Works on numbers,
     arrays and CasADi expressions.
     """
-    middle = 231.0 * MPA * _exp(-0.105 * index)                      # [Pa]
-    half_width = 6.9 * MPA * (4.0 - (index - 3.0) / 6.5)              # [Pa]
+    middle = 231.0 * MPA * _exp(-0.105 * index)  # [Pa]
+    half_width = 6.9 * MPA * (4.0 - (index - 3.0) / 6.5)  # [Pa]
     return middle - half_width, middle + half_width
 
 
@@ -99,8 +107,9 @@ def hook_bending_stress(force: float | ValueT, wire_diameter: ValueT, mean_diame
 HOOK_SIDE_BEND_INDEX = 4.0
 
 
-def hook_torsion_stress(force: float | ValueT, wire_diameter: ValueT, mean_diameter: ValueT,
-                        side_bend_index: float = HOOK_SIDE_BEND_INDEX) -> ValueT:
+def hook_torsion_stress(
+    force: float | ValueT, wire_diameter: ValueT, mean_diameter: ValueT, side_bend_index: float = HOOK_SIDE_BEND_INDEX
+) -> ValueT:
     r"""Torsional stress [Pa] at the side bend of a machine hook (section B, Shigley Eq. 10-36):
     :math:`\tau_B = (K)_B\, 8 F D/(\pi d^3)`, :math:`(K)_B = (4 C_2 - 1)/(4 C_2 - 4)`."""
     factor = (4 * side_bend_index - 1) / (4 * side_bend_index - 4)

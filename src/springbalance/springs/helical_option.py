@@ -61,13 +61,15 @@ class Helical:
         :math:`2\,\mathrm{room}\,k / (b k + \sqrt{b^2 k^2 + 4 G\,\mathrm{room}\,k/(8C^3)})` so that it
         stays finite as ``k`` → 0."""
         b = 2 * self.index - 1 if spring_kind(kind) == "extension" else 2.0
-        c = self.material.shear_modulus / (8 * self.index**3)     # G/(8C³) [Pa]
-        return 2 * room * stiffness / (b * stiffness + (b * b * stiffness * stiffness + 4 * c * room * stiffness) ** 0.5)
+        c = self.material.shear_modulus / (8 * self.index**3)  # G/(8C³) [Pa]
+        return (
+            2 * room * stiffness / (b * stiffness + (b * b * stiffness * stiffness + 4 * c * room * stiffness) ** 0.5)
+        )
 
     def allowable_force(self, wire_diameter: Any, kind: str) -> Any:
         """Largest axial force [N] a wire of diameter ``d`` carries at this index."""
         fraction = self.material.allowable_fraction[spring_kind(kind)]
-        stress_area = self.material.strength_power(wire_diameter, 2.0)    # S_ut d² [N]
+        stress_area = self.material.strength_power(wire_diameter, 2.0)  # S_ut d² [N]
         return math.pi * fraction * stress_area / (8 * wahl_factor(self.index) * self.index)
 
     def coil_wire(self, stiffness: Any) -> Any:
@@ -77,7 +79,9 @@ class Helical:
     @property
     def max_stiffness(self) -> float:
         """Largest rate [N/m] with ``min_active_coils`` coils on the material's thickest wire."""
-        return self.material.shear_modulus * self.material.diameter_range[1] / (8 * self.index**3 * self.min_active_coils)
+        return (
+            self.material.shear_modulus * self.material.diameter_range[1] / (8 * self.index**3 * self.min_active_coils)
+        )
 
     def to_dict(self) -> dict:
         """The record ``{material, index, min_active_coils}`` (:func:`helical_from_dict` reads it back)."""
@@ -103,8 +107,11 @@ def helical_from_dict(record: Any, where: str = "helical") -> Helical:
     if unknown:
         raise InputError(f"{where}: unknown key {unknown[0]!r}; valid keys: material, index, min_active_coils")
     try:
-        return Helical(record.get("material", "music_wire"), _number(record.get("index", 8.0), f"{where}.index"),
-                       _number(record.get("min_active_coils", 3.0), f"{where}.min_active_coils"))
+        return Helical(
+            record.get("material", "music_wire"),
+            _number(record.get("index", 8.0), f"{where}.index"),
+            _number(record.get("min_active_coils", 3.0), f"{where}.min_active_coils"),
+        )
     except InputError as error:
         raise InputError(f"{where}: {error}") from None
 

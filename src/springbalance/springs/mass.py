@@ -43,8 +43,15 @@ class CoilMass:
     unless given. ``wire_length`` defaults to :math:`\pi D (n + 2)` (two end coils or hooks).
     """
 
-    def __init__(self, coil_diameter: float, active_coils: float, wire_length: float | None = None,
-                 material: str | None = None, shear_modulus: float | None = None, density: float | None = None):
+    def __init__(
+        self,
+        coil_diameter: float,
+        active_coils: float,
+        wire_length: float | None = None,
+        material: str | None = None,
+        shear_modulus: float | None = None,
+        density: float | None = None,
+    ):
         self.material = None if material is None else material_named(material).name
         if material is not None:
             found = material_named(material)
@@ -52,40 +59,62 @@ class CoilMass:
             density = found.density if density is None else density
         if shear_modulus is None or density is None:
             raise InputError("CoilMass needs shear_modulus and density, or a material")
-        values = {"coil_diameter": coil_diameter, "active_coils": active_coils, "shear_modulus": shear_modulus,
-                  "density": density}
+        values = {
+            "coil_diameter": coil_diameter,
+            "active_coils": active_coils,
+            "shear_modulus": shear_modulus,
+            "density": density,
+        }
         if wire_length is not None:
             values["wire_length"] = wire_length
         for key, value in values.items():
-            if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)) \
-                    or not np.isfinite(value) or value <= 0:
+            if (
+                isinstance(value, bool)
+                or not isinstance(value, (int, float, np.floating, np.integer))
+                or not np.isfinite(value)
+                or value <= 0
+            ):
                 raise InputError(f"CoilMass {key} must be a positive number, got {value!r}")
-        self.coil_diameter, self.active_coils = float(coil_diameter), float(active_coils)       # [m], [1]
-        self.shear_modulus, self.density = float(shear_modulus), float(density)                 # [Pa], [kg/m³]
-        self.wire_length = (float(wire_length) if wire_length is not None
-                            else math.pi * self.coil_diameter * (self.active_coils + 2))       # [m]
+        self.coil_diameter, self.active_coils = float(coil_diameter), float(active_coils)  # [m], [1]
+        self.shear_modulus, self.density = float(shear_modulus), float(density)  # [Pa], [kg/m³]
+        self.wire_length = (
+            float(wire_length) if wire_length is not None else math.pi * self.coil_diameter * (self.active_coils + 2)
+        )  # [m]
 
     couples_stiffness = True
 
     def value(self, parameters: Parameters) -> Value:
         """``m_s`` [kg] for the spring's parameter values (uses ``stiffness``)."""
-        return coil_mass(parameters["stiffness"], self.coil_diameter, self.active_coils, self.wire_length,
-                         self.shear_modulus, self.density)
+        return coil_mass(
+            parameters["stiffness"],
+            self.coil_diameter,
+            self.active_coils,
+            self.wire_length,
+            self.shear_modulus,
+            self.density,
+        )
 
     def wire_diameter(self, stiffness: Value) -> Value:
         """``d = (8 D³ n k / G)^(1/4)`` [m]."""
         return (8 * self.coil_diameter**3 * self.active_coils * stiffness / self.shear_modulus) ** 0.25
 
     def to_dict(self) -> dict:
-        record: dict[str, float | str] = {"coil_diameter": self.coil_diameter, "active_coils": self.active_coils,
-                  "wire_length": self.wire_length, "shear_modulus": self.shear_modulus, "density": self.density}
+        record: dict[str, float | str] = {
+            "coil_diameter": self.coil_diameter,
+            "active_coils": self.active_coils,
+            "wire_length": self.wire_length,
+            "shear_modulus": self.shear_modulus,
+            "density": self.density,
+        }
         if self.material is not None:
             record["material"] = self.material
         return record
 
     def __repr__(self) -> str:
-        return (f"CoilMass(D={self.coil_diameter}, n={self.active_coils}, L_w={self.wire_length}, "
-                f"G={self.shear_modulus:g}, rho={self.density:g})")
+        return (
+            f"CoilMass(D={self.coil_diameter}, n={self.active_coils}, L_w={self.wire_length}, "
+            f"G={self.shear_modulus:g}, rho={self.density:g})"
+        )
 
 
 class FixedMass:
@@ -94,8 +123,12 @@ class FixedMass:
     couples_stiffness = False
 
     def __init__(self, mass: float):
-        if isinstance(mass, bool) or not isinstance(mass, (int, float, np.floating, np.integer)) \
-                or not np.isfinite(mass) or mass < 0:
+        if (
+            isinstance(mass, bool)
+            or not isinstance(mass, (int, float, np.floating, np.integer))
+            or not np.isfinite(mass)
+            or mass < 0
+        ):
             raise InputError(f"spring mass must be a number ≥ 0 [kg], got {mass!r}")
         self.mass = float(mass)
 
@@ -112,8 +145,9 @@ class FixedMass:
 _COIL_MASS_KEYS = ("coil_diameter", "active_coils", "wire_length", "material", "shear_modulus", "density")
 
 
-def mass_from_record(value: float | dict | CoilMass | FixedMass | None,
-                     where: str = "mass") -> CoilMass | FixedMass | None:
+def mass_from_record(
+    value: float | dict | CoilMass | FixedMass | None, where: str = "mass"
+) -> CoilMass | FixedMass | None:
     """``m`` [kg] (fixed) or ``{coil_diameter, active_coils, wire_length?, material? | shear_modulus, density}``."""
     if value is None or isinstance(value, (FixedMass, CoilMass)):
         return value
@@ -129,5 +163,3 @@ def mass_from_record(value: float | dict | CoilMass | FixedMass | None,
         return FixedMass(value)
     except InputError as error:
         raise InputError(f"{where}: {error}") from None
-
-

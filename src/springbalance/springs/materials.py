@@ -24,10 +24,55 @@ from springbalance.errors import InputError
 from springbalance.springs.helical_formulas import MM, MPA, select
 
 #: Preferred wire diameters [m] (the usual metric series of spring-wire tables).
-PREFERRED_WIRE_DIAMETERS = tuple(MM * d for d in (
-    0.10, 0.12, 0.16, 0.20, 0.25, 0.30, 0.35, 0.40, 0.45, 0.50, 0.55, 0.60, 0.65, 0.70, 0.80, 0.90,
-    1.0, 1.1, 1.2, 1.4, 1.6, 1.8, 2.0, 2.2, 2.5, 2.8, 3.0, 3.5, 4.0, 4.5, 5.0, 5.5, 6.0, 6.5, 7.0,
-    8.0, 9.0, 10.0, 11.0, 12.0, 13.0, 14.0, 15.0, 16.0))
+PREFERRED_WIRE_DIAMETERS = tuple(
+    MM * d
+    for d in (
+        0.10,
+        0.12,
+        0.16,
+        0.20,
+        0.25,
+        0.30,
+        0.35,
+        0.40,
+        0.45,
+        0.50,
+        0.55,
+        0.60,
+        0.65,
+        0.70,
+        0.80,
+        0.90,
+        1.0,
+        1.1,
+        1.2,
+        1.4,
+        1.6,
+        1.8,
+        2.0,
+        2.2,
+        2.5,
+        2.8,
+        3.0,
+        3.5,
+        4.0,
+        4.5,
+        5.0,
+        5.5,
+        6.0,
+        6.5,
+        7.0,
+        8.0,
+        9.0,
+        10.0,
+        11.0,
+        12.0,
+        13.0,
+        14.0,
+        15.0,
+        16.0,
+    )
+)
 
 #: the kinds of helical spring
 KINDS = ("extension", "compression")
@@ -37,10 +82,10 @@ KINDS = ("extension", "compression")
 class StrengthRange:
     """``S_ut = A / d^m`` on ``lower ≤ d ≤ upper``: A [MPa·mm^m], d in mm (Shigley Table 10-4)."""
 
-    lower: float       # [m]
-    upper: float       # [m]
+    lower: float  # [m]
+    upper: float  # [m]
     coefficient: float  # A [MPa·mm^m]
-    exponent: float    # m
+    exponent: float  # m
 
 
 @dataclasses.dataclass(frozen=True)
@@ -71,7 +116,7 @@ class Material:
         ``d = 0`` when ``power > m``. The range of ``d`` picks the row of Table 10-4."""
         value = None
         for piece in reversed(self.strength):
-            coefficient = piece.coefficient * MPA * MM**piece.exponent          # A [Pa·m^m]
+            coefficient = piece.coefficient * MPA * MM**piece.exponent  # A [Pa·m^m]
             strength = coefficient * wire_diameter ** (power - piece.exponent)
             value = strength if value is None else select(wire_diameter <= piece.upper, strength, value)
         return value
@@ -89,23 +134,42 @@ class Material:
 #: Common spring wires. Sources: Shigley Tables 10-4 (A, m), 10-5 (G), 10-6/10-7 (allowable
 #: fraction of S_ut, static, before set removal), A-5 (density from unit weight).
 MATERIALS: dict[str, Material] = {
-    material.name: material for material in (
+    material.name: material
+    for material in (
         # ASTM A228, d = 0.10–6.5 mm, A = 2211 MPa·mm^m, m = 0.145; G = 81.0 GPa (Table 10-5
         # gives 80.0–82.7 GPa over the sizes; 81.0 GPa for 1.6–3.2 mm).
-        Material("music_wire", "music wire (ASTM A228)", 81.0e9, 7800.0,
-                 (StrengthRange(0.10 * MM, 6.5 * MM, 2211.0, 0.145),),
-                 {"compression": 0.45, "extension": 0.45}),
+        Material(
+            "music_wire",
+            "music wire (ASTM A228)",
+            81.0e9,
+            7800.0,
+            (StrengthRange(0.10 * MM, 6.5 * MM, 2211.0, 0.145),),
+            {"compression": 0.45, "extension": 0.45},
+        ),
         # ASTM A313 (302 stainless), three diameter ranges in Table 10-4; G = 69.0 GPa.
-        Material("stainless_302", "stainless steel 302 (ASTM A313)", 69.0e9, 7750.0,
-                 (StrengthRange(0.3 * MM, 2.5 * MM, 1867.0, 0.146),
-                  StrengthRange(2.5 * MM, 5.0 * MM, 2065.0, 0.263),
-                  StrengthRange(5.0 * MM, 10.0 * MM, 2911.0, 0.478)),
-                 {"compression": 0.35, "extension": 0.35}, {"bending": 0.55, "torsion": 0.30}),
+        Material(
+            "stainless_302",
+            "stainless steel 302 (ASTM A313)",
+            69.0e9,
+            7750.0,
+            (
+                StrengthRange(0.3 * MM, 2.5 * MM, 1867.0, 0.146),
+                StrengthRange(2.5 * MM, 5.0 * MM, 2065.0, 0.263),
+                StrengthRange(5.0 * MM, 10.0 * MM, 2911.0, 0.478),
+            ),
+            {"compression": 0.35, "extension": 0.35},
+            {"bending": 0.55, "torsion": 0.30},
+        ),
         # ASTM A401, d = 1.6–9.5 mm, A = 1974 MPa·mm^m, m = 0.108; G = 77.2 GPa; hardened and
         # tempered low-alloy steel: 50 % (compression), 45 % (extension body).
-        Material("chrome_silicon", "chrome-silicon (ASTM A401)", 77.2e9, 7800.0,
-                 (StrengthRange(1.6 * MM, 9.5 * MM, 1974.0, 0.108),),
-                 {"compression": 0.50, "extension": 0.45}),
+        Material(
+            "chrome_silicon",
+            "chrome-silicon (ASTM A401)",
+            77.2e9,
+            7800.0,
+            (StrengthRange(1.6 * MM, 9.5 * MM, 1974.0, 0.108),),
+            {"compression": 0.50, "extension": 0.45},
+        ),
     )
 }
 

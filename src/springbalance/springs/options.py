@@ -25,7 +25,8 @@ class HelicalOption(pydantic.BaseModel):
 
     material: str = pydantic.Field("music_wire", description="a material of MATERIALS")
     index: Annotated[float, annotated_types.Ge(4), annotated_types.Le(15)] = pydantic.Field(
-        8.0, description="spring index C = D/d [1], 4–15")
+        8.0, description="spring index C = D/d [1], 4–15"
+    )
     min_active_coils: Annotated[float, annotated_types.Ge(1)] = pydantic.Field(3.0, description="[1]")
 
 
@@ -40,4 +41,3 @@ class CoilMassRecord(pydantic.BaseModel):
     material: Optional[str] = pydantic.Field(None, description="a material of springbalance.springs.sizing.MATERIALS")
     shear_modulus: Optional[_Positive] = pydantic.Field(None, description="G [Pa], instead of a material")
     density: Optional[_Positive] = pydantic.Field(None, description="ρ [kg/m³], instead of a material")
-

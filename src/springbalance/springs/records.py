@@ -38,8 +38,10 @@ def law_of(record: dict, where: str = "spring") -> type[Spring]:
     if not isinstance(ideal, bool):
         raise InputError(f"{where}.ideal: expected true or false, got {ideal!r}")
     if ideal and f"{kind}:ideal" not in SPRING_TYPES:
-        raise InputError(f"{where}.ideal: a {kind!r} spring has no ideal variant (only "
-                         f"{', '.join(cls.kind for cls in SPRING_TYPES.values() if cls.ideal)} do)")
+        raise InputError(
+            f"{where}.ideal: a {kind!r} spring has no ideal variant (only "
+            f"{', '.join(cls.kind for cls in SPRING_TYPES.values() if cls.ideal)} do)"
+        )
     cls = SPRING_TYPES[f"{kind}:ideal" if ideal else kind]
     hint = ideal_law_hint(cls, record)
     if hint:
@@ -57,9 +59,11 @@ def ideal_law_hint(cls: type[Spring], record: dict) -> str | None:
     foreign = [key for key in record if key not in own and (key in ideal.parameter_units or key in ideal.option_keys)]
     if not foreign:
         return None
-    return (f"unknown key {foreign[0]!r} for a helical {cls.kind} coil, which is designed by "
-            f"{', '.join(cls.parameter_units)}: write ideal: true for the mathematical {cls.kind} law "
-            f"({', '.join(ideal.parameter_units)})")
+    return (
+        f"unknown key {foreign[0]!r} for a helical {cls.kind} coil, which is designed by "
+        f"{', '.join(cls.parameter_units)}: write ideal: true for the mathematical {cls.kind} law "
+        f"({', '.join(ideal.parameter_units)})"
+    )
 
 
 def spring_from_dict(record: dict[str, Any], where: str = "spring", **routing: Any) -> Spring:
@@ -82,8 +86,10 @@ def spring_from_dict(record: dict[str, Any], where: str = "spring", **routing: A
     where = f"{where} {name!r}" if name else where
     for end in ends:
         if end not in record:
-            raise InputError(f"{where}: missing key {end!r} (" +
-                             ("the joint it acts on)" if end == "joint" else "the anchor of that end)"))
+            raise InputError(
+                f"{where}: missing key {end!r} ("
+                + ("the joint it acts on)" if end == "joint" else "the anchor of that end)")
+            )
     parameters = {key: value_from_record(record[key], f"{where}.{key}") for key in cls.parameter_units if key in record}
     extra = {key: record[key] for key in cls.option_keys if key in record}
     for key in extra:
@@ -94,7 +100,7 @@ def spring_from_dict(record: dict[str, Any], where: str = "spring", **routing: A
     if "helical" in extra:
         extra["helical"] = helical_from_dict(extra["helical"], f"{where}.helical")
     name = None if name is None else str(name)
-    make = cast(Callable[..., Spring], cls)   # each law's constructor takes its own ends and options
+    make = cast(Callable[..., Spring], cls)  # each law's constructor takes its own ends and options
     try:
         if ends == ("joint",):
             if not isinstance(record["joint"], str):
@@ -107,7 +113,6 @@ def spring_from_dict(record: dict[str, Any], where: str = "spring", **routing: A
         if str(error).startswith(where):
             raise
         raise InputError(f"{where}: {error}") from None
-
 
 
 def _routed_from_dict(record: dict, where: str) -> Spring:
@@ -125,8 +130,9 @@ def _routed_from_dict(record: dict, where: str) -> Spring:
             raise InputError(f"{where}: missing key {key!r} of a routed spring")
     law = record["spring"]
     if not isinstance(law, dict):
-        raise InputError(f"{where}.spring: expected the spring's law as a mapping {{type?, stiffness, ...}}, "
-                         f"got {law!r}")
+        raise InputError(
+            f"{where}.spring: expected the spring's law as a mapping {{type?, stiffness, ...}}, got {law!r}"
+        )
     if law.get("type") == ROUTED:
         raise InputError(f"{where}.spring.type: the law of a routed spring is a two-point law, not 'routed'")
     if "cable_length" in law or "name" in law or any(end in law for end in ("a", "b", "joint", "path")):
@@ -141,8 +147,9 @@ def _routed_from_dict(record: dict, where: str) -> Spring:
     inner = {**law, "a": path[0][0].to_dict(), "b": path[-1][0].to_dict()}
     if name is not None:
         inner["name"] = name
-    return spring_from_dict(inner, f"{where}.spring", via=[Pulley(anchor, radius) for anchor, radius in path[1:-1]],
-                            cable_length=cable)
+    return spring_from_dict(
+        inner, f"{where}.spring", via=[Pulley(anchor, radius) for anchor, radius in path[1:-1]], cable_length=cable
+    )
 
 
 def _coil_options(law: dict, where: str) -> dict:

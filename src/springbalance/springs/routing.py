@@ -78,9 +78,9 @@ def path_length(points: Sequence, radii: Sequence[float]) -> tuple[object, list]
         a_hat, b_hat = a / d_a, b / d_b
         cosine = ca.dot(a_hat, b_hat)
         sine = _norm(ca.cross(a_hat, b_hat)) + _TINY
-        alpha = ca.atan2(sine - _TINY, cosine)                   # angle at the pulley [rad]
+        alpha = ca.atan2(sine - _TINY, cosine)  # angle at the pulley [rad]
         s_a, s_b = ca.sqrt(d_a**2 - r**2), ca.sqrt(d_b**2 - r**2)  # tangent segments [m]
-        wrap = 2 * math.pi - alpha - ca.acos(r / d_a) - ca.acos(r / d_b)   # arc on the pulley [rad]
+        wrap = 2 * math.pi - alpha - ca.acos(r / d_a) - ca.acos(r / d_b)  # arc on the pulley [rad]
         length = length + s_a + s_b + r * wrap - d_a - d_b
         grad_a = (s_a / d_a - 1) * a_hat + r * (b_hat - cosine * a_hat) / (d_a * sine)
         grad_b = (s_b / d_b - 1) * b_hat + r * (a_hat - cosine * b_hat) / (d_b * sine)

@@ -52,10 +52,30 @@ from springbalance.springs.materials import (
 )
 
 #: the names of the helical spring's other modules that this module re-exports (its former contents)
-__all__ = ["HELICAL_OPTION", "HOOK_SIDE_BEND_INDEX", "KINDS", "MATERIALS", "MM", "MPA", "PREFERRED_WIRE_DIAMETERS",
-           "Helical", "HelicalDesign", "Material", "StrengthRange", "bergstrasser_factor", "coil_mass",
-           "helical_from_dict", "hook_bending_stress", "hook_torsion_stress", "initial_stress_band", "material_named",
-           "shear_stress", "size_helical_spring", "spring_rate", "wahl_factor"]
+__all__ = [
+    "HELICAL_OPTION",
+    "HOOK_SIDE_BEND_INDEX",
+    "KINDS",
+    "MATERIALS",
+    "MM",
+    "MPA",
+    "PREFERRED_WIRE_DIAMETERS",
+    "Helical",
+    "HelicalDesign",
+    "Material",
+    "StrengthRange",
+    "bergstrasser_factor",
+    "coil_mass",
+    "helical_from_dict",
+    "hook_bending_stress",
+    "hook_torsion_stress",
+    "initial_stress_band",
+    "material_named",
+    "shear_stress",
+    "size_helical_spring",
+    "spring_rate",
+    "wahl_factor",
+]
 
 
 # ---------------------------------------------------------------------- sizing a designed spring
@@ -69,26 +89,26 @@ class HelicalDesign:
     feasible: bool
     kind: str
     material: str
-    stiffness: float                 # designed rate [N/m]
-    free_length: float               # designed free length l0 [m]
-    max_length: float                # longest working length [m]
-    min_length: float                # shortest working length [m]
-    max_force: float                 # largest |F| [N]
+    stiffness: float  # designed rate [N/m]
+    free_length: float  # designed free length l0 [m]
+    max_length: float  # longest working length [m]
+    min_length: float  # shortest working length [m]
+    max_force: float  # largest |F| [N]
     reasons: list = dataclasses.field(default_factory=list)
     wire_diameter: float = float("nan")
     mean_diameter: float = float("nan")
     index: float = float("nan")
     active_coils: float = float("nan")
     total_coils: float = float("nan")
-    solid_length: float = float("nan")   # compression: d N_t; extension: closed body d (n + 1)
+    solid_length: float = float("nan")  # compression: d N_t; extension: closed body d (n + 1)
     coil_free_length: float = float("nan")  # extension: body + hooks; compression: l0
     wire_length: float = float("nan")
     mass: float = float("nan")
     wahl_factor: float = float("nan")
-    stress: float = float("nan")          # at max_force [Pa]
+    stress: float = float("nan")  # at max_force [Pa]
     allowable_stress: float = float("nan")
     tensile_strength: float = float("nan")
-    rate: float = float("nan")            # G d⁴/(8 D³ n) of the proposal [N/m]
+    rate: float = float("nan")  # G d⁴/(8 D³ n) of the proposal [N/m]
     notes: list = dataclasses.field(default_factory=list)
 
     @property
@@ -99,30 +119,42 @@ class HelicalDesign:
     def to_dict(self) -> dict:
         """The fields as a JSON-ready mapping (None for a quantity not computed, NaN in the fields)."""
         record = dataclasses.asdict(self)
-        return {key: (None if isinstance(value, float) and not np.isfinite(value) else value)
-                for key, value in record.items()}
+        return {
+            key: (None if isinstance(value, float) and not np.isfinite(value) else value)
+            for key, value in record.items()
+        }
 
     def summary(self) -> str:
         """Two or three lines of plain text."""
         head = f"helical {self.kind} spring, {MATERIALS[self.material].label if self.material in MATERIALS else self.material}"
         if not self.feasible:
             return f"{head}: NOT FEASIBLE — " + "; ".join(self.reasons)
-        lines = [f"{head}: wire d {self.wire_diameter * 1e3:.2f} mm, mean coil D {self.mean_diameter * 1e3:.1f} mm "
-                 f"(index {self.index:.2f}), {self.active_coils:g} active / {self.total_coils:g} total coils, "
-                 f"mass {self.mass:.3g} kg",
-                 f"stress at {self.max_force:.4g} N: {self.stress / MPA:.0f} MPa (Wahl {self.wahl_factor:.3f}) of "
-                 f"{self.allowable_stress / MPA:.0f} MPa allowable ({100 * self.utilisation:.0f} %), "
-                 f"{'solid length' if self.kind == 'compression' else 'coil free length'} "
-                 f"{(self.solid_length if self.kind == 'compression' else self.coil_free_length) * 1e3:.1f} mm"]
+        lines = [
+            f"{head}: wire d {self.wire_diameter * 1e3:.2f} mm, mean coil D {self.mean_diameter * 1e3:.1f} mm "
+            f"(index {self.index:.2f}), {self.active_coils:g} active / {self.total_coils:g} total coils, "
+            f"mass {self.mass:.3g} kg",
+            f"stress at {self.max_force:.4g} N: {self.stress / MPA:.0f} MPa (Wahl {self.wahl_factor:.3f}) of "
+            f"{self.allowable_stress / MPA:.0f} MPa allowable ({100 * self.utilisation:.0f} %), "
+            f"{'solid length' if self.kind == 'compression' else 'coil free length'} "
+            f"{(self.solid_length if self.kind == 'compression' else self.coil_free_length) * 1e3:.1f} mm",
+        ]
         lines += self.notes
         return "\n".join(lines)
 
 
-def size_helical_spring(stiffness: float, free_length: float, max_length: float, max_force: float,
-                        material: str | Material = "music_wire", kind: str = "extension", min_length: float | None = None,
-                        index_range: Sequence[float] = (4.0, 15.0), min_active_coils: float = 3.0,
-                        wire_diameters: Sequence[float] = PREFERRED_WIRE_DIAMETERS,
-                        coil_step: float = 0.25) -> HelicalDesign:
+def size_helical_spring(
+    stiffness: float,
+    free_length: float,
+    max_length: float,
+    max_force: float,
+    material: str | Material = "music_wire",
+    kind: str = "extension",
+    min_length: float | None = None,
+    index_range: Sequence[float] = (4.0, 15.0),
+    min_active_coils: float = 3.0,
+    wire_diameters: Sequence[float] = PREFERRED_WIRE_DIAMETERS,
+    coil_step: float = 0.25,
+) -> HelicalDesign:
     r"""Propose the lightest helical spring of ``material`` for a designed spring.
 
     Args:
@@ -154,7 +186,9 @@ def size_helical_spring(stiffness: float, free_length: float, max_length: float,
     if not (np.isfinite(k) and k > 0):
         raise InputError(f"helical sizing needs a stiffness > 0, got {stiffness}")
     if not (l0 > 0 and length_max > 0):
-        raise InputError(f"helical sizing needs positive lengths, got free length {free_length}, max length {max_length}")
+        raise InputError(
+            f"helical sizing needs positive lengths, got free length {free_length}, max length {max_length}"
+        )
     if min_length is None:
         min_length = l0 - force / k if kind == "compression" else l0
     design = HelicalDesign(False, kind, material.name, k, l0, length_max, float(min_length), force)
@@ -192,9 +226,15 @@ class _Candidates:
     mass: np.ndarray
 
 
-def _wires_and_coils(design: HelicalDesign, material: Material, min_length: float, index_range: Sequence[float],
-                     min_active_coils: float, wire_diameters: Sequence[float],
-                     coil_step: float) -> tuple[np.ndarray, np.ndarray] | None:
+def _wires_and_coils(
+    design: HelicalDesign,
+    material: Material,
+    min_length: float,
+    index_range: Sequence[float],
+    min_active_coils: float,
+    wire_diameters: Sequence[float],
+    coil_step: float,
+) -> tuple[np.ndarray, np.ndarray] | None:
     """The candidate wires [m] (those of the material's range) and active coil counts, or None when there
     is no candidate (the reason is then in ``design.reasons``)."""
     k, kind = design.stiffness, design.kind
@@ -212,16 +252,24 @@ def _wires_and_coils(design: HelicalDesign, material: Material, min_length: floa
     n_max = float(np.max(G * wires / (8 * c_low**3 * k)))
     n_min = float(min_active_coils)
     if n_max < n_min:
-        design.reasons.append(f"rate {k:.4g} N/m is too stiff: even a {high_d * 1e3:g} mm wire at index {c_low:g} "
-                              f"gives fewer than {n_min:g} active coils")
+        design.reasons.append(
+            f"rate {k:.4g} N/m is too stiff: even a {high_d * 1e3:g} mm wire at index {c_low:g} "
+            f"gives fewer than {n_min:g} active coils"
+        )
         return None
     steps = int(np.floor((min(n_max, 5000.0) - n_min) / coil_step)) + 1
     coils = n_min + coil_step * np.arange(max(steps, 1))
     return wires, coils
 
 
-def _candidates(design: HelicalDesign, material: Material, min_length: float, index_range: Sequence[float],
-                wires: np.ndarray, coils: np.ndarray) -> _Candidates:
+def _candidates(
+    design: HelicalDesign,
+    material: Material,
+    min_length: float,
+    index_range: Sequence[float],
+    wires: np.ndarray,
+    coils: np.ndarray,
+) -> _Candidates:
     """Every (wire, active coils) pair with the mean diameter that gives the designed rate, and its verdicts."""
     k, l0, force, kind = design.stiffness, design.free_length, design.max_force, design.kind
     G = material.shear_modulus
@@ -230,13 +278,13 @@ def _candidates(design: HelicalDesign, material: Material, min_length: float, in
     D = (G * d**4 / (8 * n * k)) ** (1.0 / 3.0)
     C = D / d
     stress = shear_stress(force, d, D)
-    allowable = cast(np.ndarray, material.allowable_stress(d, kind))   # an array of wires: an array
+    allowable = cast(np.ndarray, material.allowable_stress(d, kind))  # an array of wires: an array
     if kind == "extension":
-        length = 2 * (D - d) + d * (n + 1)     # coil free length with machine hooks [m]
+        length = 2 * (D - d) + d * (n + 1)  # coil free length with machine hooks [m]
         fits = length <= l0 * (1 + 1e-12)
-        total = n + 2.0                         # wire of the two hooks ≈ two coils
+        total = n + 2.0  # wire of the two hooks ≈ two coils
     else:
-        length = d * (n + 2)                    # solid length, squared and ground [m]
+        length = d * (n + 2)  # solid length, squared and ground [m]
         fits = length <= min_length * (1 + 1e-12)
         total = n + 2.0
     in_index = (C >= c_low - 1e-9) & (C <= c_high + 1e-9)
@@ -244,12 +292,19 @@ def _candidates(design: HelicalDesign, material: Material, min_length: float, in
     feasible = in_index & strong & fits
     wire_length = math.pi * D * total
     mass = material.density * wire_length * math.pi * d**2 / 4
-    return _Candidates(d, n, D, C, stress, allowable, length, fits, total, in_index, strong, feasible, wire_length,
-                       mass)
+    return _Candidates(
+        d, n, D, C, stress, allowable, length, fits, total, in_index, strong, feasible, wire_length, mass
+    )
 
 
-def _explain(design: HelicalDesign, material: Material, grid: _Candidates, min_length: float,
-             index_range: Sequence[float], min_active_coils: float) -> None:
+def _explain(
+    design: HelicalDesign,
+    material: Material,
+    grid: _Candidates,
+    min_length: float,
+    index_range: Sequence[float],
+    min_active_coils: float,
+) -> None:
     """Add to ``design.reasons`` which requirement (index, stress, length) no candidate meets."""
     k, l0, force, kind = design.stiffness, design.free_length, design.max_force, design.kind
     low_d, high_d = material.diameter_range
@@ -257,22 +312,30 @@ def _explain(design: HelicalDesign, material: Material, grid: _Candidates, min_l
     n_min = float(min_active_coils)
     in_index, strong = grid.in_index, grid.strong
     if not np.any(in_index):
-        design.reasons.append(f"no wire of {low_d * 1e3:g}–{high_d * 1e3:g} mm gives index {c_low:g}–{c_high:g} "
-                              f"at {k:.4g} N/m with ≥ {n_min:g} coils")
+        design.reasons.append(
+            f"no wire of {low_d * 1e3:g}–{high_d * 1e3:g} mm gives index {c_low:g}–{c_high:g} "
+            f"at {k:.4g} N/m with ≥ {n_min:g} coils"
+        )
     elif not np.any(in_index & strong):
         best = float(np.max(np.where(in_index, grid.allowable / grid.stress, 0.0)))
-        design.reasons.append(f"stress: at {force:.4g} N every wire within index {c_low:g}–{c_high:g} exceeds the "
-                              f"allowable stress of {material.label} (best candidate reaches "
-                              f"{100 / best:.0f} % of allowable)")
+        design.reasons.append(
+            f"stress: at {force:.4g} N every wire within index {c_low:g}–{c_high:g} exceeds the "
+            f"allowable stress of {material.label} (best candidate reaches "
+            f"{100 / best:.0f} % of allowable)"
+        )
     if np.any(in_index & strong) and not np.any(in_index & strong & grid.fits):
         shortest = float(np.min(np.where(in_index & strong, grid.length, np.inf)))
         if kind == "extension":
-            design.reasons.append(f"length: the shortest coil strong enough is {shortest * 1e3:.1f} mm long "
-                                  f"(hooks included), more than the free length {l0 * 1e3:.1f} mm")
+            design.reasons.append(
+                f"length: the shortest coil strong enough is {shortest * 1e3:.1f} mm long "
+                f"(hooks included), more than the free length {l0 * 1e3:.1f} mm"
+            )
         else:
-            design.reasons.append(f"length: the shortest solid length of a coil strong enough is "
-                                  f"{shortest * 1e3:.1f} mm, more than the shortest working length "
-                                  f"{min_length * 1e3:.1f} mm")
+            design.reasons.append(
+                f"length: the shortest solid length of a coil strong enough is "
+                f"{shortest * 1e3:.1f} mm, more than the shortest working length "
+                f"{min_length * 1e3:.1f} mm"
+            )
     if not design.reasons:
         design.reasons.append("no candidate satisfies index, stress and length together")
 
@@ -298,11 +361,14 @@ def _choose(design: HelicalDesign, material: Material, grid: _Candidates) -> Non
     design.tensile_strength = float(material.tensile_strength(d[i, j]))
     design.rate = float(spring_rate(material.shear_modulus, d[i, j], D[i, j], n[i, j]))
     if kind == "extension" and design.coil_free_length < l0 * (1 - 1e-9):
-        design.notes.append(f"the coil is {1e3 * (l0 - design.coil_free_length):.1f} mm shorter than l0: "
-                            "lengthen a hook or add a link")
+        design.notes.append(
+            f"the coil is {1e3 * (l0 - design.coil_free_length):.1f} mm shorter than l0: lengthen a hook or add a link"
+        )
     if kind == "compression":
         # Shigley Eq. (10-13): absolute stability of squared-and-ground ends between flat plates (α = 0.5)
         critical = 2.63 * design.mean_diameter / 0.5
         if l0 >= critical:
-            design.notes.append(f"free length {l0 * 1e3:.0f} mm ≥ {critical * 1e3:.0f} mm: the spring may buckle; "
-                                "guide it on a rod or in a tube")
+            design.notes.append(
+                f"free length {l0 * 1e3:.0f} mm ≥ {critical * 1e3:.0f} mm: the spring may buckle; "
+                "guide it on a rod or in a tube"
+            )

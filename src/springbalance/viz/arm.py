@@ -28,14 +28,17 @@ def visual_geometry(mechanism: Mechanism) -> pin.GeometryModel | None:
     try:
         with quiet_native_stderr():
             if source.get("kind") in ("urdf", "robot"):
-                return pin.buildGeomFromUrdf(mechanism.model, source["path"], pin.GeometryType.VISUAL,
-                                             package_dirs=directories)
+                return pin.buildGeomFromUrdf(
+                    mechanism.model, source["path"], pin.GeometryType.VISUAL, package_dirs=directories
+                )
             if source.get("kind") == "urdf_string":
-                return pin.buildGeomFromUrdfString(mechanism.model, source["text"], pin.GeometryType.VISUAL,
-                                                   package_dirs=directories)
+                return pin.buildGeomFromUrdfString(
+                    mechanism.model, source["text"], pin.GeometryType.VISUAL, package_dirs=directories
+                )
     except (RuntimeError, ValueError, OSError) as error:
-        warnings.warn(f"visual geometry of {mechanism.name!r} could not be loaded ({error}); drawing a stick figure",
-                      stacklevel=2)
+        warnings.warn(
+            f"visual geometry of {mechanism.name!r} could not be loaded ({error}); drawing a stick figure", stacklevel=2
+        )
     return None
 
 
@@ -58,7 +61,12 @@ def stick_figure(model: pin.Model) -> pin.GeometryModel:
         if length < 1e-6:
             return
         rotation = spring_rotation(axis, np.eye(3)[int(np.argmin(np.abs(axis)))])
-        add(name, joint, coal.Cylinder(radius * 0.7, length), pin.SE3(rotation, (np.asarray(start) + np.asarray(end)) / 2))
+        add(
+            name,
+            joint,
+            coal.Cylinder(radius * 0.7, length),
+            pin.SE3(rotation, (np.asarray(start) + np.asarray(end)) / 2),
+        )
 
     for joint in range(1, model.njoints):
         add(f"joint_{model.names[joint]}", joint, coal.Sphere(radius * 1.5), pin.SE3.Identity())

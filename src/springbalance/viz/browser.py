@@ -56,19 +56,37 @@ def find_chromium() -> str | None:
     return None
 
 
-def chromium_command(chromium: str, page: Path, image: Path, profile: Path, window: tuple[int, int] = WINDOW,
-                     budget_ms: int = 2500) -> list[str]:
+def chromium_command(
+    chromium: str, page: Path, image: Path, profile: Path, window: tuple[int, int] = WINDOW, budget_ms: int = 2500
+) -> list[str]:
     """The command line that renders ``page`` into ``image`` (software WebGL, nothing online)."""
-    return [chromium, "--headless", "--no-sandbox", "--disable-gpu", "--use-angle=swiftshader",
-            "--enable-unsafe-swiftshader", "--disable-quic", "--no-first-run", "--disable-background-networking",
-            "--disable-component-update", "--disable-sync", "--disable-extensions", "--disable-dev-shm-usage",
-            "--hide-scrollbars", "--mute-audio", f"--user-data-dir={profile}", f"--screenshot={image}",
-            f"--window-size={window[0]},{window[1]}", f"--virtual-time-budget={int(budget_ms)}",
-            Path(page).resolve().as_uri()]
+    return [
+        chromium,
+        "--headless",
+        "--no-sandbox",
+        "--disable-gpu",
+        "--use-angle=swiftshader",
+        "--enable-unsafe-swiftshader",
+        "--disable-quic",
+        "--no-first-run",
+        "--disable-background-networking",
+        "--disable-component-update",
+        "--disable-sync",
+        "--disable-extensions",
+        "--disable-dev-shm-usage",
+        "--hide-scrollbars",
+        "--mute-audio",
+        f"--user-data-dir={profile}",
+        f"--screenshot={image}",
+        f"--window-size={window[0]},{window[1]}",
+        f"--virtual-time-budget={int(budget_ms)}",
+        Path(page).resolve().as_uri(),
+    ]
 
 
-def screenshot(page: str | Path, image: str | Path, window: tuple[int, int] = WINDOW, budget_ms: int = 2500,
-               timeout: float = 120.0) -> Path:
+def screenshot(
+    page: str | Path, image: str | Path, window: tuple[int, int] = WINDOW, budget_ms: int = 2500, timeout: float = 120.0
+) -> Path:
     """Render ``page`` in headless Chromium and save a PNG screenshot to ``image``.
 
     Raises:
@@ -108,8 +126,13 @@ class Census:
         return f"arm-coloured pixels {self.arm}, spring-coloured pixels {self.spring} (of {self.total})"
 
 
-def hue_mask(rgb: np.ndarray, reference: Sequence[float], hue_tolerance: float = 14.0, min_saturation: float = 0.35,
-             min_value: float = 0.2) -> np.ndarray:
+def hue_mask(
+    rgb: np.ndarray,
+    reference: Sequence[float],
+    hue_tolerance: float = 14.0,
+    min_saturation: float = 0.35,
+    min_value: float = 0.2,
+) -> np.ndarray:
     """Pixels (H×W×3 in [0, 1]) whose hue is within ``hue_tolerance`` degrees of ``reference``'s,
     saturated and bright enough to be a lit surface of that colour rather than background."""
     maximum, minimum = rgb.max(axis=2), rgb.min(axis=2)
@@ -124,8 +147,12 @@ def hue_mask(rgb: np.ndarray, reference: Sequence[float], hue_tolerance: float =
     return (distance <= hue_tolerance) & (saturation >= min_saturation) & (maximum >= min_value) & (chroma > 0.05)
 
 
-def colour_census(image: str | Path, arm_colours: Iterable[Sequence[float]], spring_colours: Iterable[Sequence[float]],
-                  exclude: Iterable[tuple[int, int, int, int]] = (LEGEND_BOX, CONTROLS_BOX)) -> Census:
+def colour_census(
+    image: str | Path,
+    arm_colours: Iterable[Sequence[float]],
+    spring_colours: Iterable[Sequence[float]],
+    exclude: Iterable[tuple[int, int, int, int]] = (LEGEND_BOX, CONTROLS_BOX),
+) -> Census:
     """Count pixels of the arm's and the springs' colours on ``image``.
 
     ``arm_colours`` and ``spring_colours`` are RGB triples in [0, 1] (several allowed:
@@ -156,19 +183,25 @@ def scale_colours(count: int = 41) -> list[tuple[float, float, float]]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m springbalance.viz.browser",
-                                     description="Render a scene.html in headless Chromium and check the arm and "
-                                                 "the springs are on the screenshot.")
+    parser = argparse.ArgumentParser(
+        prog="python -m springbalance.viz.browser",
+        description="Render a scene.html in headless Chromium and check the arm and the springs are on the screenshot.",
+    )
     parser.add_argument("page", help="scene.html written by 'springbalance report'")
     parser.add_argument("--screenshot", default=None, help="where to save the PNG (default: next to the page)")
-    parser.add_argument("--arm-colour", default="0.2,0.3,0.8",
-                        help="RGB in [0, 1] of the arm's material (default: link1 of urdf/two_link_planar.urdf)")
+    parser.add_argument(
+        "--arm-colour",
+        default="0.2,0.3,0.8",
+        help="RGB in [0, 1] of the arm's material (default: link1 of urdf/two_link_planar.urdf)",
+    )
     args = parser.parse_args(argv)
     page = Path(args.page)
     image = Path(args.screenshot) if args.screenshot else page.with_suffix(".png")
     if find_chromium() is None:
-        print("demo-check: SKIPPED: Chromium is not installed (run `make chromium` as root, or install the "
-              "Debian package `chromium`)")
+        print(
+            "demo-check: SKIPPED: Chromium is not installed (run `make chromium` as root, or install the "
+            "Debian package `chromium`)"
+        )
         return 77
     try:
         screenshot(page, image)

@@ -25,8 +25,13 @@ CAMERA_FOV = 75.0
 CAMERA_FILL = 0.9
 
 
-def camera_distance(centres: npt.ArrayLike, radii: npt.ArrayLike, direction: npt.ArrayLike,
-                    fov: float = CAMERA_FOV, fill: float = CAMERA_FILL) -> float:
+def camera_distance(
+    centres: npt.ArrayLike,
+    radii: npt.ArrayLike,
+    direction: npt.ArrayLike,
+    fov: float = CAMERA_FOV,
+    fill: float = CAMERA_FILL,
+) -> float:
     """Distance [m] from the world origin along the unit vector ``direction`` of a camera that looks at
     the origin and sees every sphere (``centres`` K×3 [m], ``radii`` K [m]) within ``fill`` of the half
     field of view ``fov`` [deg]: for each sphere, the angle between the line of sight and its centre
@@ -43,7 +48,7 @@ def camera_distance(centres: npt.ArrayLike, radii: npt.ArrayLike, direction: npt
         sight = np.arccos(np.clip(-(to_centres @ direction) / reach, -1.0, 1.0))
         return float(np.max(sight + np.arcsin(np.minimum(radii / reach, 1.0))))
 
-    low = float(np.max(np.linalg.norm(centres, axis=1) + radii))     # outside every sphere
+    low = float(np.max(np.linalg.norm(centres, axis=1) + radii))  # outside every sphere
     high = 2 * low / np.sin(half) + 1e-3
     for _ in range(60):
         middle = (low + high) / 2
@@ -51,8 +56,13 @@ def camera_distance(centres: npt.ArrayLike, radii: npt.ArrayLike, direction: npt
     return high
 
 
-def bounding_spheres(springs: list[SpringTrack], regions: list[RegionShape], model: pin.Model,
-                     visual_model: pin.GeometryModel, configurations: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def bounding_spheres(
+    springs: list[SpringTrack],
+    regions: list[RegionShape],
+    model: pin.Model,
+    visual_model: pin.GeometryModel,
+    configurations: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:
     """Centres (K×3) [m] and radii (K) [m] of spheres that hold, over every pose of ``configurations``
     (N×nq), what is drawn:
 
@@ -76,11 +86,12 @@ def bounding_spheres(springs: list[SpringTrack], regions: list[RegionShape], mod
     return np.vstack(centres), np.concatenate(radii)
 
 
-def _add_arm_spheres(centres: list, radii: list, model: pin.Model, visual_model: pin.GeometryModel,
-                     configurations: np.ndarray) -> None:
+def _add_arm_spheres(
+    centres: list, radii: list, model: pin.Model, visual_model: pin.GeometryModel, configurations: np.ndarray
+) -> None:
     """Append, per pose, the joints' and frames' origins and the visual shapes' bounding spheres."""
     data, visual_data = model.createData(), visual_model.createData()
-    shapes = []   # (local centre, radius) of each visual shape's bounding sphere
+    shapes = []  # (local centre, radius) of each visual shape's bounding sphere
     for geometry in visual_model.geometryObjects:
         try:
             geometry.geometry.computeLocalAABB()
@@ -106,7 +117,7 @@ def camera_view(centres: np.ndarray, radii: np.ndarray) -> tuple[np.ndarray, flo
     little), any other from an oblique corner, at :func:`camera_distance`."""
     lower, upper = (centres - radii[:, None]).min(axis=0), (centres + radii[:, None]).max(axis=0)
     center = (lower + upper) / 2
-    radius = max(float(np.max(np.linalg.norm(centres - center, axis=1) + radii)), 0.15)   # [m]
+    radius = max(float(np.max(np.linalg.norm(centres - center, axis=1) + radii)), 0.15)  # [m]
     # a planar arm is seen square-on (along the normal of its plane), any other from an oblique corner
     _, spread, axes = np.linalg.svd(centres - centres.mean(axis=0), full_matrices=False)
     if spread[-1] < 0.2 * spread[-2]:
@@ -115,7 +126,7 @@ def camera_view(centres: np.ndarray, radii: np.ndarray) -> tuple[np.ndarray, flo
     else:
         direction = np.array([1.0, -1.3, 0.8])
     direction /= np.linalg.norm(direction)
-    position = camera_distance(centres, radii, direction) * direction    # [m] world
+    position = camera_distance(centres, radii, direction) * direction  # [m] world
     return center, radius, position
 
 
@@ -124,5 +135,4 @@ def place_camera(visualizer: Any, position: np.ndarray) -> None:
     # meshcat's orbit controls look at the world origin: the camera's parent frame must not move
     visualizer["/Cameras/default"].set_transform(np.eye(4))
     # the camera node is rotated by +90° about x (meshcat's y-up convention): world (x, y, z) = rotated (x, z, -y)
-    visualizer["/Cameras/default/rotated/<object>"].set_property("position",
-                                                                 [position[0], position[2], -position[1]])
+    visualizer["/Cameras/default/rotated/<object>"].set_property("position", [position[0], position[2], -position[1]])

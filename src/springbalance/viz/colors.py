@@ -66,32 +66,48 @@ class ColorScale:
 
     def describe(self) -> str:
         """One line of text for a terminal."""
-        return (f"spring colour: tension 0 N (yellow) … {self.limit:.4g} N (dark red); "
-                f"compression (pushing) in greens; scale limit {self.limit:.4g} N")
+        return (
+            f"spring colour: tension 0 N (yellow) … {self.limit:.4g} N (dark red); "
+            f"compression (pushing) in greens; scale limit {self.limit:.4g} N"
+        )
 
-    def legend_html(self, compression: bool = False, element_id: str = "springbalance-legend",
-                    position: str = "fixed", clearance_margin: float | None = None) -> str:
+    def legend_html(
+        self,
+        compression: bool = False,
+        element_id: str = "springbalance-legend",
+        position: str = "fixed",
+        clearance_margin: float | None = None,
+    ) -> str:
         """A small HTML legend at the top left of the page (``position:fixed``) or of its container
         (``"absolute"``): the colour bar of the tension [N] with ticks, from 0 or, with ``compression``
         (some spring pushes), from ``-limit`` (negative: pushing); with ``clearance_margin`` [m] also a
         magenta swatch "below clearance margin (X mm)"."""
         low = -self.limit if compression else 0.0
         ticks = np.linspace(low, self.limit, 5 if compression else 3)
-        stops = ", ".join(f"{self.css(value)} {100 * (value - low) / (self.limit - low):.1f}%"
-                          for value in np.linspace(low, self.limit, 21))
-        labels = "".join(f'<span style="position:absolute;left:{100 * (v - low) / (self.limit - low):.1f}%;'
-                         f'transform:translateX(-50%)">{v:.3g}</span>' for v in ticks)
+        stops = ", ".join(
+            f"{self.css(value)} {100 * (value - low) / (self.limit - low):.1f}%"
+            for value in np.linspace(low, self.limit, 21)
+        )
+        labels = "".join(
+            f'<span style="position:absolute;left:{100 * (v - low) / (self.limit - low):.1f}%;'
+            f'transform:translateX(-50%)">{v:.3g}</span>'
+            for v in ticks
+        )
         note = " (negative: pushing)" if compression else ""
         clearance = ""
         if clearance_margin is not None:
-            clearance = (f'<div class="springbalance-clearance" style="margin-top:8px;font-size:11px">'
-                         f'<span style="display:inline-block;width:16px;height:10px;margin-right:5px;'
-                         f'vertical-align:-1px;background:#{CLEARANCE_COLOR:06x}"></span>'
-                         f'magenta: below clearance margin ({1e3 * float(clearance_margin):.3g} mm)</div>')
+            clearance = (
+                f'<div class="springbalance-clearance" style="margin-top:8px;font-size:11px">'
+                f'<span style="display:inline-block;width:16px;height:10px;margin-right:5px;'
+                f'vertical-align:-1px;background:#{CLEARANCE_COLOR:06x}"></span>'
+                f"magenta: below clearance margin ({1e3 * float(clearance_margin):.3g} mm)</div>"
+            )
         bottom = 8 if clearance else 22
-        return (f'<div id="{element_id}" style="position:{position};left:8px;top:8px;width:260px;'
-                f'padding:6px 14px {bottom}px 14px;'
-                'background:rgba(255,255,255,0.85);border-radius:4px;font:12px sans-serif;color:#222;z-index:10">'
-                f'<div>spring tension [N]{html.escape(note)}</div>'
-                f'<div style="height:12px;margin-top:4px;background:linear-gradient(to right, {stops})"></div>'
-                f'<div style="position:relative;height:14px;margin-top:2px">{labels}</div>{clearance}</div>')
+        return (
+            f'<div id="{element_id}" style="position:{position};left:8px;top:8px;width:260px;'
+            f"padding:6px 14px {bottom}px 14px;"
+            'background:rgba(255,255,255,0.85);border-radius:4px;font:12px sans-serif;color:#222;z-index:10">'
+            f"<div>spring tension [N]{html.escape(note)}</div>"
+            f'<div style="height:12px;margin-top:4px;background:linear-gradient(to right, {stops})"></div>'
+            f'<div style="position:relative;height:14px;margin-top:2px">{labels}</div>{clearance}</div>'
+        )

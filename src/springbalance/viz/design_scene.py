@@ -100,9 +100,15 @@ class DesignScene:
             target) and where it stands (world, [m]). The four are set by :meth:`draw`.
     """
 
-    def __init__(self, design: EvaluatedDesign, joint_values: npt.ArrayLike | None = None,
-                 frames_per_joint: int = 48, style: HelixStyle = DEFAULT_HELIX, fps: int = 30,
-                 margin: float | None = None) -> None:
+    def __init__(
+        self,
+        design: EvaluatedDesign,
+        joint_values: npt.ArrayLike | None = None,
+        frames_per_joint: int = 48,
+        style: HelixStyle = DEFAULT_HELIX,
+        fps: int = 30,
+        margin: float | None = None,
+    ) -> None:
         self.design = design
         mechanism = design.problem.mechanism
         self.mechanism = mechanism
@@ -113,11 +119,12 @@ class DesignScene:
         self.configurations = self.workspace.configurations
         self.fps = int(fps)
         self.style = style
-        self.evaluation = design.evaluate_on(self.workspace)   # lengths and tensions from the model
+        self.evaluation = design.evaluate_on(self.workspace)  # lengths and tensions from the model
         kinematics = self.workspace.kinematics()
         self.springs: list[SpringTrack]
-        self.springs, self._records, columns = spring_tracks(design, self.evaluation.lengths,
-                                                             self.evaluation.tensions, kinematics, style)
+        self.springs, self._records, columns = spring_tracks(
+            design, self.evaluation.lengths, self.evaluation.tensions, kinematics, style
+        )
         #: the springs left out of the drawing (torsional springs), by name
         self.skipped = [record["name"] for column, record in enumerate(design.springs) if column not in columns]
         path_tensions = self.evaluation.tensions[:, columns]
@@ -129,8 +136,9 @@ class DesignScene:
         self.margin, self.clearance_note = self._margin(margin), None
         if self.margin is not None:
             radius = getattr(getattr(design.problem, "clearance", None), "radius", None)
-            self.clearance_note = add_clearances(self.springs, self._records, mechanism, self.configurations,
-                                                 self.margin, radius)
+            self.clearance_note = add_clearances(
+                self.springs, self._records, mechanism, self.configurations, self.margin, radius
+            )
         self.camera_center: np.ndarray | None = None
         self.camera_radius: float | None = None
         self.camera_target: np.ndarray | None = None
@@ -149,8 +157,11 @@ class DesignScene:
             margin = getattr(clearance, "margin", None)
         if margin is None:
             return None
-        if (isinstance(margin, bool) or not isinstance(margin, (int, float, np.integer, np.floating))
-                or not (np.isfinite(margin) and margin >= 0)):
+        if (
+            isinstance(margin, bool)
+            or not isinstance(margin, (int, float, np.integer, np.floating))
+            or not (np.isfinite(margin) and margin >= 0)
+        ):
             raise InputError(f"clearance margin must be a finite number ≥ 0 [m], got {margin!r}")
         return float(margin)
 
@@ -176,8 +187,9 @@ class DesignScene:
         """The colour legend of the scene (see :meth:`ColorScale.legend_html`): the tension scale, its
         compression half only when some spring pushes, the clearance entry only when some spring is
         below the margin."""
-        return self.color_scale.legend_html(self.compression, position=position,
-                                            clearance_margin=self.margin if self.clearance_violated else None)
+        return self.color_scale.legend_html(
+            self.compression, position=position, clearance_margin=self.margin if self.clearance_violated else None
+        )
 
     @property
     def size(self) -> int:
@@ -199,8 +211,11 @@ class DesignScene:
         helix_objects = self._draw_springs(root)
         self._draw_regions(root)
         if animate and self.size > 1:
-            visualizer.window.send(classes.SetAnimation(self.animation(visualizer, arm, helix_objects),
-                                                        play=autoplay, repetitions=float("inf")))
+            visualizer.window.send(
+                classes.SetAnimation(
+                    self.animation(visualizer, arm, helix_objects), play=autoplay, repetitions=float("inf")
+                )
+            )
 
     def _draw_springs(self, root: Any) -> dict[str, str]:
         """Draw each spring at the first pose below ``root``: its helix, name label, anchor spheres and
@@ -213,8 +228,10 @@ class DesignScene:
         for spring in self.springs:
             vertices, faces = spring.mesh()
             node = root["springs"][spring.name]
-            mesh = mg.Mesh(mg.TriangularMeshGeometry(vertices, faces),
-                           mg.MeshPhongMaterial(color=self.hex(spring, 0), shininess=40))
+            mesh = mg.Mesh(
+                mg.TriangularMeshGeometry(vertices, faces),
+                mg.MeshPhongMaterial(color=self.hex(spring, 0), shininess=40),
+            )
             helix_objects[spring.name] = mesh.uuid
             node.set_object(mesh)
             node.set_transform(spring.transform(0))
@@ -238,11 +255,15 @@ class DesignScene:
         for region in self.regions:
             node = root["regions"][f"{region.spring}.{region.end}"]
             geometry, edges = region_geometry(region)
-            node["shape"].set_object(geometry, mg.MeshLambertMaterial(color=REGION_COLOR, opacity=REGION_OPACITY,
-                                                                      transparent=True, depthWrite=False))
-            node["edges"].set_object(mg.LineSegments(mg.PointsGeometry(edges.T),
-                                                     mg.LineBasicMaterial(color=REGION_COLOR, opacity=0.7,
-                                                                          transparent=True)))
+            node["shape"].set_object(
+                geometry,
+                mg.MeshLambertMaterial(color=REGION_COLOR, opacity=REGION_OPACITY, transparent=True, depthWrite=False),
+            )
+            node["edges"].set_object(
+                mg.LineSegments(
+                    mg.PointsGeometry(edges.T), mg.LineBasicMaterial(color=REGION_COLOR, opacity=0.7, transparent=True)
+                )
+            )
             node.set_transform(region.placements[0])
 
     def animation(self, visualizer: Any, arm: Any, helix_objects: dict[str, str]) -> Any:
@@ -296,7 +317,7 @@ class DesignScene:
         return visual_model
 
     def _arm_visualizer(self, visualizer: Any) -> Any:
-        import_meshcat()   # first, under its warnings filter: pinocchio.visualize imports meshcat
+        import_meshcat()  # first, under its warnings filter: pinocchio.visualize imports meshcat
         from pinocchio.visualize import MeshcatVisualizer
 
         arm = MeshcatVisualizer(self.mechanism.model, None, self._visual_model())

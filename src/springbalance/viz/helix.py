@@ -37,8 +37,10 @@ class HelixStyle:
 
     def dimensions(self, reference_length: float) -> tuple[float, float]:
         """Coil and wire radius [m] of a spring ``reference_length`` [m] long."""
-        coil = self.coil_radius if self.coil_radius is not None else float(np.clip(0.06 * reference_length, 0.006, 0.04))
-        pitch = (1 - 2 * self.lead) * reference_length / max(self.coils, 1)       # [m] per coil
+        coil = (
+            self.coil_radius if self.coil_radius is not None else float(np.clip(0.06 * reference_length, 0.006, 0.04))
+        )
+        pitch = (1 - 2 * self.lead) * reference_length / max(self.coils, 1)  # [m] per coil
         wire = self.wire_radius if self.wire_radius is not None else min(coil / 6, pitch / 5)
         return coil, max(wire, 1e-4)
 
@@ -52,15 +54,18 @@ def helix_centerline(coils: int, coil_radius: float, lead: float = 0.08, points_
     the axis at ``(0, 0, 1)``.
     """
     if coils < 1 or coil_radius <= 0 or not 0 <= lead < 0.5:
-        raise ValueError(f"helix needs coils ≥ 1, coil_radius > 0 and 0 ≤ lead < 0.5; got {coils}, {coil_radius}, {lead}")
+        raise ValueError(
+            f"helix needs coils ≥ 1, coil_radius > 0 and 0 ≤ lead < 0.5; got {coils}, {coil_radius}, {lead}"
+        )
     t = np.linspace(0.0, 1.0, int(coils) * int(points_per_coil) + 1)
     angle = 2 * np.pi * coils * t
     coil = np.column_stack([coil_radius * np.cos(angle), coil_radius * np.sin(angle), lead + (1 - 2 * lead) * t])
     return np.vstack([[0.0, 0.0, 0.0], coil, [0.0, 0.0, 1.0]])
 
 
-def helix_tube(centerline: np.ndarray, wire_radius: float, reference_length: float,
-               sides: int = 8) -> tuple[np.ndarray, np.ndarray]:
+def helix_tube(
+    centerline: np.ndarray, wire_radius: float, reference_length: float, sides: int = 8
+) -> tuple[np.ndarray, np.ndarray]:
     """Triangle mesh of a wire of radius ``wire_radius`` [m] along ``centerline``.
 
     The tube is built in metres for a spring ``reference_length`` long (so the wire is
@@ -74,7 +79,7 @@ def helix_tube(centerline: np.ndarray, wire_radius: float, reference_length: flo
     """
     centerline = np.asarray(centerline, dtype=float)
     stretch = np.array([1.0, 1.0, reference_length])
-    points = centerline * stretch                                     # [m]
+    points = centerline * stretch  # [m]
     tangents = np.gradient(points, axis=0)
     tangents /= np.linalg.norm(tangents, axis=1, keepdims=True)
     # parallel transport of a normal along the line (no twist of the tube)
@@ -87,8 +92,9 @@ def helix_tube(centerline: np.ndarray, wire_radius: float, reference_length: flo
         normals[i] = normal
     binormals = np.cross(tangents, normals)
     angles = 2 * np.pi * np.arange(sides) / sides
-    rings = (points[:, None, :] + wire_radius * (np.cos(angles)[None, :, None] * normals[:, None, :]
-                                                 + np.sin(angles)[None, :, None] * binormals[:, None, :]))
+    rings = points[:, None, :] + wire_radius * (
+        np.cos(angles)[None, :, None] * normals[:, None, :] + np.sin(angles)[None, :, None] * binormals[:, None, :]
+    )
     m = points.shape[0]
     vertices = np.vstack([centerline[:1], (rings / stretch).reshape(-1, 3), centerline[-1:]])
     faces = []
@@ -112,7 +118,7 @@ def spring_rotation(direction: npt.ArrayLike, side: npt.ArrayLike) -> np.ndarray
     """
     z = np.asarray(direction, dtype=float)
     norm = np.linalg.norm(z)
-    z = z / norm if norm > 1e-12 else np.array([0.0, 0.0, 1.0])   # ends that meet: any axis will do
+    z = z / norm if norm > 1e-12 else np.array([0.0, 0.0, 1.0])  # ends that meet: any axis will do
     x = np.asarray(side, dtype=float) - (np.asarray(side, dtype=float) @ z) * z
     if np.linalg.norm(x) < 1e-6:
         fallback = np.eye(3)[int(np.argmin(np.abs(z)))]

@@ -34,13 +34,14 @@ class MeshcatServer:
         if port is not None:
             command += ["--port", str(int(port))]
         self._stderr = tempfile.TemporaryFile()
-        self.process = subprocess.Popen(command, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=self._stderr,
-                                        start_new_session=True)
+        self.process = subprocess.Popen(
+            command, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=self._stderr, start_new_session=True
+        )
         atexit.register(self.stop)
         urls: dict[str, str] = {}
         deadline = time.monotonic() + timeout
         stdout = self.process.stdout
-        if stdout is None:   # never: stdout is a pipe
+        if stdout is None:  # never: stdout is a pipe
             raise SpringBalanceError("the meshcat server's output is not a pipe")
         with selectors.DefaultSelector() as selector:
             selector.register(stdout, selectors.EVENT_READ)
@@ -117,9 +118,11 @@ class LiveScene:
         return self.server.web_url
 
     def _repr_html_(self) -> str:
-        return (f'<div style="position:relative;height:480px">'
-                f'{self.scene.legend_html(position="absolute")}'
-                f'<iframe src="{html.escape(self.url)}" style="width:100%;height:100%;border:none"></iframe></div>')
+        return (
+            f'<div style="position:relative;height:480px">'
+            f"{self.scene.legend_html(position='absolute')}"
+            f'<iframe src="{html.escape(self.url)}" style="width:100%;height:100%;border:none"></iframe></div>'
+        )
 
     def __repr__(self) -> str:
         return f"LiveScene({self.url!r}, {self.scene.size} frames)"

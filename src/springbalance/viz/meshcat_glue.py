@@ -44,8 +44,13 @@ def meshcat_classes() -> MeshcatClasses:
     meshcat = import_meshcat()
     texture = _text_texture(meshcat.geometry)
     material = _sprite_material(meshcat.geometry)
-    return MeshcatClasses(texture, material, _text_sprite(meshcat.geometry, texture, material),
-                          _animation(meshcat.animation), _set_animation(meshcat.commands))
+    return MeshcatClasses(
+        texture,
+        material,
+        _text_sprite(meshcat.geometry, texture, material),
+        _animation(meshcat.animation),
+        _set_animation(meshcat.commands),
+    )
 
 
 def _text_texture(mg: ModuleType) -> type:
@@ -58,8 +63,13 @@ def _text_texture(mg: ModuleType) -> type:
             self.text, self.font_size, self.font_face = str(text), int(font_size), font_face
 
         def lower(self, object_data: dict[str, Any]) -> dict[str, Any]:
-            return {"uuid": self.uuid, "type": "_text", "text": self.text, "font_size": self.font_size,
-                    "font_face": self.font_face}
+            return {
+                "uuid": self.uuid,
+                "type": "_text",
+                "text": self.text,
+                "font_size": self.font_size,
+                "font_face": self.font_face,
+            }
 
     return _TextTexture
 
@@ -73,9 +83,16 @@ def _sprite_material(mg: ModuleType) -> type:
             self.texture = texture
 
         def lower(self, object_data: dict[str, Any]) -> dict[str, Any]:
-            return {"uuid": self.uuid, "type": "SpriteMaterial", "color": 0xFFFFFF, "transparent": True,
-                    "depthTest": False, "depthWrite": False, "sizeAttenuation": True,
-                    "map": self.texture.lower_in_object(object_data)}
+            return {
+                "uuid": self.uuid,
+                "type": "SpriteMaterial",
+                "color": 0xFFFFFF,
+                "transparent": True,
+                "depthTest": False,
+                "depthWrite": False,
+                "sizeAttenuation": True,
+                "map": self.texture.lower_in_object(object_data),
+            }
 
     return _SpriteMaterial
 
@@ -90,11 +107,20 @@ def _text_sprite(mg: ModuleType, texture_class: type, material_class: type) -> t
             self.text, self.size = text, float(size)
 
         def lower(self) -> dict[str, Any]:
-            data: dict[str, Any] = {"metadata": {"version": 4.5, "type": "Object"}, "geometries": [], "materials": [],
-                    "textures": [], "images": [],
-                    "object": {"uuid": self.uuid, "type": "Sprite", "name": self.text,
-                               "material": self.material.uuid,
-                               "matrix": list(np.diag([self.size, self.size, 1.0, 1.0]).flatten())}}
+            data: dict[str, Any] = {
+                "metadata": {"version": 4.5, "type": "Object"},
+                "geometries": [],
+                "materials": [],
+                "textures": [],
+                "images": [],
+                "object": {
+                    "uuid": self.uuid,
+                    "type": "Sprite",
+                    "name": self.text,
+                    "material": self.material.uuid,
+                    "matrix": list(np.diag([self.size, self.size, 1.0, 1.0]).flatten()),
+                },
+            }
             self.material.lower_in_object(data)
             return data
 

@@ -33,6 +33,8 @@ def import_meshcat() -> ModuleType:
             import meshcat.servers.tree
             import meshcat.servers.zmqserver
         except ImportError as error:
-            raise SpringBalanceError(f"drawing a scene needs meshcat, which could not be imported ({error}); "
-                                     "install it with `pip install meshcat`") from error
+            raise SpringBalanceError(
+                f"drawing a scene needs meshcat, which could not be imported ({error}); "
+                "install it with `pip install meshcat`"
+            ) from error
     return meshcat

@@ -19,7 +19,7 @@ class SceneRecorder:
     def __init__(self) -> None:
         servers = import_meshcat().servers
         ZMQWebSocketBridge = servers.zmqserver.ZMQWebSocketBridge
-        bridge = ZMQWebSocketBridge.__new__(ZMQWebSocketBridge)   # the logic only, no sockets
+        bridge = ZMQWebSocketBridge.__new__(ZMQWebSocketBridge)  # the logic only, no sockets
         bridge.tree = servers.tree.SceneTree()
         bridge.websocket_pool = set()
         bridge.zmq_socket = _Reply()

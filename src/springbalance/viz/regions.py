@@ -15,7 +15,7 @@ from springbalance.springs.params import Free, Plane, Segment
 from springbalance.viz.helix import spring_rotation
 from springbalance.viz.meshcat_import import import_meshcat
 
-REGION_COLOR = 0x8c6bb1
+REGION_COLOR = 0x8C6BB1
 REGION_OPACITY = 0.12
 #: Thickness [m] of a box side with no width, and of the rods and sheets that show segments and rectangles.
 REGION_THICKNESS = 0.004
@@ -46,7 +46,7 @@ def anchor_regions(springs: Iterable[Any], kinematics: WorkspaceKinematics, size
     for spring in springs:
         for end, anchor in spring_anchors(spring).items():
             if getattr(anchor, "mount", None) == "collision":
-                continue    # mounted on the link's own surface: the link is the mounting surface drawn
+                continue  # mounted on the link's own surface: the link is the mounting surface drawn
             corners = region_corners(anchor.point)
             if corners is None:
                 continue
@@ -100,15 +100,31 @@ def region_mesh(region: RegionShape) -> tuple[np.ndarray, np.ndarray, np.ndarray
         axis = end - start
         length = float(np.linalg.norm(axis))
         rotation = spring_rotation(axis, np.eye(3)[int(np.argmin(np.abs(axis)))]) if length > 0 else np.eye(3)
-        vertices, faces = _box_mesh((start + end) / 2, np.array([thickness, thickness, max(length, thickness)]), rotation)
+        vertices, faces = _box_mesh(
+            (start + end) / 2, np.array([thickness, thickness, max(length, thickness)]), rotation
+        )
         edges = np.array([start, end])
     else:
         c = region.corners
         normal = np.cross(c[1] - c[0], c[3] - c[0])
         normal = thickness / 2 * normal / np.linalg.norm(normal)
         vertices = np.vstack([c - normal, c + normal])
-        faces = np.array([[0, 1, 2], [0, 2, 3], [4, 6, 5], [4, 7, 6], [0, 4, 5], [0, 5, 1], [1, 5, 6], [1, 6, 2],
-                          [2, 6, 7], [2, 7, 3], [3, 7, 4], [3, 4, 0]])
+        faces = np.array(
+            [
+                [0, 1, 2],
+                [0, 2, 3],
+                [4, 6, 5],
+                [4, 7, 6],
+                [0, 4, 5],
+                [0, 5, 1],
+                [1, 5, 6],
+                [1, 6, 2],
+                [2, 6, 7],
+                [2, 7, 3],
+                [3, 7, 4],
+                [3, 4, 0],
+            ]
+        )
         edges = c[[0, 1, 1, 2, 2, 3, 3, 0]]
     return vertices, faces, edges
 
@@ -124,8 +140,14 @@ def region_points(region: RegionShape) -> np.ndarray:
     a rectangle's 4 corners."""
     if region.kind == "box":
         lower, upper = region.corners
-        return np.array([[(lower, upper)[i][0], (lower, upper)[j][1], (lower, upper)[k][2]]
-                         for i in (0, 1) for j in (0, 1) for k in (0, 1)])
+        return np.array(
+            [
+                [(lower, upper)[i][0], (lower, upper)[j][1], (lower, upper)[k][2]]
+                for i in (0, 1)
+                for j in (0, 1)
+                for k in (0, 1)
+            ]
+        )
     return np.asarray(region.corners, dtype=float)
 
 
@@ -137,6 +159,20 @@ def _box_mesh(center: np.ndarray, size: np.ndarray, rotation: np.ndarray) -> tup
     """Vertices (8×3) and triangles (12×3) of a box of ``size`` [m] about ``center``, turned by ``rotation``."""
     signs = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=float)
     vertices = center + (signs * size / 2) @ np.asarray(rotation).T
-    faces = np.array([[0, 1, 3], [0, 3, 2], [4, 6, 7], [4, 7, 5], [0, 4, 5], [0, 5, 1],
-                      [2, 3, 7], [2, 7, 6], [0, 2, 6], [0, 6, 4], [1, 5, 7], [1, 7, 3]])
+    faces = np.array(
+        [
+            [0, 1, 3],
+            [0, 3, 2],
+            [4, 6, 7],
+            [4, 7, 5],
+            [0, 4, 5],
+            [0, 5, 1],
+            [2, 3, 7],
+            [2, 7, 6],
+            [0, 2, 6],
+            [0, 6, 4],
+            [1, 5, 7],
+            [1, 7, 3],
+        ]
+    )
     return vertices, faces

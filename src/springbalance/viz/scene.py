@@ -47,15 +47,46 @@ from springbalance.viz.regions import region_points as _region_points  # noqa: F
 from springbalance.viz.regions import spring_anchors as _anchors  # noqa: F401 (old name)
 from springbalance.viz.tracks import SpringTrack
 
-__all__ = ["ANCHOR_COLOR", "CABLE_COLOR", "CABLE_RADIUS", "CAMERA_FILL", "CAMERA_FOV", "CLEARANCE_COLOR",
-           "CLEARANCE_RGB", "LABEL_FONT_SIZE", "LABEL_SIZE", "REGION_COLOR", "REGION_OPACITY", "ROOT", "ColorScale",
-           "DesignScene", "HelixStyle", "LiveScene", "RegionShape", "SceneRecorder", "SpringTrack", "StaticScene",
-           "camera_distance", "helix_centerline", "helix_tube", "local_server", "placement", "save_scene_html",
-           "scene_html", "show", "spring_rotation"]
+__all__ = [
+    "ANCHOR_COLOR",
+    "CABLE_COLOR",
+    "CABLE_RADIUS",
+    "CAMERA_FILL",
+    "CAMERA_FOV",
+    "CLEARANCE_COLOR",
+    "CLEARANCE_RGB",
+    "LABEL_FONT_SIZE",
+    "LABEL_SIZE",
+    "REGION_COLOR",
+    "REGION_OPACITY",
+    "ROOT",
+    "ColorScale",
+    "DesignScene",
+    "HelixStyle",
+    "LiveScene",
+    "RegionShape",
+    "SceneRecorder",
+    "SpringTrack",
+    "StaticScene",
+    "camera_distance",
+    "helix_centerline",
+    "helix_tube",
+    "local_server",
+    "placement",
+    "save_scene_html",
+    "scene_html",
+    "show",
+    "spring_rotation",
+]
 
 #: names made on first use, when meshcat is imported (see :func:`__getattr__`)
-_LAZY = {"_TextTexture": "TextTexture", "_SpriteMaterial": "SpriteMaterial", "_TextSprite": "TextSprite",
-         "_Animation": "Animation", "_SetAnimation": "SetAnimation"}
+_LAZY = {
+    "_TextTexture": "TextTexture",
+    "_SpriteMaterial": "SpriteMaterial",
+    "_TextSprite": "TextSprite",
+    "_Animation": "Animation",
+    "_SetAnimation": "SetAnimation",
+}
 
 
 def __getattr__(name: str) -> Any:
@@ -81,15 +112,23 @@ class StaticScene:
         return write_text_atomic(path, self.page)
 
     def _repr_html_(self) -> str:
-        return (f'<iframe srcdoc="{html.escape(self.page, quote=True)}" style="width:100%;height:480px;border:none">'
-                '</iframe>')
+        return (
+            f'<iframe srcdoc="{html.escape(self.page, quote=True)}" style="width:100%;height:480px;border:none">'
+            "</iframe>"
+        )
 
     def __repr__(self) -> str:
         return f"StaticScene({len(self.page)} characters)"
 
 
-def scene_html(design: EvaluatedDesign, joint_values: npt.ArrayLike | None = None, animate: bool = True,
-               autoplay: bool = True, legend: bool = True, **options: Any) -> str:
+def scene_html(
+    design: EvaluatedDesign,
+    joint_values: npt.ArrayLike | None = None,
+    animate: bool = True,
+    autoplay: bool = True,
+    legend: bool = True,
+    **options: Any,
+) -> str:
     """The self-contained HTML page of a design's scene (no server, no network); ``options`` go to
     :class:`DesignScene` (``frames_per_joint``, ``style``, ``fps``, ``margin`` [m])."""
     return DesignScene(design, joint_values, **options).html(animate=animate, autoplay=autoplay, legend=legend)
@@ -100,8 +139,14 @@ def save_scene_html(design: EvaluatedDesign, path: str | Path, **options: Any) -
     return write_text_atomic(path, scene_html(design, **options))
 
 
-def show(design: EvaluatedDesign, joint_values: npt.ArrayLike | None = None, static: bool = False,
-         open_browser: bool = False, port: int | None = None, **options: Any) -> LiveScene | StaticScene:
+def show(
+    design: EvaluatedDesign,
+    joint_values: npt.ArrayLike | None = None,
+    static: bool = False,
+    open_browser: bool = False,
+    port: int | None = None,
+    **options: Any,
+) -> LiveScene | StaticScene:
     """Show a design in meshcat.
 
     ``static=True`` returns a :class:`StaticScene` (inline in Jupyter, no server). Otherwise

@@ -63,7 +63,7 @@ def main(argv: list[str] | None = None) -> int:
     signal.signal(signal.SIGINT, stop)
 
     def watch_parent() -> None:
-        if os.getppid() != parent:   # the process that started us is gone
+        if os.getppid() != parent:  # the process that started us is gone
             loop.stop()
 
     tornado.ioloop.PeriodicCallback(watch_parent, 1000).start()

@@ -119,9 +119,13 @@ class SpringTrack:
         return helix_tube(self.centerline(), self.wire_radius, self.reference_length, self.sides)
 
 
-
-def spring_tracks(design: EvaluatedDesign, lengths: np.ndarray, tensions: np.ndarray, kinematics: WorkspaceKinematics,
-                  style: HelixStyle) -> tuple[list[SpringTrack], dict[str, dict], list[int]]:
+def spring_tracks(
+    design: EvaluatedDesign,
+    lengths: np.ndarray,
+    tensions: np.ndarray,
+    kinematics: WorkspaceKinematics,
+    style: HelixStyle,
+) -> tuple[list[SpringTrack], dict[str, dict], list[int]]:
     """The track of each two-point spring of ``design`` along a path of poses.
 
     ``lengths`` [m] and ``tensions`` [N] (N×S) are the design's evaluation on the path, one column
@@ -133,7 +137,7 @@ def spring_tracks(design: EvaluatedDesign, lengths: np.ndarray, tensions: np.nda
     records: dict[str, dict] = {}
     columns: list[int] = []
     for column, (spring, record) in enumerate(zip(design.problem.springs, design.springs)):
-        if getattr(spring, "ends", ()) != ("a", "b"):   # a joint spring (torsional) has no ends to draw a helix between
+        if getattr(spring, "ends", ()) != ("a", "b"):  # a joint spring (torsional) has no ends to draw a helix between
             continue
         columns.append(column)
         tracks.append(_track(spring, record, lengths[:, column], tensions[:, column], kinematics, style))
@@ -141,15 +145,20 @@ def spring_tracks(design: EvaluatedDesign, lengths: np.ndarray, tensions: np.nda
     return tracks, records, columns
 
 
-def _track(spring: Spring, record: dict, lengths: np.ndarray, tensions: np.ndarray, kinematics: WorkspaceKinematics,
-           style: HelixStyle) -> SpringTrack:
+def _track(
+    spring: Spring,
+    record: dict,
+    lengths: np.ndarray,
+    tensions: np.ndarray,
+    kinematics: WorkspaceKinematics,
+    style: HelixStyle,
+) -> SpringTrack:
     """The track of one two-point spring: its ends per pose from the kinematics, its helix from ``style``.
 
     A routed spring lies from its end a towards its first pulley, as long as its law says; its cable
     goes on from there over the pulleys to its last end.
     """
-    path = {end: kinematics.body(record[end]["body"]).points(np.array(record[end]["point"]))
-            for end in spring.anchors}
+    path = {end: kinematics.body(record[end]["body"]).points(np.array(record[end]["point"])) for end in spring.anchors}
     cable = None
     if getattr(spring, "routed", False):
         # the spring lies from a towards the first pulley, as long as the law says; the cable goes on
@@ -166,14 +175,35 @@ def _track(spring: Spring, record: dict, lengths: np.ndarray, tensions: np.ndarr
     mean_direction = np.mean(ends - starts, axis=0)
     side = np.eye(3)[int(np.argmin(np.abs(mean_direction)))] if np.any(mean_direction) else np.eye(3)[0]
     return SpringTrack(
-        record["name"], record["type"], (a["body"], b["body"]), np.array([a["point"], b["point"]]),
-        starts, ends, lengths.copy(), tensions.copy(), side, int(style.coils),
-        coil, wire, reference, style.lead, style.points_per_coil, style.sides, cable=cable,
-        anchor_points=path if cable is not None else None)
+        record["name"],
+        record["type"],
+        (a["body"], b["body"]),
+        np.array([a["point"], b["point"]]),
+        starts,
+        ends,
+        lengths.copy(),
+        tensions.copy(),
+        side,
+        int(style.coils),
+        coil,
+        wire,
+        reference,
+        style.lead,
+        style.points_per_coil,
+        style.sides,
+        cable=cable,
+        anchor_points=path if cable is not None else None,
+    )
 
 
-def add_clearances(tracks: list[SpringTrack], records: dict[str, dict], mechanism: Mechanism,
-                   configurations: np.ndarray, margin: float, radius: float | None = None) -> str | None:
+def add_clearances(
+    tracks: list[SpringTrack],
+    records: dict[str, dict],
+    mechanism: Mechanism,
+    configurations: np.ndarray,
+    margin: float,
+    radius: float | None = None,
+) -> str | None:
     """Set :attr:`SpringTrack.clearance` and :attr:`SpringTrack.below_margin` of every track.
 
     Per pose (``configurations``, N×nq) and spring, the smallest signed distance [m] from the spring's
@@ -185,7 +215,7 @@ def add_clearances(tracks: list[SpringTrack], records: dict[str, dict], mechanis
     """
     try:
         collision = CollisionScene(mechanism)
-    except InputError as error:   # no URDF, or no <collision> elements: the scene is drawn without
+    except InputError as error:  # no URDF, or no <collision> elements: the scene is drawn without
         return str(error)
     checked = {}
     radii: list[float] = []

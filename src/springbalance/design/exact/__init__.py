@@ -50,5 +50,14 @@ from springbalance.design.exact.blocks import BalanceBlocks, CountCheck, count_c
 from springbalance.design.exact.chain import PlanarChain
 from springbalance.design.exact.synthesis import EXACT_TOLERANCE, ExactBalanceUnreachable, ExactSynthesis, synthesize
 
-__all__ = ["EXACT_TOLERANCE", "BalanceBlocks", "CountCheck", "ExactBalanceUnreachable", "ExactSynthesis",
-           "PlanarChain", "count_check", "residual_blocks", "synthesize"]
+__all__ = [
+    "EXACT_TOLERANCE",
+    "BalanceBlocks",
+    "CountCheck",
+    "ExactBalanceUnreachable",
+    "ExactSynthesis",
+    "PlanarChain",
+    "count_check",
+    "residual_blocks",
+    "synthesize",
+]

@@ -41,7 +41,9 @@ class BalanceBlocks:
 
     def matrices(self) -> dict:
         """The blocks as real 2×2 matrices ``[[α, -β], [β, α]]`` (``e_i^T M e_j``) [N·m]."""
-        return {pair: np.array([[value.real, -value.imag], [value.imag, value.real]]) for pair, value in self.blocks.items()}
+        return {
+            pair: np.array([[value.real, -value.imag], [value.imag, value.real]]) for pair, value in self.blocks.items()
+        }
 
     @property
     def exact(self) -> bool:
@@ -69,8 +71,11 @@ class _FixedDesign(Protocol):
 
 
 def _pair_blocks(chain: PlanarChain, matrix: np.ndarray) -> dict[tuple[str, str], complex]:
-    return {(chain.bodies[i], chain.bodies[j]): complex(matrix[i, j])
-            for i in range(chain.size) for j in range(i + 1, chain.size)}
+    return {
+        (chain.bodies[i], chain.bodies[j]): complex(matrix[i, j])
+        for i in range(chain.size)
+        for j in range(i + 1, chain.size)
+    }
 
 
 def residual_blocks(target: PlanarChain | Mechanism | None, springs: Iterable[Spring] | _FixedDesign) -> BalanceBlocks:
@@ -90,16 +95,23 @@ def residual_blocks(target: PlanarChain | Mechanism | None, springs: Iterable[Sp
     entries = []
     for spring in springs:
         if not isinstance(spring, ZeroFreeLengthSpring):
-            raise InputError(f"spring {spring.name!r} is {spring.kind}; the stiffness-matrix analysis needs "
-                             "zero-free-length springs")
+            raise InputError(
+                f"spring {spring.name!r} is {spring.kind}; the stiffness-matrix analysis needs zero-free-length springs"
+            )
         if getattr(spring, "routed", False):
-            raise InputError(f"spring {spring.name!r} is routed over pulleys; the stiffness-matrix analysis takes "
-                             "straight zero-free-length springs (the residual of the design says whether it is exact)")
+            raise InputError(
+                f"spring {spring.name!r} is routed over pulleys; the stiffness-matrix analysis takes "
+                "straight zero-free-length springs (the residual of the design says whether it is exact)"
+            )
         anchors = spring.anchors
         if any(anchor.is_free for anchor in anchors.values()) or isinstance(spring.parameters["stiffness"], Free):
-            raise InputError(f"spring {spring.name!r} has free anchors or stiffness; fix them (e.g. result.fixed_springs())")
-        ends = [(chain.body_index(anchor.body), chain.to_plane(anchor.body, anchor.region().point([])))
-                for anchor in (anchors["a"], anchors["b"])]
+            raise InputError(
+                f"spring {spring.name!r} has free anchors or stiffness; fix them (e.g. result.fixed_springs())"
+            )
+        ends = [
+            (chain.body_index(anchor.body), chain.to_plane(anchor.body, anchor.region().point([])))
+            for anchor in (anchors["a"], anchors["b"])
+        ]
         if ends[0][0] == ends[1][0]:
             continue  # both ends on one body: a constant length
         (a, z_a), (b, z_b) = sorted(ends, key=lambda end: end[0])
@@ -124,8 +136,10 @@ class CountCheck:
 
     def describe(self) -> str:
         verdict = "enough" if self.enough else "too few"
-        return (f"{self.bodies} bodies (ground included): {self.conditions} scalar conditions; {self.springs} springs "
-                f"give {self.parameters} anchor coordinates ({verdict}; at least {self.minimum_springs} springs needed)")
+        return (
+            f"{self.bodies} bodies (ground included): {self.conditions} scalar conditions; {self.springs} springs "
+            f"give {self.parameters} anchor coordinates ({verdict}; at least {self.minimum_springs} springs needed)"
+        )
 
 
 def count_check(target: int | PlanarChain | Mechanism, springs: int | Sequence) -> CountCheck:

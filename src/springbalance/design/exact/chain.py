@@ -33,9 +33,9 @@ class PlanarChain:
     masses: np.ndarray
     mass_moments: np.ndarray
     gravity: complex
-    _origin: np.ndarray          # world point of joint 1's axis (plane origin) [m]
-    _basis: np.ndarray           # rows u, v, n: plane axes and the joint axis (world)
-    _joint_points: np.ndarray    # complex O_j(0) (n), O_0 = 0
+    _origin: np.ndarray  # world point of joint 1's axis (plane origin) [m]
+    _basis: np.ndarray  # rows u, v, n: plane axes and the joint axis (world)
+    _joint_points: np.ndarray  # complex O_j(0) (n), O_0 = 0
     _joint_of_frame: dict[str, int]
 
     @property
@@ -68,7 +68,7 @@ class PlanarChain:
         n = model.njoints
         joint_points = np.array([0j] + [plane(data.oMi[j].translation) for j in range(1, n)])
         offsets = np.zeros(n, dtype=complex)
-        offsets[1:n - 1] = joint_points[2:] - joint_points[1:n - 1]
+        offsets[1 : n - 1] = joint_points[2:] - joint_points[1 : n - 1]
         masses = np.zeros(n)
         moments = np.zeros(n, dtype=complex)
         for j in range(1, n):
@@ -78,8 +78,9 @@ class PlanarChain:
         gravity_world = np.asarray(mechanism.gravity)
         gravity = complex(gravity_world @ u, gravity_world @ v)
         bodies, joint_of_frame = _chain_bodies(model)
-        return cls(mechanism, tuple(bodies), offsets, masses, moments, gravity, origin, basis, joint_points,
-                   joint_of_frame)
+        return cls(
+            mechanism, tuple(bodies), offsets, masses, moments, gravity, origin, basis, joint_points, joint_of_frame
+        )
 
     # ---------------------------------------------------------------- bodies and points
     def body_index(self, body: str) -> int:
@@ -117,7 +118,7 @@ class PlanarChain:
     def spring_vector(self, a: int, b: int, z_a: complex, z_b: complex) -> np.ndarray:
         """``D`` (n): ``x_b - x_a = Σ_j D_j w_j`` for a spring from body ``a`` to body ``b`` (a < b) [m]."""
         vector = np.zeros(self.size, dtype=complex)
-        vector[max(a, 1):b] = self.offsets[max(a, 1):b]
+        vector[max(a, 1) : b] = self.offsets[max(a, 1) : b]
         vector[a] -= z_a
         vector[b] += z_b
         return vector
@@ -140,15 +141,21 @@ def _check_serial_chain(mechanism: Mechanism) -> None:
     """InputError naming the culprit unless the mechanism is a serial chain of independent revolute joints."""
     model = mechanism.model
     if model.njoints - 1 != mechanism.nv:
-        raise InputError(f"mechanism {mechanism.name!r} has mimic joints; the planar exact-balance analysis "
-                         "needs a serial chain of independent joints (use the optimiser)")
+        raise InputError(
+            f"mechanism {mechanism.name!r} has mimic joints; the planar exact-balance analysis "
+            "needs a serial chain of independent joints (use the optimiser)"
+        )
     for joint in mechanism.joints:
         if joint.kind == "prismatic":
-            raise InputError(f"joint {joint.name!r} is prismatic; the planar exact-balance analysis needs revolute joints")
+            raise InputError(
+                f"joint {joint.name!r} is prismatic; the planar exact-balance analysis needs revolute joints"
+            )
     for joint_id in range(1, model.njoints):
         if model.parents[joint_id] != joint_id - 1:
-            raise InputError(f"joint {model.names[joint_id]!r} does not follow joint {model.names[joint_id - 1]!r}: "
-                             "the planar exact-balance analysis needs a serial chain")
+            raise InputError(
+                f"joint {model.names[joint_id]!r} does not follow joint {model.names[joint_id - 1]!r}: "
+                "the planar exact-balance analysis needs a serial chain"
+            )
 
 
 def _plane_basis(model: pin.Model, data: pin.Data) -> np.ndarray:
@@ -161,8 +168,9 @@ def _plane_basis(model: pin.Model, data: pin.Data) -> np.ndarray:
     normal = axes[0] / np.linalg.norm(axes[0])
     for joint_id, axis in enumerate(axes, start=1):
         if np.linalg.norm(np.cross(axis, normal)) > 1e-9:
-            raise InputError(f"joint {model.names[joint_id]!r} is not parallel to joint {model.names[1]!r}: "
-                             "the chain is not planar")
+            raise InputError(
+                f"joint {model.names[joint_id]!r} is not parallel to joint {model.names[1]!r}: the chain is not planar"
+            )
     helper = np.array([1.0, 0.0, 0.0]) if abs(normal[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
     u = helper - (helper @ normal) * normal
     u /= np.linalg.norm(u)

@@ -63,7 +63,9 @@ def _topology(chain: PlanarChain, topology: Sequence[tuple]) -> list[tuple]:
         try:
             body_a, body_b, stiffness = entry
         except (TypeError, ValueError):
-            raise InputError(f"topology entry #{index + 1} must be (body_a, body_b, stiffness), got {entry!r}") from None
+            raise InputError(
+                f"topology entry #{index + 1} must be (body_a, body_b, stiffness), got {entry!r}"
+            ) from None
         a, b = chain.body_index(body_a), chain.body_index(body_b)
         if a == b:
             raise InputError(f"topology entry #{index + 1}: both ends on body {chain.bodies[a]!r}")
@@ -78,8 +80,13 @@ def _topology(chain: PlanarChain, topology: Sequence[tuple]) -> list[tuple]:
     return entries
 
 
-def synthesize(target: PlanarChain | Mechanism, topology: Sequence[tuple], starts: int = 16, seed: int = 0,
-               max_iterations: int = 200) -> ExactSynthesis:
+def synthesize(
+    target: PlanarChain | Mechanism,
+    topology: Sequence[tuple],
+    starts: int = 16,
+    seed: int = 0,
+    max_iterations: int = 200,
+) -> ExactSynthesis:
     r"""Anchors that balance a planar chain exactly, for given spring pairs and stiffnesses.
 
     ``topology``: ``[(body_a, body_b, stiffness [N/m]), ...]`` with body names (link frames or
@@ -102,8 +109,11 @@ def synthesize(target: PlanarChain | Mechanism, topology: Sequence[tuple], start
         return ExactSynthesis(False, True, reason, count, [])
     solutions = _anchor_solutions(chain, entries, scale, starts, seed, max_iterations)
     if not solutions:
-        reason = (f"no anchors found from {starts} starts ({count.describe()})" if count.enough
-                  else f"{count.describe()}; no anchors found from {starts} starts")
+        reason = (
+            f"no anchors found from {starts} starts ({count.describe()})"
+            if count.enough
+            else f"{count.describe()}; no anchors found from {starts} starts"
+        )
         return ExactSynthesis(False, False, reason, count, [])
     springs = _synthesized_springs(chain, entries, min(solutions, key=lambda item: item[0])[1])
     return ExactSynthesis(True, True, "", count, springs, residual_blocks(chain, springs))
@@ -114,15 +124,18 @@ def _structural_obstruction(chain: PlanarChain, entries: list[tuple], gravity: n
     block :math:`K_{0j} \ne 0` [N·m] with no spring from the ground to body ``j`` or beyond."""
     for j in range(1, chain.size):
         if abs(gravity[j]) > 1e-12 * scale and not any(a == 0 and b >= j for _, _, a, b, _ in entries):
-            return (f"the ground–{chain.bodies[j]} block is the weight moment {abs(gravity[j]):.6g} N·m of "
-                    f"{chain.bodies[j]} and beyond, and no spring joins the ground to {chain.bodies[j]} or a later "
-                    f"body, so it cannot vanish (at least one spring must run from the ground to the last link; "
-                    f"springs between consecutive bodies alone never balance a chain of two or more links exactly)")
+            return (
+                f"the ground–{chain.bodies[j]} block is the weight moment {abs(gravity[j]):.6g} N·m of "
+                f"{chain.bodies[j]} and beyond, and no spring joins the ground to {chain.bodies[j]} or a later "
+                f"body, so it cannot vanish (at least one spring must run from the ground to the last link; "
+                f"springs between consecutive bodies alone never balance a chain of two or more links exactly)"
+            )
     return ""
 
 
-def _anchor_solutions(chain: PlanarChain, entries: list[tuple], scale: float, starts: int, seed: int,
-                      max_iterations: int) -> list[tuple[float, np.ndarray]]:
+def _anchor_solutions(
+    chain: PlanarChain, entries: list[tuple], scale: float, starts: int, seed: int, max_iterations: int
+) -> list[tuple[float, np.ndarray]]:
     """``(largest |coordinate| [m], coordinates)`` of every start whose Gauss–Newton iteration reached
     :math:`K_{ij} = 0` (to :data:`EXACT_TOLERANCE` of ``scale``); coordinates: ``(Re z, Im z)`` of each
     spring's two anchors in turn."""
@@ -135,7 +148,9 @@ def _anchor_solutions(chain: PlanarChain, entries: list[tuple], scale: float, st
         values = chain.blocks(springs)[rows] / scale
         return np.concatenate([values.real, values.imag])
 
-    length = float(np.sum(np.abs(chain.offsets)) + np.max(np.abs(chain.mass_moments) / np.maximum(chain.masses, 1e-300)))
+    length = float(
+        np.sum(np.abs(chain.offsets)) + np.max(np.abs(chain.mass_moments) / np.maximum(chain.masses, 1e-300))
+    )
     rng = np.random.default_rng(seed)
     size = 4 * len(entries)
     step = 1e-3 * length  # central differences are exact for this quadratic residual
@@ -147,7 +162,9 @@ def _anchor_solutions(chain: PlanarChain, entries: list[tuple], scale: float, st
     return solutions
 
 
-def _gauss_newton(residual: Callable[[np.ndarray], np.ndarray], x: np.ndarray, max_iterations: int, step: float) -> tuple[np.ndarray, np.ndarray]:
+def _gauss_newton(
+    residual: Callable[[np.ndarray], np.ndarray], x: np.ndarray, max_iterations: int, step: float
+) -> tuple[np.ndarray, np.ndarray]:
     """Minimum-norm Gauss–Newton steps (central-difference Jacobian, halved until the norm drops) from ``x``;
     returns ``(x, residual(x))`` where it stopped."""
     size = x.size
@@ -179,7 +196,12 @@ def _synthesized_springs(chain: PlanarChain, entries: list[tuple], x: np.ndarray
     z = x[0::2] + 1j * x[1::2]
     springs = []
     for s, (body_a, body_b, _, _, stiffness) in enumerate(entries):
-        springs.append(ZeroFreeLengthSpring(Anchor(body_a, chain.to_body(body_a, z[2 * s])),
-                                            Anchor(body_b, chain.to_body(body_b, z[2 * s + 1])),
-                                            name=f"zfl{s + 1}", stiffness=stiffness))
+        springs.append(
+            ZeroFreeLengthSpring(
+                Anchor(body_a, chain.to_body(body_a, z[2 * s])),
+                Anchor(body_b, chain.to_body(body_b, z[2 * s + 1])),
+                name=f"zfl{s + 1}",
+                stiffness=stiffness,
+            )
+        )
     return springs

@@ -53,29 +53,50 @@ from springbalance.design.solvers import multistart, pool, residuals
 from springbalance.design.solvers.least_squares import refine
 from springbalance.design.solvers.multistart import solve_problem
 from springbalance.design.solvers.pool import (
-                                               POOL_MIN_SECONDS,
-                                               WORKERS_ENV,
-                                               check_workers,
-                                               default_workers,
-                                               workers_default,
+    POOL_MIN_SECONDS,
+    WORKERS_ENV,
+    check_workers,
+    default_workers,
+    workers_default,
 )
 from springbalance.design.solvers.records import (
-                                               EPIGRAPH_TOLERANCE,
-                                               FEASIBILITY_TOLERANCE,
-                                               METHODS,
-                                               Solution,
-                                               StartRecord,
+    EPIGRAPH_TOLERANCE,
+    FEASIBILITY_TOLERANCE,
+    METHODS,
+    Solution,
+    StartRecord,
 )
 from springbalance.design.solvers.starts import start_points
 
-__all__ = ["EPIGRAPH_TOLERANCE", "FEASIBILITY_TOLERANCE", "METHODS", "POOL_MIN_SECONDS", "WORKERS_ENV", "Solution",
-           "StartRecord", "check_workers", "default_workers", "refine", "solve_problem", "start_points",
-           "workers_default"]
+__all__ = [
+    "EPIGRAPH_TOLERANCE",
+    "FEASIBILITY_TOLERANCE",
+    "METHODS",
+    "POOL_MIN_SECONDS",
+    "WORKERS_ENV",
+    "Solution",
+    "StartRecord",
+    "check_workers",
+    "default_workers",
+    "refine",
+    "solve_problem",
+    "start_points",
+    "workers_default",
+]
 
 #: private names this module had before it became a package → the module that holds them now
-_MOVED = {"_LeastSquaresResiduals": "residuals", "_MultiStartSolver": "multistart", "_StartRunner": "pool",
-          "_pool_workers": "pool"}
+_MOVED = {
+    "_LeastSquaresResiduals": "residuals",
+    "_MultiStartSolver": "multistart",
+    "_StartRunner": "pool",
+    "_pool_workers": "pool",
+}
 
 
-__getattr__ = moved_names(__name__, {name: ({"residuals": residuals, "multistart": multistart, "pool": pool}[module], name)
-                                      for name, module in _MOVED.items()})
+__getattr__ = moved_names(
+    __name__,
+    {
+        name: ({"residuals": residuals, "multistart": multistart, "pool": pool}[module], name)
+        for name, module in _MOVED.items()
+    },
+)

@@ -36,8 +36,9 @@ class LeastSquaresStarts:
     tolerance: float
     _ls: _LeastSquaresResiduals | None
 
-    def _least_squares(self, z0: np.ndarray, prepare: bool = True, multipliers: np.ndarray | None = None,
-                       budget: int | None = None) -> tuple[np.ndarray, str, int, np.ndarray | None]:
+    def _least_squares(
+        self, z0: np.ndarray, prepare: bool = True, multipliers: np.ndarray | None = None, budget: int | None = None
+    ) -> tuple[np.ndarray, str, int, np.ndarray | None]:
         """Bounded Gauss–Newton (SciPy TRF) on the residuals; practical constraints by an
         augmented Lagrangian whose penalty rows ``max(0, λ - μ c)/√μ`` join the residuals.
 
@@ -74,14 +75,15 @@ class LeastSquaresStarts:
 
     def _residuals(self) -> _LeastSquaresResiduals:
         problem = self.problem
-        if self._ls is None:   # compiled once per problem, kept across solves (the fit loop re-solves)
+        if self._ls is None:  # compiled once per problem, kept across solves (the fit loop re-solves)
             if problem.least_squares_cache is None:
                 problem.least_squares_cache = _LeastSquaresResiduals(problem)
             self._ls = problem.least_squares_cache
         return self._ls
 
-    def _trust_region(self, ls: _LeastSquaresResiduals, z: np.ndarray,
-                      budget: int | None = None) -> tuple[np.ndarray, int, str]:
+    def _trust_region(
+        self, ls: _LeastSquaresResiduals, z: np.ndarray, budget: int | None = None
+    ) -> tuple[np.ndarray, int, str]:
         """SciPy's bounded trust-region-reflective least squares on the *compressed* residual.
 
         With ``JᵀJ = V Λ Vᵀ`` and ``R = Λ^½ Vᵀ``, ``q = Λ^-½ Vᵀ Jᵀ r`` (directions with
@@ -101,12 +103,12 @@ class LeastSquaresStarts:
         def compressed(zz: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
             key = zz.tobytes()
             if key not in cache:
-                if held:   # the held variables' columns left out
+                if held:  # the held variables' columns left out
                     full[free] = zz
-                    gram, projected, squares = ls.normal_equations(full)   # summed over blocks of samples
+                    gram, projected, squares = ls.normal_equations(full)  # summed over blocks of samples
                     gram, projected = gram[np.ix_(free, free)], projected[free]
                 else:
-                    gram, projected, squares = ls.normal_equations(zz)   # summed over blocks of samples
+                    gram, projected, squares = ls.normal_equations(zz)  # summed over blocks of samples
                 eigenvalues, vectors = np.linalg.eigh(gram)
                 keep = eigenvalues > 1e-13 * max(float(eigenvalues[-1]), 1e-300)
                 root = np.sqrt(eigenvalues[keep])
@@ -119,9 +121,18 @@ class LeastSquaresStarts:
                 cache[key] = (reduced, jacobian)
             return cache[key]
 
-        result = least_squares(lambda zz: compressed(zz)[0], z[free], jac=lambda zz: compressed(zz)[1],
-                               bounds=(0.0, 1.0), method="trf", x_scale="jac", ftol=self.tolerance, xtol=1e-10,
-                               gtol=1e-10, max_nfev=self.max_iterations if budget is None else budget)
+        result = least_squares(
+            lambda zz: compressed(zz)[0],
+            z[free],
+            jac=lambda zz: compressed(zz)[1],
+            bounds=(0.0, 1.0),
+            method="trf",
+            x_scale="jac",
+            ftol=self.tolerance,
+            xtol=1e-10,
+            gtol=1e-10,
+            max_nfev=self.max_iterations if budget is None else budget,
+        )
         full[free] = np.clip(result.x, 0.0, 1.0)
         return full, int(result.nfev), f"least_squares: {_STATUS.get(result.status, result.message)}"
 

@@ -30,10 +30,21 @@ from springbalance.design.solvers.starts import start_points
 from springbalance.errors import InputError, Interrupted, SolverError
 
 
-def solve_problem(problem: Problem, starts: int = 8, seed: int = 0, method: str = "auto", progress: bool | None = None,
-                  max_iterations: int = 100, tolerance: float = 1e-8, polish_iterations: int | None = None, *,
-                  initial: np.ndarray | None = None, multipliers: np.ndarray | None = None,
-                  fixed: Sequence[str] | None = None, workers: int | None = None) -> Solution:
+def solve_problem(
+    problem: Problem,
+    starts: int = 8,
+    seed: int = 0,
+    method: str = "auto",
+    progress: bool | None = None,
+    max_iterations: int = 100,
+    tolerance: float = 1e-8,
+    polish_iterations: int | None = None,
+    *,
+    initial: np.ndarray | None = None,
+    multipliers: np.ndarray | None = None,
+    fixed: Sequence[str] | None = None,
+    workers: int | None = None,
+) -> Solution:
     """Run every start and return the best feasible design (see :meth:`DesignProblem.solve`).
 
     Screen, then polish: every start runs with ``max_iterations``; up to three feasible starts
@@ -65,20 +76,28 @@ def solve_problem(problem: Problem, starts: int = 8, seed: int = 0, method: str 
         raise InputError(f"starts must be ≥ 1, got {starts}")
     if initial is not None:
         shape = np.shape(initial)
-        if len(shape) not in (1, 2) or shape[-1] != problem.variables.size or (len(shape) == 2 and not 1 <= shape[0] <= starts):
-            raise InputError(f"initial must hold {problem.variables.size} design variables, one start or up to "
-                             f"starts={starts} rows of them; got an array of shape {shape}")
+        if (
+            len(shape) not in (1, 2)
+            or shape[-1] != problem.variables.size
+            or (len(shape) == 2 and not 1 <= shape[0] <= starts)
+        ):
+            raise InputError(
+                f"initial must hold {problem.variables.size} design variables, one start or up to "
+                f"starts={starts} rows of them; got an array of shape {shape}"
+            )
     if method == "least_squares" and not problem.objective.least_squares:
-        raise InputError(f"method 'least_squares' cannot minimise objective {problem.objective.name!r}; "
-                         "use 'ipopt' or 'auto'")
+        raise InputError(
+            f"method 'least_squares' cannot minimise objective {problem.objective.name!r}; use 'ipopt' or 'auto'"
+        )
     # The linear algebra here is small (n ≈ 30 columns): BLAS threads only contend with each
     # other and with the evaluation, badly so on a loaded machine, so use one.
     with threadpool_limits(limits=1, user_api="blas"):
         solver = _MultiStartSolver(problem, method, max_iterations, tolerance, _fixed_mask(problem, fixed))
         runner = _StartRunner(solver, *_pool_workers(problem, workers, starts))
         try:
-            return _solve(problem, runner, starts, seed, method, progress, max_iterations, polish_iterations, initial,
-                          multipliers)
+            return _solve(
+                problem, runner, starts, seed, method, progress, max_iterations, polish_iterations, initial, multipliers
+            )
         finally:
             runner.close()
 
@@ -94,10 +113,38 @@ def _fixed_mask(problem: Problem, names: Sequence[str] | None) -> np.ndarray:
     return mask
 
 
-def _solve(problem: Problem, runner: _StartRunner, starts: int, seed: int, method: str, progress: bool | None,
-           max_iterations: int, polish_iterations: int | None, initial: np.ndarray | None = None,
-           multipliers: np.ndarray | None = None) -> Solution:
+def _solve(
+    problem: Problem,
+    runner: _StartRunner,
+    starts: int,
+    seed: int,
+    method: str,
+    progress: bool | None,
+    max_iterations: int,
+    polish_iterations: int | None,
+    initial: np.ndarray | None = None,
+    multipliers: np.ndarray | None = None,
+) -> Solution:
     points = start_points(problem, starts, seed, initial, runner.solver.fixed)
+    given = 1 if initial is None else np.atleast_2d(initial).shape[0]
+    records = _screen(problem, runner, points, progress, given, multipliers)
+    polish = 4 * max_iterations if polish_iterations is None else int(polish_iterations)
+    polish = polish if problem.variables.size else 0
+    best = _polished_best(problem, runner, records, polish, len(points))
+    return Solution(best.x, records, method, seed, best.status, best.multipliers)
+
+
+def _screen(
+    problem: Problem,
+    runner: _StartRunner,
+    points: np.ndarray,
+    progress: bool | None,
+    given: int,
+    multipliers: np.ndarray | None,
+) -> list[StartRecord]:
+    """Every start with the screening budget (the ``given`` first ones warm from ``multipliers``), with a
+    progress bar when asked (default: several starts and a terminal); Ctrl-C raises :class:`Interrupted`
+    with the starts that had finished and the best feasible design among them."""
     if progress is None:
         progress = len(points) > 1 and sys.stderr.isatty()
     bar = None
@@ -115,26 +162,45 @@ def _solve(problem: Problem, runner: _StartRunner, starts: int, seed: int, metho
             bar.update()
 
     try:
-        given = 1 if initial is None else np.atleast_2d(initial).shape[0]
-        records = runner.run([(index, points[index], True, multipliers if index < given else None)
-                              for index in range(len(points))], done)
+        records = runner.run(
+            [(index, points[index], True, multipliers if index < given else None) for index in range(len(points))], done
+        )
     except KeyboardInterrupt:
         if bar is not None:
             bar.close()
         feasible = [record for record in finished if record.feasible]
-        raise Interrupted(f"interrupted: {len(finished)} of {len(points)} starts had finished",
-                          problem=problem, starts=sorted(finished, key=lambda record: record.index),
-                          total=len(points), best_x=_best(feasible, problem).x if feasible else None) from None
+        raise Interrupted(
+            f"interrupted: {len(finished)} of {len(points)} starts had finished",
+            problem=problem,
+            starts=sorted(finished, key=lambda record: record.index),
+            total=len(points),
+            best_x=_best(feasible, problem).x if feasible else None,
+        ) from None
     if bar is not None:
         bar.close()
-    polish = 4 * max_iterations if polish_iterations is None else int(polish_iterations)
-    polish = polish if problem.variables.size else 0
+    return records
+
+
+def _polished_best(
+    problem: Problem, runner: _StartRunner, records: list[StartRecord], polish: int, total: int
+) -> StartRecord:
+    """The best feasible start after the polish: when none is feasible, up to three that the budget stopped
+    (the least violated first) go on for ``polish`` iterations; then up to three feasible ones within 25 % of
+    the best that the budget stopped. :class:`SolverError` when no start is feasible."""
     feasible = [record for record in records if record.feasible]
     if not feasible and polish > 0:
         # no start is feasible yet: continue those the budget stopped, the closest to feasible first
         stopped = sorted((r for r in records if _stopped_by_budget(r)), key=lambda record: record.max_violation)[:3]
-        _polish(runner, problem, records, stopped, polish, lambda new, old: new.max_violation < old.max_violation,
-                len(points), None)
+        _polish(
+            runner,
+            problem,
+            records,
+            stopped,
+            polish,
+            lambda new, old: new.max_violation < old.max_violation,
+            total,
+            None,
+        )
         feasible = [record for record in records if record.feasible]
     if not feasible:
         summary = "; ".join(f"start {r.index}: {r.status}, violation {r.max_violation:.3g}" for r in records)
@@ -142,12 +208,22 @@ def _solve(problem: Problem, runner: _StartRunner, starts: int, seed: int, metho
     best = _best(feasible, problem)
     if polish > 0:
         # continue the starts that are close to the best and were stopped by the budget
-        candidates = sorted((r for r in feasible if _stopped_by_budget(r) and r.objective <= 1.25 * best.objective),
-                            key=lambda record: record.objective)[:3]
-        _polish(runner, problem, records, candidates, polish,
-                lambda new, old: new.feasible and new.objective <= old.objective, len(points), best.x)
+        candidates = sorted(
+            (r for r in feasible if _stopped_by_budget(r) and r.objective <= 1.25 * best.objective),
+            key=lambda record: record.objective,
+        )[:3]
+        _polish(
+            runner,
+            problem,
+            records,
+            candidates,
+            polish,
+            lambda new, old: new.feasible and new.objective <= old.objective,
+            total,
+            best.x,
+        )
         best = _best([r for r in records if r.feasible], problem)
-    return Solution(best.x, records, method, seed, best.status, best.multipliers)
+    return best
 
 
 def _stopped_by_budget(record: StartRecord) -> bool:
@@ -155,9 +231,16 @@ def _stopped_by_budget(record: StartRecord) -> bool:
     return "iteration limit" in record.status or "Maximum_Iterations_Exceeded" in record.status
 
 
-def _polish(runner: _StartRunner, problem: Problem, records: list[StartRecord], candidates: list[StartRecord],
-            iterations: int, better: Callable[[StartRecord, StartRecord], bool], total: int,
-            best_x: np.ndarray | None) -> None:
+def _polish(
+    runner: _StartRunner,
+    problem: Problem,
+    records: list[StartRecord],
+    candidates: list[StartRecord],
+    iterations: int,
+    better: Callable[[StartRecord, StartRecord], bool],
+    total: int,
+    best_x: np.ndarray | None,
+) -> None:
     """Continue ``candidates`` (records of ``records``) from where they stopped for up to ``iterations``;
     a continued start replaces its record when ``better(new, old)``."""
     if not candidates:
@@ -165,11 +248,17 @@ def _polish(runner: _StartRunner, problem: Problem, records: list[StartRecord], 
     runner.solver.max_iterations = iterations
     try:
         # from where each stopped: its design, and IPOPT's multipliers when IPOPT stopped it
-        continued = runner.run([(record.index, problem.unscale(record.x), False, record.multipliers)
-                                for record in candidates])
+        continued = runner.run(
+            [(record.index, problem.unscale(record.x), False, record.multipliers) for record in candidates]
+        )
     except KeyboardInterrupt:
-        raise Interrupted(f"interrupted while polishing: all {total} starts had finished",
-                          problem=problem, starts=records, total=total, best_x=best_x) from None
+        raise Interrupted(
+            f"interrupted while polishing: all {total} starts had finished",
+            problem=problem,
+            starts=records,
+            total=total,
+            best_x=best_x,
+        ) from None
     for record, polished in zip(candidates, continued):
         polished.z0 = record.z0
         polished.status = f"{polished.status} (polished after {record.iterations} iterations)"
@@ -196,8 +285,9 @@ class _MultiStartSolver(LeastSquaresStarts, IpoptStarts):
     (:class:`~springbalance.design.solvers.least_squares.LeastSquaresStarts`), IPOPT
     (:class:`~springbalance.design.solvers.ipopt.IpoptStarts`), or both in turn (``auto``)."""
 
-    def __init__(self, problem: Problem, method: str, max_iterations: int, tolerance: float,
-                 fixed: np.ndarray | None = None) -> None:
+    def __init__(
+        self, problem: Problem, method: str, max_iterations: int, tolerance: float, fixed: np.ndarray | None = None
+    ) -> None:
         self.problem = problem
         #: variables held at their start value (bounds collapsed): least squares leaves their columns out
         self.fixed = np.zeros(problem.variables.size, dtype=bool) if fixed is None else np.asarray(fixed, dtype=bool)
@@ -220,7 +310,9 @@ class _MultiStartSolver(LeastSquaresStarts, IpoptStarts):
             self._ipopt_solvers()
 
     # ------------------------------------------------------------------ one start
-    def run(self, index: int, z0: np.ndarray, prepare: bool = True, nlp_multipliers: np.ndarray | None = None) -> StartRecord:
+    def run(
+        self, index: int, z0: np.ndarray, prepare: bool = True, nlp_multipliers: np.ndarray | None = None
+    ) -> StartRecord:
         """One start from ``z0`` (scaled); ``prepare``: fit the linear variables and free lengths first.
         ``nlp_multipliers``: IPOPT's multipliers of the NLP rows at ``z0`` (those of a nearby problem's
         solution, or those IPOPT stopped this start with): the start then goes on from that primal-dual
@@ -231,18 +323,31 @@ class _MultiStartSolver(LeastSquaresStarts, IpoptStarts):
         evaluation: Evaluation | None
         z, status, iterations, lam_g, evaluation = np.array(z0, dtype=float), "evaluated", 0, None, None
         if not self.fixed.all():
-            z, status, iterations, lam_g, evaluation = (self._warm(z, nlp_multipliers)
-                                                        if nlp_multipliers is not None and self._matches(nlp_multipliers)
-                                                        else self._cold(z, prepare))
+            z, status, iterations, lam_g, evaluation = (
+                self._warm(z, nlp_multipliers)
+                if nlp_multipliers is not None and self._matches(nlp_multipliers)
+                else self._cold(z, prepare)
+            )
         if evaluation is None:
             evaluation = problem.evaluate(problem.scale(z))
-        tiebreak = problem.objective.tiebreak(evaluation.tau * problem.weights, evaluation.potential, problem.path_steps)
+        tiebreak = problem.objective.tiebreak(
+            evaluation.tau * problem.weights, evaluation.potential, problem.path_steps
+        )
         violation = self._violation(evaluation)
-        return StartRecord(index, np.asarray(z0), evaluation.x, problem.objective_value(evaluation),
-                           violation, status, iterations, time.perf_counter() - clock, tiebreak, lam_g)
+        return StartRecord(
+            index,
+            np.asarray(z0),
+            evaluation.x,
+            problem.objective_value(evaluation),
+            violation,
+            status,
+            iterations,
+            time.perf_counter() - clock,
+            tiebreak,
+            lam_g,
+        )
 
-    def _cold(self, z: np.ndarray,
-              prepare: bool) -> tuple[np.ndarray, str, int, np.ndarray | None, Evaluation | None]:
+    def _cold(self, z: np.ndarray, prepare: bool) -> tuple[np.ndarray, str, int, np.ndarray | None, Evaluation | None]:
         """Least squares first (``auto``, ``least_squares``), then IPOPT when asked for, for an objective
         without least-squares structure, or for a constraint that least squares left violated.
         Returns ``(z, status, iterations, lam_g, evaluation)`` (``lam_g``: IPOPT's row multipliers, None
@@ -251,19 +356,24 @@ class _MultiStartSolver(LeastSquaresStarts, IpoptStarts):
         status, iterations, multipliers = "evaluated", 0, None
         if self.method in ("auto", "least_squares"):
             z, status, iterations, multipliers = self._least_squares(z, prepare)
-        needs_nlp, evaluation = self.method == "ipopt" or (self.method == "auto" and not problem.objective.least_squares), None
+        needs_nlp, evaluation = (
+            self.method == "ipopt" or (self.method == "auto" and not problem.objective.least_squares),
+            None,
+        )
         if not needs_nlp and self.method == "auto" and (problem.model.n_constraints or problem.linear_matrix()[1].size):
-            evaluation = problem.evaluate(problem.scale(z))   # (only then is the design evaluated here)
+            evaluation = problem.evaluate(problem.scale(z))  # (only then is the design evaluated here)
             needs_nlp = self._violation(evaluation) > FEASIBILITY_TOLERANCE
         if not needs_nlp:
             return z, status, iterations, None, evaluation
         evaluation = evaluation if evaluation is not None else problem.evaluate(problem.scale(z))
-        z, status, more, lam_g = self._ipopt_solve(z, evaluation,
-                                                   multipliers=multipliers if problem.objective.least_squares else None)
+        z, status, more, lam_g = self._ipopt_solve(
+            z, evaluation, multipliers=multipliers if problem.objective.least_squares else None
+        )
         return z, status, iterations + more, lam_g, None
 
-    def _warm(self, z: np.ndarray,
-              lam_g: np.ndarray) -> tuple[np.ndarray, str, int, np.ndarray | None, Evaluation | None]:
+    def _warm(
+        self, z: np.ndarray, lam_g: np.ndarray
+    ) -> tuple[np.ndarray, str, int, np.ndarray | None, Evaluation | None]:
         """The start from a primal-dual point: ``z`` with IPOPT's multipliers ``lam_g`` of the NLP rows.
 
         IPOPT goes on from it, warm, when it alone minimises the objective. A least-squares objective
@@ -297,4 +407,3 @@ class _MultiStartSolver(LeastSquaresStarts, IpoptStarts):
             return False
         solver, _ = self._ipopt_solvers()
         return np.size(lam_g) == solver.nlp.n_rows
-

@@ -48,8 +48,9 @@ class _Solver(Protocol):
 
     def prepare(self) -> None: ...
 
-    def run(self, index: int, z0: np.ndarray, prepare: bool = True,
-            nlp_multipliers: np.ndarray | None = None) -> StartRecord: ...
+    def run(
+        self, index: int, z0: np.ndarray, prepare: bool = True, nlp_multipliers: np.ndarray | None = None
+    ) -> StartRecord: ...
 
     def _matches(self, lam_g: np.ndarray | None) -> bool: ...
 
@@ -94,8 +95,13 @@ def _pool_workers(problem: Problem, workers: int | None, tasks: int) -> tuple[in
     task; else ``min(workers, tasks)``."""
     import multiprocessing
 
-    if (_IN_WORKER or tasks < 2 or multiprocessing.current_process().daemon or sys.platform == "darwin"
-            or "fork" not in multiprocessing.get_all_start_methods()):
+    if (
+        _IN_WORKER
+        or tasks < 2
+        or multiprocessing.current_process().daemon
+        or sys.platform == "darwin"
+        or "fork" not in multiprocessing.get_all_start_methods()
+    ):
         return 1, False
     chosen = check_workers(workers)
     if chosen is None:
@@ -112,10 +118,11 @@ def _mark_worker() -> None:
     use_one_thread()
 
 
-def _run_in_worker(index: int, z0: np.ndarray, prepare: bool, multipliers: np.ndarray | None,
-                   max_iterations: int) -> StartRecord:
+def _run_in_worker(
+    index: int, z0: np.ndarray, prepare: bool, multipliers: np.ndarray | None, max_iterations: int
+) -> StartRecord:
     solver = _WORKER_SOLVER
-    assert solver is not None   # set before the fork that made this worker
+    assert solver is not None  # set before the fork that made this worker
     solver.max_iterations = max_iterations
     return solver.run(index, z0, prepare, multipliers)
 
@@ -188,8 +195,9 @@ class _StartRunner:
 
             self.solver.prepare()  # the compiled residual is built here, once, and inherited by the workers
             _WORKER_SOLVER = self.solver
-            self._executor = ProcessPoolExecutor(self.workers, mp_context=multiprocessing.get_context("fork"),
-                                                 initializer=_mark_worker)
+            self._executor = ProcessPoolExecutor(
+                self.workers, mp_context=multiprocessing.get_context("fork"), initializer=_mark_worker
+            )
         return self._executor
 
     def close(self) -> None:

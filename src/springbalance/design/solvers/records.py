@@ -42,10 +42,17 @@ class StartRecord:
 
     def to_dict(self) -> dict[str, Any]:
         """The record as JSON-ready values (``x`` as a list; ``tiebreak`` only when it is set)."""
-        return {"index": self.index, "objective": self.objective, "max_violation": self.max_violation,
-                "status": self.status, "iterations": self.iterations, "seconds": self.seconds,
-                "feasible": bool(self.feasible), "x": self.x.tolist(),
-                **({"tiebreak": self.tiebreak} if np.isfinite(self.tiebreak) else {})}
+        return {
+            "index": self.index,
+            "objective": self.objective,
+            "max_violation": self.max_violation,
+            "status": self.status,
+            "iterations": self.iterations,
+            "seconds": self.seconds,
+            "feasible": bool(self.feasible),
+            "x": self.x.tolist(),
+            **({"tiebreak": self.tiebreak} if np.isfinite(self.tiebreak) else {}),
+        }
 
 
 @dataclasses.dataclass

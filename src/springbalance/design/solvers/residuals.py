@@ -60,9 +60,16 @@ class _LeastSquaresResiduals:
         self.n_moving = len(moving)
         residual = residual[self.order.tolist()]
         scaled_rows = rows / ca.DM(self.row_scale) if blocks else rows
-        function = ca.Function("scaled_residual", [z, data],
-                               [residual, ca.densify(ca.jacobian(residual[: self.n_moving], z).T), scaled_rows,
-                                ca.jacobian(scaled_rows, z).T])
+        function = ca.Function(
+            "scaled_residual",
+            [z, data],
+            [
+                residual,
+                ca.densify(ca.jacobian(residual[: self.n_moving], z).T),
+                scaled_rows,
+                ca.jacobian(scaled_rows, z).T,
+            ],
+        )
         self.function = compiled(function)
         self.evaluator = BlockEvaluator(self.function, problem.data, block)
         self.multipliers: np.ndarray | None = None
@@ -108,7 +115,7 @@ class _LeastSquaresResiduals:
         n_c = self.row_scale.size
         for start, stop, outputs in self.evaluator.blocks(z):
             if n_c:
-                rows_all[start * n_c: stop * n_c] = outputs[2].reshape(-1)
+                rows_all[start * n_c : stop * n_c] = outputs[2].reshape(-1)
             yield start, stop, outputs
         self._rows_z, self._rows = z, rows_all
 
@@ -117,16 +124,19 @@ class _LeastSquaresResiduals:
         if self._rows_z is None or not np.array_equal(z, self._rows_z):
             for _ in self._blocks(z):
                 pass
-        assert self._rows is not None   # recorded by the pass over the blocks
+        assert self._rows is not None  # recorded by the pass over the blocks
         matrix, offset = self._linear()
         return np.concatenate([self._rows, matrix @ z + offset])
 
     def normal_equations(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
         """``(JᵀJ, Jᵀr, rᵀr)`` of the residual (with the penalty rows when a penalty is set) at ``z``,
         summed block by block."""
-        key = (np.array(z, dtype=float).tobytes(), self.penalty,
-               None if self.multipliers is None else np.asarray(self.multipliers).tobytes())
-        if self._normal_key == key and self._normal is not None:   # (set together)
+        key = (
+            np.array(z, dtype=float).tobytes(),
+            self.penalty,
+            None if self.multipliers is None else np.asarray(self.multipliers).tobytes(),
+        )
+        if self._normal_key == key and self._normal is not None:  # (set together)
             return self._normal
         if self.variance:
             r, J = self.residuals_and_jacobian(z)
@@ -146,12 +156,16 @@ class _LeastSquaresResiduals:
             multipliers = np.asarray(self.multipliers)
         for start, stop, (residual, jacobian, rows, row_jacobian) in self._blocks(z):
             r, J = residual.reshape(-1), jacobian.reshape(-1, n_x)
-            moving = r if self.n_moving == self.order.size else residual.reshape(-1, self.order.size)[:, : self.n_moving].reshape(-1)
+            moving = (
+                r
+                if self.n_moving == self.order.size
+                else residual.reshape(-1, self.order.size)[:, : self.n_moving].reshape(-1)
+            )
             gram += J.T @ J
             projected += J.T @ moving
             squares += float(r @ r)
             if penalised and n_c:
-                shifted = multipliers[start * n_c: stop * n_c] - self.penalty * rows.reshape(-1)
+                shifted = multipliers[start * n_c : stop * n_c] - self.penalty * rows.reshape(-1)
                 active = shifted > 0
                 if np.any(active):
                     penalty_r = shifted[active] / root
@@ -161,7 +175,7 @@ class _LeastSquaresResiduals:
                     squares += float(penalty_r @ penalty_r)
         matrix, offset = self._linear()
         if penalised and offset.size:
-            shifted = multipliers[self.n_sample_rows:] - self.penalty * (matrix @ z + offset)
+            shifted = multipliers[self.n_sample_rows :] - self.penalty * (matrix @ z + offset)
             active = shifted > 0
             penalty_r = shifted[active] / root
             penalty_J = -root * matrix[active]
@@ -183,8 +197,8 @@ class _LeastSquaresResiduals:
                 r = np.empty(self.evaluator.n_samples * per_sample)
                 J = np.empty((r.size, len(columns)))
             r_block, J_block = self._in_row_order(residual, jacobian)
-            r[start * per_sample: stop * per_sample] = r_block
-            J[start * per_sample: stop * per_sample] = J_block[:, columns]
+            r[start * per_sample : stop * per_sample] = r_block
+            J[start * per_sample : stop * per_sample] = J_block[:, columns]
         if r is None or J is None:
             raise ValueError("no samples to evaluate")
         return r, J
@@ -207,7 +221,7 @@ class _LeastSquaresResiduals:
         if self._full_z is None or not np.array_equal(z, self._full_z):
             self._full = self.evaluator.evaluate(np.array(z, dtype=float))
             self._full_z = np.array(z)
-        assert self._full is not None   # set with _full_z
+        assert self._full is not None  # set with _full_z
         return self._full
 
     def _objective_rows(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -236,4 +250,3 @@ class _LeastSquaresResiduals:
         penalty_J = np.zeros((active.size, n_x))
         penalty_J[active] = -np.sqrt(self.penalty) * row_jacobian[active]
         return np.concatenate([r, penalty_r]), np.vstack([J, penalty_J])
-

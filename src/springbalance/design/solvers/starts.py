@@ -8,8 +8,9 @@ from springbalance.design.solvers.records import Problem
 from springbalance.model.sobol import sobol_engine
 
 
-def start_points(problem: Problem, starts: int, seed: int, initial: np.ndarray | None = None,
-                 fixed: np.ndarray | None = None) -> np.ndarray:
+def start_points(
+    problem: Problem, starts: int, seed: int, initial: np.ndarray | None = None, fixed: np.ndarray | None = None
+) -> np.ndarray:
     """Scaled start points: ``initial`` (physical units; one point, or one per row of a 2-D array)
     or the problem's initial guess, then scrambled Sobol points in [0, 1]^n up to ``starts`` points
     in all; the variables of the boolean mask ``fixed`` keep their value of the first point in every
@@ -24,5 +25,5 @@ def start_points(problem: Problem, starts: int, seed: int, initial: np.ndarray |
     others = sobol.random(1 << int(np.ceil(np.log2(count)))) if count > 1 else sobol.random(1)
     points = np.vstack([given, others[:count]])
     if fixed is not None:
-        points[given.shape[0]:, fixed] = given[0, fixed]
+        points[given.shape[0] :, fixed] = given[0, fixed]
     return points

@@ -47,14 +47,28 @@ from springbalance.design.torque_model.context import PointKinematics, SampleCon
 from springbalance.design.torque_model.evaluators import BLOCK_BYTES, BlockEvaluator, SampleEvaluator
 from springbalance.design.torque_model.model import TorqueModel
 from springbalance.design.torque_model.threads import (
-                                                       THREADS_ENV,
-                                                       count_from_environment,
-                                                       evaluation_threads,
-                                                       one_thread,
-                                                       use_one_thread,
+    THREADS_ENV,
+    count_from_environment,
+    evaluation_threads,
+    one_thread,
+    use_one_thread,
 )
 from springbalance.design.torque_model.variables import ConstraintBlock, DesignVariables
 
-__all__ = ["BLOCK_BYTES", "THREADS_ENV", "BlockEvaluator", "ConstraintBlock", "DesignVariables", "PointKinematics",
-           "SampleContext", "SampleEvaluator", "TorqueModel", "compiled", "compiler_available",
-           "count_from_environment", "evaluation_threads", "one_thread", "use_one_thread"]
+__all__ = [
+    "BLOCK_BYTES",
+    "THREADS_ENV",
+    "BlockEvaluator",
+    "ConstraintBlock",
+    "DesignVariables",
+    "PointKinematics",
+    "SampleContext",
+    "SampleEvaluator",
+    "TorqueModel",
+    "compiled",
+    "compiler_available",
+    "count_from_environment",
+    "evaluation_threads",
+    "one_thread",
+    "use_one_thread",
+]

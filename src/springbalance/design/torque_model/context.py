@@ -16,8 +16,9 @@ class SampleContext:
     ``gravity`` → the gravity vector (3) [m/s²].
     """
 
-    def __init__(self, nv: int, gravity: np.ndarray, bodies: dict, ground: dict, coordinates: dict,
-                 joint_index: dict) -> None:
+    def __init__(
+        self, nv: int, gravity: np.ndarray, bodies: dict, ground: dict, coordinates: dict, joint_index: dict
+    ) -> None:
         self.nv = nv
         self.gravity = ca.DM(np.asarray(gravity, dtype=float).reshape(3, 1))
         self._bodies, self._ground, self._coordinates, self._joint_index = bodies, ground, coordinates, joint_index
@@ -25,7 +26,7 @@ class SampleContext:
     def point(self, body: str, local: ca.SX | ca.DM) -> PointKinematics:
         if body in self._bodies:
             t, R, J = self._bodies[body]
-            lever = ca.mtimes(R, local)                  # R p, world-aligned [m]
+            lever = ca.mtimes(R, local)  # R p, world-aligned [m]
             return PointKinematics(t + lever, lever, J, self.nv)
         t0, R0 = self._ground[body]
         return PointKinematics(ca.DM(t0) + ca.mtimes(ca.DM(R0), local), None, None, self.nv)
@@ -53,6 +54,5 @@ class PointKinematics:
         if self._jacobian is None:
             return ca.DM.zeros(self._nv, 1)
         J = self._jacobian
-        assert self._lever is not None   # a moving point has its lever with its Jacobian
+        assert self._lever is not None  # a moving point has its lever with its Jacobian
         return ca.mtimes(J[:3, :].T, force) + ca.mtimes(J[3:, :].T, ca.cross(self._lever, force))
-

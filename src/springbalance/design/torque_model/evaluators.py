@@ -34,17 +34,21 @@ class _Outputs:
                 self._sparse.append(None)
             else:
                 triplet_rows, triplet_cols = sparsity.get_triplet()
-                self._sparse.append((np.array(triplet_cols, dtype=int), np.array(triplet_rows, dtype=int),
-                                     sparsity.nnz()))
+                self._sparse.append(
+                    (np.array(triplet_cols, dtype=int), np.array(triplet_rows, dtype=int), sparsity.nnz())
+                )
         self.addresses = (ctypes.c_void_p * max(len(self.raw), 1))(*[raw.ctypes.data for raw in self.raw])
         self._views: dict[int, list[np.ndarray]] = {}
 
     def views(self, n: int) -> list[np.ndarray]:
         """The outputs of the first ``n`` samples (sparse ones scattered from the raw nonzeros now)."""
         if n not in self._views:
-            self._views[n] = [raw[: n * (sparse[2] if sparse else shape[0] * shape[1])].reshape(n, *shape)
-                              if sparse is None else np.zeros((n,) + shape)
-                              for raw, shape, sparse in zip(self.raw, self._shapes, self._sparse)]
+            self._views[n] = [
+                raw[: n * (sparse[2] if sparse else shape[0] * shape[1])].reshape(n, *shape)
+                if sparse is None
+                else np.zeros((n,) + shape)
+                for raw, shape, sparse in zip(self.raw, self._shapes, self._sparse)
+            ]
         outputs = self._views[n]
         for raw, sparse, out in zip(self.raw, self._sparse, outputs):
             if sparse is not None and sparse[2]:
@@ -80,7 +84,7 @@ class SampleEvaluator:
         self._buffers = _Outputs(function, n)
         if self._kernel is not None:
             return
-        self._x = np.zeros((n, function.nnz_in(0)))   # row i: the x of sample i (all equal)
+        self._x = np.zeros((n, function.nnz_in(0)))  # row i: the x of sample i (all equal)
         self._buffer, self._trigger = function.map(n, "serial").buffer()
         # casadi's stub asks for a size the SWIG wrapper takes from the buffer, and numpy's stub lacks __buffer__
         self._buffer.set_arg(0, memoryview(self._x.reshape(-1)))  # type: ignore[call-arg, arg-type]
@@ -133,8 +137,9 @@ class BlockEvaluator:
             False never (CasADi's map), True whenever ``function`` has one.
     """
 
-    def __init__(self, function: ca.Function, data: np.ndarray, block: int | None = None,
-                 kernel: bool | None = None) -> None:
+    def __init__(
+        self, function: ca.Function, data: np.ndarray, block: int | None = None, kernel: bool | None = None
+    ) -> None:
         self.function = function
         self.n_samples = n = data.shape[1]
         self._rows = data.shape[0]
@@ -142,7 +147,7 @@ class BlockEvaluator:
         if block is None:
             per_sample = 8 * max(sum(function.sparsity_out(i).nnz() for i in range(function.n_out())), 1)
             largest = max(BLOCK_BYTES // per_sample, 32)
-            block = -(-n // -(-n // largest))   # ceil(n / ceil(n / largest)): the blocks share the samples evenly
+            block = -(-n // -(-n // largest))  # ceil(n / ceil(n / largest)): the blocks share the samples evenly
         self.block = int(max(1, min(block, n)))
         self._parts: dict[int, SampleEvaluator] = {}
         self._kernel = None if kernel is False else block_kernel(function, n if kernel is None else None)
@@ -150,8 +155,9 @@ class BlockEvaluator:
 
     def _part(self, size: int) -> SampleEvaluator:
         if size not in self._parts:
-            self._parts[size] = SampleEvaluator(self.function, self._data[: size * self._rows].reshape(
-                self._rows, size, order="F"), kernel=False)
+            self._parts[size] = SampleEvaluator(
+                self.function, self._data[: size * self._rows].reshape(self._rows, size, order="F"), kernel=False
+            )
         return self._parts[size]
 
     def _slot(self, index: int) -> _Outputs:
@@ -165,10 +171,10 @@ class BlockEvaluator:
         if self._kernel is None:
             for start, stop in spans:
                 part = self._part(stop - start)
-                part.rebind(self._data[start * self._rows: stop * self._rows])
+                part.rebind(self._data[start * self._rows : stop * self._rows])
                 yield start, stop, part(x)
             return
-        x = self._kernel.shared_input(x)   # a copy: the helper thread reads it while the caller goes on
+        x = self._kernel.shared_input(x)  # a copy: the helper thread reads it while the caller goes on
         if len(spans) < 2 or evaluation_threads() < 2:
             slot = self._slot(0)
             for start, stop in spans:
@@ -179,7 +185,7 @@ class BlockEvaluator:
 
     def _evaluate(self, x: np.ndarray, start: int, stop: int, slot: _Outputs) -> None:
         kernel = self._kernel
-        assert kernel is not None   # only the kernel's path evaluates block by block into slots
+        assert kernel is not None  # only the kernel's path evaluates block by block into slots
         kernel(x, self._data.ctypes.data + 8 * start * self._rows, stop - start, slot.addresses)
 
     def _pipelined(self, x: np.ndarray, spans: list[tuple[int, int]]) -> Iterator[tuple[int, int, list[np.ndarray]]]:
@@ -197,7 +203,7 @@ class BlockEvaluator:
                 try:
                     self._evaluate(x, *spans[index], slots[index % 2])
                     replies.put(None)
-                except BaseException as error:   # handed to the caller's thread
+                except BaseException as error:  # handed to the caller's thread
                     replies.put(error)
 
         thread = threading.Thread(target=helper, name="springbalance-blocks", daemon=True)
@@ -210,7 +216,7 @@ class BlockEvaluator:
                     error = replies.get()
                     if error is not None:
                         raise error
-                    if index + 1 < len(spans):   # the caller is done with the other buffer (block index - 1)
+                    if index + 1 < len(spans):  # the caller is done with the other buffer (block index - 1)
                         requests.put(index + 1)
                 yield start, stop, slots[index % 2].views(stop - start)
         finally:

@@ -32,8 +32,14 @@ class TorqueModel:
         constraint_blocks: which spring constraint each row of ``C`` belongs to.
     """
 
-    def __init__(self, mechanism: Mechanism, springs: list[Spring], scenarios: Sequence[str] = (),
-                 per_scenario: Sequence[str] = (), joint_limits: np.ndarray | None = None) -> None:
+    def __init__(
+        self,
+        mechanism: Mechanism,
+        springs: list[Spring],
+        scenarios: Sequence[str] = (),
+        per_scenario: Sequence[str] = (),
+        joint_limits: np.ndarray | None = None,
+    ) -> None:
         self.mechanism = mechanism
         self.springs = springs
         self.variables = DesignVariables()
@@ -54,12 +60,12 @@ class TorqueModel:
         # scenario last (1 in the samples of that scenario, else 0).
         self.data_size = nv + 1 + len(self.joints) + len(self.bodies) * (12 + 6 * nv) + len(self.scenarios)
         data = ca.SX.sym("data", self.data_size)
-        local = self._local_symbols(x, data[self.data_size - len(self.scenarios):]) if self.scenarios else x
+        local = self._local_symbols(x, data[self.data_size - len(self.scenarios) :]) if self.scenarios else x
         context = self._sample_context(data)
         tau, potential, states, forces, constraint_rows = self._spring_outputs(context, data, local, variable_slots)
 
         if joint_limits is not None:
-            selectors = data[self.data_size - len(self.scenarios):] if self.scenarios else None
+            selectors = data[self.data_size - len(self.scenarios) :] if self.scenarios else None
             self._add_joint_limits(np.asarray(joint_limits, dtype=float), tau, selectors, constraint_rows)
 
         self.n_springs = len(springs)
@@ -76,14 +82,26 @@ class TorqueModel:
         for spring in self.springs:
             for end, anchor in spring.anchors.items():
                 region = anchor.region()
-                indices = [self.variables.add(f"{spring.name}.{end}.{label}", "m" if len(region.labels) != 1 or label != "s" else "1",
-                                              lo, hi, s0)
-                           for label, lo, hi, s0 in zip(region.labels, region.lower, region.upper, region.start)]
+                indices = [
+                    self.variables.add(
+                        f"{spring.name}.{end}.{label}",
+                        "m" if len(region.labels) != 1 or label != "s" else "1",
+                        lo,
+                        hi,
+                        s0,
+                    )
+                    for label, lo, hi, s0 in zip(region.labels, region.lower, region.upper, region.start)
+                ]
                 variable_slots.append((spring, end, region, indices))
             for key, value in spring.parameters.items():
                 if isinstance(value, Free) and value.upper > value.lower:
-                    self.variables.add(f"{spring.name}.{key}", spring.parameter_units[key],
-                                       float(value.lower), float(value.upper), float(value.start))
+                    self.variables.add(
+                        f"{spring.name}.{key}",
+                        spring.parameter_units[key],
+                        float(value.lower),
+                        float(value.upper),
+                        float(value.start),
+                    )
         return variable_slots
 
     def _sample_context(self, data: ca.SX) -> SampleContext:
@@ -94,13 +112,19 @@ class TorqueModel:
         body_data = {}
         offset = nv + 1 + len(self.joints)
         for body in self.bodies:
-            t = data[offset:offset + 3]
-            R = ca.reshape(data[offset + 3:offset + 12], 3, 3).T
-            J = ca.reshape(data[offset + 12:offset + 12 + 6 * nv], nv, 6).T
+            t = data[offset : offset + 3]
+            R = ca.reshape(data[offset + 3 : offset + 12], 3, 3).T
+            J = ca.reshape(data[offset + 12 : offset + 12 + 6 * nv], nv, 6).T
             body_data[body] = (t, R, J)
             offset += 12 + 6 * nv
-        return SampleContext(nv, mechanism.gravity, body_data, self._ground, coordinates,
-                             {joint: mechanism.joint(joint).index_v for joint in self.joints})
+        return SampleContext(
+            nv,
+            mechanism.gravity,
+            body_data,
+            self._ground,
+            coordinates,
+            {joint: mechanism.joint(joint).index_v for joint in self.joints},
+        )
 
     def _spring_outputs(self, context: SampleContext, data: ca.SX, local: ca.SX, variable_slots: list[tuple]) -> tuple:
         r"""``(tau, V, states, forces, constraint rows)`` of one sample: :math:`\tau = g + \sum_s \tau_s`
@@ -128,23 +152,31 @@ class TorqueModel:
             self._add_constraint_rows(spring, share, parameters, data, constraint_rows)
         return tau, potential, states, forces, constraint_rows
 
-    def _add_constraint_rows(self, spring: Spring, share: Contribution, parameters: dict, data: ca.SX,
-                             constraint_rows: list[ca.SX]) -> None:
+    def _add_constraint_rows(
+        self, spring: Spring, share: Contribution, parameters: dict, data: ca.SX, constraint_rows: list[ca.SX]
+    ) -> None:
         """Append the rows (≥ 0 when feasible) of ``spring``'s practical constraints to ``constraint_rows``."""
         for constraint in spring.constraints():
             parts = getattr(constraint, "parts", None)
-            rows = (constraint.rows(share.state, share.force, parameters, share.extra)
-                    if getattr(constraint, "uses_extra", False) else constraint.rows(share.state, share.force, parameters))
+            rows = (
+                constraint.rows(share.state, share.force, parameters, share.extra)
+                if getattr(constraint, "uses_extra", False)
+                else constraint.rows(share.state, share.force, parameters)
+            )
             if parts is None:
                 parts, rows = ((constraint.name, constraint.unit, constraint.scale),), [rows]
             for (name, unit, scale), row in zip(parts, rows):
                 row = ca.SX(row)
-                self.constraint_blocks.append(ConstraintBlock(spring.name, name, unit, len(constraint_rows),
-                                                              float(scale), bool(ca.depends_on(row, data))))
+                self.constraint_blocks.append(
+                    ConstraintBlock(
+                        spring.name, name, unit, len(constraint_rows), float(scale), bool(ca.depends_on(row, data))
+                    )
+                )
                 constraint_rows.append(row)
 
-    def _add_joint_limits(self, limits: np.ndarray, tau: ca.SX, selectors: ca.SX | None,
-                          constraint_rows: list[ca.SX]) -> None:
+    def _add_joint_limits(
+        self, limits: np.ndarray, tau: ca.SX, selectors: ca.SX | None, constraint_rows: list[ca.SX]
+    ) -> None:
         r"""Rows :math:`(P_j^2 - \tau_j^2)/P_j \ge 0`, i.e. :math:`|\tau_j| \le P_j`, for every joint
         whose limit ``P_j`` [N·m or N] is finite. ``limits`` is (S×nv) with scenarios (a sample sees
         its own scenario's row through the selectors), else (1×nv); NaN: no row for that joint."""
@@ -158,11 +190,14 @@ class TorqueModel:
             bound: float | ca.SX
             if selectors is None or column.size == 1:
                 bound = float(column[0])
-            else:   # (sum() of SX is SX: typeshed's sum wants int-addable items)
+            else:  # (sum() of SX is SX: typeshed's sum wants int-addable items)
                 bound = cast(ca.SX, sum(selectors[s] * float(column[s]) for s in range(column.size)))
             torque = tau[joint.index_v]
-            self.constraint_blocks.append(ConstraintBlock("", f"no_joint_worse.{joint.name}", joint.torque_unit,
-                                                          len(constraint_rows), float(np.max(column))))
+            self.constraint_blocks.append(
+                ConstraintBlock(
+                    "", f"no_joint_worse.{joint.name}", joint.torque_unit, len(constraint_rows), float(np.max(column))
+                )
+            )
             constraint_rows.append((bound * bound - torque * torque) / bound)
 
     # ---------------------------------------------------------------- scenarios
@@ -180,8 +215,10 @@ class TorqueModel:
         for entry in per_scenario:
             matches = [i for i, name in enumerate(base.names) if name == entry or name.startswith(entry + ".")]
             if not matches:
-                raise InputError(f"per-scenario variable {entry!r} matches no design variable; variables: "
-                                 f"{', '.join(base.names) or '(none)'}")
+                raise InputError(
+                    f"per-scenario variable {entry!r} matches no design variable; variables: "
+                    f"{', '.join(base.names) or '(none)'}"
+                )
             adjustable.update(matches)
         self.per_scenario = sorted(adjustable)
         full = DesignVariables()
@@ -205,7 +242,7 @@ class TorqueModel:
             if np.all(column == column[0]):
                 entries.append(x[int(column[0])])
             else:
-                assert selectors is not None   # a variable with per-scenario copies means scenarios
+                assert selectors is not None  # a variable with per-scenario copies means scenarios
                 entries.append(cast(ca.SX, sum(selectors[s] * x[int(column[s])] for s in range(len(self.scenarios)))))
         return ca.vertcat(*entries) if entries else ca.SX(0, 1)
 
@@ -234,8 +271,12 @@ class TorqueModel:
         """Indices of design variables that the torque and the potential depend on linearly
         (stiffness, initial tension, preload, constant force; not the stiffness of a spring whose
         mass is coupled to it): for fixed other variables they solve a linear least-squares problem."""
-        base = [self._index[f"{spring.name}.{key}"] for spring in self.springs for key in spring.linear_parameters
-                if f"{spring.name}.{key}" in self._index]
+        base = [
+            self._index[f"{spring.name}.{key}"]
+            for spring in self.springs
+            for key in spring.linear_parameters
+            if f"{spring.name}.{key}" in self._index
+        ]
         return sorted({int(column) for i in base for column in self._columns[:, i]})
 
     def anchor_point(self, spring: Spring, end: str, x: npt.ArrayLike, scenario: int = 0) -> np.ndarray:
@@ -256,20 +297,23 @@ class TorqueModel:
         kinematics.prepare(self.bodies)
         n = kinematics.gravity_torque.shape[0]
         blocks = [kinematics.gravity_torque, kinematics.potential[:, None]]
-        assert isinstance(kinematics.workspace, Workspace)   # the kinematics of a problem's workspace
+        assert isinstance(kinematics.workspace, Workspace)  # the kinematics of a problem's workspace
         joint_values = kinematics.workspace.joint_values
         for joint in self.joints:
             column = self.mechanism.joint(joint).index_v
-            blocks.append(joint_values[:, column:column + 1])
+            blocks.append(joint_values[:, column : column + 1])
         for body in self.bodies:
             body_kinematics = kinematics.body(body)
-            blocks += [body_kinematics.translation, body_kinematics.rotation.reshape(n, 9),
-                       body_kinematics.jacobian.reshape(n, -1)]
+            blocks += [
+                body_kinematics.translation,
+                body_kinematics.rotation.reshape(n, 9),
+                body_kinematics.jacobian.reshape(n, -1),
+            ]
         if self.scenarios:
             if n % len(self.scenarios):
                 raise InputError(f"{n} samples do not split into {len(self.scenarios)} scenario blocks")
             blocks.append(np.kron(np.eye(len(self.scenarios)), np.ones((n // len(self.scenarios), 1))))
-        return np.hstack(blocks).T   # Fortran order: each sample's column is contiguous, as the evaluators read it
+        return np.hstack(blocks).T  # Fortran order: each sample's column is contiguous, as the evaluators read it
 
     @staticmethod
     def known_zeros(data: ca.SX, values: np.ndarray) -> ca.SX:

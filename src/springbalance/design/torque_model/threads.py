@@ -28,7 +28,7 @@ def count_from_environment(name: str) -> int | None:
     return value
 
 
-_ONE_THREAD = False   # set in the worker processes of a pool of starts (which already use the cores)
+_ONE_THREAD = False  # set in the worker processes of a pool of starts (which already use the cores)
 
 
 def use_one_thread() -> None:

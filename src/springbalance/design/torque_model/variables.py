@@ -39,7 +39,7 @@ class ConstraintBlock:
     """Rows of one practical constraint of one spring (or, with ``spring == ""``, of the problem,
     such as ``no_joint_worse.<joint>``): N rows, one per sample, ``≥ 0``."""
 
-    spring: str | None   # the spring's name (None for an unnamed spring given to TorqueModel itself)
+    spring: str | None  # the spring's name (None for an unnamed spring given to TorqueModel itself)
     name: str
     unit: str
     offset: int  # first row of this block in the per-sample constraint vector
@@ -47,4 +47,3 @@ class ConstraintBlock:
     #: False when the row does not depend on the sample (a coil's index, its initial tension): the
     #: NLP then keeps it once instead of once per sample
     per_sample: bool = True
-

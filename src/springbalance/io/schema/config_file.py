@@ -34,17 +34,22 @@ class _ConfigBase(Record):
     Units are SI (m, N, N/m, rad, kg, m/s²); with workspace.degrees, angles of revolute joints in the
     workspace section are in degrees. Relative paths are relative to the config file's folder."""
 
-    model_config = ConfigDict(title=TITLE, json_schema_extra={"description": " ".join(
-        "A springbalance config: the arm, its workspace, the springs to design, and how to design them. Units are SI "
-        "(m, N, N/m, rad, kg, m/s²); with workspace.degrees, angles of revolute joints in the workspace section are "
-        "in degrees. Relative paths are relative to the config file's folder.".split())})
+    model_config = ConfigDict(
+        title=TITLE,
+        json_schema_extra={
+            "description": " ".join(
+                "A springbalance config: the arm, its workspace, the springs to design, and how to design them. Units are SI "
+                "(m, N, N/m, rad, kg, m/s²); with workspace.degrees, angles of revolute joints in the workspace section are "
+                "in degrees. Relative paths are relative to the config file's folder.".split()
+            )
+        },
+    )
 
     @classmethod
     def _check_record(cls, data: dict) -> None:
         for section in REQUIRED_SECTIONS:
             if section not in data:
-                raise fail("missing_section",
-                            f"missing section {section!r} (required: {', '.join(REQUIRED_SECTIONS)})")
+                raise fail("missing_section", f"missing section {section!r} (required: {', '.join(REQUIRED_SECTIONS)})")
 
 
 def config_model() -> type[Record]:
@@ -55,21 +60,49 @@ def config_model() -> type[Record]:
 @functools.cache
 def _config_model(laws: tuple) -> type[Record]:
     return pydantic.create_model(
-        "ConfigRecord", __base__=_ConfigBase, __doc__=_ConfigBase.__doc__, __module__=__name__,
+        "ConfigRecord",
+        __base__=_ConfigBase,
+        __doc__=_ConfigBase.__doc__,
+        __module__=__name__,
         mechanism=(MechanismRecord, Field(description="the arm (required)")),
-        workspace=(Optional[WorkspaceRecord], Field(description="the poses over which a design is judged (required; "
-                                                          "empty means 1024 Sobol points of the URDF limits)")),
-        springs=(spring_list(laws), Field(description="the springs to design (required): one record each, "
-                                                      "the format in which designs are saved")),
-        objective=(Objective, Field("rms", description="rms, peak, pe_variance, energy (needs an ordered "
-                                                       "workspace), joint_peaks (sum of the per-joint peaks) or "
-                                                       "peak_then_joints (the worst joint first, then the others)")),
-        weights=(Optional[Weights], Field(None, description="{joint: w ≥ 0}: joint weights of the objective; "
-                                                            "default 1 for every joint")),
+        workspace=(
+            Optional[WorkspaceRecord],
+            Field(
+                description="the poses over which a design is judged (required; "
+                "empty means 1024 Sobol points of the URDF limits)"
+            ),
+        ),
+        springs=(
+            spring_list(laws),
+            Field(
+                description="the springs to design (required): one record each, the format in which designs are saved"
+            ),
+        ),
+        objective=(
+            Objective,
+            Field(
+                "rms",
+                description="rms, peak, pe_variance, energy (needs an ordered "
+                "workspace), joint_peaks (sum of the per-joint peaks) or "
+                "peak_then_joints (the worst joint first, then the others)",
+            ),
+        ),
+        weights=(
+            Optional[Weights],
+            Field(None, description="{joint: w ≥ 0}: joint weights of the objective; default 1 for every joint"),
+        ),
         solve=(Optional[SolveRecord], Field(None, description="solver options")),
         scenarios=(Optional[ScenariosRecord], Field(None, description="load cases (payloads, mass scales)")),
-        no_joint_worse=(bool, Field(False, description="constrain every joint with a weight > 0 to stay at or "
-                                                       "below its unbalanced peak torque at every sample")),
-        clearance=(Optional[ClearanceRecord], Field(None, description="keep every spring this far from the arm's "
-                                                                "collision geometry")),
+        no_joint_worse=(
+            bool,
+            Field(
+                False,
+                description="constrain every joint with a weight > 0 to stay at or "
+                "below its unbalanced peak torque at every sample",
+            ),
+        ),
+        clearance=(
+            Optional[ClearanceRecord],
+            Field(None, description="keep every spring this far from the arm's collision geometry"),
+        ),
     )

@@ -22,8 +22,17 @@ from springbalance.design.problem import AGGREGATES
 from springbalance.design.solvers import METHODS
 
 #: top-level sections of a config file, and those it must have.
-SECTIONS = ("mechanism", "workspace", "springs", "objective", "weights", "solve", "scenarios", "no_joint_worse",
-            "clearance")
+SECTIONS = (
+    "mechanism",
+    "workspace",
+    "springs",
+    "objective",
+    "weights",
+    "solve",
+    "scenarios",
+    "no_joint_worse",
+    "clearance",
+)
 REQUIRED_SECTIONS = ("mechanism", "workspace", "springs")
 WORKSPACE_KINDS = ("grid", "sobol", "random", "sweep", "array")
 #: which workspace keys apply to which kind (``kind`` and ``degrees`` apply to all).
@@ -40,10 +49,18 @@ DEFAULT_SPRING_TYPE = "extension"
 
 # ---------------------------------------------------------------------- building blocks
 #: pydantic's error types of a value of the wrong type, and what the value should have been.
-EXPECTED_TYPES = {"float_type": "a number", "int_type": "an integer", "int_from_float": "an integer",
-                  "bool_type": "true or false", "string_type": "a string", "list_type": "a list",
-                  "dict_type": "a mapping", "model_type": "a mapping", "model_attributes_type": "a mapping",
-                  "expected_mapping": "a mapping"}
+EXPECTED_TYPES = {
+    "float_type": "a number",
+    "int_type": "an integer",
+    "int_from_float": "an integer",
+    "bool_type": "true or false",
+    "string_type": "a string",
+    "list_type": "a list",
+    "dict_type": "a mapping",
+    "model_type": "a mapping",
+    "model_attributes_type": "a mapping",
+    "expected_mapping": "a mapping",
+}
 
 
 def fail(kind: str, message: str, key: str | None = None) -> PydanticCustomError:
@@ -54,7 +71,7 @@ def fail(kind: str, message: str, key: str | None = None) -> PydanticCustomError
 def abbreviated(value: object, limit: int = 200) -> str:
     """``repr(value)``, cut to ``limit`` characters."""
     text = repr(value)
-    return text if len(text) <= limit else text[:limit - 1] + "…"
+    return text if len(text) <= limit else text[: limit - 1] + "…"
 
 
 def expect(what: str, deep: bool = True, bounds: bool = True) -> WrapValidator:
@@ -68,7 +85,8 @@ def expect(what: str, deep: bool = True, bounds: bool = True) -> WrapValidator:
         except pydantic.ValidationError as error:
             details = error.errors()
             if (deep or all(not detail["loc"] for detail in details)) and (
-                    bounds or any(detail["type"] in EXPECTED_TYPES for detail in details)):
+                bounds or any(detail["type"] in EXPECTED_TYPES for detail in details)
+            ):
                 raise fail("expected", f"expected {what}, got {abbreviated(value)}") from None
             raise
 
@@ -132,8 +150,8 @@ Vector3 = Annotated[list[Number], annotated_types.Len(3, 3), expect("three numbe
 Direction = Annotated[list[Number], annotated_types.Len(3, 3), expect("three numbers")]
 Vector2 = Annotated[list[Number], annotated_types.Len(2, 2), expect("two numbers [m]")]
 Interval = Annotated[list[Number], annotated_types.Len(2, 2), expect("[lower, upper] (numbers)")]
-Counting = integer_at_least(1)   # an integer ≥ 1 (a count)
-Seed = integer_at_least(0)       # an integer ≥ 0
+Counting = integer_at_least(1)  # an integer ≥ 1 (a count)
+Seed = integer_at_least(0)  # an integer ≥ 0
 WorkspaceKind = choice(WORKSPACE_KINDS, "workspace kind")
 Objective = choice(OBJECTIVES, "objective")
 Method = choice(METHODS, "method")
@@ -169,7 +187,7 @@ class Record(BaseModel):
 
 def at_most_one(keys: Sequence[str]) -> dict:
     """JSON Schema: no two of ``keys`` together."""
-    return {"not": {"anyOf": [{"required": [a, b]} for i, a in enumerate(keys) for b in keys[i + 1:]]}}
+    return {"not": {"anyOf": [{"required": [a, b]} for i, a in enumerate(keys) for b in keys[i + 1 :]]}}
 
 
 def exactly_one(keys: Sequence[str]) -> dict:

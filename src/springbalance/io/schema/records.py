@@ -54,12 +54,13 @@ class NonNegativeFreeRecord(FreeRecord, title="NonNegativeFree"):
 
 
 Parameter = by_shape(scalar=Annotated[Number, expect("a number or {lower, upper, init?}")], mapping=FreeRecord)
-if TYPE_CHECKING:   # what by_shape builds at run time (a tagged union), as mypy can read it
+if TYPE_CHECKING:  # what by_shape builds at run time (a tagged union), as mypy can read it
     NonNegativeParameter = Union[float, NonNegativeFreeRecord]
 else:
     NonNegativeParameter = by_shape(
         scalar=Annotated[NonNegative, expect("a number ≥ 0 or {lower, upper, init?}", bounds=False)],
-        mapping=NonNegativeFreeRecord)
+        mapping=NonNegativeFreeRecord,
+    )
 
 
 class BoxRecord(Record, title="Box"):
@@ -111,9 +112,9 @@ class AnchorRecord(Record, title="Anchor"):
     plane: PlaneRecord = optional("free in a rectangle of a plane")
     on: Union[Literal["collision", "floor"], MountPlaneRecord] = optional(
         "mount the anchor on a surface: collision (the body's own collision surface, within the box or around "
-        "the geometry), floor (the world plane z = 0, within the box) or a plane {point, normal} (within the box)")
-    offset: NonNegative = optional("with on: collision, the distance [m] out from the surface (a bracket)",
-                                    shown=0.0)
+        "the geometry), floor (the world plane z = 0, within the box) or a plane {point, normal} (within the box)"
+    )
+    offset: NonNegative = optional("with on: collision, the distance [m] out from the surface (a bracket)", shown=0.0)
 
 
 class PulleySizeRecord(Record, title="PulleySize"):
@@ -135,30 +136,40 @@ class RoutedSpringRecord(Record, title="RoutedSpring"):
 
     name: Text = optional("unique name; default s1, s2, ... by position")
     type: Literal["routed"] = Field(description="a routed spring")
-    path: Annotated[list[PathPointRecord], annotated_types.MinLen(2), expect("a list of at least two points", deep=False)] = Field(
-        description="the spring's fixed end, then pulleys or guide points, then the cable's end")
+    path: Annotated[
+        list[PathPointRecord], annotated_types.MinLen(2), expect("a list of at least two points", deep=False)
+    ] = Field(description="the spring's fixed end, then pulleys or guide points, then the cable's end")
     spring: dict[str, Any] = Field(
         description="the spring's law, a two-point spring record without ends: {type?, ideal?, stiffness, "
-                    "free_length, ...}; for a coil (type extension or compression without ideal: true) "
-                    "helical: {material, ...} gives its options")
-    cable_length: NonNegativeParameter = Field(description="length of the cable [m]: a number (fixed) or "
-                                                           "{lower, upper, init?} (a design variable)")
+        "free_length, ...}; for a coil (type extension or compression without ideal: true) "
+        "helical: {material, ...} gives its options"
+    )
+    cable_length: NonNegativeParameter = Field(
+        description="length of the cable [m]: a number (fixed) or {lower, upper, init?} (a design variable)"
+    )
 
 
 class ClearanceRecord(Record, title="Clearance"):
     """How far the springs keep from the arm's links (docs/model.md §11)."""
 
-    margin: NonNegative = Field(0.005, description="smallest distance [m] between a spring and a link it is not "
-                                                   "attached to, over the workspace")
-    check_samples: Counting = Field(1024, description="poses checked while fitting (a 4× denser set is "
-                                                         "checked at the end)")
+    margin: NonNegative = Field(
+        0.005, description="smallest distance [m] between a spring and a link it is not attached to, over the workspace"
+    )
+    check_samples: Counting = Field(
+        1024, description="poses checked while fitting (a 4× denser set is checked at the end)"
+    )
     radius: Positive = optional("capsule radius [m] of springs without a helical spec sheet (default 0.01)")
     between_springs: bool = Field(False, description="keep the springs the margin from each other too")
-    buffer: NonNegative = optional("extra distance [m] asked for between checked poses (default 10 % of the "
-                                    "margin, at least 0.5 mm)")
+    buffer: NonNegative = optional(
+        "extra distance [m] asked for between checked poses (default 10 % of the margin, at least 0.5 mm)"
+    )
     rounds: Counting = Field(12, description="most re-solves of the fitting loop")
-    starts: Counting = Field(1, description="how many of the multi-start's best designs are fitted (each from its "
-                                            "own start); the fitted design of lowest objective is kept")
+    starts: Counting = Field(
+        1,
+        description="how many of the multi-start's best designs are fitted (each from its "
+        "own start); the fitted design of lowest objective is kept",
+    )
+
 
 # ---------------------------------------------------------------------- sections
 # the key `validate` shadows the deprecated classmethod BaseModel.validate, which nothing here calls
@@ -172,15 +183,20 @@ with warnings.catch_warnings():
 
         urdf: Text = optional("URDF file of the arm, relative to the config file's folder")
         robot: Text = optional("example-robot-data robot name (ur5, panda, ...; see `springbalance robots`)")
-        gravity: Annotated[Union[Number, Annotated[list[Number], annotated_types.Len(3, 3)]],
-                           expect("a magnitude [m/s²] or a 3-vector")] = optional(
-            "magnitude g [m/s²], meaning (0, 0, -g), or the gravity vector [m/s²] in the world frame", shown=9.81)
+        gravity: Annotated[
+            Union[Number, Annotated[list[Number], annotated_types.Len(3, 3)]],
+            expect("a magnitude [m/s²] or a 3-vector"),
+        ] = optional(
+            "magnitude g [m/s²], meaning (0, 0, -g), or the gravity vector [m/s²] in the world frame", shown=9.81
+        )
         mimic: bool = Field(False, description="parse URDF mimic joints as coupled joints (closed chains)")
         # pydantic lets a field shadow the deprecated classmethod BaseModel.validate; mypy sees a clash
         validate: bool = Field(  # type: ignore[assignment]
-            True, description="check the arm's physics at load (masses ≥ 0, inertias positive semi-definite within "
-                              "the triangle inequality, joint limits lower ≤ upper); false loads a deliberately odd "
-                              "URDF anyway")
+            True,
+            description="check the arm's physics at load (masses ≥ 0, inertias positive semi-definite within "
+            "the triangle inequality, joint limits lower ≤ upper); false loads a deliberately odd "
+            "URDF anyway",
+        )
 
 
 class CouplingRecord(Record, title="Coupling"):
@@ -190,7 +206,7 @@ class CouplingRecord(Record, title="Coupling"):
     range: Interval = Field(description="[lower, upper] of the expression [rad or m; degrees if workspace.degrees]")
 
 
-if TYPE_CHECKING:   # what by_shape builds at run time (tagged unions), as mypy can read them
+if TYPE_CHECKING:  # what by_shape builds at run time (tagged unions), as mypy can read them
     _RangeValue = Union[list[float], float]
     _Count = Union[int, dict[str, int]]
     _Row = Union[list[float], float]
@@ -220,43 +236,57 @@ class WorkspaceRecord(Record, title="Workspace"):
     model_config = ConfigDict(json_schema_extra=_workspace_rules())
 
     kind: WorkspaceKind = Field(
-        default="sobol", description="grid, sobol (scrambled Sobol points), random, sweep (one joint moves) or array")
-    n: _Count = optional("grid: points per joint, or {joint: count} (default 16); sobol, random: number of "
-                          "samples (default 1024); sweep: number of points, ≥ 2 (default 181)")
+        default="sobol", description="grid, sobol (scrambled Sobol points), random, sweep (one joint moves) or array"
+    )
+    n: _Count = optional(
+        "grid: points per joint, or {joint: count} (default 16); sobol, random: number of "
+        "samples (default 1024); sweep: number of points, ≥ 2 (default 181)"
+    )
     seed: Seed = Field(default=0, description="sobol, random: seed of the sequence")
-    degrees: bool = Field(default=False, description="angles of revolute joints in ranges, couplings and values/file "
-                                             "are in degrees")
-    ranges: Annotated[dict[str, _RangeValue], expect("a mapping joint name → [lower, upper]", deep=False)] = \
-        optional("grid, sobol, random, sweep: {joint: [lower, upper]} [rad or m], or a single value that holds "
-                  "the joint; unlisted joints use their URDF limits")
-    couplings: Annotated[list[CouplingRecord], expect("a list of {expression, range} mappings", deep=False)] = \
-        optional("grid, sobol, random: keep only the samples where each linear combination of joints lies "
-                  "in its range")
-    joint: Text = optional("sweep (required): the joint that moves; the others stay at the middle of "
-                            "their ranges")
-    values: Annotated[list[_Row], annotated_types.MinLen(1), expect("a non-empty list of rows", deep=False)] = \
-        optional("array: explicit samples, one row of nv joint values [rad or m] each, in the mechanism's "
-                  "joint order")
-    file: Text = optional("array: samples from a .npy array (N×nv) or a .csv file (optional header of "
-                           "joint names), relative to the config file's folder")
-    ordered: bool = Field(default=True, description="array: the rows form a path (a trajectory), which the energy "
-                                            "objective needs")
+    degrees: bool = Field(
+        default=False, description="angles of revolute joints in ranges, couplings and values/file are in degrees"
+    )
+    ranges: Annotated[dict[str, _RangeValue], expect("a mapping joint name → [lower, upper]", deep=False)] = optional(
+        "grid, sobol, random, sweep: {joint: [lower, upper]} [rad or m], or a single value that holds "
+        "the joint; unlisted joints use their URDF limits"
+    )
+    couplings: Annotated[list[CouplingRecord], expect("a list of {expression, range} mappings", deep=False)] = optional(
+        "grid, sobol, random: keep only the samples where each linear combination of joints lies in its range"
+    )
+    joint: Text = optional("sweep (required): the joint that moves; the others stay at the middle of their ranges")
+    values: Annotated[list[_Row], annotated_types.MinLen(1), expect("a non-empty list of rows", deep=False)] = optional(
+        "array: explicit samples, one row of nv joint values [rad or m] each, in the mechanism's joint order"
+    )
+    file: Text = optional(
+        "array: samples from a .npy array (N×nv) or a .csv file (optional header of "
+        "joint names), relative to the config file's folder"
+    )
+    ordered: bool = Field(
+        default=True, description="array: the rows form a path (a trajectory), which the energy objective needs"
+    )
 
 
 class SolveRecord(Record, title="Solve"):
     """Options of the multi-start solve (the command line's --starts, --seed, --method, --workers override them)."""
 
-    starts: Counting = optional("starts of the multi-start: the initial guess, then scrambled Sobol "
-                                    "points of the bounds", shown=8)
+    starts: Counting = optional(
+        "starts of the multi-start: the initial guess, then scrambled Sobol points of the bounds", shown=8
+    )
     seed: Seed = optional("seed of the start points; results are deterministic given it", shown=0)
     method: Method = optional(
-        "least_squares (bounded Gauss-Newton, for rms and pe_variance), ipopt (general NLP) or auto", shown="auto")
+        "least_squares (bounded Gauss-Newton, for rms and pe_variance), ipopt (general NLP) or auto", shown="auto"
+    )
     max_iterations: Counting = optional("iteration budget of each start (and of each IPOPT phase)", shown=100)
-    tolerance: Positive = optional("least squares stop when a step lowers the cost by less than this "
-                                    "fraction [1]; IPOPT uses min(tolerance, 1e-8)", shown=1e-8)
-    workers: Counting = optional("processes that run the starts at once (the design does not depend on it); "
-                                  "default $SPRINGBALANCE_WORKERS, else the number of cores, once a start "
-                                  "lasts long enough to pay for the pool")
+    tolerance: Positive = optional(
+        "least squares stop when a step lowers the cost by less than this "
+        "fraction [1]; IPOPT uses min(tolerance, 1e-8)",
+        shown=1e-8,
+    )
+    workers: Counting = optional(
+        "processes that run the starts at once (the design does not depend on it); "
+        "default $SPRINGBALANCE_WORKERS, else the number of cores, once a start "
+        "lasts long enough to pay for the pool"
+    )
 
 
 class PayloadRecord(Record, title="Payload"):
@@ -267,7 +297,7 @@ class PayloadRecord(Record, title="Payload"):
     point: Vector3 = optional("position [m] in the body frame", shown=[0.0, 0.0, 0.0])
 
 
-if TYPE_CHECKING:   # what by_shape builds at run time (a tagged union), as mypy can read it
+if TYPE_CHECKING:  # what by_shape builds at run time (a tagged union), as mypy can read it
     _MassScale = Union[float, dict[str, float]]
 else:
     _MassScale = by_shape(scalar=Number, mapping=dict[str, Number])
@@ -278,9 +308,11 @@ class LoadCaseRecord(Record, title="LoadCase"):
 
     name: Text = optional("name of the scenario; default 'case <number>'")
     payloads: Annotated[list[PayloadRecord], expect("a list of {body, mass, point?}", deep=False)] = optional(
-        "point masses of this case", shown=[])
+        "point masses of this case", shown=[]
+    )
     mass_scale: _MassScale = optional(
-        "β [1] for every moving body, or {body: β} (a body's β also scales the links welded to it)")
+        "β [1] for every moving body, or {body: β} (a body's β also scales the links welded to it)"
+    )
 
 
 class PayloadRangeRecord(Record, title="PayloadRange"):
@@ -288,8 +320,9 @@ class PayloadRangeRecord(Record, title="PayloadRange"):
 
     body: Text = Field(description="the body (URDF link) that carries the payload")
     point: Vector3 = optional("position [m] in the body frame", shown=[0.0, 0.0, 0.0])
-    masses: Annotated[list[NonNegative], annotated_types.MinLen(1),
-                      expect("a non-empty list of masses ≥ 0 [kg]")] = Field(description="payload masses [kg]")
+    masses: Annotated[list[NonNegative], annotated_types.MinLen(1), expect("a non-empty list of masses ≥ 0 [kg]")] = (
+        Field(description="payload masses [kg]")
+    )
 
 
 class ScenariosRecord(Record, title="Scenarios"):
@@ -297,16 +330,22 @@ class ScenariosRecord(Record, title="Scenarios"):
 
     model_config = ConfigDict(json_schema_extra=exactly_one(("cases", "payload_range")))
 
-    cases: Annotated[list[LoadCaseRecord], annotated_types.MinLen(1), expect("a non-empty list of cases", deep=False)] = \
-        optional("one scenario each")
+    cases: Annotated[
+        list[LoadCaseRecord], annotated_types.MinLen(1), expect("a non-empty list of cases", deep=False)
+    ] = optional("one scenario each")
     payload_range: PayloadRangeRecord = optional("one scenario per payload mass")
-    per_scenario: Annotated[list[Annotated[str, annotated_types.MinLen(1)]],
-                            expect("a list of variable names (e.g. [s1.b])")] = Field(
-        default_factory=list, description="variables with one value per scenario: a spring end (s1.b) or a "
-                                          "parameter (s1.initial_tension); the others are shared")
+    per_scenario: Annotated[
+        list[Annotated[str, annotated_types.MinLen(1)]], expect("a list of variable names (e.g. [s1.b])")
+    ] = Field(
+        default_factory=list,
+        description="variables with one value per scenario: a spring end (s1.b) or a "
+        "parameter (s1.initial_tension); the others are shared",
+    )
     aggregate: Aggregate = Field(
-        "sum", description="sum: the objective over the samples of all scenarios together; worst: the largest "
-                           "per-scenario value")
+        "sum",
+        description="sum: the objective over the samples of all scenarios together; worst: the largest "
+        "per-scenario value",
+    )
 
 
 Weights = Annotated[dict[str, NonNegative], expect("a mapping joint name → weight ≥ 0", deep=False)]
@@ -327,7 +366,30 @@ class WorkspaceFileRecord(Record, title="WorkspaceFile"):
 
 
 #: every record class of this module, by its name in the JSON Schema (its name before it was ``<Name>Record``).
-RECORDS: dict[str, type[Record]] = {cast(str, cls.model_config["title"]): cls for cls in (  # every record has a title
-    FreeRecord, NonNegativeFreeRecord, BoxRecord, SegmentRecord, PlaneRecord, MountPlaneRecord, AnchorRecord, PulleySizeRecord, PathPointRecord, RoutedSpringRecord, ClearanceRecord, MechanismRecord, CouplingRecord, WorkspaceRecord, SolveRecord, PayloadRecord, LoadCaseRecord, PayloadRangeRecord, ScenariosRecord, WorkspaceFileRecord)}
+RECORDS: dict[str, type[Record]] = {
+    cast(str, cls.model_config["title"]): cls
+    for cls in (  # every record has a title
+        FreeRecord,
+        NonNegativeFreeRecord,
+        BoxRecord,
+        SegmentRecord,
+        PlaneRecord,
+        MountPlaneRecord,
+        AnchorRecord,
+        PulleySizeRecord,
+        PathPointRecord,
+        RoutedSpringRecord,
+        ClearanceRecord,
+        MechanismRecord,
+        CouplingRecord,
+        WorkspaceRecord,
+        SolveRecord,
+        PayloadRecord,
+        LoadCaseRecord,
+        PayloadRangeRecord,
+        ScenariosRecord,
+        WorkspaceFileRecord,
+    )
+}
 #: the name in the JSON Schema of each record class (a definition's key, as its title).
 SCHEMA_NAMES: dict[str, str] = {cls.__name__: name for name, cls in RECORDS.items()}

@@ -28,8 +28,12 @@ from springbalance.springs import SPRING_TYPES, Spring
 from springbalance.springs.records import ROUTED, ideal_law_hint
 
 _PARAMETER_TEXT = {
-    "stiffness": "rate k", "free_length": "free length l0", "initial_tension": "initial tension F0",
-    "preload": "preload", "force": "force F0 (positive pulls, negative pushes)", "neutral_angle": "neutral angle q0",
+    "stiffness": "rate k",
+    "free_length": "free length l0",
+    "initial_tension": "initial tension F0",
+    "preload": "preload",
+    "force": "force F0 (positive pulls, negative pushes)",
+    "neutral_angle": "neutral angle q0",
 }
 _OPTION_TEXT = {
     "max_force": "|F| ≤ max_force [N] at every sample",
@@ -79,7 +83,7 @@ def _summary(cls: type) -> str:
 
 def _plain(text: str) -> str:
     """Docstring text on one line, without reST roles and with single backquotes."""
-    text = re.sub(r":\w+:`~?(?:[\w.]+\.)?(\w+)`", r"\1", text)    # cross-references: the name
+    text = re.sub(r":\w+:`~?(?:[\w.]+\.)?(\w+)`", r"\1", text)  # cross-references: the name
     text = re.sub(r":\w+:`([^`]*)`", r"`\1`", text).replace("``", "`")  # math and the like: as code
     return " ".join(text.split())
 
@@ -112,8 +116,10 @@ def _adopted(annotation: Any) -> Any:
     if isinstance(annotation, typing.ForwardRef) and annotation.__forward_module__ is not None:
         module = sys.modules.get(annotation.__forward_module__)
         if module is None:
-            raise ImportError(f"the option record {annotation.__forward_arg__!r} of a spring law is in module "
-                              f"{annotation.__forward_module__!r}, which is not imported")
+            raise ImportError(
+                f"the option record {annotation.__forward_arg__!r} of a spring law is in module "
+                f"{annotation.__forward_module__!r}, which is not imported"
+            )
         annotation = getattr(module, annotation.__forward_arg__)
     if isinstance(annotation, type) and issubclass(annotation, BaseModel) and not issubclass(annotation, Record):
         return _adopted_model(annotation)
@@ -144,10 +150,20 @@ def spring_model(cls: type[Spring]) -> type[Record]:
     args = _docstring_args(cls)
     default_kind = cls.kind == DEFAULT_SPRING_TYPE
     fields: dict[str, Any] = {
-        "name": (str, optional("unique name; design variables are <name>.<end>.<coordinate> and "
-                                "<name>.<parameter>; default s1, s2, ... by position")),
-        "type": (Literal[cls.kind], Field(cls.kind if default_kind else ...,
-                                          description=f"the spring law{' (the default)' if default_kind else ''}")),
+        "name": (
+            str,
+            optional(
+                "unique name; design variables are <name>.<end>.<coordinate> and "
+                "<name>.<parameter>; default s1, s2, ... by position"
+            ),
+        ),
+        "type": (
+            Literal[cls.kind],
+            Field(
+                cls.kind if default_kind else ...,
+                description=f"the spring law{' (the default)' if default_kind else ''}",
+            ),
+        ),
     }
     for end in cls.ends:
         if end == "joint":
@@ -156,8 +172,10 @@ def spring_model(cls: type[Spring]) -> type[Record]:
             fields[end] = (AnchorRecord, Field(description=f"end {end}: {{body, point | box | segment | plane}}"))
     for key, unit in cls.parameter_units.items():
         nonnegative = key in cls.nonnegative
-        description = (f"{_PARAMETER_TEXT.get(key, key)} [{unit}]: a number (fixed) or {{lower, upper, init?}} "
-                       f"(a design variable){'; ≥ 0' if nonnegative else ''}")
+        description = (
+            f"{_PARAMETER_TEXT.get(key, key)} [{unit}]: a number (fixed) or {{lower, upper, init?}} "
+            f"(a design variable){'; ≥ 0' if nonnegative else ''}"
+        )
         if key in args:
             description += f". {_plain(args[key])}"
         default = cls.defaults.get(key, ...)
@@ -170,8 +188,7 @@ def spring_model(cls: type[Spring]) -> type[Record]:
             init_default = _init_default(cls, key)
             field = Field(init_default, description=text) if init_default is not None else optional(text)
         fields[key] = (_adopted(annotation), field)
-    return pydantic.create_model(cls.__name__, __base__=Record, __doc__=_summary(cls), __module__=__name__,
-                                 **fields)
+    return pydantic.create_model(cls.__name__, __base__=Record, __doc__=_summary(cls), __module__=__name__, **fields)
 
 
 def _spring_tag(value: Any) -> str | None:
@@ -193,8 +210,9 @@ def _spring_union(laws: tuple) -> Any:
             raise fail("expected_mapping", f"expected a mapping (a spring record), got {abbreviated(value)}")
         kind = value.get("type", DEFAULT_SPRING_TYPE)
         if not isinstance(kind, str) or kind not in kinds:
-            raise fail("unknown_spring_type", f"unknown spring type {abbreviated(kind)}; valid: {', '.join(kinds)}",
-                        key="type")
+            raise fail(
+                "unknown_spring_type", f"unknown spring type {abbreviated(kind)}; valid: {', '.join(kinds)}", key="type"
+            )
         if kind == ROUTED:
             return value
         ideal = value.get("ideal", False)
@@ -209,15 +227,19 @@ def _spring_union(laws: tuple) -> Any:
         return value
 
     members = tuple(Annotated[spring_model(cls), Tag(kind)] for kind, cls in laws) + (
-        Annotated[RoutedSpringRecord, Tag(ROUTED)],)
+        Annotated[RoutedSpringRecord, Tag(ROUTED)],
+    )
     return Annotated[Annotated[Union[members], Discriminator(_spring_tag)], BeforeValidator(check)]
 
 
 def spring_list(laws: tuple | None = None) -> Any:
     """The type of the ``springs`` section: a non-empty list of spring records."""
     laws = tuple(SPRING_TYPES.items()) if laws is None else laws
-    return Annotated[list[_spring_union(laws)], annotated_types.MinLen(1),  # type: ignore[misc]  # built at run time
-                     expect("a non-empty list of springs", deep=False)]
+    return Annotated[
+        list[_spring_union(laws)],  # type: ignore[misc]  # built at run time
+        annotated_types.MinLen(1),
+        expect("a non-empty list of springs", deep=False),
+    ]
 
 
 def spring_list_adapter() -> pydantic.TypeAdapter:

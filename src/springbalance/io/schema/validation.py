@@ -15,12 +15,21 @@ from pydantic_core import ErrorDetails
 from springbalance.errors import ConfigError
 from springbalance.io.schema.fields import EXPECTED_TYPES, abbreviated
 
-_BOUNDS = {"greater_than": ("gt", ">"), "greater_than_equal": ("ge", "≥"), "less_than": ("lt", "<"),
-           "less_than_equal": ("le", "≤")}
+_BOUNDS = {
+    "greater_than": ("gt", ">"),
+    "greater_than_equal": ("ge", "≥"),
+    "less_than": ("lt", "<"),
+    "less_than_equal": ("le", "≤"),
+}
 
 
-def validated(model: type[pydantic.BaseModel] | pydantic.TypeAdapter, data: Any, where: str, top: bool = False,
-              springs_at: tuple = ("springs",)) -> Any:
+def validated(
+    model: type[pydantic.BaseModel] | pydantic.TypeAdapter,
+    data: Any,
+    where: str,
+    top: bool = False,
+    springs_at: tuple = ("springs",),
+) -> Any:
     """``data`` validated by ``model`` (a pydantic model class or a :class:`pydantic.TypeAdapter`).
 
     Raises:
@@ -35,18 +44,29 @@ def validated(model: type[pydantic.BaseModel] | pydantic.TypeAdapter, data: Any,
         raise ConfigError(describe(error, data, where, top, springs_at)) from None
 
 
-def describe(error: pydantic.ValidationError, data: Any, where: str, top: bool = False,
-             springs_at: tuple = ("springs",)) -> str:
+def describe(
+    error: pydantic.ValidationError, data: Any, where: str, top: bool = False, springs_at: tuple = ("springs",)
+) -> str:
     """The one-line message of the most telling error of ``error`` (see :func:`validated`)."""
     found = [(detail, _steps(detail, data)) for detail in error.errors(include_url=False)]
     # a wrong type next to other errors of the same value is a branch of a union that was not meant
-    meant = [(detail, steps) for detail, steps in found
-             if not (detail["type"] in EXPECTED_TYPES and any(other is not detail and other_steps[:len(steps)] == steps
-                                                         for other, other_steps in found))]
+    meant = [
+        (detail, steps)
+        for detail, steps in found
+        if not (
+            detail["type"] in EXPECTED_TYPES
+            and any(other is not detail and other_steps[: len(steps)] == steps for other, other_steps in found)
+        )
+    ]
     detail, steps = (meant or found)[0]
     if not meant and detail["type"] in EXPECTED_TYPES:  # only wrong types: list what each branch takes
-        options = list(dict.fromkeys(EXPECTED_TYPES[other["type"]] for other, other_steps in found
-                                     if other_steps == steps and other["type"] in EXPECTED_TYPES))
+        options = list(
+            dict.fromkeys(
+                EXPECTED_TYPES[other["type"]]
+                for other, other_steps in found
+                if other_steps == steps and other["type"] in EXPECTED_TYPES
+            )
+        )
         what = f"expected {' or '.join(options)}, got {abbreviated(detail['input'])}"
     elif detail["type"] == "missing":
         steps, what = steps[:-1], f"missing key {steps[-1][0]!r}"
@@ -109,12 +129,12 @@ def _path(steps: list[tuple[object, bool]], data: Any, springs_at: tuple) -> str
     """``springs[0] 'shoulder'.b.box``: keys joined by dots, list indices in brackets; a spring's
     name follows its index (unless the error is about its type or name)."""
     text = ""
-    node: Any = data   # the config's own data: any JSON value
+    node: Any = data  # the config's own data: any JSON value
     for position, (part, index) in enumerate(steps):
         text += f"[{part}]" if index else (f".{part}" if text else str(part))
-        inside = isinstance(node, (dict, list)) and (index or part in node)   # a list's steps are int indices
+        inside = isinstance(node, (dict, list)) and (index or part in node)  # a list's steps are int indices
         node = node[part] if inside else None
-        spring = (index and position == len(springs_at) and tuple(key for key, _ in steps[:position]) == springs_at)
+        spring = index and position == len(springs_at) and tuple(key for key, _ in steps[:position]) == springs_at
         following = steps[position + 1][0] if position + 1 < len(steps) else None
         if spring and isinstance(node, dict) and following not in ("type", "name"):
             name = node.get("name")

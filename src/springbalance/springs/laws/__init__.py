@@ -17,8 +17,19 @@ from springbalance.springs.laws.extension import ExtensionSpring
 from springbalance.springs.laws.gas import GasSpring
 from springbalance.springs.laws.torsional import TorsionalSpring
 from springbalance.springs.laws.zero_free_length import ZeroFreeLengthSpring
+
 # the other laws register themselves when their module is imported (after the ones above: the registry's order)
 from springbalance.springs.laws import coil, helical_compression, helical_extension, tabulated  # noqa: F401
 
-__all__ = ["SPRING_TYPES", "CompressionSpring", "ConstantForceSpring", "Contribution", "ExtensionSpring", "GasSpring",
-           "Spring", "TorsionalSpring", "TwoPointSpring", "ZeroFreeLengthSpring"]
+__all__ = [
+    "SPRING_TYPES",
+    "CompressionSpring",
+    "ConstantForceSpring",
+    "Contribution",
+    "ExtensionSpring",
+    "GasSpring",
+    "Spring",
+    "TorsionalSpring",
+    "TwoPointSpring",
+    "ZeroFreeLengthSpring",
+]

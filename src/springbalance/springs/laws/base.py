@@ -7,15 +7,24 @@ where they are defined.
 from __future__ import annotations
 
 from springbalance.springs.laws.spring import (
-                                               SPRING_TYPES,
-                                               Contribution,
-                                               PositiveNumber,
-                                               Spring,
-                                               StretchRatio,
-                                               _checked_parameter,
-                                               _positive_option,
+    SPRING_TYPES,
+    Contribution,
+    PositiveNumber,
+    Spring,
+    StretchRatio,
+    _checked_parameter,
+    _positive_option,
 )
 from springbalance.springs.laws.two_point import HelicalSpringMixin, TwoPointSpring
 
-__all__ = ["SPRING_TYPES", "Contribution", "HelicalSpringMixin", "PositiveNumber", "Spring", "StretchRatio",
-           "TwoPointSpring", "_checked_parameter", "_positive_option"]
+__all__ = [
+    "SPRING_TYPES",
+    "Contribution",
+    "HelicalSpringMixin",
+    "PositiveNumber",
+    "Spring",
+    "StretchRatio",
+    "TwoPointSpring",
+    "_checked_parameter",
+    "_positive_option",
+]

@@ -43,22 +43,40 @@ class HelicalCoilSpring(TwoPointSpring):
     """
 
     ideal = False
-    option_types = {**{key: value for key, value in TwoPointSpring.option_types.items() if key != "mass"},
-                    "ideal": Literal[False], "material": str, "max_outer_diameter": PositiveNumber | None,
-                    "index_range": IndexRange | None, "own_mass": bool,
-                    "stress_reserve": Annotated[float, annotated_types.Ge(0), annotated_types.Lt(1)]}
+    option_types = {
+        **{key: value for key, value in TwoPointSpring.option_types.items() if key != "mass"},
+        "ideal": Literal[False],
+        "material": str,
+        "max_outer_diameter": PositiveNumber | None,
+        "index_range": IndexRange | None,
+        "own_mass": bool,
+        "stress_reserve": Annotated[float, annotated_types.Ge(0), annotated_types.Lt(1)],
+    }
     helical_kind: ClassVar[str] = ""
     end_type: ClassVar[str] = ""
     #: default bounds of the parameters besides the wire and the coil diameter
     default_bounds: ClassVar[dict[str, tuple[float, float]]] = {"active_coils": (3.0, 200.0)}
 
-    def __init__(self, a: Anchor, b: Anchor, name: str | None = None, *, material: str = "music_wire",
-                 max_outer_diameter: float | None = None, index_range: Sequence[float] | None = None, own_mass: bool = True,
-                 stress_reserve: float = STRESS_RESERVE, ideal: bool = False, **kwargs: Any):
+    def __init__(
+        self,
+        a: Anchor,
+        b: Anchor,
+        name: str | None = None,
+        *,
+        material: str = "music_wire",
+        max_outer_diameter: float | None = None,
+        index_range: Sequence[float] | None = None,
+        own_mass: bool = True,
+        stress_reserve: float = STRESS_RESERVE,
+        ideal: bool = False,
+        **kwargs: Any,
+    ):
         label = f"{type(self).__name__} {name or ''}".strip()
         if ideal:
-            raise InputError(f"{label}: a helical spring is not ideal; write ideal: true on a spring without coil "
-                             "parameters for the ideal law")
+            raise InputError(
+                f"{label}: a helical spring is not ideal; write ideal: true on a spring without coil "
+                "parameters for the ideal law"
+            )
         if "mass" in kwargs:
             raise InputError(f"{label}: a helical spring's mass follows from its coil; own_mass: false leaves it out")
         self.material = material_named(material)
@@ -73,27 +91,37 @@ class HelicalCoilSpring(TwoPointSpring):
         if max_outer_diameter is not None:
             envelope = float(max_outer_diameter)
             if not (np.isfinite(envelope) and envelope > 0):
-                raise InputError(f"{label}: max_outer_diameter must be a positive number [m], got {max_outer_diameter!r}")
-            smallest = low_d * (self.index_range[0] + 1)                       # D + d of the thinnest wire [m]
+                raise InputError(
+                    f"{label}: max_outer_diameter must be a positive number [m], got {max_outer_diameter!r}"
+                )
+            smallest = low_d * (self.index_range[0] + 1)  # D + d of the thinnest wire [m]
             if smallest > envelope:
-                raise InputError(f"{label}: max_outer_diameter {envelope * 1e3:g} mm is smaller than any coil of "
-                                 f"{self.material.label} (thinnest wire {low_d * 1e3:g} mm at index "
-                                 f"{self.index_range[0]:g}: {smallest * 1e3:.3g} mm outside)")
+                raise InputError(
+                    f"{label}: max_outer_diameter {envelope * 1e3:g} mm is smaller than any coil of "
+                    f"{self.material.label} (thinnest wire {low_d * 1e3:g} mm at index "
+                    f"{self.index_range[0]:g}: {smallest * 1e3:.3g} mm outside)"
+                )
             self.max_outer_diameter = envelope
             high_d = min(high_d, envelope / (self.index_range[0] + 1))
         kwargs.setdefault("wire_diameter", Free(low_d, high_d))
-        kwargs.setdefault("mean_diameter", Free(self.index_range[0] * low_d,
-                                                min(self.index_range[1] * high_d, self.max_outer_diameter or np.inf)))
+        kwargs.setdefault(
+            "mean_diameter",
+            Free(self.index_range[0] * low_d, min(self.index_range[1] * high_d, self.max_outer_diameter or np.inf)),
+        )
         for key, (lower, upper) in self.default_bounds.items():
             kwargs.setdefault(key, Free(lower, upper))
         self.own_mass = bool(own_mass)
         super().__init__(a, b, name, **kwargs)
         wire = self.parameters["wire_diameter"]
         lowest, highest = (float(wire.lower), float(wire.upper)) if isinstance(wire, Free) else (float(wire),) * 2
-        if lowest < self.material.diameter_range[0] * (1 - 1e-9) or highest > self.material.diameter_range[1] * (1 + 1e-9):
-            raise InputError(f"{label}: wire_diameter [{lowest * 1e3:g}, {highest * 1e3:g}] mm leaves the range of "
-                             f"{self.material.label}, {self.material.diameter_range[0] * 1e3:g}–"
-                             f"{self.material.diameter_range[1] * 1e3:g} mm")
+        if lowest < self.material.diameter_range[0] * (1 - 1e-9) or highest > self.material.diameter_range[1] * (
+            1 + 1e-9
+        ):
+            raise InputError(
+                f"{label}: wire_diameter [{lowest * 1e3:g}, {highest * 1e3:g}] mm leaves the range of "
+                f"{self.material.label}, {self.material.diameter_range[0] * 1e3:g}–"
+                f"{self.material.diameter_range[1] * 1e3:g} mm"
+            )
 
     # ---------------------------------------------------------------- the coil
     def rate(self, values: Mapping[str, ValueT]) -> ValueT:
@@ -145,13 +173,19 @@ class HelicalCoilSpring(TwoPointSpring):
         return "coil" if self.own_mass else None
 
     @mass.setter
-    def mass(self, value: Any) -> None:    # TwoPointSpring sets None: the mass follows from the coil instead
+    def mass(self, value: Any) -> None:  # TwoPointSpring sets None: the mass follows from the coil instead
         self._mass = None
 
     def options(self) -> dict:
         record = super().options()
-        record.update({"material": self.material.name, "own_mass": self.own_mass, "index_range": list(self.index_range),
-                       "stress_reserve": self.stress_reserve})
+        record.update(
+            {
+                "material": self.material.name,
+                "own_mass": self.own_mass,
+                "index_range": list(self.index_range),
+                "stress_reserve": self.stress_reserve,
+            }
+        )
         if self.max_outer_diameter is not None:
             record["max_outer_diameter"] = self.max_outer_diameter
         return record
@@ -161,7 +195,7 @@ class HelicalCoilSpring(TwoPointSpring):
         """The entries and failed rules every coil shares, at the largest force ``largest`` [N]."""
         d, D, n = float(values["wire_diameter"]), float(values["mean_diameter"]), float(values["active_coils"])
         index = D / d
-        strength = float(self.material.tensile_strength(d))                                    # [Pa]
+        strength = float(self.material.tensile_strength(d))  # [Pa]
         allowable = self.material.allowable_fraction[self.helical_kind] * strength
         stress = float(self.body_stress(largest, values))
         slack = 1 + CHECK_TOLERANCE
@@ -171,18 +205,30 @@ class HelicalCoilSpring(TwoPointSpring):
         if self.winds and not self.index_range[0] / slack <= index <= self.index_range[1] * slack:
             reasons.append(f"index D/d = {index:.2f} outside {self.index_range[0]:g}–{self.index_range[1]:g}")
         if self.max_outer_diameter is not None and D + d > self.max_outer_diameter * slack:
-            reasons.append(f"outer diameter {(D + d) * 1e3:.2f} mm exceeds the envelope "
-                           f"{self.max_outer_diameter * 1e3:.2f} mm")
+            reasons.append(
+                f"outer diameter {(D + d) * 1e3:.2f} mm exceeds the envelope {self.max_outer_diameter * 1e3:.2f} mm"
+            )
         low_d, high_d = self.material.diameter_range
         if not low_d / slack <= d <= high_d * slack:
             reasons.append(f"wire {d * 1e3:.3g} mm outside the material's range {low_d * 1e3:g}–{high_d * 1e3:g} mm")
         if n < 1:
             reasons.append(f"{n:.3g} active coils: fewer than one")
-        sheet = {"type": f"helical {self.helical_kind}", "material": self.material.name, "end_type": self.end_type,
-                 **({"part_number": self.part_number} if self.part_number is not None else {}),
-                 "wire_diameter": d, "mean_diameter": D, "outer_diameter": D + d, "index": index, "active_coils": n,
-                 "rate": float(self.rate(values)), "max_load": largest, "max_stress": stress,
-                 "allowable_stress": allowable, "mass": float(self.coil_mass(values))}
+        sheet = {
+            "type": f"helical {self.helical_kind}",
+            "material": self.material.name,
+            "end_type": self.end_type,
+            **({"part_number": self.part_number} if self.part_number is not None else {}),
+            "wire_diameter": d,
+            "mean_diameter": D,
+            "outer_diameter": D + d,
+            "index": index,
+            "active_coils": n,
+            "rate": float(self.rate(values)),
+            "max_load": largest,
+            "max_stress": stress,
+            "allowable_stress": allowable,
+            "mass": float(self.coil_mass(values)),
+        }
         return sheet, reasons
 
 

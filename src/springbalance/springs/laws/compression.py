@@ -35,15 +35,32 @@ class CompressionSpring(HelicalSpringMixin, TwoPointSpring):
     nonnegative = ("stiffness", "free_length", "preload")
     defaults = {"preload": 0.0}
     linear_parameters = ("stiffness", "preload")
-    option_types = {**TwoPointSpring.option_types, "ideal": Literal[True], "stays_compressed": bool, "stroke": PositiveNumber | None,
-                    "helical": HELICAL_OPTION | None}  # type: ignore[operator]  # typeshed's ForwardRef lacks __or__, which Python has
+    option_types = {
+        **TwoPointSpring.option_types,
+        "ideal": Literal[True],
+        "stays_compressed": bool,
+        "stroke": PositiveNumber | None,
+        "helical": HELICAL_OPTION | None,  # type: ignore[operator]  # typeshed's ForwardRef lacks __or__
+    }
     helical_kind: ClassVar[str | None] = "compression"
 
-    def __init__(self, a: Anchor, b: Anchor, name: str | None = None, *, ideal: bool = True, stays_compressed: bool = True,
-                 stroke: float | None = None, helical: Helical | dict | None = None, **kwargs: Any):
+    def __init__(
+        self,
+        a: Anchor,
+        b: Anchor,
+        name: str | None = None,
+        *,
+        ideal: bool = True,
+        stays_compressed: bool = True,
+        stroke: float | None = None,
+        helical: Helical | dict | None = None,
+        **kwargs: Any,
+    ):
         if ideal is not True:
-            raise InputError(f"{type(self).__name__} {name or ''}: this is the ideal law; a coil is "
-                             f"Helical{type(self).__name__} (or type: compression without ideal: true)")
+            raise InputError(
+                f"{type(self).__name__} {name or ''}: this is the ideal law; a coil is "
+                f"Helical{type(self).__name__} (or type: compression without ideal: true)"
+            )
         super().__init__(a, b, name, **kwargs)
         self.stays_compressed = bool(stays_compressed)
         self.stroke = _positive_option(self, "stroke", stroke)
@@ -56,11 +73,11 @@ class CompressionSpring(HelicalSpringMixin, TwoPointSpring):
         return low, high
 
     def tension(self, length: ValueT, parameters: Parameters) -> ValueT:
-        compression = parameters["free_length"] - length                          # [m]
+        compression = parameters["free_length"] - length  # [m]
         return -(parameters["preload"] + parameters["stiffness"] * compression)  # [N], pushes
 
     def potential(self, length: ValueT, parameters: Parameters) -> ValueT:
-        compression = parameters["free_length"] - length                          # [m]
+        compression = parameters["free_length"] - length  # [m]
         return compression * (parameters["preload"] + 0.5 * parameters["stiffness"] * compression)  # [J]
 
     def constraints(self) -> list:
@@ -97,7 +114,8 @@ class CompressionSpring(HelicalSpringMixin, TwoPointSpring):
             warnings.append(
                 f"spring {self.name!r} ({kind}) is longer than its free length l0 = {free:.6g} m at {longer} of "
                 f"{lengths.size} workspace samples (longest {lengths.max():.6g} m): a real {kind} spring {what} there, "
-                "while the exported MuJoCo tendon spring keeps the linear law and pulls")
+                "while the exported MuJoCo tendon spring keeps the linear law and pulls"
+            )
         if self.stroke is not None:
             beyond = int(np.sum(lengths < free - self.stroke - tolerance))
             if beyond:
@@ -105,5 +123,6 @@ class CompressionSpring(HelicalSpringMixin, TwoPointSpring):
                     f"spring {self.name!r} ({kind}) is compressed beyond its stroke {self.stroke:.6g} m at {beyond} "
                     f"of {lengths.size} workspace samples (shortest {lengths.min():.6g} m, limit "
                     f"{free - self.stroke:.6g} m): a real one bottoms out there, the exported MuJoCo tendon spring "
-                    "keeps the linear law")
+                    "keeps the linear law"
+                )
         return warnings + super().law_warnings(values, lengths, tolerance)

@@ -23,10 +23,10 @@ class ConstantForceSpring(TwoPointSpring):
     linear_parameters = ("force",)
 
     def tension(self, length: ValueT, parameters: Parameters) -> ValueT:
-        return parameters["force"] + 0 * length                       # [N]
+        return parameters["force"] + 0 * length  # [N]
 
     def potential(self, length: ValueT, parameters: Parameters) -> ValueT:
-        return parameters["force"] * length                           # [N]·[m] = [J]
+        return parameters["force"] * length  # [N]·[m] = [J]
 
     def tendon_law(self, values: dict, lengths: np.ndarray) -> tuple[float, float, float]:
         """Exact: ``F = F0`` (``k = 0``)."""

@@ -35,15 +35,32 @@ class ExtensionSpring(HelicalSpringMixin, TwoPointSpring):
     nonnegative = ("stiffness", "free_length", "initial_tension")
     defaults = {"initial_tension": 0.0}
     linear_parameters = ("stiffness", "initial_tension")
-    option_types = {**TwoPointSpring.option_types, "ideal": Literal[True], "keep_tension": bool, "max_stretch": StretchRatio | None,
-                    "helical": HELICAL_OPTION | None}  # type: ignore[operator]  # typeshed's ForwardRef lacks __or__, which Python has
+    option_types = {
+        **TwoPointSpring.option_types,
+        "ideal": Literal[True],
+        "keep_tension": bool,
+        "max_stretch": StretchRatio | None,
+        "helical": HELICAL_OPTION | None,  # type: ignore[operator]  # typeshed's ForwardRef lacks __or__
+    }
     helical_kind: ClassVar[str | None] = "extension"
 
-    def __init__(self, a: Anchor, b: Anchor, name: str | None = None, *, ideal: bool = True, keep_tension: bool = True,
-                 max_stretch: float | None = None, helical: Helical | dict | None = None, **kwargs: Any):
+    def __init__(
+        self,
+        a: Anchor,
+        b: Anchor,
+        name: str | None = None,
+        *,
+        ideal: bool = True,
+        keep_tension: bool = True,
+        max_stretch: float | None = None,
+        helical: Helical | dict | None = None,
+        **kwargs: Any,
+    ):
         if ideal is not True:
-            raise InputError(f"{type(self).__name__} {name or ''}: this is the ideal law; a coil is "
-                             f"Helical{type(self).__name__} (or type: extension without ideal: true)")
+            raise InputError(
+                f"{type(self).__name__} {name or ''}: this is the ideal law; a coil is "
+                f"Helical{type(self).__name__} (or type: extension without ideal: true)"
+            )
         super().__init__(a, b, name, **kwargs)
         self.keep_tension = bool(keep_tension)
         self.max_stretch = _positive_option(self, "max_stretch", max_stretch)
@@ -58,11 +75,11 @@ class ExtensionSpring(HelicalSpringMixin, TwoPointSpring):
         return low, high
 
     def tension(self, length: ValueT, parameters: Parameters) -> ValueT:
-        stretch = length - parameters["free_length"]                          # [m]
+        stretch = length - parameters["free_length"]  # [m]
         return parameters["initial_tension"] + parameters["stiffness"] * stretch  # [N]
 
     def potential(self, length: ValueT, parameters: Parameters) -> ValueT:
-        stretch = length - parameters["free_length"]                          # [m]
+        stretch = length - parameters["free_length"]  # [m]
         return stretch * (parameters["initial_tension"] + 0.5 * parameters["stiffness"] * stretch)  # [J]
 
     def constraints(self) -> list:
@@ -100,5 +117,6 @@ class ExtensionSpring(HelicalSpringMixin, TwoPointSpring):
                 f"spring {self.name!r} (extension) is shorter than its free length l0 = {free:.6g} m at "
                 f"{slack} of {lengths.size} workspace samples (shortest {lengths.min():.6g} m; {option}): a real "
                 "extension spring goes slack there, while the exported MuJoCo tendon spring (like springbalance's "
-                "law) keeps the linear law and pushes")
+                "law) keeps the linear law and pushes"
+            )
         return warnings + super().law_warnings(values, lengths, tolerance)

@@ -31,5 +31,3 @@ class GasSpring(CompressionSpring):
         if kwargs.get("helical") is not None:
             raise InputError(f"GasSpring {name or ''}: a gas spring has no helical option")
         super().__init__(a, b, name, **kwargs)
-
-

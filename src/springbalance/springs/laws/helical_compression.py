@@ -48,7 +48,7 @@ class CompressionCoilRules:
         spring, material = self.spring, self.spring.material
         d, D, n = parameters["wire_diameter"], parameters["mean_diameter"], parameters["active_coils"]
         free = parameters["free_length"]
-        allowable = material.allowable_fraction["compression"] * material.tensile_strength(d)    # [Pa]
+        allowable = material.allowable_fraction["compression"] * material.tensile_strength(d)  # [Pa]
         rows = [free - length] if spring.stays_compressed else []
         rows += [length - d * (n + 2), 1 - spring.stress_reserve - spring.body_stress(-force, parameters) / allowable]
         if not spring.guided:
@@ -83,17 +83,25 @@ class HelicalCompressionSpring(HelicalCoilSpring):
     end_type = "squared and ground"
     default_bounds = {"active_coils": (3.0, 100.0), "free_length": (0.01, 1.0)}
 
-    def __init__(self, a: Anchor, b: Anchor, name: str | None = None, *, stays_compressed: bool = True,
-                 guided: bool = False, **kwargs: Any):
+    def __init__(
+        self,
+        a: Anchor,
+        b: Anchor,
+        name: str | None = None,
+        *,
+        stays_compressed: bool = True,
+        guided: bool = False,
+        **kwargs: Any,
+    ):
         self.stays_compressed, self.guided = bool(stays_compressed), bool(guided)
         super().__init__(a, b, name, **kwargs)
 
     def tension(self, length: ValueT, parameters: Parameters) -> ValueT:
-        return -self.rate(parameters) * (parameters["free_length"] - length)                 # [N], pushes
+        return -self.rate(parameters) * (parameters["free_length"] - length)  # [N], pushes
 
     def potential(self, length: ValueT, parameters: Parameters) -> ValueT:
-        compression = parameters["free_length"] - length                                    # [m]
-        return 0.5 * self.rate(parameters) * compression * compression                      # [J]
+        compression = parameters["free_length"] - length  # [m]
+        return 0.5 * self.rate(parameters) * compression * compression  # [J]
 
     def derived_values(self, values: dict) -> dict:
         """The compression law of this coil: ``stiffness`` [N/m], ``free_length`` [m], ``preload`` 0 [N]."""
@@ -118,13 +126,14 @@ class HelicalCompressionSpring(HelicalCoilSpring):
             warnings.append(
                 f"spring {self.name!r} (helical compression) is longer than its free length l0 = {free:.6g} m at "
                 f"{longer} of {lengths.size} workspace samples: it loses contact there, while the exported MuJoCo "
-                "tendon spring keeps the linear law and pulls")
+                "tendon spring keeps the linear law and pulls"
+            )
         return warnings + super().law_warnings(values, lengths, tolerance)
 
     def spec_sheet(self, values: dict, lengths: np.ndarray, forces: np.ndarray) -> dict:
         """The part's data sheet over the workspace and its buildable verdict, checked from the numbers."""
         lengths, forces = np.asarray(lengths, dtype=float), np.asarray(forces, dtype=float)
-        largest = float(np.max(-forces)) if forces.size else 0.0                                # [N] push
+        largest = float(np.max(-forces)) if forces.size else 0.0  # [N] push
         sheet, reasons = self.common_sheet(values, max(largest, 0.0))
         d, D, n = sheet["wire_diameter"], sheet["mean_diameter"], sheet["active_coils"]
         free, solid = float(values["free_length"]), d * (n + 2)
@@ -133,13 +142,27 @@ class HelicalCompressionSpring(HelicalCoilSpring):
         if solid > shortest * (1 + CHECK_TOLERANCE):
             reasons.append(f"solid length {solid * 1e3:.1f} mm exceeds the shortest length {shortest * 1e3:.1f} mm")
         if self.stays_compressed and longest > free * (1 + CHECK_TOLERANCE):
-            reasons.append(f"longest length {longest * 1e3:.1f} mm exceeds the free length {free * 1e3:.1f} mm: "
-                           "the spring loses contact")
+            reasons.append(
+                f"longest length {longest * 1e3:.1f} mm exceeds the free length {free * 1e3:.1f} mm: "
+                "the spring loses contact"
+            )
         critical = 2.63 * D / END_CONSTANT
         if not self.guided and free > critical * (1 + CHECK_TOLERANCE):
-            reasons.append(f"free length {free * 1e3:.0f} mm above the buckling limit {critical * 1e3:.0f} mm; "
-                           "guide it (guided: true) or shorten it")
-        sheet.update({"free_length": free, "body_length": free, "solid_length": solid, "initial_tension": 0.0,
-                      "longest_length": longest, "shortest_length": shortest, "buckling_length": critical,
-                      "buildable": not reasons, "reasons": reasons})
+            reasons.append(
+                f"free length {free * 1e3:.0f} mm above the buckling limit {critical * 1e3:.0f} mm; "
+                "guide it (guided: true) or shorten it"
+            )
+        sheet.update(
+            {
+                "free_length": free,
+                "body_length": free,
+                "solid_length": solid,
+                "initial_tension": 0.0,
+                "longest_length": longest,
+                "shortest_length": shortest,
+                "buckling_length": critical,
+                "buildable": not reasons,
+                "reasons": reasons,
+            }
+        )
         return sheet

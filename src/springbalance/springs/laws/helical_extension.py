@@ -53,14 +53,16 @@ class ExtensionCoilRules:
     def rows(self, length: ValueT, force: ValueT, parameters: Parameters) -> ValueT | list[ValueT]:
         spring, material = self.spring, self.spring.material
         d, D = parameters["wire_diameter"], parameters["mean_diameter"]
-        strength = material.tensile_strength(d)                                          # S_ut [Pa]
-        low, high = initial_stress_band(D / d)                                           # [Pa]
-        initial = 8 * parameters["initial_tension"] * D / (math.pi * d**3)               # τ_i [Pa]
+        strength = material.tensile_strength(d)  # S_ut [Pa]
+        low, high = initial_stress_band(D / d)  # [Pa]
+        initial = 8 * parameters["initial_tension"] * D / (math.pi * d**3)  # τ_i [Pa]
         rows = [length - spring.free_length(parameters)] if spring.keep_tension else []
-        usable = 1 - spring.stress_reserve                                               # [1]
-        rows += [usable - spring.body_stress(force, parameters) / (material.allowable_fraction["extension"] * strength),
-                 usable - hook_bending_stress(force, d, D) / (material.hook_fraction["bending"] * strength),
-                 usable - hook_torsion_stress(force, d, D) / (material.hook_fraction["torsion"] * strength)]
+        usable = 1 - spring.stress_reserve  # [1]
+        rows += [
+            usable - spring.body_stress(force, parameters) / (material.allowable_fraction["extension"] * strength),
+            usable - hook_bending_stress(force, d, D) / (material.hook_fraction["bending"] * strength),
+            usable - hook_torsion_stress(force, d, D) / (material.hook_fraction["torsion"] * strength),
+        ]
         if spring.winds:
             rows += [(initial - low) / MPA, (high - initial) / MPA]
         return rows + spring.common_rows(parameters)
@@ -102,17 +104,20 @@ class HelicalExtensionSpring(HelicalCoilSpring):
         return d * (n + 1) + 2 * (D - d)
 
     def tension(self, length: ValueT, parameters: Parameters) -> ValueT:
-        stretch = length - self.free_length(parameters)                                           # [m]
-        return parameters["initial_tension"] + self.rate(parameters) * stretch                     # [N]
+        stretch = length - self.free_length(parameters)  # [m]
+        return parameters["initial_tension"] + self.rate(parameters) * stretch  # [N]
 
     def potential(self, length: ValueT, parameters: Parameters) -> ValueT:
-        stretch = length - self.free_length(parameters)                                           # [m]
-        return stretch * (parameters["initial_tension"] + 0.5 * self.rate(parameters) * stretch)   # [J]
+        stretch = length - self.free_length(parameters)  # [m]
+        return stretch * (parameters["initial_tension"] + 0.5 * self.rate(parameters) * stretch)  # [J]
 
     def derived_values(self, values: dict) -> dict:
         """The extension law of this coil: ``stiffness`` [N/m], ``free_length`` [m], ``initial_tension`` [N]."""
-        return {"stiffness": float(self.rate(values)), "free_length": float(self.free_length(values)),
-                "initial_tension": float(values["initial_tension"])}
+        return {
+            "stiffness": float(self.rate(values)),
+            "free_length": float(self.free_length(values)),
+            "initial_tension": float(values["initial_tension"]),
+        }
 
     def constraints(self) -> list:
         return [ExtensionCoilRules(self)] + super().constraints()
@@ -133,7 +138,8 @@ class HelicalExtensionSpring(HelicalCoilSpring):
             warnings.append(
                 f"spring {self.name!r} (helical extension) is shorter than its free length l0 = {free:.6g} m at {slack} "
                 f"of {lengths.size} workspace samples: the coil is slack there, while the exported MuJoCo tendon "
-                "spring keeps the linear law and pushes")
+                "spring keeps the linear law and pushes"
+            )
         return warnings + super().law_warnings(values, lengths, tolerance)
 
     def spec_sheet(self, values: dict, lengths: np.ndarray, forces: np.ndarray) -> dict:
@@ -144,28 +150,44 @@ class HelicalExtensionSpring(HelicalCoilSpring):
         """
         lengths, forces = np.asarray(lengths, dtype=float), np.asarray(forces, dtype=float)
         initial_tension = float(values["initial_tension"])
-        largest = max(float(np.max(forces)) if forces.size else initial_tension, initial_tension)   # [N]
+        largest = max(float(np.max(forces)) if forces.size else initial_tension, initial_tension)  # [N]
         sheet, reasons = self.common_sheet(values, largest)
         d, D = sheet["wire_diameter"], sheet["mean_diameter"]
         strength = float(self.material.tensile_strength(d))
         slack = 1 + CHECK_TOLERANCE
-        for mode, stress in (("bending", hook_bending_stress(largest, d, D)), ("torsion", hook_torsion_stress(largest, d, D))):
+        for mode, stress in (
+            ("bending", hook_bending_stress(largest, d, D)),
+            ("torsion", hook_torsion_stress(largest, d, D)),
+        ):
             allowable = self.material.hook_fraction[mode] * strength
             sheet[f"hook_{mode}_stress"], sheet[f"hook_{mode}_allowable"] = float(stress), allowable
             if stress > allowable * slack:
-                reasons.append(f"hook {mode} stress {stress / MPA:.0f} MPa exceeds the allowable {allowable / MPA:.0f} MPa")
+                reasons.append(
+                    f"hook {mode} stress {stress / MPA:.0f} MPa exceeds the allowable {allowable / MPA:.0f} MPa"
+                )
         low, high = (float(v) for v in initial_stress_band(D / d))
-        initial_stress = 8 * initial_tension * D / (math.pi * d**3)                                  # [Pa]
+        initial_stress = 8 * initial_tension * D / (math.pi * d**3)  # [Pa]
         if self.winds and not low - 10 * CHECK_TOLERANCE * MPA <= initial_stress <= high + 10 * CHECK_TOLERANCE * MPA:
-            reasons.append(f"initial tension {initial_tension:.4g} N (stress {initial_stress / MPA:.0f} MPa) outside the "
-                           f"band that can be wound at index {D / d:.2f}: {low / MPA:.0f}–{high / MPA:.0f} MPa")
+            reasons.append(
+                f"initial tension {initial_tension:.4g} N (stress {initial_stress / MPA:.0f} MPa) outside the "
+                f"band that can be wound at index {D / d:.2f}: {low / MPA:.0f}–{high / MPA:.0f} MPa"
+            )
         free = float(self.free_length(values))
         if lengths.size and float(np.min(lengths)) < free * (1 - CHECK_TOLERANCE):
-            reasons.append(f"shortest length {np.min(lengths) * 1e3:.1f} mm is below the free length {free * 1e3:.1f} mm: "
-                           "the coil goes slack")
+            reasons.append(
+                f"shortest length {np.min(lengths) * 1e3:.1f} mm is below the free length {free * 1e3:.1f} mm: "
+                "the coil goes slack"
+            )
         d_, n = sheet["wire_diameter"], sheet["active_coils"]
-        sheet.update({"free_length": free, "body_length": d_ * (n + 1), "initial_tension": initial_tension,
-                      "longest_length": float(np.max(lengths)) if lengths.size else free,
-                      "shortest_length": float(np.min(lengths)) if lengths.size else free,
-                      "buildable": not reasons, "reasons": reasons})
+        sheet.update(
+            {
+                "free_length": free,
+                "body_length": d_ * (n + 1),
+                "initial_tension": initial_tension,
+                "longest_length": float(np.max(lengths)) if lengths.size else free,
+                "shortest_length": float(np.min(lengths)) if lengths.size else free,
+                "buildable": not reasons,
+                "reasons": reasons,
+            }
+        )
         return sheet

@@ -132,16 +132,20 @@ class Spring(abc.ABC):
             key = cls.registry_key()
             known = SPRING_TYPES.get(key)
             if known is not None and known.__qualname__ != cls.__qualname__:
-                raise TypeError(f"spring law {key!r} is defined twice: {known.__module__}.{known.__qualname__} "
-                                f"and {cls.__module__}.{cls.__qualname__}")
+                raise TypeError(
+                    f"spring law {key!r} is defined twice: {known.__module__}.{known.__qualname__} "
+                    f"and {cls.__module__}.{cls.__qualname__}"
+                )
             SPRING_TYPES[key] = cls
 
     def __init__(self, name: str | None = None, **parameters: Any):
         self.name = name
         unknown = set(parameters) - set(self.parameter_units)
         if unknown:
-            raise InputError(f"{type(self).__name__} {name or ''}: unknown parameter(s) {', '.join(sorted(unknown))}; "
-                             f"valid: {', '.join(self.parameter_units)}")
+            raise InputError(
+                f"{type(self).__name__} {name or ''}: unknown parameter(s) {', '.join(sorted(unknown))}; "
+                f"valid: {', '.join(self.parameter_units)}"
+            )
         self.parameters: dict[str, float | Free] = {}
         for key in self.parameter_units:
             value = parameters.get(key, self.defaults.get(key))
@@ -216,8 +220,10 @@ class Spring(abc.ABC):
         stiffness = self.parameters["stiffness"]
         lowest = float(stiffness.lower) if isinstance(stiffness, Free) else float(stiffness)
         if lowest <= 0:
-            raise InputError(f"{self._label()}: {reason} needs a stiffness > 0 (its lower bound is {lowest:g}); "
-                             "give stiffness a positive lower bound")
+            raise InputError(
+                f"{self._label()}: {reason} needs a stiffness > 0 (its lower bound is {lowest:g}); "
+                "give stiffness a positive lower bound"
+            )
 
 
 def _checked_parameter(spring: Spring, key: str, value: Any) -> float | Free:

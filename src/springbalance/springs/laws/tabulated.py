@@ -56,7 +56,7 @@ class StaysInTable:
     parts = (("in_table_low", "m", 0.1), ("in_table_high", "m", 0.1))
 
     def rows(self, length: ValueT, force: ValueT, parameters: Parameters) -> ValueT | list[ValueT]:
-        x = length - parameters["shift"]                       # [m]
+        x = length - parameters["shift"]  # [m]
         return [x - self.low, self.high - x]
 
 
@@ -84,35 +84,43 @@ class TabulatedSpring(TwoPointSpring):
     option_types = {**TwoPointSpring.option_types, "table": TableOption, "stays_in_table": bool}
     required_options = ("table",)
 
-    def __init__(self, a: Anchor, b: Anchor, name: str | None = None, *, table: Sequence[Sequence[float]] | None = None,
-                 stays_in_table: bool = True, **kwargs: Any):
+    def __init__(
+        self,
+        a: Anchor,
+        b: Anchor,
+        name: str | None = None,
+        *,
+        table: Sequence[Sequence[float]] | None = None,
+        stays_in_table: bool = True,
+        **kwargs: Any,
+    ):
         super().__init__(a, b, name, **kwargs)
         self.table = _checked_table(table, self._label())
         self.stays_in_table = bool(stays_in_table)
         lengths, forces = self.table[:, 0], self.table[:, 1]
-        self.slopes = np.diff(forces) / np.diff(lengths)                        # s_i [N/m]
-        self.kinks = lengths[1:-1]                                              # x_1 … x_{n-2} [m]
-        self.slope_changes = np.diff(self.slopes)                               # s_i - s_{i-1} [N/m]
+        self.slopes = np.diff(forces) / np.diff(lengths)  # s_i [N/m]
+        self.kinks = lengths[1:-1]  # x_1 … x_{n-2} [m]
+        self.slope_changes = np.diff(self.slopes)  # s_i - s_{i-1} [N/m]
 
     def _curve(self, x: ValueT) -> tuple[ValueT, ValueT]:
         """``f(x)`` [N] and ``∫_{x_0}^{x} f`` [J] of the table at table length ``x`` [m]."""
         x0, f0, s0 = self.table[0, 0], self.table[0, 1], self.slopes[0]
-        offset = x - x0                                                         # [m]
-        force = f0 + s0 * offset                                                # [N]
-        energy = offset * (f0 + 0.5 * s0 * offset)                              # [J]
+        offset = x - x0  # [m]
+        force = f0 + s0 * offset  # [N]
+        energy = offset * (f0 + 0.5 * s0 * offset)  # [J]
         for kink, change in zip(self.kinks, self.slope_changes):
-            past = _ramp(x - kink)                                              # [m]
+            past = _ramp(x - kink)  # [m]
             force = force + change * past
             energy = energy + 0.5 * change * past * past
         return force, energy
 
     def tension(self, length: ValueT, parameters: Parameters) -> ValueT:
         force, _ = self._curve(length - parameters["shift"])
-        return parameters["scale"] * force                                      # [N]
+        return parameters["scale"] * force  # [N]
 
     def potential(self, length: ValueT, parameters: Parameters) -> ValueT:
         _, energy = self._curve(length - parameters["shift"])
-        return parameters["scale"] * energy                                     # [J]
+        return parameters["scale"] * energy  # [J]
 
     def constraints(self) -> list:
         rows = super().constraints()
@@ -142,7 +150,8 @@ class TabulatedSpring(TwoPointSpring):
         if outside:
             warnings.append(
                 f"spring {self.name!r} (tabulated) leaves its table [{self.table[0, 0]:.6g}, {self.table[-1, 0]:.6g}] m "
-                f"at {outside} of {np.size(lengths)} workspace samples: the law is extrapolated linearly there")
+                f"at {outside} of {np.size(lengths)} workspace samples: the law is extrapolated linearly there"
+            )
         return warnings + super().law_warnings(values, lengths, tolerance)
 
 
@@ -160,6 +169,8 @@ def _checked_table(table: Any, label: str) -> np.ndarray:
     steps = np.diff(rows[:, 0])
     if np.any(steps <= 0):
         row = int(np.argmax(steps <= 0)) + 1
-        raise InputError(f"{label}: table lengths must increase strictly; row {row} has length {rows[row, 0]:g} m "
-                         f"after {rows[row - 1, 0]:g} m")
+        raise InputError(
+            f"{label}: table lengths must increase strictly; row {row} has length {rows[row, 0]:g} m "
+            f"after {rows[row - 1, 0]:g} m"
+        )
     return rows

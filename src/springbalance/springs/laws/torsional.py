@@ -35,8 +35,15 @@ class TorsionalSpring(Spring):
     state_quantity = ("angle", "rad")
     force_quantity = ("torque", "N·m")
 
-    def __init__(self, joint: str, name: str | None = None, *, max_torque: float | None = None,
-                 max_deflection: float | None = None, **parameters: Any):
+    def __init__(
+        self,
+        joint: str,
+        name: str | None = None,
+        *,
+        max_torque: float | None = None,
+        max_deflection: float | None = None,
+        **parameters: Any,
+    ):
         if not isinstance(joint, str) or not joint:
             raise InputError(f"TorsionalSpring {name or ''}: joint must be a joint name, got {joint!r}")
         self.joint = joint
@@ -54,8 +61,10 @@ class TorsionalSpring(Spring):
         except InputError as error:
             raise InputError(f"torsional spring {self.name!r}: {error}") from None
         if joint.kind == "prismatic":
-            raise InputError(f"torsional spring {self.name!r}: joint {self.joint!r} is prismatic; "
-                             "a torsional spring needs a revolute or continuous joint")
+            raise InputError(
+                f"torsional spring {self.name!r}: joint {self.joint!r} is prismatic; "
+                "a torsional spring needs a revolute or continuous joint"
+            )
 
     def torque(self, angle: ValueT, parameters: Parameters) -> ValueT:
         """Spring torque ``k (q - q0) + τ0`` [N·m] at joint angle ``q`` [rad]."""
@@ -63,12 +72,12 @@ class TorsionalSpring(Spring):
 
     def potential(self, angle: ValueT, parameters: Parameters) -> ValueT:
         """Stored energy ``k (q - q0)²/2 + τ0 (q - q0)`` [J]."""
-        deflection = angle - parameters["neutral_angle"]                      # [rad]
+        deflection = angle - parameters["neutral_angle"]  # [rad]
         return deflection * (parameters["preload"] + 0.5 * parameters["stiffness"] * deflection)  # [J]
 
     def contribution(self, sample: Sample, parameters: Parameters, points: dict) -> Contribution:
-        angle = sample.coordinate(self.joint)                                 # q_i [rad]
-        torque = self.torque(angle, parameters)                               # [N·m]
+        angle = sample.coordinate(self.joint)  # q_i [rad]
+        torque = self.torque(angle, parameters)  # [N·m]
         return Contribution(sample.direction(self.joint) * torque, self.potential(angle, parameters), angle, torque)
 
     def constraints(self) -> list:
@@ -83,8 +92,11 @@ class TorsionalSpring(Spring):
         return {"joint": self.joint}
 
     def options(self) -> dict:
-        return {key: value for key, value in (("max_torque", self.max_torque), ("max_deflection", self.max_deflection))
-                if value is not None}
+        return {
+            key: value
+            for key, value in (("max_torque", self.max_torque), ("max_deflection", self.max_deflection))
+            if value is not None
+        }
 
     def __repr__(self) -> str:
         return f"TorsionalSpring({self.name!r}, joint={self.joint!r})"

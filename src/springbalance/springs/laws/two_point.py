@@ -68,13 +68,28 @@ class TwoPointSpring(Spring):
     """
 
     ends = ("a", "b")
-    option_types = {"max_force": PositiveNumber | None, "max_length": PositiveNumber | None,
-                    "min_length": PositiveNumber | None, "mass": MassOption | None, "part_number": str | None}
+    option_types = {
+        "max_force": PositiveNumber | None,
+        "max_length": PositiveNumber | None,
+        "min_length": PositiveNumber | None,
+        "mass": MassOption | None,
+        "part_number": str | None,
+    }
 
-    def __init__(self, a: Anchor, b: Anchor, name: str | None = None, *, max_force: float | None = None,
-                 max_length: float | None = None, min_length: float | None = None,
-                 mass: float | dict | CoilMass | FixedMass | None = None, part_number: str | None = None,
-                 via: Sequence[Pulley] = (), **parameters: Any):
+    def __init__(
+        self,
+        a: Anchor,
+        b: Anchor,
+        name: str | None = None,
+        *,
+        max_force: float | None = None,
+        max_length: float | None = None,
+        min_length: float | None = None,
+        mass: float | dict | CoilMass | FixedMass | None = None,
+        part_number: str | None = None,
+        via: Sequence[Pulley] = (),
+        **parameters: Any,
+    ):
         if not isinstance(a, Anchor) or not isinstance(b, Anchor):
             raise InputError(f"spring {name or ''!s}: ends must be Anchor objects, got {a!r} and {b!r}")
         self.a, self.b = a, b
@@ -84,8 +99,9 @@ class TwoPointSpring(Spring):
         #: the pulleys (and guide points) of a routed spring, in path order
         self.via = tuple(via)
         if self.via and "cable_length" not in parameters:
-            raise InputError(f"spring {name or ''!s}: a spring routed over pulleys needs a cable_length "
-                             "(a number or Free, [m])")
+            raise InputError(
+                f"spring {name or ''!s}: a spring routed over pulleys needs a cable_length (a number or Free, [m])"
+            )
         if "cable_length" in parameters:
             # an instance's own parameter list: the law's, and the cable
             self.parameter_units = {**type(self).parameter_units, "cable_length": "m"}
@@ -127,8 +143,9 @@ class TwoPointSpring(Spring):
         if coupled:
             self._positive_stiffness("a mass coupled to the stiffness (m_s ∝ √k)")
         # m_s ∝ √k makes the torque nonlinear in k
-        self.linear_parameters = tuple(key for key in type(self).linear_parameters
-                                       if not (coupled and key == "stiffness"))
+        self.linear_parameters = tuple(
+            key for key in type(self).linear_parameters if not (coupled and key == "stiffness")
+        )
 
     @property
     def carries_mass(self) -> bool:
@@ -173,17 +190,24 @@ class TwoPointSpring(Spring):
             mechanism.is_ground(pulley.anchor.body)
         bodies = {anchor.body for anchor in self.anchors.values()}
         if self.via and (len(bodies) == 1 or all(mechanism.is_ground(body) for body in bodies)):
-            raise InputError(f"spring {self.name!r}: every point of its path is on "
-                             f"{'body ' + repr(a.body) if len(bodies) == 1 else 'the ground'}; "
-                             "it cannot act on the mechanism")
+            raise InputError(
+                f"spring {self.name!r}: every point of its path is on "
+                f"{'body ' + repr(a.body) if len(bodies) == 1 else 'the ground'}; "
+                "it cannot act on the mechanism"
+            )
         if self.via:
             fixed = [(end, anchor) for end, anchor in self.anchors.items() if not anchor.is_free]
             for (end, first), (next_end, second) in zip(fixed, fixed[1:]):
-                if first.body == second.body and np.allclose(first.region().point([]), second.region().point([])) \
-                        and list(self.anchors).index(next_end) == list(self.anchors).index(end) + 1:
-                    raise InputError(f"spring {self.name!r}: path points {end} and {next_end} coincide on body "
-                                     f"{first.body!r} at {first.region().point([]).tolist()} m; a segment needs "
-                                     "two distinct points")
+                if (
+                    first.body == second.body
+                    and np.allclose(first.region().point([]), second.region().point([]))
+                    and list(self.anchors).index(next_end) == list(self.anchors).index(end) + 1
+                ):
+                    raise InputError(
+                        f"spring {self.name!r}: path points {end} and {next_end} coincide on body "
+                        f"{first.body!r} at {first.region().point([]).tolist()} m; a segment needs "
+                        "two distinct points"
+                    )
         elif a.body == b.body or (mechanism.is_ground(a.body) and mechanism.is_ground(b.body)):
             where = f"body {a.body!r}" if a.body == b.body else f"the ground ({a.body!r}, {b.body!r})"
             raise InputError(f"spring {self.name!r}: both ends are on {where}; it cannot act on the mechanism")
@@ -192,15 +216,15 @@ class TwoPointSpring(Spring):
         if self.routed:
             return self._routed_contribution(sample, parameters, points)
         end_a, end_b = sample.point(self.a.body, points["a"]), sample.point(self.b.body, points["b"])
-        d = end_b.position - end_a.position                     # [m]
-        length = (d.T @ d) ** 0.5                                # L [m]
+        d = end_b.position - end_a.position  # [m]
+        length = (d.T @ d) ** 0.5  # L [m]
         force = self.tension_per_length(length, parameters) * d  # F u [N], pulls b towards a
-        torque = end_b.generalized(force) - end_a.generalized(force)   # F (J_pb - J_pa)^T u
-        square = getattr(self, "potential_of_square", None)      # a law smooth in L² (no √ at L = 0)
+        torque = end_b.generalized(force) - end_a.generalized(force)  # F (J_pb - J_pa)^T u
+        square = getattr(self, "potential_of_square", None)  # a law smooth in L² (no √ at L = 0)
         potential = square(d.T @ d, parameters) if square is not None else self.potential(length, parameters)
         if self.carries_mass:
-            half = 0.5 * self.spring_mass(parameters)            # [kg] at each end
-            hold = -half * sample.gravity                        # force that holds each half up [N]
+            half = 0.5 * self.spring_mass(parameters)  # [kg] at each end
+            hold = -half * sample.gravity  # force that holds each half up [N]
             torque = torque + end_a.generalized(hold) + end_b.generalized(hold)
             potential = potential - half * (sample.gravity.T @ (end_a.position + end_b.position))  # [J]
         return Contribution(torque, potential, length, self.tension(length, parameters))
@@ -208,9 +232,9 @@ class TwoPointSpring(Spring):
     def _routed_contribution(self, sample: Sample, parameters: Parameters, points: dict) -> Contribution:
         """``L = ℓ(path) − cable``; torque ``F Σ_i J_{P_i}^T ∂ℓ/∂P_i`` (see :mod:`springbalance.springs.routing`)."""
         ends = [sample.point(anchor.body, points[end]) for end, anchor in self.anchors.items()]
-        path, gradients = path_length([end.position for end in ends], self.radii)    # [m], [1]
-        length = path - parameters["cable_length"]                                    # L [m]
-        tension = self.tension(length, parameters)                                    # F [N]
+        path, gradients = path_length([end.position for end in ends], self.radii)  # [m], [1]
+        length = path - parameters["cable_length"]  # L [m]
+        tension = self.tension(length, parameters)  # F [N]
         torque = sample.zero()
         for end, gradient in zip(ends, gradients):
             torque = torque + end.generalized(tension * gradient)
@@ -268,7 +292,7 @@ class TwoPointSpring(Spring):
         over ``lengths`` and the largest ``|F(L) - (k L + c)|`` there.
         """
         lengths = np.asarray(lengths, dtype=float)
-        forces = np.asarray(self.tension(lengths, values), dtype=float) * np.ones_like(lengths)   # [N]
+        forces = np.asarray(self.tension(lengths, values), dtype=float) * np.ones_like(lengths)  # [N]
         design = np.column_stack([lengths, np.ones_like(lengths)])
         (slope, constant), *_ = np.linalg.lstsq(design, forces, rcond=None)
         deviation = float(np.max(np.abs(design @ [slope, constant] - forces))) if lengths.size else 0.0
@@ -289,13 +313,13 @@ class TwoPointSpring(Spring):
                 warnings.append(
                     f"spring {self.name!r} ({self.kind}) leaves its length range [{low:.6g}, {high:.6g}] m at "
                     f"{outside} of {lengths.size} workspace samples: the exported law does not stop at the ends "
-                    "of the range")
+                    "of the range"
+                )
         return warnings
 
     def __repr__(self) -> str:
         via = "".join(f" -> {pulley!r}" for pulley in self.via)
         return f"{type(self).__name__}({self.name!r}, {self.a!r}{via} -> {self.b!r})"
-
 
 
 class HelicalSpringMixin:
@@ -304,7 +328,8 @@ class HelicalSpringMixin:
     helical_kind: ClassVar[str | None] = "extension"
     helical: Helical | None
 
-    if TYPE_CHECKING:   # what the mixin uses of the spring it is mixed into (TwoPointSpring's)
+    if TYPE_CHECKING:  # what the mixin uses of the spring it is mixed into (TwoPointSpring's)
+
         def _label(self) -> str: ...
 
         def _positive_stiffness(self, reason: str) -> None: ...

@@ -20,17 +20,17 @@ class ZeroFreeLengthSpring(TwoPointSpring):
     linear_parameters = ("stiffness",)
 
     def tension(self, length: ValueT, parameters: Parameters) -> ValueT:
-        return parameters["stiffness"] * length                       # [N/m]·[m] = [N]
+        return parameters["stiffness"] * length  # [N/m]·[m] = [N]
 
     def potential(self, length: ValueT, parameters: Parameters) -> ValueT:
-        return 0.5 * parameters["stiffness"] * length * length        # [N/m]·[m²] = [J]
+        return 0.5 * parameters["stiffness"] * length * length  # [N/m]·[m²] = [J]
 
     def potential_of_square(self, square: ValueT, parameters: Parameters) -> ValueT:
         """``k L² / 2`` from ``L²`` [m²]: its derivative stays finite where the ends meet (``L = 0``)."""
-        return 0.5 * parameters["stiffness"] * square                 # [N/m]·[m²] = [J]
+        return 0.5 * parameters["stiffness"] * square  # [N/m]·[m²] = [J]
 
     def tension_per_length(self, length: ValueT, parameters: Parameters) -> ValueT:
-        return parameters["stiffness"] + 0 * length                   # smooth at L = 0
+        return parameters["stiffness"] + 0 * length  # smooth at L = 0
 
     def tendon_law(self, values: dict, lengths: np.ndarray) -> tuple[float, float, float]:
         """Exact: ``F = k L`` (``k``, ``c = 0``)."""
