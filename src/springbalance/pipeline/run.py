@@ -87,7 +87,8 @@ def solve(
     result = run_steps(problem, options)
     if stock is None:
         return result
-    selection = _select_stock(problem, result, stock, options)
+    # the problem as the steps left it (with the rows of the fit), as the parts are fitted to the arm the same way
+    selection = _select_stock(result.problem, result, stock, options)
     stocked = selection.result
     return DesignResult(
         stocked.problem,
