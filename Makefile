@@ -6,7 +6,7 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 DOCS_STAMP := $(VENV)/.docs-installed
 
-.PHONY: bytecode demo lint test test-fast bench bench-buildable bench-clearance bench-explore bench-startup bench-workers bench-memory bench-evaluation bench-ipopt clean chromium demo-check docs
+.PHONY: bytecode demo lint test test-fast bench bench-buildable bench-clearance bench-explore bench-startup bench-workers bench-memory bench-cli-memory bench-evaluation bench-ipopt clean chromium demo-check docs
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -112,6 +112,10 @@ bench-workers: $(STAMP)
 # No full Jacobian: peak memory per sample and time per start at 25,000 and 100,000 UR5 samples
 bench-memory: $(STAMP)
 	$(BIN)/python benchmarks/bench_memory.py
+
+# Through the command line: peak memory of `springbalance design` per sample, UR5, 1,024 and 65,536 samples
+bench-cli-memory: $(STAMP)
+	$(BIN)/python benchmarks/bench_cli_memory.py
 
 # The least-squares path: residual + Jacobian at 4,096 UR5 samples, a normal-equations pass, a start at 100,000
 bench-evaluation: $(STAMP)
