@@ -33,7 +33,7 @@ from springbalance.results.payload import (
     PayloadRow,
     checked_masses,
     checked_point,
-    payload_cases,
+    payload_problem,
     per_block,
 )
 from springbalance.springs.laws import Spring
@@ -186,15 +186,7 @@ def _solve_payloads(
     starts: int,
 ) -> list[PayloadRow]:
     """Every payload of ``masses`` [kg] as one scenario of a stacked problem, solved at once, then refined."""
-    stacked = DesignProblem(
-        problem.mechanism,
-        problem.base_workspace,
-        springs,
-        objective="rms",
-        weights=problem.weights_by_name(),
-        scenarios=payload_cases(body, point, masses),
-        per_scenario=problem.per_scenario,
-    )
+    stacked = payload_problem(problem, springs, body, point, masses, problem.per_scenario)
     solution = run_steps(stacked, SolveOptions(starts=starts, progress=False, max_iterations=200, tolerance=1e-12))
     design = EvaluatedDesign(stacked, refine(stacked, solution.x), method=solution.method, status=solution.status)
     peak, rms = per_block(stacked, design.evaluation.tau, len(masses))

@@ -31,6 +31,7 @@ from springbalance.design.problem import DesignProblem
 from springbalance.design.scenarios import Payload, Scenario
 from springbalance.errors import InputError
 from springbalance.results.plots import new_figure, save_figure
+from springbalance.springs.laws import Spring
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -224,19 +225,33 @@ def residual_vs_payload(
     point = checked_point(problem, body, point)
     masses = checked_masses(masses)
     springs = problem.scenario_springs(result.x, scenario) if problem.scenarios else result.fixed_springs()
-    stacked = DesignProblem(
+    stacked = payload_problem(problem, springs, body, point, masses)
+    peak, rms = per_block(stacked, stacked.evaluate(np.zeros(0)).tau, len(masses))
+    return PayloadSweep(body, point, masses, peak, rms)
+
+
+# ---------------------------------------------------------------------- helpers
+def payload_problem(
+    problem: DesignProblem,
+    springs: list[Spring],
+    body: str,
+    point: tuple[float, ...],
+    masses: Iterable[float],
+    per_scenario: Sequence[str] = (),
+) -> DesignProblem:
+    """``problem``'s mechanism, poses and weights with ``springs``, stacked once per payload mass [kg] at ``point``
+    [m] of ``body`` (rms objective); ``per_scenario`` names the variables that take one value per payload."""
+    return DesignProblem(
         problem.mechanism,
         problem.base_workspace,
         springs,
         objective="rms",
         weights=problem.weights_by_name(),
         scenarios=payload_cases(body, point, masses),
+        per_scenario=per_scenario,
     )
-    peak, rms = per_block(stacked, stacked.evaluate(np.zeros(0)).tau, len(masses))
-    return PayloadSweep(body, point, masses, peak, rms)
 
 
-# ---------------------------------------------------------------------- helpers
 def checked_masses(masses: npt.ArrayLike) -> np.ndarray:
     """``masses`` [kg] as a 1-D array of finite numbers in [0, MAX_MASS]; InputError naming the first bad one."""
     try:
