@@ -125,6 +125,31 @@ def test_least_squares_multipliers_map_onto_the_nlp_rows():
     assert np.allclose(nlp_jacobian.T @ mapped, scaled_jacobian.T @ nu, rtol=1e-10, atol=1e-12)
 
 
+def test_a_copy_with_more_linear_rows_does_not_take_the_penalty_of_the_original():
+    """The compiled residuals are shared by a problem and its copies with other linear rows (the fit to the
+    arm's rounds). A penalty left on the original's residuals counts the original's linear rows (none here);
+    the copy's residuals start without it, so that its normal equations see its own rows (this raised a
+    shape error in the wire rounding after a clearance fit on the UR5)."""
+    from springbalance.design.clearance import LinearRows
+
+    problem = _coils()
+    original = problem.least_squares_cache
+    if original is None:
+        from springbalance.design.solvers.residuals import _LeastSquaresResiduals
+
+        original = problem.least_squares_cache = _LeastSquaresResiduals(problem)
+    z = np.full(problem.variables.size, 0.45)
+    original.set_penalty(np.ones(original.n_constraint_rows), 10.0)
+    name = problem.variables.names[0]
+    rows = LinearRows([name], np.array([[1.0], [-1.0]]), np.array([0.0, 5.0]), ["low", "high"])
+    copy = problem.with_linear_rows(rows)
+    residuals = copy.least_squares_cache
+    assert residuals.problem is copy and residuals.n_constraint_rows == original.n_constraint_rows + 2
+    gram, projected, squares = residuals.normal_equations(z)
+    assert np.all(np.isfinite(gram)) and np.isfinite(squares)
+    assert original.penalty == 10.0  # the original keeps its own penalty
+
+
 def test_starts_that_ipopts_limit_left_infeasible_are_continued_before_giving_up():
     """Ten IPOPT iterations leave both coil-demo starts infeasible: without a polish the solve fails;
     with one, the starts the limit stopped continue and end feasible (IPOPT's limit counts as a budget

@@ -213,8 +213,7 @@ class DesignProblem(ProblemNlp):
         bound to this problem (and so to its linear rows)."""
         cached = self._compiled.least_squares
         if cached is not None and cached.problem is not self:
-            cached = copy.copy(cached)  # the same compiled functions, read with this problem's rows
-            cached.problem = self
+            cached = cached.for_problem(self)  # the same compiled functions, read with this problem's rows
         return cached
 
     @least_squares_cache.setter

@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import copy
 from typing import Iterator
 
 import casadi as ca
@@ -83,6 +84,15 @@ class _LeastSquaresResiduals:
         # z → full outputs (residuals_and_jacobian)
         self._full_z: np.ndarray | None = None
         self._full: list[np.ndarray] | None = None
+
+    def for_problem(self, problem: Problem) -> _LeastSquaresResiduals:
+        """These compiled residuals bound to ``problem`` (a copy of theirs with other linear rows), with no
+        penalty: multipliers set for the other problem count its linear rows, not ``problem``'s."""
+        bound = copy.copy(self)
+        bound.problem = problem
+        bound.set_penalty(None, 0.0)
+        bound._normal_key, bound._normal = None, None
+        return bound
 
     def set_penalty(self, multipliers: np.ndarray | None, penalty: float) -> None:
         """Penalty rows ``max(0, λ - μ c)/√μ`` with ``λ = multipliers``, ``μ = penalty`` from now on (None: none)."""
