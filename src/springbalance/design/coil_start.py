@@ -14,6 +14,7 @@ the twin) for the solver's first start; the rules themselves are the solver's jo
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import TYPE_CHECKING, Any
 
@@ -52,6 +53,30 @@ def coil_springs(problem: DesignProblem) -> list[HelicalCoilSpring]:
 
 def coil_start(problem: DesignProblem, **solve_options: Any) -> np.ndarray | None:
     """A design vector of ``problem`` to start from (see the module docstring); None when the twin fails."""
+    start = coil_starts(problem, 1, **solve_options)
+    return None if start is None else start.starts[0]
+
+
+@dataclasses.dataclass(frozen=True)
+class TwinStart:
+    """Where the coils start: the ideal twin's designs wound into coils.
+
+    Attributes:
+        starts: design vectors of the problem (rows, best first).
+        twin: the twin problem (every free coil replaced by the ideal law of its kind).
+        twin_x: the twin's optimum before any fit to the arm [physical units of ``twin``].
+    """
+
+    starts: np.ndarray
+    twin: DesignProblem
+    twin_x: np.ndarray
+
+
+def coil_starts(problem: DesignProblem, count: int, **solve_options: Any) -> TwinStart | None:
+    """Up to ``count`` design vectors of ``problem`` to start from (rows, best first): the twin's distinct
+    feasible starts, best first, each with its coils wound for its laws (see the module docstring). None when
+    the twin fails. The twin's multi-start finds several basins (anchor layouts); the coil solve starts in each
+    of them rather than at Sobol points of the coils' variables, most of which are far from any useful coil."""
     coils = coil_springs(problem)
     if not coils:
         return None
@@ -66,21 +91,34 @@ def coil_start(problem: DesignProblem, **solve_options: Any) -> np.ndarray | Non
         found = solve_problem(twin, **{**solve_options, "tolerance": tolerance})
     except SolverError:
         return None
-    twin_values = dict(zip(twin.variables.names, found.x))
+    designs = [np.asarray(found.x, dtype=float)]
+    for record in sorted((r for r in found.starts if r.feasible), key=lambda record: record.objective):
+        if len(designs) >= count:
+            break
+        candidate = np.asarray(record.x, dtype=float)
+        if not any(np.allclose(candidate, design, rtol=1e-6, atol=1e-9) for design in designs):
+            designs.append(candidate)
+    starts = np.array([_wound(problem, twin, coils, design) for design in designs[:count]])
+    return TwinStart(starts, twin, np.asarray(found.x, dtype=float))
+
+
+def _wound(problem: DesignProblem, twin: DesignProblem, coils: list[HelicalCoilSpring], x: np.ndarray) -> np.ndarray:
+    """The design of ``problem`` with the anchors of the twin's design ``x`` and each coil wound for its law."""
+    twin_values = dict(zip(twin.variables.names, x))
     start = dict(zip(problem.variables.names, problem.variables.start))
     start.update({name: value for name, value in twin_values.items() if name in start})
-    evaluation = twin.evaluate(found.x)
+    evaluation = twin.evaluate(x)
     for column, spring in enumerate(twin.springs):
         if problem.springs[column] not in coils:
             continue
         coil = problem.springs[column]
         assert isinstance(coil, HelicalCoilSpring)  # one of `coils`
-        law = twin.model.spring_values(spring, found.x)
+        law = twin.model.spring_values(spring, x)
         lengths, forces = evaluation.lengths[:, column], evaluation.tensions[:, column]
         start.update({f"{coil.name}.{key}": value for key, value in _wind(coil, law, lengths, forces).items()})
-    x = np.array([start[name] for name in problem.variables.names], dtype=float)
+    design = np.array([start[name] for name in problem.variables.names], dtype=float)
     lower, upper = problem.variables.bounds()
-    return np.clip(x, lower, upper)
+    return np.clip(design, lower, upper)
 
 
 def _bounds(spring: Spring, key: str) -> tuple[float, float]:

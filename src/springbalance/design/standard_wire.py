@@ -8,6 +8,14 @@ variable from the current design, and keeps the better feasible one. The two can
 starts of one solve of the same problem with the rounded wires held, each warm from the current
 design's multipliers when IPOPT found it, so that they run at once on the pool's workers. It
 reports what the rounding cost: the objective before and after, and each spring's ``d``.
+
+With several coils, one coil after the other costs one solve per coil. A coil's rate
+``k = G d⁴/(8 D³ n)`` and its stress ``8 K F D/(π d³)`` keep their values when ``d`` moves to a
+nearby size and ``D`` and ``n`` follow it, so the wires rarely interact: :func:`round_wires` first
+solves once with *every* wire held, two starts at once (every wire at its nearest preferred size;
+every wire at its other neighbour), and keeps the better feasible one when it costs at most
+:data:`JOINT_ACCEPT` of the continuous objective's distance to the unbalanced one. Only when
+neither start is feasible, or the joint rounding costs more, does it go coil by coil as above.
 """
 
 from __future__ import annotations
@@ -26,6 +34,9 @@ if TYPE_CHECKING:
     from springbalance.design.problem import DesignProblem
 
 WIRE = "wire_diameter"
+#: the joint rounding (every wire at once) is kept when it raises the objective by at most this fraction of
+#: the gap between the continuous optimum and the unbalanced arm's objective
+JOINT_ACCEPT = 0.05
 
 
 @dataclasses.dataclass
@@ -91,6 +102,9 @@ def round_wires(problem: DesignProblem, solution: Solution, **solve_options: Any
     names = problem.variables.names
     x = np.array(solution.x, dtype=float)
     continuous = problem.objective_value(problem.evaluate(x))
+    joint = _joint_rounding(problem, solution, continuous, solve_options)
+    if joint is not None:
+        return joint
     fixed: dict[str, float] = {}  # variable name → standard wire [m]
     rounding = WireRounding(continuous, continuous, {})
     best_solution, multipliers = solution, solution.multipliers
@@ -167,3 +181,67 @@ def _best_candidate(
         if best is None or objective < best[0]:
             best = (objective, candidates[record.index], design, record)
     return best
+
+
+def _joint_rounding(
+    problem: DesignProblem, solution: Solution, continuous: float, solve_options: dict[str, Any]
+) -> tuple[Solution, WireRounding] | None:
+    """Every coil's wire rounded at once (see the module docstring), or None to go coil by coil: fewer than two
+    coils to round, a per-scenario wire, neither start feasible, or a cost above :data:`JOINT_ACCEPT`."""
+    names = problem.variables.names
+    x = np.array(solution.x, dtype=float)
+    wires: list[tuple[str, str, float, list[float]]] = []  # (spring, variable, continuous d, [nearest, other])
+    for spring in coils_with_free_wire(problem):
+        name = f"{spring.name}.{WIRE}"
+        if name not in names:
+            return None
+        free = spring.parameters[WIRE]
+        value = float(x[names.index(name)])
+        candidates = sorted(
+            standard_neighbours(value, float(free.lower), float(free.upper)), key=lambda d: abs(d - value)
+        )
+        if not candidates:
+            return None
+        wires.append((spring.name, name, value, candidates + candidates[:1]))
+    if len(wires) < 2:
+        return None
+    held = [names.index(name) for _, name, _, _ in wires]
+    starts = np.repeat(x[None, :], 2, axis=0)
+    for row in range(2):
+        starts[row, held] = [choices[row] for _, _, _, choices in wires]
+    try:
+        found = solve_problem(
+            problem,
+            starts=2,
+            initial=starts,
+            multipliers=solution.multipliers,
+            fixed=[name for _, name, _, _ in wires],
+            **solve_options,
+        )
+    except SolverError:
+        return None
+    feasible = [record for record in found.starts if record.feasible]
+    if not feasible:
+        return None
+    results = []
+    for record in feasible:
+        design = np.array(record.x, dtype=float)
+        design[held] = starts[record.index, held]  # exactly the standard sizes
+        results.append((problem.objective_value(problem.evaluate(design)), record.index, design, record))
+    objective, index, design, record = min(results, key=lambda item: (item[0], item[1]))
+    kinematics = problem.workspace.kinematics()  # the arm without springs: gravity alone
+    unbalanced = problem.objective.value(
+        kinematics.gravity_torque * problem.weights, kinematics.potential, problem.path_steps
+    )
+    if objective - continuous > JOINT_ACCEPT * max(unbalanced - continuous, 0.0):
+        return None
+    rounding = WireRounding(
+        continuous,
+        objective,
+        {spring: (value, float(starts[index, column])) for (spring, _, value, _), column in zip(wires, held)},
+    )
+    status = (
+        f"{solution.status}; wire of {', '.join(spring for spring, _, _, _ in wires)} at standard sizes, "
+        f"rounded together ({record.status})"
+    )
+    return Solution(design, solution.starts, solution.method, solution.seed, status, record.multipliers), rounding

@@ -3,7 +3,7 @@
 Each step is a function ``SolveState -> SolveState`` that does nothing when its part of the problem
 is absent:
 
-1. :func:`first_guess`: helical coils start from the ideal twin's optimum, wound into coils
+1. :func:`first_guess`: helical coils start from the ideal twin's optima, wound into coils
    (:mod:`springbalance.design.coil_start`);
 2. :func:`mount_rows`: anchors mounted ``on: collision`` start on their surface planes, linearised at
    the first guess (:mod:`springbalance.design.clearance_rows`);
@@ -27,13 +27,14 @@ from springbalance.pipeline.state import SolveState
 
 
 def first_guess(state: SolveState) -> SolveState:
-    """Coils: the first start from the ideal twin's optimum (None when the twin fails)."""
+    """Coils: the first starts from the ideal twin's distinct optima, wound into coils (None when the twin fails)."""
     problem, options = state.problem, state.options
     if not coil_start.coil_springs(problem):
         return state
     try:
-        initial = coil_start.coil_start(
+        start = coil_start.coil_starts(
             problem,
+            options.starts,
             starts=options.starts,
             seed=options.seed,
             method=options.method,
@@ -47,7 +48,9 @@ def first_guess(state: SolveState) -> SolveState:
             problem=problem,
             total=options.starts,
         ) from None
-    return state.but(initial=initial)
+    if start is None:
+        return state
+    return state.but(initial=start.starts)
 
 
 def mount_rows(state: SolveState) -> SolveState:

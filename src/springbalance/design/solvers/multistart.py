@@ -181,12 +181,17 @@ def _screen(
     return records
 
 
+#: starts that the budget stopped short of feasible, below the best feasible objective, that the polish continues
+PROMISING_INFEASIBLE = 2
+
+
 def _polished_best(
     problem: Problem, runner: _StartRunner, records: list[StartRecord], polish: int, total: int
 ) -> StartRecord:
     """The best feasible start after the polish: when none is feasible, up to three that the budget stopped
     (the least violated first) go on for ``polish`` iterations; then up to three feasible ones within 25 % of
-    the best that the budget stopped. :class:`SolverError` when no start is feasible."""
+    the best that the budget stopped, and up to :data:`PROMISING_INFEASIBLE` infeasible ones it stopped at a
+    lower objective than the best. :class:`SolverError` when no start is feasible."""
     feasible = [record for record in records if record.feasible]
     if not feasible and polish > 0:
         # no start is feasible yet: continue those the budget stopped, the closest to feasible first
@@ -207,18 +212,24 @@ def _polished_best(
         raise SolverError(f"no start gave a feasible design ({summary})", problem=problem, starts=records)
     best = _best(feasible, problem)
     if polish > 0:
-        # continue the starts that are close to the best and were stopped by the budget
-        candidates = sorted(
+        # continue the starts that are close to the best and were stopped by the budget, and those the budget
+        # stopped short of feasible at a lower objective than the best (a coil start that IPOPT was still
+        # pulling onto its rules must not lose to a feasible start that is no better than no springs)
+        near = sorted(
             (r for r in feasible if _stopped_by_budget(r) and r.objective <= 1.25 * best.objective),
             key=lambda record: record.objective,
         )[:3]
+        promising = sorted(
+            (r for r in records if not r.feasible and _stopped_by_budget(r) and r.objective < best.objective),
+            key=lambda record: record.objective,
+        )[:PROMISING_INFEASIBLE]
         _polish(
             runner,
             problem,
             records,
-            candidates,
+            near + promising,
             polish,
-            lambda new, old: new.feasible and new.objective <= old.objective,
+            lambda new, old: new.feasible and (not old.feasible or new.objective <= old.objective),
             total,
             best.x,
         )

@@ -1,0 +1,118 @@
+"""How the coil search starts, polishes and rounds (issue 27): the twin's distinct optima as starts, the
+polish of a start the budget stopped short of feasible below the best feasible one, and the wires rounded
+together in one solve."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from springbalance.design import coil_start, standard_wire
+from springbalance.design.solvers import StartRecord, multistart
+from springbalance.io.config import load_config
+from springbalance.pipeline import solve
+from springbalance.springs.sizing import PREFERRED_WIRE_DIAMETERS
+
+
+def _demo():
+    return load_config("examples/two_link.yaml").problem
+
+
+def test_coil_starts_are_distinct_wound_designs_within_the_bounds_best_first():
+    problem = _demo()
+    found = coil_start.coil_starts(problem, 3, starts=4, seed=0, method="auto", max_iterations=100, tolerance=1e-8)
+    assert found is not None
+    starts = found.starts
+    assert starts.ndim == 2 and 1 <= starts.shape[0] <= 3 and starts.shape[1] == problem.variables.size
+    lower, upper = problem.variables.bounds()
+    assert np.all(starts >= lower - 1e-12) and np.all(starts <= upper + 1e-12)
+    for i in range(starts.shape[0]):
+        for j in range(i):
+            assert not np.allclose(starts[i], starts[j])
+    # the first is the twin's best, the one coil_start gives
+    first = coil_start.coil_start(problem, starts=4, seed=0, method="auto", max_iterations=100, tolerance=1e-8)
+    assert np.allclose(starts[0], first)
+    # the twin's optimum balances better than no springs: its objective is below the unbalanced one
+    twin = found.twin
+    kinematics = twin.workspace.kinematics()
+    unbalanced = twin.objective.value(kinematics.gravity_torque * twin.weights, kinematics.potential, twin.path_steps)
+    assert twin.objective_value(twin.evaluate(found.twin_x)) < 0.2 * unbalanced
+
+
+class _Continues:
+    """A start runner whose polish turns every continued start feasible at its own objective (the selection
+    logic of the polish is what is tested, not a solver)."""
+
+    def __init__(self):
+        self.continued = []
+
+        class _Solver:
+            max_iterations = 100
+
+        self.solver = _Solver()
+
+    def run(self, tasks):
+        records = []
+        for index, _, _, _ in tasks:
+            self.continued.append(index)
+            records.append(_record(index, self.objectives[index], 0.0, "ipopt: Solve_Succeeded"))
+        return records
+
+
+def _record(index, objective, violation, status):
+    x = np.full(2, float(index))
+    return StartRecord(index, x, x, objective, violation, status, 100, 0.1)
+
+
+class _Problem:
+    class objective:  # noqa: N801 - stands for an objective without a first phase
+        first_phase = None
+
+    @staticmethod
+    def unscale(x):
+        return x
+
+
+def test_a_start_stopped_short_of_feasible_below_the_best_feasible_one_is_polished():
+    """Start 0 ends infeasible at objective 0.75 on the budget, start 3 feasible at 16.7 (worse than no
+    springs on the UR5): the polish continues start 0, which then wins."""
+    records = [
+        _record(0, 0.75, 0.002, "ipopt: Maximum_Iterations_Exceeded"),
+        _record(1, 0.77, 0.003, "ipopt: Maximum_Iterations_Exceeded"),
+        _record(2, 29.4, 5.0, "ipopt: Maximum_Iterations_Exceeded"),
+        _record(3, 16.7, 0.0, "least_squares: converged"),
+    ]
+    runner = _Continues()
+    runner.objectives = {0: 0.37, 1: 0.38, 2: 29.4, 3: 16.7}
+    best = multistart._polished_best(_Problem(), runner, records, 400, 4)
+    assert runner.continued == [0, 1]  # the two promising ones (PROMISING_INFEASIBLE), best first; not start 2
+    assert best.index == 0 and best.feasible and best.objective == 0.37
+
+
+def test_an_infeasible_start_above_the_best_feasible_one_is_not_polished():
+    records = [
+        _record(0, 2.0, 0.002, "ipopt: Maximum_Iterations_Exceeded"),
+        _record(1, 1.0, 0.0, "ipopt: Solve_Succeeded"),
+    ]
+    runner = _Continues()
+    runner.objectives = {0: 0.5, 1: 1.0}
+    best = multistart._polished_best(_Problem(), runner, records, 400, 2)
+    assert runner.continued == [] and best.index == 1
+
+
+def test_the_demo_wires_are_rounded_together_to_preferred_sizes():
+    """Three coils: one solve rounds every wire (the status says so); each wire is a preferred size next to
+    its continuous value, and the rounding costs at most JOINT_ACCEPT of the gap to the unbalanced arm."""
+    result = solve(load_config("examples/two_link.yaml"), progress=False)
+    rounding = result.wire_rounding
+    assert rounding is not None and "rounded together" in result.status
+    assert set(rounding.wires) == {"shoulder_spring", "forearm_spring", "elbow_spring"}
+    sizes = np.array(PREFERRED_WIRE_DIAMETERS)
+    for continuous, standard in rounding.wires.values():
+        assert np.min(np.abs(sizes - standard)) < 1e-12
+        below, above = sizes[sizes <= continuous], sizes[sizes >= continuous]
+        assert standard in {float(below.max()), float(above.min())}
+    before = result.metrics()["objectives"]["rms"]["before"]
+    assert rounding.objective - rounding.continuous_objective <= standard_wire.JOINT_ACCEPT * (
+        before - rounding.continuous_objective
+    )
+    assert result.evaluation.max_violation <= 1e-6
