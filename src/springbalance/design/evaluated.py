@@ -22,6 +22,7 @@ from springbalance.design.clearance import FitRecord
 from springbalance.design.objectives import OBJECTIVES
 from springbalance.design.problem import DesignProblem, Evaluation
 from springbalance.design.solvers import StartRecord
+from springbalance.design.spring_mass import SpringMass, spring_mass
 from springbalance.design.standard_wire import WireRounding
 from springbalance.design.stock import StockSelection
 from springbalance.errors import InputError
@@ -157,6 +158,11 @@ class EvaluatedDesign:
                 )
             records.append(spring_from_dict(record))
         return records
+
+    def spring_mass(self) -> SpringMass:
+        """The springs' total mass [kg] against the floor of the springs that balance the arm and against the
+        arm's moving mass (:func:`springbalance.design.spring_mass.spring_mass`, docs/model.md §5.1)."""
+        return spring_mass(self.problem, self.x)
 
     def helical_sizing(self, material: Material | str | None = None) -> dict[str, HelicalDesign]:
         """Helical springs that realise this design (:func:`springbalance.springs.sizing.size_helical_spring`).

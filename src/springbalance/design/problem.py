@@ -12,7 +12,8 @@ take one value per scenario (``s1.b`` → ``s1.b.s[<scenario>]``); the others ar
 
 ``no_joint_worse=True`` adds constraint rows that keep every weighted joint's residual torque within
 its unbalanced peak (:attr:`DesignProblem.joint_limits`, docs/model.md §6): no joint ends up
-worse than without springs, whatever the objective trades.
+worse than without springs, whatever the objective trades. ``max_spring_mass`` [kg] adds one row that
+bounds the springs' total mass (docs/model.md §5.1).
 """
 
 from __future__ import annotations
@@ -37,6 +38,7 @@ from springbalance.design.problem_inputs import (
     joint_weights,
     named_springs,
     problem_objective,
+    spring_mass_bound,
 )
 from springbalance.design.problem_nlp import ProblemNlp
 from springbalance.design.scenarios import Scenario, ScenarioWorkspace, check_scenarios
@@ -82,6 +84,9 @@ class DesignProblem(ProblemNlp):
             optionally, from the other springs) over the workspace. :meth:`solve` enforces it with
             linearised rows (:attr:`linear_rows`), refreshed until a check finds no violation.
             Anchors mounted ``on: collision`` are enforced the same way, with or without it.
+        max_spring_mass: an upper bound [kg] on the total mass of the springs, a constraint row of the
+            design (:func:`springbalance.design.spring_mass.total_spring_mass`: a coil's wire, a
+            given ``mass``; an ideal spring without one counts 0). None: no bound.
     """
 
     def __init__(
@@ -96,6 +101,7 @@ class DesignProblem(ProblemNlp):
         aggregate: str = "sum",
         no_joint_worse: bool = False,
         clearance: Clearance | None = None,
+        max_spring_mass: float | None = None,
     ):
         if workspace.mechanism is not mechanism:
             raise InputError(
@@ -117,6 +123,7 @@ class DesignProblem(ProblemNlp):
         budget.require(budget.kinematics_bytes(samples, nv, nq), f"the gravity torques of {samples} samples")
         kinematics = workspace.kinematics()
         self.no_joint_worse = bool(no_joint_worse)
+        self.max_spring_mass = spring_mass_bound(max_spring_mass)  # [kg] or None
         self.joint_limits = joint_limits(kinematics.gravity_torque, self.weights, max(len(self.scenarios), 1))
         self.model = self._torque_model()
         self.data = self.model.data_matrix(kinematics)
@@ -143,6 +150,7 @@ class DesignProblem(ProblemNlp):
             [s.name for s in self.scenarios],
             self.per_scenario,
             joint_limits=self.joint_limits if self.no_joint_worse else None,
+            max_spring_mass=self.max_spring_mass,
         )
         budget.require(
             budget.evaluation_bytes(
@@ -314,8 +322,10 @@ class DesignProblem(ProblemNlp):
     def scenarios_record(self) -> dict:
         """The problem's options beyond objective and weights, for a saved design:
         ``{"scenarios": {cases, per_scenario, aggregate}}`` with scenarios, and ``"no_joint_worse": true``
-        when set (``{}`` when neither)."""
+        and ``max_spring_mass`` [kg] when set (``{}`` when none)."""
         record: dict[str, Any] = {"no_joint_worse": True} if self.no_joint_worse else {}
+        if self.max_spring_mass is not None:
+            record["max_spring_mass"] = self.max_spring_mass
         if self.clearance is not None:
             record["clearance"] = self.clearance.to_dict()
         if not self.scenarios:
@@ -331,9 +341,11 @@ class DesignProblem(ProblemNlp):
 
     @staticmethod
     def scenario_options(record: dict) -> dict:
-        """Keyword arguments (scenarios, per_scenario, aggregate, no_joint_worse, clearance) from a saved design's
-        record (what :meth:`scenarios_record` wrote)."""
+        """Keyword arguments (scenarios, per_scenario, aggregate, no_joint_worse, clearance, max_spring_mass) from a
+        saved design's record (what :meth:`scenarios_record` wrote)."""
         options: dict[str, Any] = {"no_joint_worse": True} if record.get("no_joint_worse") else {}
+        if record.get("max_spring_mass") is not None:
+            options["max_spring_mass"] = spring_mass_bound(record["max_spring_mass"], "design max_spring_mass")
         if record.get("clearance"):
             options["clearance"] = Clearance.from_dict(record["clearance"], "design clearance")
         saved = record.get("scenarios")
@@ -383,6 +395,7 @@ class DesignProblem(ProblemNlp):
             "aggregate": self.aggregate,
             "no_joint_worse": self.no_joint_worse,
             "clearance": self.clearance,
+            "max_spring_mass": self.max_spring_mass,
             **changes,
         }
         return type(self)(self.mechanism, self.base_workspace, list(springs), **options).with_linear_rows(

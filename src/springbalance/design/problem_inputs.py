@@ -1,4 +1,5 @@
-"""The checks and defaults of a design problem's inputs: spring names, joint weights, no-joint-worse limits."""
+"""The checks and defaults of a design problem's inputs: spring names, joint weights, no-joint-worse limits,
+the bound on the springs' mass."""
 
 from __future__ import annotations
 
@@ -84,3 +85,15 @@ def problem_objective(objective: str | Objective, workspace: Workspace, n_scenar
         # case; a potential's constant differs per scenario, so its variance is taken per scenario
         chosen = ScenarioAggregate(chosen, n_scenarios, worst=aggregate == "worst")
     return chosen
+
+
+def spring_mass_bound(value: object, key: str = "max_spring_mass") -> float | None:
+    """``max_spring_mass`` [kg] as a float (None stays None); :class:`InputError` naming ``key`` unless it is a
+    finite number > 0."""
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise InputError(f"{key} must be a number > 0 [kg], got {value!r}")
+    if not (np.isfinite(value) and value > 0):
+        raise InputError(f"{key} must be a finite number > 0 [kg], got {value!r}")
+    return float(value)

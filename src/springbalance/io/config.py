@@ -1,8 +1,8 @@
 """Configuration files (YAML or JSON) → a :class:`~springbalance.design.problem.DesignProblem` + solve options.
 
 A config file is one mapping with the sections ``mechanism``, ``workspace``, ``springs``
-(required) and ``objective``, ``weights``, ``solve``, ``scenarios``, ``no_joint_worse``, ``clearance``
-(optional); docs/guides/config.md documents every key, and :mod:`springbalance.io.schema` holds the
+(required) and ``objective``, ``weights``, ``solve``, ``scenarios``, ``no_joint_worse``, ``clearance``,
+``max_spring_mass`` (optional); docs/guides/config.md documents every key, and :mod:`springbalance.io.schema` holds the
 schema (pydantic records, whose JSON Schema ``springbalance schema`` prints). A config is read in three steps:
 
 1. the file is parsed (:mod:`springbalance.io.yaml_loader`: ``1e4`` is a number, a quoted
@@ -34,6 +34,7 @@ import yaml
 from springbalance.design.bounds import check_bounds
 from springbalance.design.clearance import Clearance
 from springbalance.design.problem import DesignProblem
+from springbalance.design.spring_mass import check_mass_bound
 from springbalance.errors import ConfigError
 from springbalance.files import read_input_text
 from springbalance.io.config_errors import check_finite, errors_as_config_errors, one_line
@@ -175,9 +176,11 @@ def config_from_dict(
             weights=weights,
             no_joint_worse=model.no_joint_worse,
             clearance=clearance,
+            max_spring_mass=model.max_spring_mass,
             **scenario_options,
         )
         check_bounds(problem)  # contradictions between the springs' bounds, named before any solve
+        check_mass_bound(problem)  # a mass bound below the lightest springs the bounds allow
     return Config(path, mechanism, workspace, springs, problem, solve_options)
 
 

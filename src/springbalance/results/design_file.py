@@ -70,6 +70,9 @@ def check_design_record(record: dict[str, Any], label: str) -> None:
         if record.get(key) is not None:
             _mapping(record[key], f"{label}: {key}")
     _check_scenarios(record.get("scenarios"), label)
+    bound = record.get("max_spring_mass")
+    if bound is not None and not (_is_number(bound) and 0 < bound <= MAX_VALUE):
+        raise InputError(f"{label}: max_spring_mass: expected a finite number > 0 [kg], got {_shown(bound)}")
 
 
 def _check_mechanism_source(value: Any, label: str) -> None:

@@ -18,6 +18,9 @@
   wire, or of the material of the spring's ``helical`` option when it has one.
 - ``unbuildable``: a helical coil spring whose spec sheet fails a rule (stress, index, initial
   tension, envelope, solid length, buckling); its ``reasons`` name every failed rule.
+- ``heavy_springs``: the springs together weigh more than :data:`HEAVY_ARM_FRACTION` of the arm's moving
+  mass or more than :data:`HEAVY_FLOOR_RATIO` times the floor of the coils that balance it exactly
+  (:mod:`springbalance.design.spring_mass`, docs/model.md §5.1); the hint points at ``max_spring_mass``.
 
 The text report, ``report.html`` and ``design.json`` (key ``warnings``) all list them.
 """
@@ -43,7 +46,11 @@ TORQUE_TOLERANCE = 1e-9
 #: material of the helical springs that ``unbuildable_ideal`` tries (springs without a ``helical`` option)
 DEFAULT_MATERIAL = "music_wire"
 
-KINDS = ("at_bound", "worse_joint", "law", "unbuildable_ideal", "unbuildable")
+KINDS = ("at_bound", "worse_joint", "law", "unbuildable_ideal", "unbuildable", "heavy_springs")
+#: ``heavy_springs``: the springs are heavy above this fraction of the arm's moving mass [1] ...
+HEAVY_ARM_FRACTION = 0.10
+#: ... or above this multiple of the floor of the coils that balance the arm exactly [1]
+HEAVY_FLOOR_RATIO = 4.0
 
 
 @dataclasses.dataclass(frozen=True)
@@ -81,6 +88,7 @@ def flags(result: EvaluatedDesign) -> list[Flag]:
         + law_flags(result)
         + unbuildable_flags(result)
         + unbuildable_coil_flags(result)
+        + heavy_springs_flags(result)
     )
 
 
@@ -264,3 +272,25 @@ def unbuildable_coil_flags(result: EvaluatedDesign) -> list[Flag]:
                 )
             )
     return found
+
+
+# ---------------------------------------------------------------------- heavy_springs
+def heavy_springs_flags(result: EvaluatedDesign) -> list[Flag]:
+    """The springs' total mass above :data:`HEAVY_ARM_FRACTION` of the arm's moving mass or above
+    :data:`HEAVY_FLOOR_RATIO` times the floor (:meth:`~springbalance.design.evaluated.EvaluatedDesign.spring_mass`)."""
+    mass = result.spring_mass()
+    to_arm, to_floor = mass.ratio_to_arm, mass.ratio_to_floor
+    if not (to_arm > HEAVY_ARM_FRACTION or to_floor > HEAVY_FLOOR_RATIO):  # a NaN ratio never flags
+        return []
+    arm = f"{100 * to_arm:.3g} %" if to_arm == to_arm else "—"  # NaN: an arm without moving mass
+    floor = f"{to_floor:.3g}×" if to_floor == to_floor else "—"  # NaN: no swing of gravity energy
+    message = (
+        f"the springs weigh {mass.total:.4g} kg: {arm} of the arm's moving mass {mass.arm_moving_mass:.4g} kg "
+        f"(warned above {100 * HEAVY_ARM_FRACTION:g} %), {floor} the floor {mass.floor:.3g} kg of coils that "
+        f"balance it exactly (warned above {HEAVY_FLOOR_RATIO:g}×)"
+    )
+    hint = (
+        "bound the springs' total mass with max_spring_mass [kg] (docs/model.md §5.1); a spring that works "
+        "over more of its stroke, nearer its allowable stress, carries the same energy with less wire"
+    )
+    return [Flag("heavy_springs", "springs", message, hint)]

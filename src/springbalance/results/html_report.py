@@ -29,7 +29,7 @@ from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.files import write_text_atomic
 from springbalance.results import plots
 from springbalance.results.flags import Flag, flags
-from springbalance.results.report import balance_statement, checked_clearance, spec_sheet_rows
+from springbalance.results.report import balance_statement, checked_clearance, spec_sheet_rows, spring_mass_statement
 from springbalance.viz.design_scene import DesignScene
 
 
@@ -148,7 +148,7 @@ def report_html(
     ``exports``: relative links to exported URDF/MJCF files (``springbalance export``).
 
     The sections, in order: the head (:func:`head_html`), the links (:func:`links_html`), the springs
-    (:func:`springs_html`, :func:`spec_sheet_html`), the torque and objective tables (:func:`torque_html`),
+    (:func:`springs_html`, :func:`spec_sheet_html`), the springs' mass, the torque and objective tables (:func:`torque_html`),
     the balance statement, the scenarios (:func:`scenarios_html`), the infeasibility, the clearance
     (:func:`clearance_html`), the warnings (:func:`warnings_html`) and the plots (:func:`plots_html`).
     """
@@ -158,6 +158,8 @@ def report_html(
     parts.extend(links_html(scene, legend, exports))
     parts.extend(springs_html(result))
     parts.extend(spec_sheet_html(result))
+    first, second = spring_mass_statement(result.spring_mass())
+    parts.append(f'<p id="spring-mass">{e(first[0].upper() + first[1:])}: {e(second)}.</p>')
     parts.extend(torque_html(metrics))
     parts.append(f"<p>{e(balance_statement(result))}.</p>")
     if getattr(result.problem, "scenarios", None):

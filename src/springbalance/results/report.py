@@ -10,6 +10,7 @@ import numpy as np
 from springbalance.design.clearance import FitRecord
 from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.design.solvers import FEASIBILITY_TOLERANCE
+from springbalance.design.spring_mass import SpringMass
 from springbalance.design.standard_wire import WireRounding
 from springbalance.errors import InputError
 from springbalance.model.collision import collision_geometry
@@ -23,7 +24,7 @@ def result_table(result: EvaluatedDesign) -> str:
 
     The sections, in order: the header (:func:`header_lines`), the springs (:func:`spring_lines`), what
     rounding the wires and fitting to the arm cost (:func:`wire_rounding_lines`, :func:`fit_lines`), the
-    helical sizing (:func:`helical_sizing_lines`), the torque and objective tables (:func:`torque_lines`),
+    helical sizing (:func:`helical_sizing_lines`), the springs' mass (:func:`spring_mass_lines`), the torque and objective tables (:func:`torque_lines`),
     the balance statement, the scenarios, the clearance table and the warnings.
     """
     metrics = result.metrics()
@@ -34,6 +35,7 @@ def result_table(result: EvaluatedDesign) -> str:
     lines.extend(wire_rounding_lines(result.wire_rounding))
     lines.extend(fit_lines(result.fit))
     lines.extend(helical_sizing_lines(result))
+    lines.extend(spring_mass_lines(result))
     lines.append("")
     lines.extend(torque_lines(metrics))
     lines.append("\n  " + balance_statement(result))
@@ -156,6 +158,27 @@ def helical_sizing_lines(result: EvaluatedDesign) -> list[str]:
         lines.append(f"  {name}: {text[0]}")
         lines.extend(f"    {line}" for line in text[1:])
     return lines
+
+
+def spring_mass_statement(mass: SpringMass) -> tuple[str, str]:
+    """Two sentences on the springs' mass [kg]: the total (each spring's, the bound), then how it compares with
+    the arm's moving mass and with the floor of the coils that balance the arm exactly (docs/model.md §5.1)."""
+    parts = ", ".join(f"{name} {value:.4g}" for name, value in mass.springs.items())
+    bound = f"; max_spring_mass {mass.bound:.4g} kg" if mass.bound is not None else ""
+    arm = f"{100 * mass.ratio_to_arm:.3g} %" if np.isfinite(mass.ratio_to_arm) else "—"
+    floor = f"{mass.ratio_to_floor:.3g}×" if np.isfinite(mass.ratio_to_floor) else "—"
+    return (
+        f"spring mass {mass.total:.4g} kg ({parts} kg){bound}",
+        f"{arm} of the arm's moving mass {mass.arm_moving_mass:.4g} kg; {floor} the floor {mass.floor:.4g} kg "
+        f"of coils that balance it exactly (a swing of {mass.energy_swing:.4g} J of gravity energy, at most "
+        f"{mass.energy_per_kg:.4g} J/kg in {mass.floor_material})",
+    )
+
+
+def spring_mass_lines(result: EvaluatedDesign) -> list[str]:
+    """The springs' mass against the arm and the floor (:func:`spring_mass_statement`), indented."""
+    first, second = spring_mass_statement(result.spring_mass())
+    return [f"  {first}", f"    {second}"]
 
 
 def torque_lines(metrics: dict[str, Any]) -> list[str]:

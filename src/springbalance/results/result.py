@@ -134,6 +134,7 @@ class DesignResult(EvaluatedDesign):
                 **({"fit": self.fit.to_dict()} if self.fit else {}),
             },
             "metrics": self.metrics(),
+            "spring_mass": self.spring_mass().to_dict(),
             "warnings": [flag.to_dict() for flag in self.warnings()],
             **problem.scenarios_record(),
         }

@@ -29,7 +29,8 @@ scenario's copy. Without scenarios nothing is added.
 Outputs per sample: ``tau`` (nv) [N·m or N], ``V`` (1) [J], spring states ``L`` (n_s: length
 [m] or joint angle [rad]), generalised forces ``F`` (n_s: tension [N] or torque [N·m]), and
 the constraint rows ``C`` (≥ 0 when feasible): the springs' practical constraints, then, with
-``joint_limits`` (``no_joint_worse``), one row :math:`(P_j^2 - \tau_j^2)/P_j` per limited joint.
+``joint_limits`` (``no_joint_worse``), one row :math:`(P_j^2 - \tau_j^2)/P_j` per limited joint, and
+with ``max_spring_mass`` one row :math:`M - \sum_s m_s` [kg] that depends on no sample.
 
 The modules, one concept each: :mod:`~springbalance.design.torque_model.model` (:class:`TorqueModel`, the
 per-sample symbolic model), :mod:`~springbalance.design.torque_model.variables` (the design vector and the

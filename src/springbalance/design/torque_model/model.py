@@ -39,6 +39,7 @@ class TorqueModel:
         scenarios: Sequence[str] = (),
         per_scenario: Sequence[str] = (),
         joint_limits: np.ndarray | None = None,
+        max_spring_mass: float | None = None,
     ) -> None:
         self.mechanism = mechanism
         self.springs = springs
@@ -67,6 +68,8 @@ class TorqueModel:
         if joint_limits is not None:
             selectors = data[self.data_size - len(self.scenarios) :] if self.scenarios else None
             self._add_joint_limits(np.asarray(joint_limits, dtype=float), tau, selectors, constraint_rows)
+        if max_spring_mass is not None:
+            self._add_mass_limit(float(max_spring_mass), local, data, constraint_rows)
 
         self.n_springs = len(springs)
         self.n_constraints = len(constraint_rows)
@@ -199,6 +202,19 @@ class TorqueModel:
                 )
             )
             constraint_rows.append((bound * bound - torque * torque) / bound)
+
+    def _add_mass_limit(self, bound: float, local: ca.SX, data: ca.SX, constraint_rows: list[ca.SX]) -> None:
+        r"""The row :math:`M - \sum_s m_s(x) \ge 0` [kg] (``max_spring_mass``, docs/model.md §5.1): the parts'
+        masses (:meth:`~springbalance.springs.laws.Spring.part_mass`) within the bound ``M`` [kg]. It depends on
+        no sample (unless a per-scenario variable changes a mass), so the NLP keeps it once."""
+        total = ca.SX(0)
+        for spring in self.springs:
+            total = total + cast(ca.SX, spring.part_mass(self.parameter_values(spring, local)))
+        row = bound - total
+        self.constraint_blocks.append(
+            ConstraintBlock("", "max_spring_mass", "kg", len(constraint_rows), 0.1 * bound, ca.depends_on(row, data))
+        )
+        constraint_rows.append(row)
 
     # ---------------------------------------------------------------- scenarios
     def _scenario_variables(self, per_scenario: Sequence[str]) -> np.ndarray:

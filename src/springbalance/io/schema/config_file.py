@@ -15,6 +15,7 @@ from pydantic import ConfigDict, Field
 from springbalance.io.schema.fields import REQUIRED_SECTIONS, Objective, Record, fail
 from springbalance.io.schema.records import (
     ClearanceRecord,
+    MassBound,
     MechanismRecord,
     ScenariosRecord,
     SolveRecord,
@@ -104,5 +105,13 @@ def _config_model(laws: tuple) -> type[Record]:
         clearance=(
             Optional[ClearanceRecord],
             Field(None, description="keep every spring this far from the arm's collision geometry"),
+        ),
+        max_spring_mass=(
+            Optional[MassBound],
+            Field(
+                None,
+                description="upper bound [kg] on the total mass of the springs (a coil's wire, a given mass; "
+                "an ideal spring without mass counts 0)",
+            ),
         ),
     )

@@ -32,6 +32,7 @@ SECTIONS = (
     "scenarios",
     "no_joint_worse",
     "clearance",
+    "max_spring_mass",
 )
 REQUIRED_SECTIONS = ("mechanism", "workspace", "springs")
 WORKSPACE_KINDS = ("grid", "sobol", "random", "sweep", "array")

@@ -349,6 +349,8 @@ class ScenariosRecord(Record, title="Scenarios"):
 
 
 Weights = Annotated[dict[str, NonNegative], expect("a mapping joint name → weight ≥ 0", deep=False)]
+#: ``max_spring_mass``: a bound on the springs' total mass [kg]
+MassBound = Annotated[Positive, expect("a number > 0 [kg]")]
 
 
 class WorkspaceFileRecord(Record, title="WorkspaceFile"):
@@ -363,6 +365,7 @@ class WorkspaceFileRecord(Record, title="WorkspaceFile"):
     scenarios: Any = None
     no_joint_worse: Any = None
     clearance: Any = None
+    max_spring_mass: Any = None
 
 
 #: every record class of this module, by its name in the JSON Schema (its name before it was ``<Name>Record``).

@@ -167,6 +167,10 @@ class HelicalCoilSpring(TwoPointSpring):
     def spring_mass(self, parameters: Parameters) -> Value:
         return self.coil_mass(parameters) if self.own_mass else 0.0
 
+    def part_mass(self, parameters: Parameters) -> Value:
+        """The coil's mass [kg], also with ``own_mass: false`` (which only leaves its weight out of the model)."""
+        return self.coil_mass(parameters)
+
     @property
     def mass(self) -> str | None:
         """``"coil"`` when the coil carries its own mass (computed from the geometry), else None."""

@@ -189,6 +189,11 @@ class Spring(abc.ABC):
         """The spring's own mass ``m_s`` [kg] for the given parameter values: 0 unless the law carries one."""
         return 0.0
 
+    def part_mass(self, parameters: Parameters) -> Value:
+        """The mass [kg] of the part itself, whether or not the model carries its weight (docs/model.md
+        §5.1): a coil's wire, a given ``mass``, else 0 (numbers or CasADi expressions)."""
+        return self.spring_mass(parameters)
+
     def derived_values(self, values: dict) -> dict:
         """The law's values that follow from the parameter values ``values`` [SI] (a coil's stiffness
         [N/m], free length [m], ...); none unless the law is a part built from other dimensions."""
