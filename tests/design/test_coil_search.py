@@ -64,7 +64,7 @@ def _record(index, objective, violation, status):
 
 
 class _Problem:
-    class objective:  # noqa: N801 - stands for an objective without a first phase
+    class objective:  # stands for an objective without a first phase
         first_phase = None
 
     @staticmethod
