@@ -24,6 +24,7 @@ from springbalance.design.problem import DesignProblem, Evaluation
 from springbalance.design.solvers import StartRecord
 from springbalance.design.standard_wire import WireRounding
 from springbalance.design.stock import StockSelection
+from springbalance.design.verification_record import VerificationRecord
 from springbalance.errors import InputError
 from springbalance.model.workspace import Workspace
 from springbalance.springs.laws import Spring, TwoPointSpring
@@ -68,6 +69,7 @@ class EvaluatedDesign:
         wire_rounding: WireRounding | None = None,
         fit: FitRecord | None = None,
         stock: StockSelection | None = None,
+        verification: VerificationRecord | None = None,
     ) -> None:
         self.problem = problem
         self.x = np.asarray(x, dtype=float)
@@ -79,6 +81,8 @@ class EvaluatedDesign:
         self.fit = fit
         #: the catalogue parts chosen for the springs (None when no catalogue was given)
         self.stock = stock
+        #: what verifying the design at poses it was not optimised on found (None when not verified)
+        self.verification = verification
         self.evaluation = problem.evaluate(self.x)
 
     # ---------------------------------------------------------------- values
