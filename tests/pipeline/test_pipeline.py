@@ -37,6 +37,7 @@ def test_the_steps_run_in_the_documented_order():
         "multi_start",
         "fit_to_arm",
         "round_wires",
+        "verify",
     ]
 
 

@@ -195,3 +195,26 @@ class LinearRows:
 
     def __len__(self) -> int:
         return int(self.offset.size)
+
+
+def stacked_rows(first: LinearRows | None, second: LinearRows | None) -> LinearRows | None:
+    """The rows of ``first`` then those of ``second``, over the union of their variable names (None when
+    both are empty); the smaller of their scales."""
+    if first is None or not len(first):
+        return second
+    if second is None or not len(second):
+        return first
+    names = list(dict.fromkeys(list(first.names) + list(second.names)))
+
+    def widened(rows: LinearRows) -> np.ndarray:
+        matrix = np.zeros((len(rows), len(names)))
+        matrix[:, [names.index(name) for name in rows.names]] = rows.matrix
+        return matrix
+
+    return LinearRows(
+        names,
+        np.vstack([widened(first), widened(second)]),
+        np.concatenate([first.offset, second.offset]),
+        list(first.labels) + list(second.labels),
+        min(first.scale, second.scale),
+    )

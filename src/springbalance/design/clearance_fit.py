@@ -46,7 +46,8 @@ class _Checker:
     """Distances of every two-point spring to the arm (and to each other) at a set of poses.
 
     Pose sets: 0 is the check set, 1 the 4× denser one, 2 the poses found by :meth:`descend`
-    (local minima of a distance over the workspace's joint box, kept for the later rounds).
+    (local minima of a distance over the workspace's joint box, kept for the later rounds); further
+    sets are those of :meth:`add_pose_set` (the verification's, :mod:`springbalance.design.verification`).
     """
 
     def __init__(self, problem: DesignProblem, clearance: Clearance):
@@ -80,6 +81,12 @@ class _Checker:
             _named(spring): tuple(mechanism.frame_id(spring.anchors[e].body) for e in _ends_of(spring))
             for spring in self.springs
         }
+
+    def add_pose_set(self, joint_values: np.ndarray) -> int:
+        """Add the poses ``joint_values`` (M×nv) [rad or m] as a pose set; returns its index."""
+        self.joint_sets.append(joint_values)
+        self.pose_sets.append(self.problem.mechanism.configurations(joint_values))
+        return len(self.pose_sets) - 1
 
     def _frames(self, spring: Spring) -> Frames:
         return tuple(

@@ -90,11 +90,12 @@ class _AnchorMaps:
 
 
 def _rows(
-    problem: DesignProblem, x: np.ndarray | Sequence[float], object_cuts: list, spring_cuts: list, planes: dict
+    problem: DesignProblem, x: np.ndarray | Sequence[float], object_cuts: list, spring_cuts: list, planes: dict | None
 ) -> LinearRows | None:
     """Linear rows at design ``x``: mounting rows, then the given cuts.
 
-    ``planes``: per mounted anchor, its tangent planes of the offset surface (:func:`mount_planes`).
+    ``planes``: per mounted anchor, its tangent planes of the offset surface (:func:`mount_planes`); None:
+    no mounting rows (the cuts alone).
     The anchor stays inside every one of them, ``n·(p - w) ≤ offset``: each bounds the convex
     offset body, so none cuts off a point of its surface, and together they keep the anchor on
     the part of the surface they have seen. It lies on the last one: ``n·(p - w) ≥ offset``.
@@ -125,9 +126,9 @@ def _rows(
         return gradient, value
 
     identity, zero = np.eye(3), np.zeros(3)
-    for spring, end, anchor in problem.mounts:
+    for spring, end, anchor in problem.mounts if planes is not None else ():
         for scenario in range(model.n_scenarios):
-            history = planes[(spring.name, end, scenario)]
+            history = (planes or {})[(spring.name, end, scenario)]
             for index, (w, normal) in enumerate(history):
                 gradient, value = end_row(spring, end, scenario, identity, zero, normal, w)
                 for sign in (-1.0, 1.0) if index == len(history) - 1 else (-1.0,):

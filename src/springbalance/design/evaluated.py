@@ -25,6 +25,7 @@ from springbalance.design.solvers import StartRecord
 from springbalance.design.spring_mass import SpringMass, spring_mass
 from springbalance.design.standard_wire import WireRounding
 from springbalance.design.stock import StockSelection
+from springbalance.design.verification_record import VerificationRecord
 from springbalance.errors import InputError
 from springbalance.model.workspace import Workspace
 from springbalance.springs.laws import Spring, TwoPointSpring
@@ -69,6 +70,7 @@ class EvaluatedDesign:
         wire_rounding: WireRounding | None = None,
         fit: FitRecord | None = None,
         stock: StockSelection | None = None,
+        verification: VerificationRecord | None = None,
     ) -> None:
         self.problem = problem
         self.x = np.asarray(x, dtype=float)
@@ -80,6 +82,8 @@ class EvaluatedDesign:
         self.fit = fit
         #: the catalogue parts chosen for the springs (None when no catalogue was given)
         self.stock = stock
+        #: what verifying the design at poses it was not optimised on found (None when not verified)
+        self.verification = verification
         self.evaluation = problem.evaluate(self.x)
 
     # ---------------------------------------------------------------- values

@@ -386,6 +386,27 @@ class DesignProblem(ProblemNlp):
         ``per_scenario``, ``no_joint_worse``, ...). The objective is the problem's own, before it was
         combined over scenarios.
         """
+        return self._rebuilt(self.base_workspace, springs, **changes)
+
+    def with_samples(self, joint_values: npt.ArrayLike) -> DesignProblem:
+        """This problem with the poses ``joint_values`` (M×nv) [rad or m] added after its workspace's
+        samples (this one is not changed): a new problem, with its own evaluation and compiled functions
+        (they depend on the samples), the same springs, options and linear rows. The added poses enter
+        every constraint row and the objective; in an ordered workspace they take no path step, so a
+        path objective (``energy``) does not see them. ``no_joint_worse`` limits are the unbalanced peaks
+        over all samples, the added ones included."""
+        base, added = self.base_workspace, np.atleast_2d(np.asarray(joint_values, dtype=float))
+        values = np.vstack([base.joint_values, added])
+        description = {**base.description, "added_samples": int(added.shape[0])}
+        problem = self._rebuilt(Workspace(self.mechanism, values, ordered=base.ordered, description=description))
+        if problem.path_steps is not None:  # no step into, between or out of the added poses (per scenario block)
+            for first in range(base.size - 1, problem.path_steps.shape[0], values.shape[0]):
+                problem.path_steps[first : first + added.shape[0]] = 0.0
+        return problem
+
+    def _rebuilt(self, workspace: Workspace, springs: Sequence[Spring] | None = None, **changes: Any) -> DesignProblem:
+        """A new problem of ``workspace`` (base poses) and ``springs`` (default this one's), with this one's
+        options overridden by ``changes``, and its linear rows."""
         objective = self.objective.inner if isinstance(self.objective, ScenarioAggregate) else self.objective
         options = {
             "objective": objective,
@@ -398,9 +419,8 @@ class DesignProblem(ProblemNlp):
             "max_spring_mass": self.max_spring_mass,
             **changes,
         }
-        return type(self)(self.mechanism, self.base_workspace, list(springs), **options).with_linear_rows(
-            self.linear_rows
-        )
+        springs = self.springs if springs is None else springs
+        return type(self)(self.mechanism, workspace, list(springs), **options).with_linear_rows(self.linear_rows)
 
     def weights_by_name(self) -> dict[str, float]:
         return {joint.name: float(w) for joint, w in zip(self.mechanism.joints, self.weights)}

@@ -6,7 +6,7 @@
     result = sb.solve(load_config("arm.yaml"))      # or a Config: its ``solve:`` section gives the defaults
 
 The sequence is :data:`springbalance.pipeline.steps.STEPS` (first guess → mounting rows → multi-start
-→ fit to the arm → standard wires), then, with ``stock``, the choice of catalogue parts
+→ fit to the arm → standard wires → verification), then, with ``stock``, the choice of catalogue parts
 (:func:`springbalance.pipeline.stock.select_stock`). Each step takes the state the previous one made
 and gives the next; the problem passed in is never changed.
 """
@@ -16,7 +16,10 @@ from __future__ import annotations
 from typing import Sequence
 
 from springbalance.design.problem import DesignProblem
+from springbalance.design.solvers import Solution
 from springbalance.design.stock import StockPart, StockSelection
+from springbalance.design.verification_loop import check_mode, verify_and_resolve
+from springbalance.design.verification_record import VerificationRecord
 from springbalance.errors import InputError
 from springbalance.pipeline.sequence import run_steps
 from springbalance.pipeline.state import ConfiguredProblem, SolveOptions
@@ -40,6 +43,7 @@ def solve(
     standard_wire: bool | None = None,
     workers: int | None = None,
     stock: Sequence[StockPart] | None = None,
+    verify: str | None = None,
 ) -> DesignResult:
     """Design the springs: the best feasible design of a multi-start solve, as a :class:`DesignResult`.
 
@@ -64,6 +68,10 @@ def solve(
         stock: a parts catalogue (:func:`springbalance.io.catalogue.read_catalogue`): each extension and
             compression spring is then replaced by its nearest part and the rest re-optimised; the
             result's ``stock`` is the :class:`~springbalance.pipeline.stock.StockSelection`.
+        verify: the verification at 10× as many unseen poses (:mod:`springbalance.design.verification`):
+            ``"resolve"`` (the default, :data:`~springbalance.pipeline.state.VERIFY_DEFAULT`) re-solves with the
+            worst poses added where a rule fails there, ``"report"`` only reports, ``"off"`` skips it.
+            The result's ``verification`` is its record (of the stock design, reported only, with ``stock``).
 
     Raises:
         SolverError: no start gives a feasible design (or no stock part fits a spring).
@@ -82,6 +90,7 @@ def solve(
             "polish_iterations": polish_iterations,
             "standard_wire": standard_wire,
             "workers": workers,
+            "verify": verify,
         },
     )
     result = run_steps(problem, options)
@@ -100,7 +109,16 @@ def solve(
         wire_rounding=stocked.wire_rounding,
         fit=stocked.fit,
         stock=selection,
+        verification=_verified(stocked, options),
     )
+
+
+def _verified(result: DesignResult, options: SolveOptions) -> VerificationRecord | None:
+    """The verification of a finished design at unseen poses, reported only (None when it is off)."""
+    if check_mode(options.verify) == "off":
+        return None
+    solution = Solution(result.x, result.starts, result.method, result.seed or 0, result.status)
+    return verify_and_resolve(result.problem, solution, "report")[1]
 
 
 def _problem_and_options(source: DesignProblem | ConfiguredProblem) -> tuple[DesignProblem, dict]:

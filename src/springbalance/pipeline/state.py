@@ -19,7 +19,12 @@ from springbalance.design.clearance import FitRecord
 from springbalance.design.problem import DesignProblem
 from springbalance.design.solvers import Solution
 from springbalance.design.standard_wire import WireRounding
+from springbalance.design.verification_record import VerificationRecord
 from springbalance.errors import InputError
+
+#: the verification's default mode (:attr:`SolveOptions.verify`): "resolve" re-solves where a rule fails at
+#: unseen poses (the demo's forearm coil went slack between its samples); "report" only reports
+VERIFY_DEFAULT = "resolve"
 
 
 class ConfiguredProblem(Protocol):
@@ -43,6 +48,9 @@ class SolveOptions:
         polish_iterations: further iterations for the best starts stopped by the limit (None: 4 × max_iterations).
         standard_wire: round every coil's free wire diameter to the preferred series.
         workers: processes that run the starts at once (None: ``$SPRINGBALANCE_WORKERS`` or the cores).
+        verify: what the verification at unseen poses does when a rule fails there: ``"resolve"`` (add the
+            worst poses as samples and solve again), ``"report"`` (report only) or ``"off"`` (no verification);
+            :mod:`springbalance.design.verification_loop`.
     """
 
     starts: int = 8
@@ -54,6 +62,7 @@ class SolveOptions:
     polish_iterations: int | None = None
     standard_wire: bool = True
     workers: int | None = None
+    verify: str = VERIFY_DEFAULT
 
     @classmethod
     def merged(cls, given: Mapping[str, Any], overrides: Mapping[str, Any]) -> SolveOptions:
@@ -89,6 +98,7 @@ class SolveState:
         solution: the best design so far (None before the multi-start).
         fit: what fitting the springs to the arm did (None when not asked for).
         wire_rounding: what rounding the coils' wires cost (None when nothing was rounded).
+        verification: what verifying the design at unseen poses found (None when not verified).
     """
 
     problem: DesignProblem
@@ -97,6 +107,7 @@ class SolveState:
     solution: Solution | None = None
     fit: FitRecord | None = None
     wire_rounding: WireRounding | None = None
+    verification: VerificationRecord | None = None
 
     @property
     def solved(self) -> Solution:

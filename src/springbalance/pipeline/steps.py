@@ -11,7 +11,10 @@ is absent:
 4. :func:`fit_to_arm`: clearance from the links and mountings, by linearised rows refreshed until a
    check finds no violation (:mod:`springbalance.design.clearance_fit`);
 5. :func:`round_wires`: every coil's free wire to the preferred series, the rest re-optimised
-   (:mod:`springbalance.design.standard_wire`).
+   (:mod:`springbalance.design.standard_wire`);
+6. :func:`verify`: every rule, the residual and the clearance at 10× as many unseen poses; where a rule
+   fails, the worst poses join the samples and the design is solved again (mode ``"resolve"``)
+   (:mod:`springbalance.design.verification_loop`).
 
 Stock selection, when asked for, follows on the finished design (:mod:`springbalance.pipeline.stock`).
 """
@@ -20,7 +23,7 @@ from __future__ import annotations
 
 from typing import Callable
 
-from springbalance.design import clearance_fit, clearance_rows, coil_start, standard_wire
+from springbalance.design import clearance_fit, clearance_rows, coil_start, standard_wire, verification_loop
 from springbalance.design.solvers import solve_problem
 from springbalance.errors import Interrupted
 from springbalance.pipeline.state import SolveState
@@ -94,6 +97,20 @@ def round_wires(state: SolveState) -> SolveState:
     return state.but(solution=solution, wire_rounding=rounding)
 
 
+def verify(state: SolveState) -> SolveState:
+    """The design at unseen poses: its record, and in mode "resolve" the design re-solved where a rule fails."""
+    mode = verification_loop.check_mode(state.options.verify)
+    if mode == "off":
+        return state
+    rounded = state.wire_rounding.wires if state.wire_rounding is not None else {}
+    fixed = [f"{name}.{standard_wire.WIRE}" for name in rounded]
+    with _interrupted_after_starts(state, "verifying the design at unseen poses"):
+        solution, record, problem = verification_loop.verify_and_resolve(
+            state.problem, state.solved, mode, fixed, **state.options.solver_options()
+        )
+    return state.but(problem=problem, solution=solution, verification=record)
+
+
 class _interrupted_after_starts:
     """Ctrl-C after the multi-start: its best design (or the last fitted one) is the best so far."""
 
@@ -116,4 +133,11 @@ class _interrupted_after_starts:
 
 
 #: The solve, step by step.
-STEPS: tuple[Callable[[SolveState], SolveState], ...] = (first_guess, mount_rows, multi_start, fit_to_arm, round_wires)
+STEPS: tuple[Callable[[SolveState], SolveState], ...] = (
+    first_guess,
+    mount_rows,
+    multi_start,
+    fit_to_arm,
+    round_wires,
+    verify,
+)

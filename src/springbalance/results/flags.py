@@ -21,6 +21,11 @@
 - ``heavy_springs``: the springs together weigh more than :data:`HEAVY_ARM_FRACTION` of the arm's moving
   mass or more than :data:`HEAVY_FLOOR_RATIO` times the floor of the coils that balance it exactly
   (:mod:`springbalance.design.spring_mass`, docs/model.md §5.1); the hint points at ``max_spring_mass``.
+- ``not_verified`` (a failure): a rule the design breaks at poses it was not optimised on, or a peak
+  objective's residual too far above its sampled value there (the design's verification,
+  :mod:`springbalance.design.verification`); one flag per rule.
+- ``inside_own_link`` (a warning): a two-point spring whose centre line runs inside its own anchor link
+  beyond its anchor (:mod:`springbalance.results.own_link`; only with collision geometry).
 
 The text report, ``report.html`` and ``design.json`` (key ``warnings``) all list them.
 """
@@ -36,6 +41,8 @@ from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.design.problem import DesignProblem
 from springbalance.errors import InputError
 from springbalance.export.common import law_warnings, spring_name
+from springbalance.results.own_link import inside_own_link
+from springbalance.results.verification_report import margin_text, pose_text
 from springbalance.springs import CompressionSpring, ExtensionSpring, GasSpring
 from springbalance.springs.sizing import size_helical_spring
 
@@ -46,7 +53,16 @@ TORQUE_TOLERANCE = 1e-9
 #: material of the helical springs that ``unbuildable_ideal`` tries (springs without a ``helical`` option)
 DEFAULT_MATERIAL = "music_wire"
 
-KINDS = ("at_bound", "worse_joint", "law", "unbuildable_ideal", "unbuildable", "heavy_springs")
+KINDS = (
+    "at_bound",
+    "worse_joint",
+    "law",
+    "unbuildable_ideal",
+    "unbuildable",
+    "heavy_springs",
+    "not_verified",
+    "inside_own_link",
+)
 #: ``heavy_springs``: the springs are heavy above this fraction of the arm's moving mass [1] ...
 HEAVY_ARM_FRACTION = 0.10
 #: ... or above this multiple of the floor of the coils that balance the arm exactly [1]
@@ -81,7 +97,8 @@ class Flag:
 
 
 def flags(result: EvaluatedDesign) -> list[Flag]:
-    """Every warning about ``result``, in the order at_bound, worse_joint, law, unbuildable_ideal, unbuildable."""
+    """Every warning about ``result``, in the order at_bound, worse_joint, law, unbuildable_ideal, unbuildable,
+    not_verified, inside_own_link."""
     return (
         at_bound_flags(result)
         + worse_joint_flags(result)
@@ -89,6 +106,8 @@ def flags(result: EvaluatedDesign) -> list[Flag]:
         + unbuildable_flags(result)
         + unbuildable_coil_flags(result)
         + heavy_springs_flags(result)
+        + not_verified_flags(result)
+        + inside_own_link_flags(result)
     )
 
 
@@ -294,3 +313,57 @@ def heavy_springs_flags(result: EvaluatedDesign) -> list[Flag]:
         "over more of its stroke, nearer its allowable stress, carries the same energy with less wire"
     )
     return [Flag("heavy_springs", "springs", message, hint)]
+
+
+# ---------------------------------------------------------------------- not_verified, inside_own_link
+def not_verified_flags(result: EvaluatedDesign) -> list[Flag]:
+    """Rules the design breaks at unseen poses, and a peak residual above its allowance there (its verification)."""
+    record = result.verification
+    if record is None or record.passed:
+        return []
+    units = {joint.name: joint.unit for joint in result.problem.mechanism.joints}
+    hint = (
+        "the re-solves did not clear it: use more workspace samples"
+        if record.mode == "resolve"
+        else "solve with verify='resolve' (the worst poses join the samples and the design is solved again), "
+        "or use more workspace samples"
+    )
+    found = [
+        Flag(
+            "not_verified",
+            rule.label,
+            f"{rule.label} is broken at unseen poses: margin {margin_text(rule.margin, rule.unit)} at "
+            f"{pose_text(rule.pose, units, rule.scenario)} (worst at the samples "
+            f"{margin_text(rule.sampled, rule.unit)}; {record.poses} poses verified)",
+            hint,
+        )
+        for rule in record.violated
+    ]
+    if not record.residual_passed:
+        found.append(
+            Flag(
+                "not_verified",
+                record.objective,
+                f"objective {record.objective} is {record.objective_dense:.4g} at unseen poses, "
+                f"{record.objective_sampled:.4g} at the samples",
+                hint,
+            )
+        )
+    return found
+
+
+def inside_own_link_flags(result: EvaluatedDesign) -> list[Flag]:
+    """Springs whose centre line runs inside their own anchor link beyond the anchor (with collision geometry)."""
+    units = {joint.name: joint.unit for joint in result.problem.mechanism.joints}
+    return [
+        Flag(
+            "inside_own_link",
+            f"{found.spring}.{found.end}",
+            f"spring {found.spring!r} runs inside its own anchor link {found.body!r} beyond its anchor (end "
+            f"{found.end}): its centre line lies {1e3 * found.depth:.1f} mm deep inside at "
+            f"{pose_text(found.pose, units, found.scenario)}",
+            f"move the anchor on {found.body} to its surface, or the spring's other anchor, so that the spring "
+            "leaves the link outward; the clearance check exempts a spring's own links",
+        )
+        for found in inside_own_link(result)
+    ]

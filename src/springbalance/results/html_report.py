@@ -30,6 +30,7 @@ from springbalance.files import write_text_atomic
 from springbalance.results import plots
 from springbalance.results.flags import Flag, flags
 from springbalance.results.report import balance_statement, checked_clearance, spec_sheet_rows, spring_mass_statement
+from springbalance.results.verification_report import verification_html
 from springbalance.viz.design_scene import DesignScene
 
 
@@ -150,7 +151,8 @@ def report_html(
     The sections, in order: the head (:func:`head_html`), the links (:func:`links_html`), the springs
     (:func:`springs_html`, :func:`spec_sheet_html`), the springs' mass, the torque and objective tables (:func:`torque_html`),
     the balance statement, the scenarios (:func:`scenarios_html`), the infeasibility, the clearance
-    (:func:`clearance_html`), the warnings (:func:`warnings_html`) and the plots (:func:`plots_html`).
+    (:func:`clearance_html`), the verification (:func:`~springbalance.results.verification_report.verification_html`),
+    the warnings (:func:`warnings_html`) and the plots (:func:`plots_html`).
     """
     metrics = result.metrics()
     e = html.escape
@@ -167,6 +169,7 @@ def report_html(
     if metrics["max_violation"] > 1e-6:
         parts.append(f"<p><b>Infeasible:</b> largest constraint violation {_number(metrics['max_violation'])}.</p>")
     parts.extend(clearance_html(result))
+    parts.extend(verification_html(result))
     parts.extend(warnings_html(flags(result)))
     parts.extend(plots_html(torques, histogram))
     parts.append("</body></html>")

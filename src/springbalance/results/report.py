@@ -16,6 +16,7 @@ from springbalance.errors import InputError
 from springbalance.model.collision import collision_geometry
 from springbalance.results.clearance import ClearanceReport, clearance
 from springbalance.results.flags import Flag, flags
+from springbalance.results.verification_report import verification_lines
 from springbalance.springs.laws import Spring
 
 
@@ -24,8 +25,10 @@ def result_table(result: EvaluatedDesign) -> str:
 
     The sections, in order: the header (:func:`header_lines`), the springs (:func:`spring_lines`), what
     rounding the wires and fitting to the arm cost (:func:`wire_rounding_lines`, :func:`fit_lines`), the
-    helical sizing (:func:`helical_sizing_lines`), the springs' mass (:func:`spring_mass_lines`), the torque and objective tables (:func:`torque_lines`),
-    the balance statement, the scenarios, the clearance table and the warnings.
+    helical sizing (:func:`helical_sizing_lines`), the springs' mass (:func:`spring_mass_lines`), the torque and
+    objective tables (:func:`torque_lines`), the balance statement, the scenarios, the clearance table, the
+    verification at unseen poses (:func:`~springbalance.results.verification_report.verification_lines`) and the
+    warnings.
     """
     metrics = result.metrics()
     problem = result.problem
@@ -48,6 +51,7 @@ def result_table(result: EvaluatedDesign) -> str:
         )
     lines.append("")
     lines.extend(clearance_section(result))
+    lines.extend(verification_lines(result))
     lines.extend(warning_lines(flags(result)))
     return "\n".join(lines)
 

@@ -20,6 +20,7 @@ from springbalance.design.clearance import FitRecord
 from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.design.objectives import OBJECTIVES
 from springbalance.design.problem import DesignProblem
+from springbalance.design.verification_record import VerificationRecord
 from springbalance.errors import InputError
 from springbalance.export.common import ExportReport
 from springbalance.export.mjcf import export_mjcf
@@ -132,6 +133,7 @@ class DesignResult(EvaluatedDesign):
                 "starts": [record.to_dict() for record in self.starts],
                 **({"standard_wire": self.wire_rounding.to_dict()} if self.wire_rounding else {}),
                 **({"fit": self.fit.to_dict()} if self.fit else {}),
+                **({"verification": self.verification.to_dict()} if self.verification else {}),
             },
             "metrics": self.metrics(),
             "spring_mass": self.spring_mass().to_dict(),
@@ -196,6 +198,7 @@ class DesignResult(EvaluatedDesign):
             seed=solver.get("seed"),
             status=solver.get("status", "loaded"),
             fit=FitRecord.from_dict(solver.get("fit")),
+            verification=VerificationRecord.from_dict(solver.get("verification")),
         )
 
     def __repr__(self) -> str:

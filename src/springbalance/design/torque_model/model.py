@@ -168,11 +168,18 @@ class TorqueModel:
             )
             if parts is None:
                 parts, rows = ((constraint.name, constraint.unit, constraint.scale),), [rows]
+            reserves = getattr(constraint, "reserves", {})  # part name → reserve [unit] the rows keep
             for (name, unit, scale), row in zip(parts, rows):
                 row = ca.SX(row)
                 self.constraint_blocks.append(
                     ConstraintBlock(
-                        spring.name, name, unit, len(constraint_rows), float(scale), bool(ca.depends_on(row, data))
+                        spring.name,
+                        name,
+                        unit,
+                        len(constraint_rows),
+                        float(scale),
+                        bool(ca.depends_on(row, data)),
+                        float(reserves.get(name, 0.0)),
                     )
                 )
                 constraint_rows.append(row)

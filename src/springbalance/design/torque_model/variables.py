@@ -47,3 +47,6 @@ class ConstraintBlock:
     #: False when the row does not depend on the sample (a coil's index, its initial tension): the
     #: NLP then keeps it once instead of once per sample
     per_sample: bool = True
+    #: the part of the row the optimisation keeps in reserve [unit]: the rule itself holds where
+    #: ``row + reserve ≥ 0`` (a coil's stress reserve, :data:`~springbalance.springs.laws.coil.STRESS_RESERVE`)
+    reserve: float = 0.0

@@ -43,6 +43,8 @@ class CompressionCoilRules:
         if not spring.guided:
             parts.append(("buckling", "m", 0.01))
         self.parts = tuple(parts + spring.common_parts())
+        #: the stress row keeps ``stress_reserve`` of its allowable in reserve [1]
+        self.reserves = {"body_stress": spring.stress_reserve}
 
     def rows(self, length: ValueT, force: ValueT, parameters: Parameters) -> ValueT | list[ValueT]:
         spring, material = self.spring, self.spring.material

@@ -49,6 +49,8 @@ class ExtensionCoilRules:
         if spring.winds:
             parts += [("initial_tension_low", "MPa", 10.0), ("initial_tension_high", "MPa", 10.0)]
         self.parts = tuple(parts + spring.common_parts())
+        #: the stress rows keep ``stress_reserve`` of their allowable in reserve [1]
+        self.reserves = dict.fromkeys(("body_stress", "hook_bending", "hook_torsion"), spring.stress_reserve)
 
     def rows(self, length: ValueT, force: ValueT, parameters: Parameters) -> ValueT | list[ValueT]:
         spring, material = self.spring, self.spring.material

@@ -1,0 +1,109 @@
+"""The loop that verifies a design where it was not optimised, and re-solves it where a rule fails.
+
+:func:`verify_and_resolve` checks the design at unseen poses (:func:`~springbalance.design.verification.check_design`).
+When a rule fails there (and the mode is ``"resolve"``), the worst poses join the problem's samples
+(:meth:`~springbalance.design.problem.DesignProblem.with_samples`), the clearance contacts below the margin
+join its linear rows as cuts (:mod:`springbalance.design.clearance_rows`, as the fit makes them), and the
+problem is solved again from the design (one warm start, the rounded wires held); then the design is
+verified again at a fresh set of unseen poses (the next round's seed), up to :data:`VERIFY_ROUNDS` re-solves.
+This is the clearance fit's pattern (:mod:`springbalance.design.clearance_fit`) for every rule.
+
+The design returned belongs to the problem as given, with the cuts added to its linear rows: the poses
+added are samples of the re-solves only, so the objective and the metrics stay those of the user's
+workspace.
+"""
+
+from __future__ import annotations
+
+import time
+from typing import Any, Sequence
+
+import numpy as np
+
+from springbalance.design.clearance import stacked_rows
+from springbalance.design.clearance_fit import Key, _Checker
+from springbalance.design.clearance_rows import _rows
+from springbalance.design.problem import DesignProblem
+from springbalance.design.solvers import Solution, solve_problem
+from springbalance.design.verification import check_design
+from springbalance.design.verification_record import VerificationRecord
+from springbalance.errors import InputError, SolverError
+
+#: most re-solves of the loop
+VERIFY_ROUNDS = 3
+#: what a failed verification does: ``"resolve"`` (add the poses, solve again), ``"report"`` (report
+#: only) or ``"off"`` (no verification)
+MODES = ("resolve", "report", "off")
+
+
+def check_mode(mode: object) -> str:
+    """``mode`` when it is one of :data:`MODES`; InputError naming it otherwise."""
+    if mode not in MODES:
+        raise InputError(f"unknown verify mode {mode!r}; valid: {', '.join(MODES)}")
+    assert isinstance(mode, str)  # one of MODES
+    return mode
+
+
+def verify_and_resolve(
+    problem: DesignProblem,
+    solution: Solution,
+    mode: str = "resolve",
+    fixed: Sequence[str] = (),
+    **solve_options: Any,
+) -> tuple[Solution, VerificationRecord, DesignProblem]:
+    """Verify ``solution`` of ``problem`` at unseen poses; in mode ``"resolve"``, re-solve where a rule fails.
+
+    ``fixed``: design variables held in the re-solves (the wires rounded to standard sizes);
+    ``solve_options`` go to :func:`~springbalance.design.solvers.solve_problem`. Returns the solution, its
+    :class:`~springbalance.design.verification_record.VerificationRecord` and ``problem`` (with the
+    clearance cuts the loop added to its linear rows, if any).
+    """
+    clock = time.perf_counter()
+    mode = check_mode(mode)
+    checker = _Checker(problem, problem.clearance) if problem.clearance is not None else None
+    x = np.array(solution.x, dtype=float)
+    added = np.empty((0, problem.mechanism.nv))
+    watched: set[Key] = set()
+    result_problem, rounds = problem, 0
+    while True:
+        check = check_design(problem, x, rounds, checker, mode)
+        if check.record.passed or mode != "resolve" or rounds >= VERIFY_ROUNDS:
+            break
+        added = np.vstack([added, check.poses])
+        watched.update(check.contacts)
+        rows = problem.linear_rows
+        if checker is not None and watched:
+            object_cuts, spring_cuts = checker.cuts(x, watched)
+            rows = stacked_rows(rows, _rows(problem, x, object_cuts, spring_cuts, None))
+        extended = (problem.with_samples(added) if added.shape[0] else problem).with_linear_rows(rows)
+        resolved = _round(extended, x, solution, fixed, solve_options)
+        if resolved is None:
+            break
+        solution, x, rounds = resolved, np.array(resolved.x, dtype=float), rounds + 1
+        result_problem = problem.with_linear_rows(rows)
+    record = check.record
+    record.rounds, record.added_poses, record.seconds = rounds, int(added.shape[0]), time.perf_counter() - clock
+    if rounds:
+        verdict = "verified" if record.passed else "NOT verified"
+        solution = Solution(
+            x,
+            solution.starts,
+            solution.method,
+            solution.seed,
+            f"{solution.status}; {verdict} at unseen poses after {rounds} re-solve(s)",
+            solution.multipliers,
+        )
+    return solution, record, result_problem
+
+
+def _round(
+    problem: DesignProblem, x: np.ndarray, solution: Solution, fixed: Sequence[str], solve_options: dict[str, Any]
+) -> Solution | None:
+    """One warm start of ``problem`` (with the added samples and cuts) from ``x``, ``fixed`` held; None when
+    it finds no feasible design (the design before stays)."""
+    try:
+        found = solve_problem(problem, starts=1, initial=x, fixed=list(fixed), progress=False, **solve_options)
+    except SolverError:
+        return None
+    # its multipliers belong to the extended problem's rows, not to the problem's: none are kept
+    return Solution(found.x, solution.starts, solution.method, solution.seed, solution.status)
