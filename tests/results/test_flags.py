@@ -46,41 +46,56 @@ def _of_kind(result, kind: str) -> list:
     return [flag for flag in result.warnings() if flag.kind == kind]
 
 
-def _html_rows(path: Path) -> list[tuple[str, str]]:
-    """(kind, row text) of every row of the report's Warnings table."""
+def _html_rows(path: Path, severity: str = "warning") -> list[tuple[str, str]]:
+    """(kind, row text) of every row of the report's Warnings table (``severity="failure"``: of its
+    Failures table)."""
     page = path.read_text()
-    rows = re.findall(r'<tr class="warning ([a-z_]+)">(.*?)</tr>', page, flags=re.S)
+    rows = re.findall(rf'<tr class="{severity} ([a-z_]+)">(.*?)</tr>', page, flags=re.S)
     return [(kind, re.sub(r"<[^>]+>", " ", text)) for kind, text in rows]
 
 
-def assert_flagged(result, tmp_path: Path, kind: str, subject: str) -> dict:
-    """The flag (kind, subject) is in result.warnings(), the text report, report.html and design.json;
-    returns its saved record."""
+def assert_flagged(result, tmp_path: Path, kind: str, subject: str, severity: str = "warning") -> dict:
+    """The flag (kind, subject) of ``severity`` is in result.warnings(), the text report, report.html and
+    design.json (a failure also in result.failures() and design.json's "failures"); returns its saved record."""
     found = [flag for flag in result.warnings() if flag.kind == kind and flag.subject == subject]
     assert len(found) >= 1, [str(flag) for flag in result.warnings()]
     flag = found[0]
     assert flag.message and flag.hint
+    assert flag.severity == severity
+    assert (flag in result.failures()) == (severity == "failure")
+    assert result.ok == (not result.failures())
 
-    # (a) the text report: a Warnings section after the tables, the flag with its hint
+    # (a) the text report: a Failures or Warnings section after the tables, the flag with its hint;
+    # the failures come before the warnings
+    heading = "\nFailures (" if severity == "failure" else "\nWarnings ("
     table = result.table()
-    section = table[table.index("\nWarnings (") :]
-    assert table.index("Actuator torque") < table.index("\nWarnings (")
+    section = table[table.index(heading) :]
+    if severity == "failure":
+        section = section[: section.index("\nWarnings")]
+    assert table.index("Actuator torque") < table.index(heading)
     assert f"[{kind}] {flag.message}" in section
     assert f"hint: {flag.hint}" in section
 
-    # (b) report.html
+    # (b) report.html: the failures' table before the warnings'
     page = result.report(tmp_path / "report", scene=False)
     assert page.name == "report.html"
-    assert 'id="warnings"' in page.read_text()
-    rows = [text for row_kind, text in _html_rows(page) if row_kind == kind]
+    text = page.read_text()
+    assert 'id="warnings"' in text
+    if severity == "failure":
+        assert text.index('id="failures"') < text.index('id="warnings"')
+    rows = [text for row_kind, text in _html_rows(page, severity) if row_kind == kind]
     assert any(subject in text for text in rows), rows
 
-    # (c) design.json: top-level "warnings", records {kind, subject, message, hint?}
+    # (c) design.json: top-level "warnings" (every finding), "failures" (the failures), records
+    # {kind, severity, subject, message, hint?}
     saved = json.loads(result.save(tmp_path / "design.json").read_text())
     records = [record for record in saved["warnings"] if record["kind"] == kind and record["subject"] == subject]
     assert records
-    assert set(records[0]) <= {"kind", "subject", "message", "hint"}
+    assert set(records[0]) <= {"kind", "severity", "subject", "message", "hint"}
     assert records[0]["message"] == flag.message and records[0]["hint"] == flag.hint
+    assert records[0]["severity"] == severity
+    assert (records[0] in saved["failures"]) == (severity == "failure")
+    assert saved["failures"] == [record for record in saved["warnings"] if record["severity"] == "failure"]
     # a saved design with warnings still loads, and reports the same warnings
     loaded = sb.DesignResult.load(tmp_path / "design.json")
     assert [f.to_dict() for f in loaded.warnings()] == saved["warnings"]
@@ -94,7 +109,9 @@ def assert_clean(result, tmp_path: Path) -> None:
     page = result.report(tmp_path / "report", scene=False).read_text()
     assert 'id="warnings"' in page and "Warnings: none" in page
     assert _html_rows(tmp_path / "report" / "report.html") == []
-    assert json.loads(result.save(tmp_path / "design.json").read_text())["warnings"] == []
+    saved = json.loads(result.save(tmp_path / "design.json").read_text())
+    assert saved["warnings"] == [] and saved["failures"] == []
+    assert result.ok
 
 
 # ---------------------------------------------------------------------- at_bound
@@ -169,7 +186,8 @@ def test_too_stiff_spring_makes_the_joint_worse(link, tmp_path):
     (row,) = result.metrics()["joints"]
     assert row["peak_after"] == pytest.approx(2 * row["peak_before"], rel=1e-9)
     assert row["rms_after"] == pytest.approx(2 * row["rms_before"], rel=1e-9)
-    record = assert_flagged(result, tmp_path, "worse_joint", "pivot")
+    # the pivot has weight 1: the design was asked to balance it, so a worse pivot is a failure
+    record = assert_flagged(result, tmp_path, "worse_joint", "pivot", severity="failure")
     assert "peak" in record["message"] and "RMS" in record["message"]
 
 
@@ -212,7 +230,7 @@ def test_joint_gravity_does_not_load_is_worse_when_a_spring_loads_it(tmp_path):
     assert rows["slide"]["peak_before"] == pytest.approx(0, abs=1e-12)
     assert rows["slide"]["peak_after"] == pytest.approx(100 * 0.3, rel=1e-9)
     assert rows["pitch"]["peak_after"] == pytest.approx(rows["pitch"]["peak_before"], rel=1e-12)
-    record = assert_flagged(result, tmp_path, "worse_joint", "slide")
+    record = assert_flagged(result, tmp_path, "worse_joint", "slide", severity="failure")
     assert "30 N" in record["message"]
     assert [flag.subject for flag in _of_kind(result, "worse_joint")] == ["slide"]
 

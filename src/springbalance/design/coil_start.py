@@ -9,7 +9,9 @@ twin's rate and comes closest to its free length (extension: ``d (n + 1) + 2 (D 
 within the index range and the envelope, with the initial tension clipped into the band that
 can be wound at that index. The twin is solved to a relative cost change of
 :data:`TWIN_TOLERANCE` only. The result is a design vector of the real problem (anchors from
-the twin) for the solver's first start; the rules themselves are the solver's job.
+the twin) for the solver's first start; the rules themselves are the solver's job. :func:`ideal_twin_start` also
+returns what the twin achieved (:class:`~springbalance.design.twin.TwinRecord`), the reference a report
+compares the finished coils with.
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from springbalance.design.solvers import solve_problem
+from springbalance.design.twin import TwinRecord, twin_record
 from springbalance.errors import SolverError
 from springbalance.springs.laws import Spring
 from springbalance.springs.laws.coil import HelicalCoilSpring
@@ -52,20 +55,29 @@ def coil_springs(problem: DesignProblem) -> list[HelicalCoilSpring]:
 
 def coil_start(problem: DesignProblem, **solve_options: Any) -> np.ndarray | None:
     """A design vector of ``problem`` to start from (see the module docstring); None when the twin fails."""
+    return ideal_twin_start(problem, **solve_options)[0]
+
+
+#: what a coil problem's twin is, in the words of its :class:`~springbalance.design.twin.TwinRecord`
+TWIN_SOURCE = "the same anchors with ideal springs in place of the coils"
+#: the same for a problem with a routed coil (whose twin keeps the coil's path and cable)
+ROUTED_TWIN_SOURCE = "the same paths and cables with ideal springs in place of the coils"
+
+
+def ideal_twin_start(problem: DesignProblem, **solve_options: Any) -> tuple[np.ndarray | None, TwinRecord | None]:
+    """``(start, twin)``: the design vector of ``problem`` to start from (:func:`coil_start`) and the
+    :class:`~springbalance.design.twin.TwinRecord` of the ideal twin's optimum; ``(None, None)`` when
+    ``problem`` has no free coil or the twin fails."""
     coils = coil_springs(problem)
     if not coils:
-        return None
-    twins = [
-        _twin(spring) if isinstance(spring, HelicalCoilSpring) and spring in coils else spring
-        for spring in problem.springs
-    ]
-    twin = problem.with_springs(twins, no_joint_worse=False)
+        return None, None
+    twin = _twin_problem(problem, coils)
+    # only a first guess: winding the coils moves the design far more than this fraction of its cost
+    options = {**solve_options, "tolerance": max(solve_options.get("tolerance", 0.0), TWIN_TOLERANCE)}
     try:
-        # only a first guess: winding the coils moves the design far more than this fraction of its cost
-        tolerance = max(solve_options.get("tolerance", 0.0), TWIN_TOLERANCE)
-        found = solve_problem(twin, **{**solve_options, "tolerance": tolerance})
+        found = solve_problem(twin, **options)
     except SolverError:
-        return None
+        return None, None
     twin_values = dict(zip(twin.variables.names, found.x))
     start = dict(zip(problem.variables.names, problem.variables.start))
     start.update({name: value for name, value in twin_values.items() if name in start})
@@ -80,7 +92,31 @@ def coil_start(problem: DesignProblem, **solve_options: Any) -> np.ndarray | Non
         start.update({f"{coil.name}.{key}": value for key, value in _wind(coil, law, lengths, forces).items()})
     x = np.array([start[name] for name in problem.variables.names], dtype=float)
     lower, upper = problem.variables.bounds()
-    return np.clip(x, lower, upper)
+    return np.clip(x, lower, upper), _record(problem, coils, twin, found.x, options)
+
+
+def _twin_problem(problem: DesignProblem, coils: list[HelicalCoilSpring], routed: bool = False) -> DesignProblem:
+    """``problem`` with each of ``coils`` replaced by its ideal twin (:func:`_twin`), without
+    ``no_joint_worse``."""
+    twins = [_twin(spring, routed) if spring in coils else spring for spring in problem.springs]
+    return problem.with_springs(twins, no_joint_worse=False)
+
+
+def _record(
+    problem: DesignProblem, coils: list[HelicalCoilSpring], twin: DesignProblem, x: np.ndarray, options: dict
+) -> TwinRecord | None:
+    """The :class:`~springbalance.design.twin.TwinRecord` of the twin's optimum ``x``. The first guess's
+    twin of a routed coil is a plain spring between the path's ends (no cable); its record comes from
+    the twin with the coil's path and cable (:data:`ROUTED_TWIN_SOURCE`), solved for it (None when that
+    solve fails)."""
+    if not any(getattr(coil, "routed", False) for coil in coils):
+        return twin_record(twin, x, TWIN_SOURCE)
+    routed = _twin_problem(problem, coils, routed=True)
+    try:
+        found = solve_problem(routed, **{**options, "progress": False})
+    except SolverError:
+        return None
+    return twin_record(routed, found.x, ROUTED_TWIN_SOURCE)
 
 
 def _bounds(spring: Spring, key: str) -> tuple[float, float]:
@@ -88,14 +124,18 @@ def _bounds(spring: Spring, key: str) -> tuple[float, float]:
     return (float(value.lower), float(value.upper)) if isinstance(value, Free) else (float(value), float(value))
 
 
-def _twin(coil: HelicalCoilSpring) -> ExtensionSpring | CompressionSpring:
-    """The ideal law of the coil's kind, with the coil's anchors and limits, over generous ranges."""
+def _twin(coil: HelicalCoilSpring, routed: bool = False) -> ExtensionSpring | CompressionSpring:
+    """The ideal law of the coil's kind, with the coil's anchors and limits, over generous ranges; ``routed``:
+    with the coil's pulleys and cable length too (a routed coil's path), else between its ends ``a`` and
+    ``b`` only (the first guess's twin)."""
     d_low, d_high = _bounds(coil, "wire_diameter")
     D_low, D_high = _bounds(coil, "mean_diameter")
     n_low, n_high = _bounds(coil, "active_coils")
     G = coil.material.shear_modulus
     stiffest = G * d_high**4 / (8 * max(D_low, coil.index_range[0] * d_high) ** 3 * n_low)  # [N/m]
     options = {key: getattr(coil, key) for key in ("max_force", "max_length", "min_length")}
+    if routed and getattr(coil, "routed", False):
+        options.update(via=coil.via, cable_length=coil.parameters["cable_length"])
     if coil.kind == "extension":
         assert isinstance(coil, HelicalExtensionSpring)  # the helical law of kind "extension"
         low, high = _bounds(coil, "initial_tension")

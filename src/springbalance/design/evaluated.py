@@ -24,6 +24,7 @@ from springbalance.design.problem import DesignProblem, Evaluation
 from springbalance.design.solvers import StartRecord
 from springbalance.design.standard_wire import WireRounding
 from springbalance.design.stock import StockSelection
+from springbalance.design.twin import TwinRecord
 from springbalance.errors import InputError
 from springbalance.model.workspace import Workspace
 from springbalance.springs.laws import Spring, TwoPointSpring
@@ -55,6 +56,9 @@ class EvaluatedDesign:
         x: design vector in physical units (names in ``problem.variables.names``).
         starts: per-start records of the multi-start (empty when not optimised).
         status: the solver status of the chosen start.
+        twin: what the design's ideal twin achieved (:mod:`springbalance.design.twin`), or None.
+        partial: why the design was kept although it is not a finished one (saved with ``--partial``:
+            interrupted, or failing a check), or None for a finished design.
     """
 
     def __init__(
@@ -68,6 +72,8 @@ class EvaluatedDesign:
         wire_rounding: WireRounding | None = None,
         fit: FitRecord | None = None,
         stock: StockSelection | None = None,
+        twin: TwinRecord | None = None,
+        partial: str | None = None,
     ) -> None:
         self.problem = problem
         self.x = np.asarray(x, dtype=float)
@@ -79,6 +85,10 @@ class EvaluatedDesign:
         self.fit = fit
         #: the catalogue parts chosen for the springs (None when no catalogue was given)
         self.stock = stock
+        #: what the ideal twin achieved (None when the design has no twin)
+        self.twin = twin
+        #: why this design was saved unfinished (``--partial``), or None
+        self.partial = partial
         self.evaluation = problem.evaluate(self.x)
 
     # ---------------------------------------------------------------- values

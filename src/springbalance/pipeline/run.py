@@ -17,12 +17,15 @@ from typing import Sequence
 
 from springbalance.design.problem import DesignProblem
 from springbalance.design.stock import StockPart, StockSelection
+from springbalance.design.twin import twin_record
 from springbalance.errors import InputError
 from springbalance.pipeline.sequence import run_steps
 from springbalance.pipeline.state import ConfiguredProblem, SolveOptions
 from springbalance.pipeline.stock import select_stock
 from springbalance.results.result import DesignResult
 
+#: what the twin of a stock design is (without coils or a fit to the arm), in the words of its record
+STOCK_TWIN_SOURCE = "the continuous design before the stock parts were chosen"
 #: starts of each stock candidate's solve: the warm start at the continuous design plus one Sobol start
 STOCK_STARTS = 2
 
@@ -100,6 +103,8 @@ def solve(
         wire_rounding=stocked.wire_rounding,
         fit=stocked.fit,
         stock=selection,
+        # the parts are compared with the ideal twin, else with the continuous design they replace
+        twin=result.twin or twin_record(result.problem, result.x, STOCK_TWIN_SOURCE),
     )
 
 

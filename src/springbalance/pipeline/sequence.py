@@ -30,6 +30,7 @@ def run_steps(problem: DesignProblem, options: SolveOptions) -> DesignResult:
         status=solution.status,
         wire_rounding=state.wire_rounding,
         fit=state.fit,
+        twin=state.twin,
     )
 
 

@@ -19,6 +19,7 @@ from springbalance.design.clearance import FitRecord
 from springbalance.design.problem import DesignProblem
 from springbalance.design.solvers import Solution
 from springbalance.design.standard_wire import WireRounding
+from springbalance.design.twin import TwinRecord
 from springbalance.errors import InputError
 
 
@@ -89,6 +90,8 @@ class SolveState:
         solution: the best design so far (None before the multi-start).
         fit: what fitting the springs to the arm did (None when not asked for).
         wire_rounding: what rounding the coils' wires cost (None when nothing was rounded).
+        twin: what the ideal twin achieved (the coils' ideal twin, else the optimum before the fit to the
+            arm; None for a problem that has neither coils nor clearance or mountings).
     """
 
     problem: DesignProblem
@@ -97,6 +100,7 @@ class SolveState:
     solution: Solution | None = None
     fit: FitRecord | None = None
     wire_rounding: WireRounding | None = None
+    twin: TwinRecord | None = None
 
     @property
     def solved(self) -> Solution:

@@ -4,12 +4,13 @@ Each step is a function ``SolveState -> SolveState`` that does nothing when its 
 is absent:
 
 1. :func:`first_guess`: helical coils start from the ideal twin's optimum, wound into coils
-   (:mod:`springbalance.design.coil_start`);
+   (:mod:`springbalance.design.coil_start`); the twin's record (:mod:`springbalance.design.twin`) is kept;
 2. :func:`mount_rows`: anchors mounted ``on: collision`` start on their surface planes, linearised at
    the first guess (:mod:`springbalance.design.clearance_rows`);
 3. :func:`multi_start`: every start, then the polish of the best (:mod:`springbalance.design.solvers`);
 4. :func:`fit_to_arm`: clearance from the links and mountings, by linearised rows refreshed until a
-   check finds no violation (:mod:`springbalance.design.clearance_fit`);
+   check finds no violation (:mod:`springbalance.design.clearance_fit`); without a coil twin, the
+   multi-start's optimum before the fit is the twin;
 5. :func:`round_wires`: every coil's free wire to the preferred series, the rest re-optimised
    (:mod:`springbalance.design.standard_wire`).
 
@@ -22,17 +23,21 @@ from typing import Callable
 
 from springbalance.design import clearance_fit, clearance_rows, coil_start, standard_wire
 from springbalance.design.solvers import solve_problem
+from springbalance.design.twin import twin_record
 from springbalance.errors import Interrupted
 from springbalance.pipeline.state import SolveState
 
+#: what the twin of a problem fitted to the arm is (without coils), in the words of its record
+FIT_TWIN_SOURCE = "the multi-start's optimum before the fit to the arm (no clearance rows)"
+
 
 def first_guess(state: SolveState) -> SolveState:
-    """Coils: the first start from the ideal twin's optimum (None when the twin fails)."""
+    """Coils: the first start from the ideal twin's optimum, and the twin's record (None when the twin fails)."""
     problem, options = state.problem, state.options
     if not coil_start.coil_springs(problem):
         return state
     try:
-        initial = coil_start.coil_start(
+        initial, twin = coil_start.ideal_twin_start(
             problem,
             starts=options.starts,
             seed=options.seed,
@@ -47,7 +52,7 @@ def first_guess(state: SolveState) -> SolveState:
             problem=problem,
             total=options.starts,
         ) from None
-    return state.but(initial=initial)
+    return state.but(initial=initial, twin=twin)
 
 
 def mount_rows(state: SolveState) -> SolveState:
@@ -77,9 +82,10 @@ def fit_to_arm(state: SolveState) -> SolveState:
     problem = state.problem
     if problem.clearance is None and not problem.mounts:
         return state
+    twin = state.twin or twin_record(problem, state.solved.x, FIT_TWIN_SOURCE)
     with _interrupted_after_starts(state, "fitting the springs to the arm"):
         solution, fit, problem = clearance_fit.fit_from_starts(problem, state.solved, **state.options.solver_options())
-    return state.but(problem=problem, solution=solution, fit=fit)
+    return state.but(problem=problem, solution=solution, fit=fit, twin=twin)
 
 
 def round_wires(state: SolveState) -> SolveState:
