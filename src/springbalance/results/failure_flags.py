@@ -10,7 +10,7 @@ the arm (``overlap``), or it was saved unfinished (``partial``).
   passed, and a linear row, only a sufficient linearisation of it, is not a violation.
 - ``not_converged``: the fit to the arm ended without a clear check (its record's ``converged`` is
   false: a spring still below the margin, or a mounted anchor off its surface, after the last round),
-  or the last solver run behind the design ended in an error status: IPOPT's
+  or (else) the last solver run behind the design ended in an error status: IPOPT's
   :data:`FAILED_STATUSES` or least squares' ``improper input``. An iteration limit is not a failure:
   the chosen start is feasible and was polished (``polish_iterations``); a lexicographic second phase
   that was not kept (``(not kept)``) leaves the first phase's design, which is not a failure either.
@@ -139,7 +139,7 @@ def not_converged_flags(result: EvaluatedDesign) -> list[Flag]:
             )
         )
     last = last_solver_status(result.status)
-    if last is not None and last[1]:
+    if last is not None and last[1] and not found:  # (an unconverged fit's last round says it already)
         found.append(
             Flag(
                 "not_converged",
@@ -163,7 +163,7 @@ def overlap_flags(result: EvaluatedDesign) -> list[Flag]:
     for row in report.rows:
         if not row.below_margin:
             continue
-        where = ", ".join(f"{name} {value:.4g}" for name, value in row.pose.items())
+        where = report.cells(row)[-1]  # the pose as the clearance table shows it (degrees, or m)
         if row.distance <= 0:
             what = f"overlaps link {row.link} by {-1e3 * row.distance:.1f} mm"
         else:
@@ -195,7 +195,8 @@ def partial_flags(result: EvaluatedDesign) -> list[Flag]:
             "partial",
             "design",
             f"this design was saved with --partial and is not a finished design: {result.partial}",
-            "solve again without interruption, and fix the failures listed",
+            "a partial design is kept to be looked at, not built: fix the failures listed (or let the solve "
+            "finish) and design again",
             FAILURE,
         )
     ]

@@ -87,7 +87,7 @@ def bound_rules(result: EvaluatedDesign, tolerance: float = BOUND_TOLERANCE) -> 
     return found
 
 
-def binding_rules(result: EvaluatedDesign, limit: int = 4) -> list[RuleMargin]:
+def binding_rules(result: EvaluatedDesign, limit: int = 6) -> list[RuleMargin]:
     """Up to ``limit`` rules that bind at ``result``: the active rows (scaled margin ≤ :data:`ACTIVE`),
     smallest margin first, then the variables at a bound; when none binds, the rule of smallest margin."""
     margins = rule_margins(result)

@@ -54,7 +54,7 @@ def weak_design_flags(result: EvaluatedDesign) -> list[Flag]:
         f"{row['after']:.4g} {row['unit']}), less than half of the {100 * ideal:.1f} % their ideal twin removes "
         f"({twin.source}: {twin.objective:.4g} {row['unit']})"
         + (f"; RMS torque reduction per joint: {per_joint}" if per_joint else "")
-        + (f"; the rule that binds: {rules}" if rules else "")
+        + (f"; the rules that bind: {rules}" if rules else "")
     )
     hint = (
         f"relax what binds ({binding[0].rule}): a larger envelope, a stronger material, wider bounds or a smaller "
