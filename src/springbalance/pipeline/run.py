@@ -68,6 +68,11 @@ def solve(
             compression spring is then replaced by its nearest part and the rest re-optimised; the
             result's ``stock`` is the :class:`~springbalance.pipeline.stock.StockSelection`.
 
+    Returns:
+        The design, also when it fails a check (an unconverged fit to the arm, a spring overlapping a
+        link, a coil that cannot be wound, ...): ``result.ok`` is then False and ``result.failures()``
+        says why (:mod:`springbalance.results.flags`). Its ``twin`` records what the ideal twin achieved.
+
     Raises:
         SolverError: no start gives a feasible design (or no stock part fits a spring).
         Interrupted: Ctrl-C; it carries the starts that had finished and the best design so far.
@@ -91,7 +96,12 @@ def solve(
     if stock is None:
         return result
     # the problem as the steps left it (with the rows of the fit), as the parts are fitted to the arm the same way
-    selection = _select_stock(result.problem, result, stock, options)
+    return _stocked(result, _select_stock(result.problem, result, stock, options))
+
+
+def _stocked(result: DesignResult, selection: StockSelection) -> DesignResult:
+    """The stock design of ``selection`` for the continuous design ``result``; its twin is ``result``'s
+    ideal twin, else the continuous design that the parts replace."""
     stocked = selection.result
     return DesignResult(
         stocked.problem,
@@ -103,7 +113,6 @@ def solve(
         wire_rounding=stocked.wire_rounding,
         fit=stocked.fit,
         stock=selection,
-        # the parts are compared with the ideal twin, else with the continuous design they replace
         twin=result.twin or twin_record(result.problem, result.x, STOCK_TWIN_SOURCE),
     )
 
