@@ -11,7 +11,9 @@ the arm (``overlap``), or it was saved unfinished (``partial``).
 - ``not_converged``: the fit to the arm ended without a clear check (its record's ``converged`` is
   false: a spring still below the margin, or a mounted anchor off its surface, after the last round),
   or (else) the last solver run behind the design ended in an error status: IPOPT's
-  :data:`FAILED_STATUSES` or least squares' ``improper input``. An iteration limit is not a failure:
+  :data:`FAILED_STATUSES` or least squares' ``improper input``. A fitting round that stopped
+  infeasible (its linearised rows not all met) is judged by the fit's record, not by its status: when
+  the fit converged, its check of the true distances and mountings passed. An iteration limit is not a failure:
   the chosen start is feasible and was polished (``polish_iterations``); a lexicographic second phase
   that was not kept (``(not kept)``) leaves the first phase's design, which is not a failure either.
 - ``overlap``: the clearance check of the finished design (:func:`~springbalance.results.clearance.checked_clearance`,
@@ -60,14 +62,18 @@ FINISHED_STATUSES = (
 _STATUS = re.compile(
     r"(" + "|".join(FAILED_STATUSES + FINISHED_STATUSES) + r")(?! \(not kept\))|least_squares: ([a-z ]+)"
 )
+#: the note of a fitting round whose linearised rows could not all be met: the fit's own record judges it
+_FIT_ROUND = re.compile(r"a fitting round stopped infeasible \([^)]*\)")
 #: violated rules named in the ``infeasible`` message
 RULES_SHOWN = 3
 
 
 def last_solver_status(status: str) -> tuple[str, bool] | None:
     """``(status, failed)`` of the last solver run a design's status text names (the design's own: the
-    steps after the multi-start append theirs), or None when it names none (a design evaluated, loaded)."""
-    found = list(_STATUS.finditer(status))
+    steps after the multi-start append theirs), or None when it names none (a design evaluated, loaded).
+    A fitting round that stopped infeasible is not read: the fit's record says whether the fit converged
+    (its check of the true distances), which is what counts."""
+    found = list(_STATUS.finditer(_FIT_ROUND.sub("", status)))
     if not found:
         return None
     last = found[-1]

@@ -72,8 +72,6 @@ KINDS = {
     "off_series_wire": WARNING,
 }
 
-__all__ = ["BOUND_TOLERANCE", "CHECKS", "KINDS", "Flag", "failures", "flags"]
-
 
 def flags(result: EvaluatedDesign) -> list[Flag]:
     """Every finding about ``result``: the flags of each of :data:`CHECKS`, failures first."""
