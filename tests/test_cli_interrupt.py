@@ -102,6 +102,9 @@ def test_ctrl_c_stops_cleanly_and_partial_saves_the_best_so_far(tmp_path, partia
         assert result.metrics()["objectives"]["rms"]["reduction_percent"] > 50  # a real design, not the start
         saved = json.loads(out.read_text())
         assert len(saved["solver"]["starts"]) == finished and saved["solver"]["method"] == "interrupted"
+        # marked as not finished: the file says so, and the loaded design fails with `partial`
+        assert saved["partial"] is True and saved["partial_reason"].startswith("interrupted")
+        assert "partial" in [record["kind"] for record in saved["failures"]] and not result.ok
     else:
         assert not out.exists() and "nothing is saved" in lines[0]
         assert not list(tmp_path.glob(".design.json*"))  # no temporary file left either

@@ -11,14 +11,13 @@ at ``k* = m g c / (a b)`` = 299.2 N/m for b = 0.3 m.
 
 from __future__ import annotations
 
-import json
-import re
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 import springbalance as sb
+from flag_helpers import SLIDER_URDF, assert_clean, assert_flagged
 from springbalance.cli import main
 
 URDF = Path(__file__).resolve().parents[2] / "urdf"
@@ -44,57 +43,6 @@ def _lengths(workspace, b: float = B) -> np.ndarray:
 
 def _of_kind(result, kind: str) -> list:
     return [flag for flag in result.warnings() if flag.kind == kind]
-
-
-def _html_rows(path: Path) -> list[tuple[str, str]]:
-    """(kind, row text) of every row of the report's Warnings table."""
-    page = path.read_text()
-    rows = re.findall(r'<tr class="warning ([a-z_]+)">(.*?)</tr>', page, flags=re.S)
-    return [(kind, re.sub(r"<[^>]+>", " ", text)) for kind, text in rows]
-
-
-def assert_flagged(result, tmp_path: Path, kind: str, subject: str) -> dict:
-    """The flag (kind, subject) is in result.warnings(), the text report, report.html and design.json;
-    returns its saved record."""
-    found = [flag for flag in result.warnings() if flag.kind == kind and flag.subject == subject]
-    assert len(found) >= 1, [str(flag) for flag in result.warnings()]
-    flag = found[0]
-    assert flag.message and flag.hint
-
-    # (a) the text report: a Warnings section after the tables, the flag with its hint
-    table = result.table()
-    section = table[table.index("\nWarnings (") :]
-    assert table.index("Actuator torque") < table.index("\nWarnings (")
-    assert f"[{kind}] {flag.message}" in section
-    assert f"hint: {flag.hint}" in section
-
-    # (b) report.html
-    page = result.report(tmp_path / "report", scene=False)
-    assert page.name == "report.html"
-    assert 'id="warnings"' in page.read_text()
-    rows = [text for row_kind, text in _html_rows(page) if row_kind == kind]
-    assert any(subject in text for text in rows), rows
-
-    # (c) design.json: top-level "warnings", records {kind, subject, message, hint?}
-    saved = json.loads(result.save(tmp_path / "design.json").read_text())
-    records = [record for record in saved["warnings"] if record["kind"] == kind and record["subject"] == subject]
-    assert records
-    assert set(records[0]) <= {"kind", "subject", "message", "hint"}
-    assert records[0]["message"] == flag.message and records[0]["hint"] == flag.hint
-    # a saved design with warnings still loads, and reports the same warnings
-    loaded = sb.DesignResult.load(tmp_path / "design.json")
-    assert [f.to_dict() for f in loaded.warnings()] == saved["warnings"]
-    return records[0]
-
-
-def assert_clean(result, tmp_path: Path) -> None:
-    """No warnings at all: "Warnings: none" in the text, the HTML, and an empty list in design.json."""
-    assert result.warnings() == [], [str(flag) for flag in result.warnings()]
-    assert result.table().rstrip().endswith("Warnings: none")
-    page = result.report(tmp_path / "report", scene=False).read_text()
-    assert 'id="warnings"' in page and "Warnings: none" in page
-    assert _html_rows(tmp_path / "report" / "report.html") == []
-    assert json.loads(result.save(tmp_path / "design.json").read_text())["warnings"] == []
 
 
 # ---------------------------------------------------------------------- at_bound
@@ -169,31 +117,9 @@ def test_too_stiff_spring_makes_the_joint_worse(link, tmp_path):
     (row,) = result.metrics()["joints"]
     assert row["peak_after"] == pytest.approx(2 * row["peak_before"], rel=1e-9)
     assert row["rms_after"] == pytest.approx(2 * row["rms_before"], rel=1e-9)
-    record = assert_flagged(result, tmp_path, "worse_joint", "pivot")
+    # the pivot has weight 1: the design was asked to balance it, so a worse pivot is a failure
+    record = assert_flagged(result, tmp_path, "worse_joint", "pivot", severity="failure")
     assert "peak" in record["message"] and "RMS" in record["message"]
-
-
-SLIDER_URDF = """<?xml version="1.0"?>
-<robot name="slider_pendulum">
-  <link name="base"/>
-  <link name="cart">
-    <inertial><origin xyz="0 0 0"/><mass value="1.0"/>
-      <inertia ixx="0.001" ixy="0" ixz="0" iyy="0.001" iyz="0" izz="0.001"/></inertial>
-  </link>
-  <link name="arm">
-    <inertial><origin xyz="0.25 0 0"/><mass value="2.0"/>
-      <inertia ixx="0.001" ixy="0" ixz="0" iyy="0.04" iyz="0" izz="0.04"/></inertial>
-  </link>
-  <joint name="slide" type="prismatic">
-    <parent link="base"/><child link="cart"/><axis xyz="1 0 0"/>
-    <limit lower="0.1" upper="0.3" effort="100" velocity="1"/>
-  </joint>
-  <joint name="pitch" type="revolute">
-    <parent link="cart"/><child link="arm"/><axis xyz="0 -1 0"/>
-    <limit lower="-1.5707963267948966" upper="1.5707963267948966" effort="100" velocity="1"/>
-  </joint>
-</robot>
-"""
 
 
 def test_joint_gravity_does_not_load_is_worse_when_a_spring_loads_it(tmp_path):
@@ -212,7 +138,7 @@ def test_joint_gravity_does_not_load_is_worse_when_a_spring_loads_it(tmp_path):
     assert rows["slide"]["peak_before"] == pytest.approx(0, abs=1e-12)
     assert rows["slide"]["peak_after"] == pytest.approx(100 * 0.3, rel=1e-9)
     assert rows["pitch"]["peak_after"] == pytest.approx(rows["pitch"]["peak_before"], rel=1e-12)
-    record = assert_flagged(result, tmp_path, "worse_joint", "slide")
+    record = assert_flagged(result, tmp_path, "worse_joint", "slide", severity="failure")
     assert "30 N" in record["message"]
     assert [flag.subject for flag in _of_kind(result, "worse_joint")] == ["slide"]
 

@@ -44,7 +44,8 @@ def run() -> None:
 
 def _run(args: argparse.Namespace) -> int:
     """The command's handler under the memory limit; each failure becomes one line on stderr and its exit status
-    (1: no feasible design, 2: bad input or file trouble, 130: Ctrl-C, 141: a closed pipe)."""
+    (1: no feasible design, 2: bad input or file trouble, 130: Ctrl-C, 141: a closed pipe; a design that
+    fails a check is the handler's 3). :mod:`springbalance.cli.outcome` lists them."""
     try:
         with memory_limit(getattr(args, "max_memory", None)):
             current_limit()  # a malformed SPRINGBALANCE_MAX_MEMORY is reported before any work

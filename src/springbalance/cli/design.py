@@ -1,5 +1,10 @@
 """``springbalance design CONFIG --out DESIGN.json``: solve the design problem of a config file and save the
-design (then, with ``--stock``, pick catalogue springs and re-optimise the anchors)."""
+design (then, with ``--stock``, pick catalogue springs and re-optimise the anchors).
+
+A design that fails a check (:meth:`~springbalance.results.result.DesignResult.failures`) is printed with
+its report, one line per failure goes to stderr, nothing is saved unless ``--partial`` is given (then the
+file is marked ``"partial": true``), and the exit status is 3 (:mod:`springbalance.cli.outcome`).
+"""
 
 from __future__ import annotations
 
@@ -8,8 +13,9 @@ import sys
 from pathlib import Path
 
 from springbalance.cli.arguments import nonnegative_int, positive_int
-from springbalance.cli.formatting import interrupted_message
+from springbalance.cli.formatting import PROG, interrupted_message
 from springbalance.cli.inputs import check_output
+from springbalance.cli.outcome import INTERRUPTED, outcome, print_failures
 from springbalance.design.solvers import METHODS
 from springbalance.design.stock import StockSelection
 from springbalance.errors import Interrupted
@@ -17,6 +23,7 @@ from springbalance.files import write_json_atomic
 from springbalance.io.catalogue import read_catalogue
 from springbalance.io.config import load_config
 from springbalance.pipeline import solve
+from springbalance.results.range_flags import beyond_joint_limits
 from springbalance.results.result import DesignResult
 
 
@@ -35,7 +42,8 @@ def add_parser(commands: argparse._SubParsersAction, common: argparse.ArgumentPa
         "-o",
         required=True,
         metavar="DESIGN.json",
-        help="where to save the design (written only when the solve succeeds)",
+        help="where to save the design (written only when the solve succeeds and the design passes every "
+        "check; see --partial)",
     )
     design.add_argument(
         "--starts", type=positive_int, metavar="N", help="number of starts of the multi-start (overrides solve.starts)"
@@ -66,33 +74,58 @@ def add_parser(commands: argparse._SubParsersAction, common: argparse.ArgumentPa
     design.add_argument(
         "--partial",
         action="store_true",
-        help="on Ctrl-C, save the best design of the starts that had finished at --out",
+        help='save a design that is not finished at --out, marked "partial": true: on Ctrl-C, the best '
+        "design of the starts that had finished; a design that fails a check, with its failures (the "
+        "exit status stays 3)",
     )
     design.set_defaults(handler=handle)
 
 
 def handle(args: argparse.Namespace) -> int:
-    """Solve, (pick stock springs,) save atomically and print the report; 130 when Ctrl-C stops the solve."""
+    """Solve, (pick stock springs,) print the report and save atomically; 3 (nothing saved without
+    ``--partial``) when the design fails a check, 130 when Ctrl-C stops the solve."""
     out = Path(args.out)
     check_output(out)
     parts = None
     if args.stock is not None:  # a bad catalogue fails before the solve
         parts = read_catalogue(args.stock)
     config = load_config(args.config)
+    for flag in beyond_joint_limits(config.problem.mechanism, config.problem.base_workspace.joint_values):
+        print(f"{PROG}: warning: {flag.message}", file=sys.stderr)
     progress = False if args.quiet else None
     overrides = {"starts": args.starts, "seed": args.seed, "method": args.method, "workers": args.workers}
     try:
         result = solve(config, **overrides, progress=progress, stock=parts)
     except Interrupted as stop:
         return _interrupted(stop, out, args.partial)
-    selection = result.stock
-    _save_design(result, out, selection, args.stock)
+    failures = result.failures()
+    if failures and args.partial:
+        result.partial = f"it fails {len(failures)} check(s): {', '.join(sorted({f.kind for f in failures}))}"
+    saved = not failures or args.partial
+    if saved:
+        _save_design(result, out, result.stock, args.stock)
     if not args.quiet:
         print(result.table())
-        if selection is not None:
-            print(f"\n{selection.summary()}")
-        print(f"\ndesign saved to {out}")
-    return 0
+        if result.stock is not None:
+            print(f"\n{result.stock.summary()}")
+        print(_saved_line(out, saved, bool(failures)))
+    print_failures(failures)
+    if failures:
+        print(
+            f"{PROG}: the design fails {len(failures)} check(s); "
+            + (
+                f"saved to {out} marked partial" if saved else f"nothing saved ({out} is unchanged; --partial saves it)"
+            ),
+            file=sys.stderr,
+        )
+    return outcome(failures)
+
+
+def _saved_line(out: Path, saved: bool, failed: bool) -> str:
+    """The report's last line: where the design went."""
+    if not saved:
+        return f"\nthe design fails a check: not saved ({out} is unchanged; --partial saves it)"
+    return f"\ndesign saved to {out}" + (" (partial: it fails the checks listed above)" if failed else "")
 
 
 def _interrupted(stop: Interrupted, out: Path, partial: bool) -> int:
@@ -105,10 +138,11 @@ def _interrupted(stop: Interrupted, out: Path, partial: bool) -> int:
             method="interrupted",
             seed=None,
             status=f"{stop} (the best design so far, saved with --partial)",
+            partial=f"interrupted: {stop}",
         )
         _save_design(result, out)
     print(interrupted_message(stop, out, partial), file=sys.stderr)
-    return 130
+    return INTERRUPTED
 
 
 def _save_design(

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 
 from springbalance.cli.inputs import load_result
+from springbalance.cli.outcome import outcome, print_failures
 
 
 def add_parser(commands: argparse._SubParsersAction, common: argparse.ArgumentParser) -> None:
@@ -14,7 +15,8 @@ def add_parser(commands: argparse._SubParsersAction, common: argparse.ArgumentPa
         parents=[common],
         help="print the report of a saved design",
         description="Load a design saved by 'springbalance design' and print its report, on the "
-        "workspace it was designed on or on another one.",
+        "workspace it was designed on or on another one. Exits with 3 when the design fails a check "
+        "(or was saved with --partial).",
     )
     evaluate.add_argument("design", metavar="DESIGN.json", help="design file written by 'springbalance design'")
     evaluate.add_argument(
@@ -28,7 +30,10 @@ def add_parser(commands: argparse._SubParsersAction, common: argparse.ArgumentPa
 
 
 def handle(args: argparse.Namespace) -> int:
-    """Print the design's table (variables, springs, residual torque [N·m], metrics)."""
+    """Print the design's table (variables, springs, residual torque [N·m], metrics, findings); 3, with one
+    line per failure on stderr, when the design fails a check or was saved partial."""
     result = load_result(args.design, args.workspace)
     print(result.table())
-    return 0
+    failures = result.failures()
+    print_failures(failures)
+    return outcome(failures)

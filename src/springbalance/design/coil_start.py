@@ -9,7 +9,9 @@ twin's rate and comes closest to its free length (extension: ``d (n + 1) + 2 (D 
 within the index range and the envelope, with the initial tension clipped into the band that
 can be wound at that index. The twin is solved to a relative cost change of
 :data:`TWIN_TOLERANCE` only. The result is a design vector of the real problem (anchors from
-the twin) for the solver's first start; the rules themselves are the solver's job.
+the twin) for the solver's first start; the rules themselves are the solver's job. :func:`ideal_twin_start` also
+returns what the twin achieved (:class:`~springbalance.design.twin.TwinRecord`), the reference a report
+compares the finished coils with.
 """
 
 from __future__ import annotations
@@ -21,6 +23,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from springbalance.design.solvers import solve_problem
+from springbalance.design.twin import TwinRecord, twin_record
 from springbalance.errors import SolverError
 from springbalance.springs.laws import Spring
 from springbalance.springs.laws.coil import HelicalCoilSpring
@@ -57,38 +60,44 @@ def coil_start(problem: DesignProblem, **solve_options: Any) -> np.ndarray | Non
     return None if start is None else start.starts[0]
 
 
+#: what a coil problem's twin is, in the words of its :class:`~springbalance.design.twin.TwinRecord`
+TWIN_SOURCE = "the same anchors with ideal springs in place of the coils"
+#: the same for a problem with a routed coil (whose twin keeps the coil's path and cable)
+ROUTED_TWIN_SOURCE = "the same paths and cables with ideal springs in place of the coils"
+
+
 @dataclasses.dataclass(frozen=True)
 class TwinStart:
     """Where the coils start: the ideal twin's designs wound into coils.
 
     Attributes:
         starts: design vectors of the problem (rows, best first).
-        twin: the twin problem (every free coil replaced by the ideal law of its kind).
-        twin_x: the twin's optimum before any fit to the arm [physical units of ``twin``].
+        twin: the twin problem (every free coil replaced by the ideal law of its kind, a routed coil with its
+            path and cable).
+        twin_x: the twin's optimum [physical units of ``twin``].
+        record: the :class:`~springbalance.design.twin.TwinRecord` of that optimum.
     """
 
     starts: np.ndarray
     twin: DesignProblem
     twin_x: np.ndarray
+    record: TwinRecord
 
 
 def coil_starts(problem: DesignProblem, count: int, **solve_options: Any) -> TwinStart | None:
     """Up to ``count`` design vectors of ``problem`` to start from (rows, best first): the twin's distinct
     feasible starts, best first, each with its coils wound for its laws (see the module docstring). None when
-    the twin fails. The twin's multi-start finds several basins (anchor layouts); the coil solve starts in each
-    of them rather than at Sobol points of the coils' variables, most of which are far from any useful coil."""
+    the problem has no free coil or the twin fails. The twin's multi-start finds several basins (anchor
+    layouts); the coil solve starts in each of them rather than at Sobol points of the coils' variables, most
+    of which are far from any useful coil."""
     coils = coil_springs(problem)
     if not coils:
         return None
-    twins = [
-        _twin(spring) if isinstance(spring, HelicalCoilSpring) and spring in coils else spring
-        for spring in problem.springs
-    ]
-    twin = problem.with_springs(twins, no_joint_worse=False)
+    twin = _twin_problem(problem, coils)
+    # only a first guess: winding the coils moves the design far more than this fraction of its cost
+    options = {**solve_options, "tolerance": max(solve_options.get("tolerance", 0.0), TWIN_TOLERANCE)}
     try:
-        # only a first guess: winding the coils moves the design far more than this fraction of its cost
-        tolerance = max(solve_options.get("tolerance", 0.0), TWIN_TOLERANCE)
-        found = solve_problem(twin, **{**solve_options, "tolerance": tolerance})
+        found = solve_problem(twin, **options)
     except SolverError:
         return None
     designs = [np.asarray(found.x, dtype=float)]
@@ -99,7 +108,8 @@ def coil_starts(problem: DesignProblem, count: int, **solve_options: Any) -> Twi
         if not any(np.allclose(candidate, design, rtol=1e-6, atol=1e-9) for design in designs):
             designs.append(candidate)
     starts = np.array([_wound(problem, twin, coils, design) for design in designs[:count]])
-    return TwinStart(starts, twin, np.asarray(found.x, dtype=float))
+    source = ROUTED_TWIN_SOURCE if any(getattr(coil, "routed", False) for coil in coils) else TWIN_SOURCE
+    return TwinStart(starts, twin, np.asarray(found.x, dtype=float), twin_record(twin, found.x, source))
 
 
 def _wound(problem: DesignProblem, twin: DesignProblem, coils: list[HelicalCoilSpring], x: np.ndarray) -> np.ndarray:
@@ -121,19 +131,29 @@ def _wound(problem: DesignProblem, twin: DesignProblem, coils: list[HelicalCoilS
     return np.clip(design, lower, upper)
 
 
+def _twin_problem(problem: DesignProblem, coils: list[HelicalCoilSpring]) -> DesignProblem:
+    """``problem`` with each of ``coils`` replaced by its ideal twin (:func:`_twin`), without
+    ``no_joint_worse``."""
+    twins = [_twin(spring) if spring in coils else spring for spring in problem.springs]
+    return problem.with_springs(twins, no_joint_worse=False)
+
+
 def _bounds(spring: Spring, key: str) -> tuple[float, float]:
     value = spring.parameters[key]
     return (float(value.lower), float(value.upper)) if isinstance(value, Free) else (float(value), float(value))
 
 
 def _twin(coil: HelicalCoilSpring) -> ExtensionSpring | CompressionSpring:
-    """The ideal law of the coil's kind, with the coil's anchors and limits, over generous ranges."""
+    """The ideal law of the coil's kind, with the coil's anchors and limits, over generous ranges; a routed
+    coil's twin keeps its pulleys and cable length (a twin between the path's ends alone removes nothing)."""
     d_low, d_high = _bounds(coil, "wire_diameter")
     D_low, D_high = _bounds(coil, "mean_diameter")
     n_low, n_high = _bounds(coil, "active_coils")
     G = coil.material.shear_modulus
     stiffest = G * d_high**4 / (8 * max(D_low, coil.index_range[0] * d_high) ** 3 * n_low)  # [N/m]
     options = {key: getattr(coil, key) for key in ("max_force", "max_length", "min_length")}
+    if getattr(coil, "routed", False):
+        options.update(via=coil.via, cable_length=coil.parameters["cable_length"])
     if coil.kind == "extension":
         assert isinstance(coil, HelicalExtensionSpring)  # the helical law of kind "extension"
         low, high = _bounds(coil, "initial_tension")

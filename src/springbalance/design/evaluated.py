@@ -25,6 +25,7 @@ from springbalance.design.solvers import StartRecord
 from springbalance.design.spring_mass import SpringMass, spring_mass
 from springbalance.design.standard_wire import WireRounding
 from springbalance.design.stock import StockSelection
+from springbalance.design.twin import TwinRecord
 from springbalance.design.verification_record import VerificationRecord
 from springbalance.errors import InputError
 from springbalance.model.workspace import Workspace
@@ -57,6 +58,9 @@ class EvaluatedDesign:
         x: design vector in physical units (names in ``problem.variables.names``).
         starts: per-start records of the multi-start (empty when not optimised).
         status: the solver status of the chosen start.
+        twin: what the design's ideal twin achieved (:mod:`springbalance.design.twin`), or None.
+        partial: why the design was kept although it is not a finished one (saved with ``--partial``:
+            interrupted, or failing a check), or None for a finished design.
     """
 
     def __init__(
@@ -71,6 +75,8 @@ class EvaluatedDesign:
         fit: FitRecord | None = None,
         stock: StockSelection | None = None,
         verification: VerificationRecord | None = None,
+        twin: TwinRecord | None = None,
+        partial: str | None = None,
     ) -> None:
         self.problem = problem
         self.x = np.asarray(x, dtype=float)
@@ -84,6 +90,10 @@ class EvaluatedDesign:
         self.stock = stock
         #: what verifying the design at poses it was not optimised on found (None when not verified)
         self.verification = verification
+        #: what the ideal twin achieved (None when the design has no twin)
+        self.twin = twin
+        #: why this design was saved unfinished (``--partial``), or None
+        self.partial = partial
         self.evaluation = problem.evaluate(self.x)
 
     # ---------------------------------------------------------------- values

@@ -18,6 +18,7 @@ from typing import Sequence
 from springbalance.design.problem import DesignProblem
 from springbalance.design.solvers import Solution
 from springbalance.design.stock import StockPart, StockSelection
+from springbalance.design.twin import twin_record
 from springbalance.design.verification_loop import check_mode, verify_and_resolve
 from springbalance.design.verification_record import VerificationRecord
 from springbalance.errors import InputError
@@ -26,6 +27,8 @@ from springbalance.pipeline.state import ConfiguredProblem, SolveOptions
 from springbalance.pipeline.stock import select_stock
 from springbalance.results.result import DesignResult
 
+#: what the twin of a stock design is (without coils or a fit to the arm), in the words of its record
+STOCK_TWIN_SOURCE = "the continuous design before the stock parts were chosen"
 #: starts of each stock candidate's solve: the warm start at the continuous design plus one Sobol start
 STOCK_STARTS = 2
 
@@ -73,6 +76,11 @@ def solve(
             worst poses added where a rule fails there, ``"report"`` only reports, ``"off"`` skips it.
             The result's ``verification`` is its record (of the stock design, reported only, with ``stock``).
 
+    Returns:
+        The design, also when it fails a check (an unconverged fit to the arm, a spring overlapping a
+        link, a coil that cannot be wound, ...): ``result.ok`` is then False and ``result.failures()``
+        says why (:mod:`springbalance.results.flags`). Its ``twin`` records what the ideal twin achieved.
+
     Raises:
         SolverError: no start gives a feasible design (or no stock part fits a spring).
         Interrupted: Ctrl-C; it carries the starts that had finished and the best design so far.
@@ -97,7 +105,12 @@ def solve(
     if stock is None:
         return result
     # the problem as the steps left it (with the rows of the fit), as the parts are fitted to the arm the same way
-    selection = _select_stock(result.problem, result, stock, options)
+    return _stocked(result, _select_stock(result.problem, result, stock, options), options)
+
+
+def _stocked(result: DesignResult, selection: StockSelection, options: SolveOptions) -> DesignResult:
+    """The stock design of ``selection`` for the continuous design ``result``; its twin is ``result``'s
+    ideal twin, else the continuous design that the parts replace."""
     stocked = selection.result
     return DesignResult(
         stocked.problem,
@@ -110,6 +123,7 @@ def solve(
         fit=stocked.fit,
         stock=selection,
         verification=_verified(stocked, options),
+        twin=result.twin or twin_record(result.problem, result.x, STOCK_TWIN_SOURCE),
     )
 
 

@@ -31,6 +31,7 @@ def run_steps(problem: DesignProblem, options: SolveOptions) -> DesignResult:
         wire_rounding=state.wire_rounding,
         fit=state.fit,
         verification=state.verification,
+        twin=state.twin,
     )
 
 

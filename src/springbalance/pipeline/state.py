@@ -19,6 +19,7 @@ from springbalance.design.clearance import FitRecord
 from springbalance.design.problem import DesignProblem
 from springbalance.design.solvers import Solution
 from springbalance.design.standard_wire import WireRounding
+from springbalance.design.twin import TwinRecord
 from springbalance.design.verification_record import VerificationRecord
 from springbalance.errors import InputError
 
@@ -99,6 +100,8 @@ class SolveState:
         fit: what fitting the springs to the arm did (None when not asked for).
         wire_rounding: what rounding the coils' wires cost (None when nothing was rounded).
         verification: what verifying the design at unseen poses found (None when not verified).
+        twin: what the ideal twin achieved (the coils' ideal twin, else the optimum before the fit to the
+            arm; None for a problem that has neither coils nor clearance or mountings).
     """
 
     problem: DesignProblem
@@ -108,6 +111,7 @@ class SolveState:
     fit: FitRecord | None = None
     wire_rounding: WireRounding | None = None
     verification: VerificationRecord | None = None
+    twin: TwinRecord | None = None
 
     @property
     def solved(self) -> Solution:

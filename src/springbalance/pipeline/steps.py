@@ -4,12 +4,13 @@ Each step is a function ``SolveState -> SolveState`` that does nothing when its 
 is absent:
 
 1. :func:`first_guess`: helical coils start from the ideal twin's optima, wound into coils
-   (:mod:`springbalance.design.coil_start`);
+   (:mod:`springbalance.design.coil_start`); the twin's record (:mod:`springbalance.design.twin`) is kept;
 2. :func:`mount_rows`: anchors mounted ``on: collision`` start on their surface planes, linearised at
    the first guess (:mod:`springbalance.design.clearance_rows`);
 3. :func:`multi_start`: every start, then the polish of the best (:mod:`springbalance.design.solvers`);
 4. :func:`fit_to_arm`: clearance from the links and mountings, by linearised rows refreshed until a
-   check finds no violation (:mod:`springbalance.design.clearance_fit`);
+   check finds no violation (:mod:`springbalance.design.clearance_fit`); without a coil twin, the
+   multi-start's optimum before the fit is the twin;
 5. :func:`round_wires`: every coil's free wire to the preferred series, the rest re-optimised
    (:mod:`springbalance.design.standard_wire`);
 6. :func:`verify`: every rule, the residual and the clearance at 10× as many unseen poses; where a rule
@@ -25,12 +26,17 @@ from typing import Callable
 
 from springbalance.design import clearance_fit, clearance_rows, coil_start, standard_wire, verification_loop
 from springbalance.design.solvers import solve_problem
+from springbalance.design.twin import twin_record
 from springbalance.errors import Interrupted
 from springbalance.pipeline.state import SolveState
 
+#: what the twin of a problem fitted to the arm is (without coils), in the words of its record
+FIT_TWIN_SOURCE = "the multi-start's optimum before the fit to the arm (no clearance rows)"
+
 
 def first_guess(state: SolveState) -> SolveState:
-    """Coils: the first starts from the ideal twin's distinct optima, wound into coils (None when the twin fails)."""
+    """Coils: the first starts from the ideal twin's distinct optima, wound into coils, and the twin's record
+    (nothing when the twin fails)."""
     problem, options = state.problem, state.options
     if not coil_start.coil_springs(problem):
         return state
@@ -53,7 +59,7 @@ def first_guess(state: SolveState) -> SolveState:
         ) from None
     if start is None:
         return state
-    return state.but(initial=start.starts)
+    return state.but(initial=start.starts, twin=start.record)
 
 
 def mount_rows(state: SolveState) -> SolveState:
@@ -83,9 +89,10 @@ def fit_to_arm(state: SolveState) -> SolveState:
     problem = state.problem
     if problem.clearance is None and not problem.mounts:
         return state
+    twin = state.twin or twin_record(problem, state.solved.x, FIT_TWIN_SOURCE)
     with _interrupted_after_starts(state, "fitting the springs to the arm"):
         solution, fit, problem = clearance_fit.fit_from_starts(problem, state.solved, **state.options.solver_options())
-    return state.but(problem=problem, solution=solution, fit=fit)
+    return state.but(problem=problem, solution=solution, fit=fit, twin=twin)
 
 
 def round_wires(state: SolveState) -> SolveState:

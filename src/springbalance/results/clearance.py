@@ -18,6 +18,9 @@ For mesh collision geometry coal measures to the triangle surface: an overlap re
 small negative depth, and a capsule lying wholly inside a closed mesh, touching none of its
 triangles, is not seen. Box, cylinder, sphere and capsule shapes give exact signed distances.
 
+:func:`checked_clearance` is the check the reports and the ``overlap`` failure
+(:mod:`springbalance.results.failure_flags`) share: computed once per design object and design vector.
+
 This is the independent check of a finished design. The optimisation's own clearance
 constraint (:mod:`springbalance.design.clearance`) is linearised from the same distances.
 """
@@ -25,6 +28,7 @@ constraint (:mod:`springbalance.design.clearance`) is linearised from the same d
 from __future__ import annotations
 
 import dataclasses
+import weakref
 from typing import Any, Iterable
 
 import numpy as np
@@ -245,6 +249,28 @@ def clearance(
         skipped=skipped,
         joint_units={joint.name: joint.unit for joint in mechanism.joints},
     )
+
+
+#: design → (its design vector's bytes, its check) of :func:`checked_clearance`
+_CHECKED: weakref.WeakKeyDictionary[EvaluatedDesign, tuple[bytes, ClearanceReport | None]] = weakref.WeakKeyDictionary()
+
+
+def checked_clearance(result: EvaluatedDesign) -> ClearanceReport | None:
+    """The clearance check of ``result`` over its workspace's poses (:func:`clearance` with the problem's
+    options) when its arm's URDF has collision geometry; None when it has none (or the mechanism has no
+    URDF): nothing to check. Computed once per design object (again when its ``x`` changes)."""
+    key = np.asarray(result.x, dtype=float).tobytes()
+    cached = _CHECKED.get(result)
+    if cached is not None and cached[0] == key:
+        return cached[1]
+    try:
+        geometry = collision_geometry(result.problem.mechanism)
+    except InputError:
+        report = None
+    else:
+        report = clearance(result, geometry=geometry)
+    _CHECKED[result] = (key, report)
+    return report
 
 
 def _checked_options(

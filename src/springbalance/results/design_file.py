@@ -66,6 +66,10 @@ def check_design_record(record: dict[str, Any], label: str) -> None:
         raise InputError(f"{label}: objective: expected a name, got {_shown(record['objective'])}")
     _check_weights_springs_variables(record, label)
     _check_solver(record.get("solver", {}), label)
+    if "partial" in record and not isinstance(record["partial"], bool):
+        raise InputError(f"{label}: partial: expected true or false, got {_shown(record['partial'])}")
+    if "partial_reason" in record and not isinstance(record["partial_reason"], str):
+        raise InputError(f"{label}: partial_reason: expected a string, got {_shown(record['partial_reason'])}")
     for key in ("scenarios", "clearance"):
         if record.get(key) is not None:
             _mapping(record[key], f"{label}: {key}")

@@ -1,15 +1,25 @@
-"""Warnings about a design: things a report should point out before the design is built.
+"""Findings about a design: failures (the design must not pass as fine) and warnings (things a report
+should point out before the design is built).
 
 :func:`flags` inspects a design (:class:`~springbalance.design.evaluated.EvaluatedDesign`) and returns one
-:class:`Flag` per finding. The kinds:
+:class:`~springbalance.results.flag.Flag` per finding, failures first; each has a ``severity``,
+``"failure"`` or ``"warning"``. :data:`CHECKS` lists the functions that find them (one per kind or
+two; a new kind is one more function there). The failures:
+
+- ``infeasible``, ``not_converged``, ``overlap``, ``partial``: see :mod:`springbalance.results.failure_flags`.
+- ``unbuildable``: a helical coil spring whose spec sheet fails a rule (stress, index, initial
+  tension, envelope, solid length, buckling); its ``reasons`` name every failed rule.
+- ``worse_joint`` on a joint of weight > 0: see below.
+
+The warnings:
 
 - ``at_bound``: a design variable ended at (within ``1e-6`` of its range of) one of its bounds,
   so the optimum probably lies beyond it; the hint says which bound to move and which way.
   Variables whose lower and upper bounds are equal are not variables and are skipped.
-- ``worse_joint``: a joint whose peak or RMS torque with the springs exceeds its torque
-  without them (gravity only, docs/model.md §4). Differences below ``1e-9`` of the largest
-  unbalanced peak are round-off, so a joint that gravity does not load is flagged only when
-  the springs load it by more than that.
+- ``worse_joint`` on a joint of weight 0 (a failure on a joint of weight > 0): a joint whose peak or
+  RMS torque with the springs exceeds its torque without them (gravity only, docs/model.md §4).
+  Differences below ``1e-9`` of the largest unbalanced peak are round-off, so a joint that gravity
+  does not load is flagged only when the springs load it by more than that.
 - ``law``: a spring whose real part departs from its idealised law somewhere in the workspace
   (slack, beyond its stroke, outside its length range or table), as reported by each law's
   ``law_warnings`` through :func:`springbalance.io.export.law_warnings`.
@@ -26,14 +36,16 @@
   :mod:`springbalance.design.verification`); one flag per rule.
 - ``inside_own_link`` (a warning): a two-point spring whose centre line runs inside its own anchor link
   beyond its anchor (:mod:`springbalance.results.own_link`; only with collision geometry).
+- ``weak_design``: see :mod:`springbalance.results.weak_design`.
+- ``beyond_joint_limits``, ``off_series_wire``: see :mod:`springbalance.results.range_flags`.
 
-The text report, ``report.html`` and ``design.json`` (key ``warnings``) all list them.
+The text report, ``report.html`` and ``design.json`` all list them, failures first (``design.json``:
+every finding under ``warnings``, the failures again under ``failures``).
 """
 
 from __future__ import annotations
 
-import dataclasses
-from typing import Any
+from typing import Callable
 
 import numpy as np
 
@@ -41,74 +53,53 @@ from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.design.problem import DesignProblem
 from springbalance.errors import InputError
 from springbalance.export.common import law_warnings, spring_name
+from springbalance.results.failure_flags import infeasible_flags, not_converged_flags, overlap_flags, partial_flags
+from springbalance.results.flag import FAILURE, WARNING, Flag, failures_first
 from springbalance.results.own_link import inside_own_link
+from springbalance.results.range_flags import beyond_joint_limits_flags, off_series_wire_flags
+from springbalance.results.rules import BOUND_TOLERANCE
 from springbalance.results.verification_report import margin_text, pose_text
+from springbalance.results.weak_design import weak_design_flags
 from springbalance.springs import CompressionSpring, ExtensionSpring, GasSpring
 from springbalance.springs.sizing import size_helical_spring
 
-#: a variable within this fraction of its range from a bound counts as at the bound
-BOUND_TOLERANCE = 1e-6
 #: torque differences below this fraction of the largest unbalanced peak are round-off
 TORQUE_TOLERANCE = 1e-9
 #: material of the helical springs that ``unbuildable_ideal`` tries (springs without a ``helical`` option)
 DEFAULT_MATERIAL = "music_wire"
 
-KINDS = (
-    "at_bound",
-    "worse_joint",
-    "law",
-    "unbuildable_ideal",
-    "unbuildable",
-    "heavy_springs",
-    "not_verified",
-    "inside_own_link",
-)
+#: the kinds of finding and their severity (``worse_joint``: a failure on a joint of weight > 0)
+KINDS = {
+    "infeasible": FAILURE,
+    "not_converged": FAILURE,
+    "unbuildable": FAILURE,
+    "overlap": FAILURE,
+    "partial": FAILURE,
+    "worse_joint": FAILURE,
+    "at_bound": WARNING,
+    "law": WARNING,
+    "unbuildable_ideal": WARNING,
+    "weak_design": WARNING,
+    "beyond_joint_limits": WARNING,
+    "off_series_wire": WARNING,
+    "heavy_springs": WARNING,
+    "not_verified": FAILURE,
+    "inside_own_link": WARNING,
+}
 #: ``heavy_springs``: the springs are heavy above this fraction of the arm's moving mass [1] ...
 HEAVY_ARM_FRACTION = 0.10
 #: ... or above this multiple of the floor of the coils that balance the arm exactly [1]
 HEAVY_FLOOR_RATIO = 4.0
 
 
-@dataclasses.dataclass(frozen=True)
-class Flag:
-    """One warning about a design.
-
-    Attributes:
-        kind: ``at_bound``, ``worse_joint``, ``law``, ``unbuildable_ideal`` or ``unbuildable``.
-        subject: what it is about: a design variable, a joint or a spring name.
-        message: what was found, with the numbers.
-        hint: what to change, or None.
-    """
-
-    kind: str
-    subject: str
-    message: str
-    hint: str | None = None
-
-    def to_dict(self) -> dict[str, Any]:
-        """``{kind, subject, message, hint?}`` (the record in ``design.json``'s ``warnings``)."""
-        record = {"kind": self.kind, "subject": self.subject, "message": self.message}
-        if self.hint:
-            record["hint"] = self.hint
-        return record
-
-    def __str__(self) -> str:
-        return f"[{self.kind}] {self.message}" + (f" (hint: {self.hint})" if self.hint else "")
-
-
 def flags(result: EvaluatedDesign) -> list[Flag]:
-    """Every warning about ``result``, in the order at_bound, worse_joint, law, unbuildable_ideal, unbuildable,
-    not_verified, inside_own_link."""
-    return (
-        at_bound_flags(result)
-        + worse_joint_flags(result)
-        + law_flags(result)
-        + unbuildable_flags(result)
-        + unbuildable_coil_flags(result)
-        + heavy_springs_flags(result)
-        + not_verified_flags(result)
-        + inside_own_link_flags(result)
-    )
+    """Every finding about ``result``: the flags of each of :data:`CHECKS`, failures first."""
+    return failures_first(flag for check in CHECKS for flag in check(result))
+
+
+def failures(result: EvaluatedDesign) -> list[Flag]:
+    """The failures among :func:`flags` (empty: the design passes)."""
+    return [flag for flag in flags(result) if flag.failure]
 
 
 # ---------------------------------------------------------------------- at_bound
@@ -160,7 +151,8 @@ def at_bound_flags(result: EvaluatedDesign, tolerance: float = BOUND_TOLERANCE) 
 
 # ---------------------------------------------------------------------- worse_joint
 def worse_joint_flags(result: EvaluatedDesign, tolerance: float = TORQUE_TOLERANCE) -> list[Flag]:
-    """Joints whose peak or RMS torque is larger with the springs than without them."""
+    """Joints whose peak or RMS torque is larger with the springs than without them: a failure on a joint of
+    weight > 0 (the design was asked to balance it), a warning on one of weight 0."""
     rows = result.metrics()["joints"]
     largest = max((row["peak_before"] for row in rows), default=0.0)
     if not largest > 0:  # gravity loads no joint: compare with what the springs leave
@@ -183,14 +175,15 @@ def worse_joint_flags(result: EvaluatedDesign, tolerance: float = TORQUE_TOLERAN
             if label in worse
         ]
         message = f"joint {row['joint']} carries more torque with the springs than without: " + "; ".join(parts)
-        if weights.get(row["joint"], 1.0) == 0:
+        weighted = weights.get(row["joint"], 1.0) > 0
+        if not weighted:
             hint = (
                 f"{row['joint']} has weight 0, so the objective ignores it: give it a weight > 0, or move the "
                 "springs that act across it"
             )
         else:
             hint = f"move or soften the springs that act across {row['joint']}, or raise its weight in the objective"
-        found.append(Flag("worse_joint", row["joint"], message, hint))
+        found.append(Flag("worse_joint", row["joint"], message, hint, FAILURE if weighted else WARNING))
     return found
 
 
@@ -288,6 +281,7 @@ def unbuildable_coil_flags(result: EvaluatedDesign) -> list[Flag]:
                     f"spring {record['name']!r} ({sheet['type']}) cannot be built: " + "; ".join(sheet["reasons"]),
                     "widen the coil's bounds (wire, coil diameter, coils, envelope) or move its anchors so "
                     "that it stretches less; more starts may find a feasible coil",
+                    FAILURE,
                 )
             )
     return found
@@ -336,6 +330,7 @@ def not_verified_flags(result: EvaluatedDesign) -> list[Flag]:
             f"{pose_text(rule.pose, units, rule.scenario)} (worst at the samples "
             f"{margin_text(rule.sampled, rule.unit)}; {record.poses} poses verified)",
             hint,
+            severity=FAILURE,
         )
         for rule in record.violated
     ]
@@ -347,6 +342,7 @@ def not_verified_flags(result: EvaluatedDesign) -> list[Flag]:
                 f"objective {record.objective} is {record.objective_dense:.4g} at unseen poses, "
                 f"{record.objective_sampled:.4g} at the samples",
                 hint,
+                severity=FAILURE,
             )
         )
     return found
@@ -367,3 +363,23 @@ def inside_own_link_flags(result: EvaluatedDesign) -> list[Flag]:
         )
         for found in inside_own_link(result)
     ]
+
+
+#: the checks :func:`flags` runs, in order; each takes a design and returns its flags
+CHECKS: tuple[Callable[[EvaluatedDesign], list[Flag]], ...] = (
+    partial_flags,
+    infeasible_flags,
+    not_converged_flags,
+    unbuildable_coil_flags,
+    overlap_flags,
+    not_verified_flags,
+    at_bound_flags,
+    worse_joint_flags,
+    law_flags,
+    unbuildable_flags,
+    weak_design_flags,
+    beyond_joint_limits_flags,
+    off_series_wire_flags,
+    heavy_springs_flags,
+    inside_own_link_flags,
+)

@@ -28,8 +28,9 @@ from springbalance._version import __version__
 from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.files import write_text_atomic
 from springbalance.results import plots
+from springbalance.results.clearance import checked_clearance
 from springbalance.results.flags import Flag, flags
-from springbalance.results.report import balance_statement, checked_clearance, spec_sheet_rows, spring_mass_statement
+from springbalance.results.report import balance_statement, spec_sheet_rows, spring_mass_statement
 from springbalance.results.verification_report import verification_html
 from springbalance.viz.design_scene import DesignScene
 
@@ -152,7 +153,7 @@ def report_html(
     (:func:`springs_html`, :func:`spec_sheet_html`), the springs' mass, the torque and objective tables (:func:`torque_html`),
     the balance statement, the scenarios (:func:`scenarios_html`), the infeasibility, the clearance
     (:func:`clearance_html`), the verification (:func:`~springbalance.results.verification_report.verification_html`),
-    the warnings (:func:`warnings_html`) and the plots (:func:`plots_html`).
+    the failures and warnings (:func:`warnings_html`) and the plots (:func:`plots_html`).
     """
     metrics = result.metrics()
     e = html.escape
@@ -346,17 +347,30 @@ def clearance_html(result: EvaluatedDesign) -> list[str]:
 
 
 def warnings_html(flags: Sequence[Flag]) -> list[str]:
-    """The "Warnings" section: a table of kind, subject, message and hint, or "none"."""
+    """The findings: a "Failures" section first when there are failures (rows of class ``failure <kind>``),
+    then the "Warnings" section (rows of class ``warning <kind>``): tables of kind, subject, message and
+    hint, or "Warnings: none"."""
+    failed = [flag for flag in flags if flag.failure]
+    warned = [flag for flag in flags if not flag.failure]
+    parts: list[str] = []
+    if failed:
+        parts.append('<h2 id="failures">Failures</h2>')
+        parts.append(f"<p><b>This design does not pass:</b> {len(failed)} failure(s).</p>")
+        parts.extend(_flag_table(failed, "failure"))
+    parts.append('<h2 id="warnings">Warnings</h2>')
+    if not warned:
+        return parts + ["<p>Warnings: none.</p>"]
+    return parts + _flag_table(warned, "warning")
+
+
+def _flag_table(flags: Sequence[Flag], severity: str) -> list[str]:
     e = html.escape
-    if not flags:
-        return ['<h2 id="warnings">Warnings</h2>', "<p>Warnings: none.</p>"]
     parts = [
-        '<h2 id="warnings">Warnings</h2>',
-        "<table><tr><th class=l>kind</th><th class=l>subject</th><th class=l>finding</th><th class=l>hint</th></tr>",
+        "<table><tr><th class=l>kind</th><th class=l>subject</th><th class=l>finding</th><th class=l>hint</th></tr>"
     ]
     for flag in flags:
         parts.append(
-            f'<tr class="warning {e(flag.kind)}"><td class=l><code>{e(flag.kind)}</code></td>'
+            f'<tr class="{severity} {e(flag.kind)}"><td class=l><code>{e(flag.kind)}</code></td>'
             f"<td class=l>{e(flag.subject)}</td><td class=l>{e(flag.message)}</td>"
             f"<td class=l>{e(flag.hint or '')}</td></tr>"
         )

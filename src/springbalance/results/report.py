@@ -1,5 +1,5 @@
 """Plain-text tables of a design (:class:`~springbalance.design.evaluated.EvaluatedDesign`): springs, per-joint
-torques, objectives, clearance and warnings."""
+torques, objectives, clearance, failures and warnings."""
 
 from __future__ import annotations
 
@@ -12,9 +12,7 @@ from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.design.solvers import FEASIBILITY_TOLERANCE
 from springbalance.design.spring_mass import SpringMass
 from springbalance.design.standard_wire import WireRounding
-from springbalance.errors import InputError
-from springbalance.model.collision import collision_geometry
-from springbalance.results.clearance import ClearanceReport, clearance
+from springbalance.results.clearance import checked_clearance
 from springbalance.results.flags import Flag, flags
 from springbalance.results.verification_report import verification_lines
 from springbalance.springs.laws import Spring
@@ -27,8 +25,8 @@ def result_table(result: EvaluatedDesign) -> str:
     rounding the wires and fitting to the arm cost (:func:`wire_rounding_lines`, :func:`fit_lines`), the
     helical sizing (:func:`helical_sizing_lines`), the springs' mass (:func:`spring_mass_lines`), the torque and
     objective tables (:func:`torque_lines`), the balance statement, the scenarios, the clearance table, the
-    verification at unseen poses (:func:`~springbalance.results.verification_report.verification_lines`) and the
-    warnings.
+    verification at unseen poses (:func:`~springbalance.results.verification_report.verification_lines`), the
+    failures and the warnings (:func:`warning_lines`).
     """
     metrics = result.metrics()
     problem = result.problem
@@ -261,16 +259,6 @@ def spec_sheet_lines(sheet: dict[str, Any]) -> list[str]:
     return lines
 
 
-def checked_clearance(result: EvaluatedDesign) -> ClearanceReport | None:
-    """The clearance check of ``result`` (:mod:`springbalance.results.clearance`) when its arm's URDF
-    has collision geometry; None when it has none (or the mechanism has no URDF): nothing to check."""
-    try:
-        geometry = collision_geometry(result.problem.mechanism)
-    except InputError:
-        return None
-    return clearance(result, geometry=geometry)
-
-
 def clearance_section(result: EvaluatedDesign) -> list[str]:
     """The clearance table of the text report (empty without collision geometry)."""
     report = checked_clearance(result)
@@ -278,10 +266,23 @@ def clearance_section(result: EvaluatedDesign) -> list[str]:
 
 
 def warning_lines(flags: Sequence[Flag]) -> list[str]:
-    """The "Warnings" section: one entry per flag (kind, message, hint), or "Warnings: none"."""
-    if not flags:
-        return ["Warnings: none"]
-    lines = [f"Warnings ({len(flags)})"]
+    """The findings: a "Failures (n)" section first when there are failures, then "Warnings (n)", one
+    entry per flag (kind, message, hint); "Warnings: none" when there is no warning."""
+    lines: list[str] = []
+    failed = [flag for flag in flags if flag.failure]
+    warned = [flag for flag in flags if not flag.failure]
+    if failed:
+        lines.append(f"Failures ({len(failed)}): this design does not pass")
+        lines.extend(_flag_lines(failed))
+        lines.append("")
+    if not warned:
+        return lines + ["Warnings: none"]
+    lines.append(f"Warnings ({len(warned)})")
+    return lines + _flag_lines(warned)
+
+
+def _flag_lines(flags: Sequence[Flag]) -> list[str]:
+    lines = []
     for flag in flags:
         lines.append(f"  [{flag.kind}] {flag.message}")
         if flag.hint:

@@ -20,6 +20,7 @@ from springbalance.design.clearance import FitRecord
 from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.design.objectives import OBJECTIVES
 from springbalance.design.problem import DesignProblem
+from springbalance.design.twin import TwinRecord
 from springbalance.design.verification_record import VerificationRecord
 from springbalance.errors import InputError
 from springbalance.export.common import ExportReport
@@ -54,10 +55,21 @@ class DesignResult(EvaluatedDesign):
     """
 
     def warnings(self) -> list[Flag]:
-        """What a report should point out: variables at a bound, joints made worse, springs that
-        leave their law, ideal coil springs no helical spring can realise. See
-        :func:`springbalance.results.flags.flags` for the kinds."""
+        """Every finding about the design, failures first: each :class:`~springbalance.results.flag.Flag`
+        has a ``severity``, ``"failure"`` or ``"warning"``. See :func:`springbalance.results.flags.flags`
+        for the kinds."""
         return flags(self)
+
+    def failures(self) -> list[Flag]:
+        """The findings that make the design fail (``severity == "failure"``): it breaks a constraint,
+        its solve or fit did not finish, a coil cannot be wound, a spring overlaps the arm, a weighted
+        joint is worse, or it was saved unfinished. Empty for a design that passes."""
+        return [flag for flag in self.warnings() if flag.failure]
+
+    @property
+    def ok(self) -> bool:
+        """True when the design passes every check (:meth:`failures` is empty)."""
+        return not self.failures()
 
     def table(self) -> str:
         """Plain-text report: springs, per-joint torques before/after, objectives."""
@@ -134,12 +146,26 @@ class DesignResult(EvaluatedDesign):
                 **({"standard_wire": self.wire_rounding.to_dict()} if self.wire_rounding else {}),
                 **({"fit": self.fit.to_dict()} if self.fit else {}),
                 **({"verification": self.verification.to_dict()} if self.verification else {}),
+                **({"twin": self.twin.to_dict()} if self.twin else {}),
             },
             "metrics": self.metrics(),
             "spring_mass": self.spring_mass().to_dict(),
-            "warnings": [flag.to_dict() for flag in self.warnings()],
+            **self.findings_record(),
             **problem.scenarios_record(),
         }
+
+    def findings_record(self) -> dict[str, Any]:
+        """The findings as ``design.json`` keeps them: ``warnings`` (every finding, failures first, each
+        ``{kind, severity, subject, message, hint?}``), ``failures`` (the failures' records again), and,
+        for a design saved unfinished, ``partial`` (true) and ``partial_reason``."""
+        found = [flag.to_dict() for flag in self.warnings()]
+        record: dict[str, Any] = {
+            "warnings": found,
+            "failures": [entry for entry in found if entry["severity"] == "failure"],
+        }
+        if self.partial:
+            record.update(partial=True, partial_reason=self.partial)
+        return record
 
     def save(self, path: str | Path) -> Path:
         """Write the design as JSON (atomically: no half-written file on failure)."""
@@ -152,10 +178,13 @@ class DesignResult(EvaluatedDesign):
         """Read a design saved by :meth:`save`; values round-trip exactly.
 
         ``mechanism`` overrides the saved mechanism source; ``workspace`` evaluates the
-        design on other samples (of that mechanism).
+        design on other samples (of that mechanism; the twin's record, made for the design's own
+        samples, is then left out). A design saved with ``partial: true`` loads with its ``partial``
+        reason, so that it reports the ``partial`` failure again.
         """
         path = Path(path)
         label = f"design file {str(path)!r}"
+        own_workspace = workspace is None
         record = read_design_record(path)  # JSON without repeated keys, within the memory budget
         check_design_record(record, label)  # types and finite numbers, before anything uses them
         try:
@@ -191,6 +220,7 @@ class DesignResult(EvaluatedDesign):
         except (TypeError, ValueError, AttributeError, IndexError) as error:  # a record damaged past the checks
             raise InputError(f"{label} is damaged: {' '.join(str(error).split())[:300]}") from None
         solver = record.get("solver", {})
+        partial = (record.get("partial_reason") or "saved as partial") if record.get("partial") else None
         return cls(
             problem,
             x,
@@ -199,6 +229,9 @@ class DesignResult(EvaluatedDesign):
             status=solver.get("status", "loaded"),
             fit=FitRecord.from_dict(solver.get("fit")),
             verification=VerificationRecord.from_dict(solver.get("verification")),
+            # the twin was solved on the design's own workspace: no reference on another one
+            twin=TwinRecord.from_dict(solver.get("twin")) if own_workspace else None,
+            partial=partial,
         )
 
     def __repr__(self) -> str:

@@ -1,0 +1,173 @@
+"""Honest outcomes of the command line: a design that fails a check exits with 3 (springbalance.cli.outcome),
+prints its report and one line per failure on stderr, and is saved only with ``--partial`` (marked
+``"partial": true``); ``evaluate`` of such a file exits with 3 too; a design that passes exits with 0.
+
+The failing design: urdf/two_link_planar_collision.urdf (link1's collision box 0.5 × 0.04 × 0.04 m along x
+from its joint) with one zero-free-length spring from (0.25, 0, −0.1) on the ground to (0.2, 0, 0.1) on
+link2. Near the pose (0, 0) link2's point is at (0.7, 0, 0.1), and the spring's line crosses z = 0 at
+x = 0.25 + 0.45 · 0.1/0.2 = 0.475 m, inside link1's box: whatever its stiffness, it overlaps link1 at every
+pose of the ±10° workspace. Only its stiffness is free.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+import springbalance as sb
+from springbalance.cli import main
+from springbalance.results.result import DesignResult
+
+ROOT = Path(__file__).resolve().parents[1]
+
+THROUGH = {
+    "mechanism": {"urdf": str(ROOT / "urdf" / "two_link_planar_collision.urdf")},
+    "workspace": {
+        "kind": "sobol",
+        "n": 32,
+        "seed": 0,
+        "degrees": True,
+        "ranges": {"shoulder": [-10, 10], "elbow": [-10, 10]},
+    },
+    "springs": [
+        {
+            "name": "through",
+            "type": "zero_free_length",
+            "a": {"body": "universe", "point": [0.25, 0, -0.1]},
+            "b": {"body": "link2", "point": [0.2, 0, 0.1]},
+            "stiffness": {"lower": 0, "upper": 1000},
+        }
+    ],
+    "solve": {"starts": 1, "seed": 0},
+}
+
+
+def _config(tmp_path: Path, record: dict, name: str = "config.yaml") -> Path:
+    path = tmp_path / name
+    path.write_text(yaml.safe_dump(record, sort_keys=False))
+    return path
+
+
+def _failure_lines(err: str) -> list[str]:
+    return [line for line in err.splitlines() if line.startswith("springbalance: failure: ")]
+
+
+def test_a_failing_design_exits_3_prints_its_failures_and_saves_nothing(tmp_path, capsys):
+    out = tmp_path / "design.json"
+    assert main(["design", str(_config(tmp_path, THROUGH)), "--out", str(out)]) == 3
+    captured = capsys.readouterr()
+    assert not out.exists() and not list(tmp_path.glob(".design.json*"))
+    # the report is printed, with the failures under their own heading before the warnings
+    assert "Failures (1): this design does not pass" in captured.out and "[overlap]" in captured.out
+    assert "not saved" in captured.out
+    (line,) = _failure_lines(captured.err)
+    assert line.startswith("springbalance: failure: [overlap] spring 'through'") and "overlaps link link1" in line
+    assert "nothing saved" in captured.err.splitlines()[-1] and "--partial" in captured.err.splitlines()[-1]
+
+
+def test_an_existing_output_is_left_untouched_by_a_failing_design(tmp_path, capsys):
+    out = tmp_path / "design.json"
+    out.write_text("keep me")
+    assert main(["design", str(_config(tmp_path, THROUGH)), "--out", str(out), "--quiet"]) == 3
+    captured = capsys.readouterr()
+    assert out.read_text() == "keep me"
+    assert captured.out == ""  # --quiet: no report, but the failures still go to stderr
+    assert len(_failure_lines(captured.err)) == 1
+
+
+def test_partial_saves_a_marked_file_and_evaluate_exits_3(tmp_path, capsys):
+    out = tmp_path / "design.json"
+    assert main(["design", str(_config(tmp_path, THROUGH)), "--out", str(out), "--partial"]) == 3
+    captured = capsys.readouterr()
+    assert "design saved to" in captured.out and "partial" in captured.out
+    assert "[partial]" in captured.out  # the text says so
+    saved = json.loads(out.read_text())
+    assert saved["partial"] is True and "overlap" in saved["partial_reason"]
+    assert [record["kind"] for record in saved["failures"]] == ["partial", "overlap"]
+    assert all(record["severity"] == "failure" for record in saved["failures"])
+    assert saved["failures"] == [record for record in saved["warnings"] if record["severity"] == "failure"]
+    assert DesignResult.load(out).partial == saved["partial_reason"]
+
+    assert main(["evaluate", str(out)]) == 3
+    captured = capsys.readouterr()
+    assert "Failures (2)" in captured.out
+    assert [line.split("]")[0] for line in _failure_lines(captured.err)] == [
+        "springbalance: failure: [partial",
+        "springbalance: failure: [overlap",
+    ]
+
+
+def test_an_unconverged_fit_is_a_failure_of_the_command(tmp_path, capsys):
+    # asked to keep 5 mm from the arm in one round, with fixed anchors: the fit cannot move the spring
+    record = {**THROUGH, "clearance": {"margin": 0.005, "rounds": 1, "check_samples": 64}}
+    out = tmp_path / "design.json"
+    assert main(["design", str(_config(tmp_path, record)), "--out", str(out), "--quiet"]) == 3
+    kinds = {line.split("[")[1].split("]")[0] for line in _failure_lines(capsys.readouterr().err)}
+    assert {"not_converged", "overlap", "infeasible"} <= kinds
+    assert not out.exists()
+
+
+def test_evaluate_of_a_failing_design_exits_3(tmp_path, capsys):
+    # a design saved through the library (no --partial involved) that breaks its tension rows
+    mechanism = sb.Mechanism.from_urdf(ROOT / "urdf" / "single_link_r1.urdf")
+    spring = sb.ExtensionSpring(
+        sb.Anchor("universe", (0, 0, 0.16)), sb.Anchor("link1", (0, 0, 0.3)), "slack", stiffness=100.0, free_length=0.43
+    )
+    result = sb.DesignResult(sb.DesignProblem(mechanism, sb.Workspace.grid(mechanism, 31), [spring]), np.zeros(0))
+    path = result.save(tmp_path / "design.json")
+    assert main(["evaluate", str(path)]) == 3
+    captured = capsys.readouterr()
+    assert "INFEASIBLE" in captured.out
+    assert any(line.startswith("springbalance: failure: [infeasible]") for line in captured.err.splitlines())
+
+
+def test_a_workspace_beyond_the_joint_limits_is_warned_about_before_the_solve(tmp_path, capsys):
+    # urdf/two_link_planar.urdf's shoulder is limited to ±90°; the workspace asks ±100°
+    record = {
+        "mechanism": {"urdf": str(ROOT / "urdf" / "two_link_planar.urdf")},
+        "workspace": {
+            "kind": "sobol",
+            "n": 32,
+            "seed": 0,
+            "degrees": True,
+            "ranges": {"shoulder": [-100, 100], "elbow": [0, 0]},
+        },
+        "springs": [
+            {
+                "name": "s1",
+                "type": "extension",
+                "ideal": True,
+                "a": {"body": "universe", "point": [0, 0, 0.1]},
+                "b": {"body": "link1", "box": {"lower": [0.05, 0, 0], "upper": [0.5, 0, 0]}},
+                "stiffness": {"lower": 0, "upper": 10000},
+                "free_length": {"lower": 0.05, "upper": 1.0},
+            }
+        ],
+        "weights": {"elbow": 0.0},
+        "solve": {"starts": 1, "seed": 0},
+    }
+    out = tmp_path / "design.json"
+    code = main(["design", str(_config(tmp_path, record)), "--out", str(out), "--quiet"])
+    err = capsys.readouterr().err.splitlines()
+    assert err[0].startswith("springbalance: warning: the workspace takes joint shoulder over")
+    assert "beyond its URDF limits [-1.571, 1.571] rad ([-90.0°, 90.0°])" in err[0]
+    saved = json.loads(out.read_text()) if out.exists() else {}
+    assert code == 0 and saved["failures"] == []  # a warning: the design passes and is saved
+    assert [r["subject"] for r in saved["warnings"] if r["kind"] == "beyond_joint_limits"] == ["shoulder"]
+
+
+@pytest.mark.slow  # the demo's whole solve (about 5 s)
+def test_the_demo_passes_with_its_objective(tmp_path, capsys):
+    out = tmp_path / "design.json"
+    assert main(["design", str(ROOT / "examples" / "two_link.yaml"), "--out", str(out)]) == 0
+    captured = capsys.readouterr()
+    assert "Failures" not in captured.out and "springbalance: failure" not in captured.err
+    saved = json.loads(out.read_text())
+    assert saved["failures"] == [] and "partial" not in saved
+    assert saved["metrics"]["objectives"]["rms"]["after"] == pytest.approx(0.5022753637856906, abs=1e-9)
+    assert saved["solver"]["twin"]["objective"] < 1e-6  # the ideal twin balances the arm exactly
+    assert main(["evaluate", str(out)]) == 0
