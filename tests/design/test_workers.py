@@ -89,7 +89,8 @@ def test_design_problem_solve_passes_workers_to_the_solves_it_makes(arm, monkeyp
 
     def spy(problem, workers, tasks):
         chosen = original(problem, workers, tasks)
-        seen.append(chosen)
+        if tasks > 1:  # (a solve of one start, such as a verification's re-solve, runs here anyway)
+            seen.append(chosen)
         return chosen
 
     monkeypatch.setattr(multistart, "_pool_workers", spy)
