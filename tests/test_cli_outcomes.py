@@ -171,3 +171,23 @@ def test_the_demo_passes_with_its_objective(tmp_path, capsys):
     assert saved["metrics"]["objectives"]["rms"]["after"] == pytest.approx(0.5022753637856906, abs=1e-9)
     assert saved["solver"]["twin"]["objective"] < 1e-6  # the ideal twin balances the arm exactly
     assert main(["evaluate", str(out)]) == 0
+
+
+def test_design_verify_option_overrides_the_config(tmp_path):
+    """--verify off: no verification record in the saved design; --verify report: the record says so; an
+    unknown mode is argparse's usage error (exit 2)."""
+    root = Path(__file__).resolve().parents[1]
+    config = root / "examples" / "two_link.yaml"
+    out = tmp_path / "off.json"
+    status = main(["design", str(config), "--out", str(out), "--quiet", "--starts", "1", "--verify", "off"])
+    assert status == 0
+    assert "verification" not in json.loads(out.read_text())["solver"]
+    out = tmp_path / "report.json"
+    status = main(["design", str(config), "--out", str(out), "--quiet", "--starts", "1", "--verify", "report"])
+    if status == 0:
+        assert json.loads(out.read_text())["solver"]["verification"]["mode"] == "report"
+    else:  # a rule broken at unseen poses: reported, not re-solved, so the design fails and is not saved
+        assert status == 3 and not out.exists()
+    with pytest.raises(SystemExit) as usage:
+        main(["design", str(config), "--out", str(tmp_path / "x.json"), "--verify", "always"])
+    assert usage.value.code == 2

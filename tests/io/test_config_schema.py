@@ -274,3 +274,26 @@ def test_config_with_a_table_spring_loads(tmp_path):
     short_row = spring.replace("table: [[0.1, 40], ", "table: [[0.1], ")
     message = config_error(write(tmp_path, CONFIG[:start] + short_row + CONFIG[end:]))
     assert "springs[0] 'bungee'.table[0]: expected at least 2 items, got [0.1]" in message
+
+
+def test_the_solve_section_sets_the_verification_mode_and_refuses_an_unknown_one(tmp_path):
+    """solve.verify: "off" skips the verification (no record), "report" keeps the record without re-solving;
+    an unknown mode is a one-line error that names the key and the valid modes."""
+    import springbalance as sb
+    from springbalance.errors import ConfigError
+    from springbalance.io.config import load_config
+
+    text = (ROOT / "examples" / "two_link.yaml").read_text().replace("../urdf/", f"{ROOT}/urdf/")
+    for mode, expect_record in (("off", False), ("report", True)):
+        path = tmp_path / f"{mode}.yaml"
+        path.write_text(text.replace("solve: {starts: 4, seed: 0}", f"solve: {{starts: 1, seed: 0, verify: {mode}}}"))
+        config = load_config(path)
+        assert config.solve_options["verify"] == mode
+        result = sb.solve(config, progress=False)
+        assert (result.verification is not None) == expect_record
+        if expect_record:
+            assert result.verification.mode == "report" and result.verification.rounds == 0
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(text.replace("solve: {starts: 4, seed: 0}", "solve: {verify: always}"))
+    with pytest.raises(ConfigError, match=r"verify.*always.*resolve, report, off"):
+        load_config(bad)

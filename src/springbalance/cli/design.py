@@ -18,6 +18,7 @@ from springbalance.cli.inputs import check_output
 from springbalance.cli.outcome import INTERRUPTED, outcome, print_failures
 from springbalance.design.solvers import METHODS
 from springbalance.design.stock import StockSelection
+from springbalance.design.verification_loop import MODES as VERIFY_MODES
 from springbalance.errors import Interrupted
 from springbalance.files import write_json_atomic
 from springbalance.io.catalogue import read_catalogue
@@ -65,6 +66,13 @@ def add_parser(commands: argparse._SubParsersAction, common: argparse.ArgumentPa
         "number of cores); the design does not depend on it",
     )
     design.add_argument(
+        "--verify",
+        choices=VERIFY_MODES,
+        metavar="MODE",
+        help="the check at 10x as many unseen poses: %(choices)s (overrides solve.verify; default resolve: "
+        "re-solve with the worst poses added where a rule fails there)",
+    )
+    design.add_argument(
         "--stock",
         metavar="CATALOGUE.csv",
         help="then pick each extension and compression spring from this stock catalogue (CSV, "
@@ -93,7 +101,13 @@ def handle(args: argparse.Namespace) -> int:
     for flag in beyond_joint_limits(config.problem.mechanism, config.problem.base_workspace.joint_values):
         print(f"{PROG}: warning: {flag.message}", file=sys.stderr)
     progress = False if args.quiet else None
-    overrides = {"starts": args.starts, "seed": args.seed, "method": args.method, "workers": args.workers}
+    overrides = {
+        "starts": args.starts,
+        "seed": args.seed,
+        "method": args.method,
+        "workers": args.workers,
+        "verify": args.verify,
+    }
     try:
         result = solve(config, **overrides, progress=progress, stock=parts)
     except Interrupted as stop:

@@ -20,6 +20,7 @@ from pydantic_core import PydanticCustomError
 from springbalance.design.objectives import OBJECTIVES
 from springbalance.design.problem import AGGREGATES
 from springbalance.design.solvers import METHODS
+from springbalance.design.verification_loop import MODES as VERIFY_MODES
 
 #: top-level sections of a config file, and those it must have.
 SECTIONS = (
@@ -156,6 +157,7 @@ Seed = integer_at_least(0)  # an integer ≥ 0
 WorkspaceKind = choice(WORKSPACE_KINDS, "workspace kind")
 Objective = choice(OBJECTIVES, "objective")
 Method = choice(METHODS, "method")
+VerifyMode = choice(VERIFY_MODES, "verify mode")
 Aggregate = choice(AGGREGATES, "aggregate")
 
 

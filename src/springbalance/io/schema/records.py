@@ -30,6 +30,7 @@ from springbalance.io.schema.fields import (
     Text,
     Vector2,
     Vector3,
+    VerifyMode,
     WorkspaceKind,
     at_most_one,
     by_shape,
@@ -286,6 +287,11 @@ class SolveRecord(Record, title="Solve"):
         "processes that run the starts at once (the design does not depend on it); "
         "default $SPRINGBALANCE_WORKERS, else the number of cores, once a start "
         "lasts long enough to pay for the pool"
+    )
+    verify: VerifyMode = optional(
+        "the check of the design at 10x as many unseen poses (docs/model.md §12): resolve (re-solve with the "
+        "worst poses added where a rule fails there), report (only report) or off",
+        shown="resolve",
     )
 
 
