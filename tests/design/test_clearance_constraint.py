@@ -264,3 +264,23 @@ def test_bad_clearance_and_mounting_input_gets_one_line_naming_the_culprit(tmp_p
     assert culprit in error and "Traceback" not in error
     assert len(error.splitlines()) == 1, error
     assert not out.exists()
+
+
+def test_the_checkers_batched_distances_equal_each_contacts_distance(arm, workspace):
+    """The fit's check measures every pair at a pose with each spring's capsule built once; the distances are
+    those of the contact of each pair computed alone (coal's witness-point query), at every pose."""
+    from springbalance.design.clearance_fit import _Checker
+
+    problem = sb.DesignProblem(
+        arm, workspace, springs(0.02), clearance=sb.Clearance(margin=0.005, between_springs=True)
+    )
+    checker = _Checker(problem, problem.clearance)
+    x = np.asarray(problem.variables.start, dtype=float)
+    radius = checker._radii(x)
+    pairs = list(checker._pairs())
+    assert any(kind == "spring" for kind, *_ in pairs) and any(kind == "object" for kind, *_ in pairs)
+    for q in checker.pose_sets[0][:12]:
+        checker.scene.place(q)
+        batched = checker._distances(pairs, x, radius)
+        alone = [checker._contact(pair, x, radius)[0].distance for pair in pairs]
+        assert batched == pytest.approx(alone, abs=1e-12)

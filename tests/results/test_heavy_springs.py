@@ -77,9 +77,13 @@ def test_heavy_springs_are_flagged_with_both_ratios(link, tmp_path, mass, arm, f
     page = result.report(tmp_path / "report", scene=False).read_text()
     assert '<tr class="warning heavy_springs">' in page
     saved = json.loads(result.save(tmp_path / "design.json").read_text())
-    assert {"kind": "heavy_springs", "subject": "springs", "message": flag.message, "hint": flag.hint} in saved[
-        "warnings"
-    ]
+    assert {
+        "kind": "heavy_springs",
+        "severity": "warning",
+        "subject": "springs",
+        "message": flag.message,
+        "hint": flag.hint,
+    } in saved["warnings"]
 
 
 def test_just_below_both_thresholds_is_not_flagged(link):

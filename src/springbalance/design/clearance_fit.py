@@ -18,7 +18,14 @@ from springbalance.design.mounts import MOUNT_ACCEPT
 from springbalance.design.problem import DesignProblem
 from springbalance.design.solvers import Solution, solve_problem
 from springbalance.errors import SolverError
-from springbalance.model.collision import DEFAULT_RADIUS, CollisionScene, Contact, capsule_contact, collision_geometry
+from springbalance.model.collision import (
+    DEFAULT_RADIUS,
+    CollisionScene,
+    Contact,
+    capsule,
+    capsule_contact,
+    collision_geometry,
+)
 from springbalance.model.workspace import Workspace
 from springbalance.springs.laws import Spring
 
@@ -146,8 +153,7 @@ class _Checker:
         distances = np.full((len(poses), len(pairs)), np.inf)
         for sample, q in enumerate(poses):
             self.scene.place(q)
-            for column, pair in enumerate(pairs):
-                distances[sample, column] = self._contact(pair, x, radius)[0].distance
+            distances[sample] = self._distances(pairs, x, radius)
         below: dict[Key, float] = {}
         closest = {_named(s): np.inf for s in self.springs}
         nearest: Nearest = {}
@@ -161,6 +167,32 @@ class _Checker:
             for hit in np.flatnonzero(distances[:, column] < self.clearance.margin):
                 below[pair + (pose_set, int(hit))] = float(distances[hit, column])
         return below, closest, nearest
+
+    def _distances(self, pairs: list[Pair], x: np.ndarray, radius: dict[str, float]) -> list[float]:
+        """The distance [m] of every pair at the placed pose: :meth:`_contact`'s, with each spring's ends and
+        capsule computed once for all the objects it is checked against."""
+        capsules: dict[tuple[str, int], tuple] = {}
+
+        def placed(name: str, scenario: int) -> tuple:
+            key = (name, scenario)
+            if key not in capsules:
+                spring = self.by_name[name]
+                start, end = self._ends(spring, self._frames(spring), x, scenario)
+                capsules[key] = (start, end, capsule(start, end, radius[name]))
+            return capsules[key]
+
+        values = []
+        for kind, first, second, scenario in pairs:
+            start, end, (shape, placement) = placed(first, scenario)
+            if kind == "object":
+                assert isinstance(second, int)  # an object pair names the object by its index
+                values.append(self.scene.distance_to(shape, placement, second))
+            else:
+                assert isinstance(second, str)  # a spring pair names the other spring
+                other_start, other_end, _ = placed(second, scenario)
+                contact = capsule_contact(start, end, radius[first], other_start, other_end, radius[second])
+                values.append(contact.distance)
+        return values
 
     def _apart(self, pose_set: int, order: np.ndarray) -> list[int]:
         """Up to :data:`DESCENTS_PER_PAIR` samples, closest first, at least a quarter of the joint box

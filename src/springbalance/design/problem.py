@@ -41,6 +41,7 @@ from springbalance.design.problem_inputs import (
     spring_mass_bound,
 )
 from springbalance.design.problem_nlp import ProblemNlp
+from springbalance.design.problem_record import options, options_record
 from springbalance.design.scenarios import Scenario, ScenarioWorkspace, check_scenarios
 from springbalance.design.torque_model import BlockEvaluator, TorqueModel, compiled
 from springbalance.errors import InputError
@@ -320,43 +321,16 @@ class DesignProblem(ProblemNlp):
         )
 
     def scenarios_record(self) -> dict:
-        """The problem's options beyond objective and weights, for a saved design:
-        ``{"scenarios": {cases, per_scenario, aggregate}}`` with scenarios, and ``"no_joint_worse": true``
-        and ``max_spring_mass`` [kg] when set (``{}`` when none)."""
-        record: dict[str, Any] = {"no_joint_worse": True} if self.no_joint_worse else {}
-        if self.max_spring_mass is not None:
-            record["max_spring_mass"] = self.max_spring_mass
-        if self.clearance is not None:
-            record["clearance"] = self.clearance.to_dict()
-        if not self.scenarios:
-            return record
-        return {
-            "scenarios": {
-                "cases": [scenario.to_dict() for scenario in self.scenarios],
-                "per_scenario": list(self.per_scenario),
-                "aggregate": self.aggregate,
-            },
-            **record,
-        }
+        """The problem's options beyond objective and weights, for a saved design
+        (:func:`~springbalance.design.problem_record.options_record`)."""
+        return options_record(
+            self.scenarios, self.per_scenario, self.aggregate, self.no_joint_worse, self.max_spring_mass, self.clearance
+        )
 
     @staticmethod
     def scenario_options(record: dict) -> dict:
-        """Keyword arguments (scenarios, per_scenario, aggregate, no_joint_worse, clearance, max_spring_mass) from a
-        saved design's record (what :meth:`scenarios_record` wrote)."""
-        options: dict[str, Any] = {"no_joint_worse": True} if record.get("no_joint_worse") else {}
-        if record.get("max_spring_mass") is not None:
-            options["max_spring_mass"] = spring_mass_bound(record["max_spring_mass"], "design max_spring_mass")
-        if record.get("clearance"):
-            options["clearance"] = Clearance.from_dict(record["clearance"], "design clearance")
-        saved = record.get("scenarios")
-        if not saved:
-            return options
-        return {
-            "scenarios": [Scenario.from_dict(case) for case in saved["cases"]],
-            "per_scenario": saved.get("per_scenario", []),
-            "aggregate": saved.get("aggregate", "sum"),
-            **options,
-        }
+        """Keyword arguments from a saved design's record (:func:`~springbalance.design.problem_record.options`)."""
+        return options(record)
 
     def scenario_table(self, x: np.ndarray) -> list[dict]:
         """Per scenario: name, payload [kg], per-scenario variable values, peak and RMS residual [N·m]
