@@ -12,7 +12,7 @@ from typing import Any, Iterable, Iterator, TypeAlias
 
 import numpy as np
 
-from springbalance.design.clearance import Clearance, FitRecord
+from springbalance.design.clearance import Clearance, FitRecord, LinearRows, stacked_rows
 from springbalance.design.clearance_rows import _ends_of, _mount_errors, _radius, _rows, mount_planes
 from springbalance.design.mounts import MOUNT_ACCEPT
 from springbalance.design.problem import DesignProblem
@@ -326,7 +326,7 @@ def _violations(checker: _Checker, x: np.ndarray) -> tuple[dict[Key, float], dic
 
 
 def fit_from_starts(
-    problem: DesignProblem, solution: Solution, **solve_options: Any
+    problem: DesignProblem, solution: Solution, kept: LinearRows | None = None, **solve_options: Any
 ) -> tuple[Solution, FitRecord, DesignProblem]:
     """:func:`fit_to_arm` from the :attr:`Clearance.starts` best feasible designs of the multi-start
     (``solution.starts``, distinct, best first); keeps the converged fit of lowest objective (else the
@@ -337,7 +337,7 @@ def fit_from_starts(
     fits = []  # each from the problem as given (with the mounting rows of the multi-start, if any)
     for x in [solution.x] + [record.x for record in others]:
         start = Solution(np.array(x, dtype=float), solution.starts, solution.method, solution.seed, solution.status)
-        fits.append(fit_to_arm(problem, start, **solve_options))
+        fits.append(fit_to_arm(problem, start, kept, **solve_options))
     converged = [fit for fit in fits if fit[1].converged] or fits[:1]
     fitted, record, fitted_problem = min(converged, key=lambda fit: fit[1].objective)
     record.starts = len(fits)
@@ -367,9 +367,10 @@ def _round(problem: DesignProblem, x: np.ndarray, solution: Solution, solve_opti
 
 
 def fit_to_arm(
-    problem: DesignProblem, solution: Solution, **solve_options: Any
+    problem: DesignProblem, solution: Solution, kept: LinearRows | None = None, **solve_options: Any
 ) -> tuple[Solution, FitRecord, DesignProblem]:
-    """Enforce the problem's clearance and mountings from ``solution`` (see the module documentation).
+    """Enforce the problem's clearance and mountings from ``solution`` (see the module documentation); each
+    round's rows come after ``kept`` (rows found before: those of the ideal twin's fit, which the coils keep).
 
     ``solve_options`` go to :func:`~springbalance.design.solvers.solve_problem` (method, iterations).
     Returns the fitted solution, its :class:`FitRecord` and the problem with the last round's rows
@@ -401,7 +402,7 @@ def fit_to_arm(
         watched.update(new)
         object_cuts, spring_cuts = checker.cuts(x, watched) if checker is not None else ([], [])
         planes = mount_planes(problem, x, planes)
-        problem = problem.with_linear_rows(_rows(problem, x, object_cuts, spring_cuts, planes))
+        problem = problem.with_linear_rows(stacked_rows(kept, _rows(problem, x, object_cuts, spring_cuts, planes)))
         resolved = _round(problem, x, solution, solve_options)
         if resolved is None:
             break

@@ -22,9 +22,12 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from springbalance.design.solvers import solve_problem
+from springbalance.design import clearance_fit, clearance_rows
+from springbalance.design.clearance import LinearRows
+from springbalance.design.solvers import FEASIBILITY_TOLERANCE, Solution, solve_problem
 from springbalance.design.twin import TwinRecord, twin_record
 from springbalance.errors import SolverError
+from springbalance.model.collision import DEFAULT_RADIUS
 from springbalance.springs.laws import Spring
 from springbalance.springs.laws.coil import HelicalCoilSpring
 from springbalance.springs.laws.compression import CompressionSpring
@@ -71,17 +74,21 @@ class TwinStart:
     """Where the coils start: the ideal twin's designs wound into coils.
 
     Attributes:
-        starts: design vectors of the problem (rows, best first).
+        starts: design vectors of the problem (rows, best first): with :attr:`rows`, the twin's fitted design
+            first, then its distinct optima before the fit.
         twin: the twin problem (every free coil replaced by the ideal law of its kind, a routed coil with its
             path and cable).
         twin_x: the twin's optimum [physical units of ``twin``].
         record: the :class:`~springbalance.design.twin.TwinRecord` of that optimum.
+        rows: the linear rows of the twin's fit to the arm (clearance, mounting), over the anchors the coils share
+            with it, or None when the problem asks for no fit (or the fit did not converge).
     """
 
     starts: np.ndarray
     twin: DesignProblem
     twin_x: np.ndarray
     record: TwinRecord
+    rows: LinearRows | None = None
 
 
 def coil_starts(problem: DesignProblem, count: int, **solve_options: Any) -> TwinStart | None:
@@ -100,16 +107,70 @@ def coil_starts(problem: DesignProblem, count: int, **solve_options: Any) -> Twi
         found = solve_problem(twin, **options)
     except SolverError:
         return None
+    source = ROUTED_TWIN_SOURCE if any(getattr(coil, "routed", False) for coil in coils) else TWIN_SOURCE
+    record = twin_record(twin, found.x, source)
+    if problem.clearance is not None or problem.mounts:
+        fitted = _fitted_twin(problem, coils, twin, found, options)
+        if fitted is not None:  # the coils start from the twin's fitted design, inside its rows
+            solution, rows = fitted
+            start = _wound(problem, twin, coils, np.asarray(solution.x, dtype=float))
+            others = _distinct_starts(problem, twin, coils, found, count - 1)
+            return TwinStart(np.vstack([start[None, :], others]), twin, np.asarray(found.x, dtype=float), record, rows)
+    return TwinStart(
+        _distinct_starts(problem, twin, coils, found, count), twin, np.asarray(found.x, dtype=float), record
+    )
+
+
+def _distinct_starts(
+    problem: DesignProblem, twin: DesignProblem, coils: list[HelicalCoilSpring], found: Solution, count: int
+) -> np.ndarray:
+    """The twin's distinct feasible optima, best first (at most ``count``), each wound into coils (rows)."""
+    if count < 1:
+        return np.zeros((0, problem.variables.size))
     designs = [np.asarray(found.x, dtype=float)]
-    for record in sorted((r for r in found.starts if r.feasible), key=lambda record: record.objective):
+    for candidate_record in sorted((r for r in found.starts if r.feasible), key=lambda record: record.objective):
         if len(designs) >= count:
             break
-        candidate = np.asarray(record.x, dtype=float)
+        candidate = np.asarray(candidate_record.x, dtype=float)
         if not any(np.allclose(candidate, design, rtol=1e-6, atol=1e-9) for design in designs):
             designs.append(candidate)
-    starts = np.array([_wound(problem, twin, coils, design) for design in designs[:count]])
-    source = ROUTED_TWIN_SOURCE if any(getattr(coil, "routed", False) for coil in coils) else TWIN_SOURCE
-    return TwinStart(starts, twin, np.asarray(found.x, dtype=float), twin_record(twin, found.x, source))
+    return np.array([_wound(problem, twin, coils, design) for design in designs[:count]])
+
+
+def _fitted_twin(
+    problem: DesignProblem, coils: list[HelicalCoilSpring], twin: DesignProblem, found: Solution, options: dict
+) -> tuple[Solution, LinearRows] | None:
+    """The twin fitted to the arm (:func:`~springbalance.design.clearance_fit.fit_from_starts`) and the rows of
+    its fit, or None when the fit does not converge. Its capsules are as wide as the widest coil's envelope
+    (the twin's ideal springs have no coil of their own), so its rows hold for every coil that fits it; its
+    rounds are solves of the ideal laws, far cheaper than the coils'."""
+    clearance = problem.clearance
+    if clearance is not None:
+        widest = max(_largest_outer_diameter(coil) for coil in coils)
+        clearance = dataclasses.replace(clearance, radius=max(clearance.radius or DEFAULT_RADIUS, 0.5 * widest))
+    wide = twin.with_springs(twin.springs, clearance=clearance)
+    if wide.mounts:
+        wide = wide.with_linear_rows(clearance_rows.mount_rows(wide, wide.variables.start))
+    fit_options = {key: value for key, value in options.items() if key not in ("starts", "seed", "progress")}
+    solution, fit, fitted = clearance_fit.fit_from_starts(wide, found, **fit_options)
+    rows = fitted.linear_rows
+    if not fit.converged or rows is None:
+        return None
+    # the rows of the last round, linearised where it started: keep those the fitted design meets (a row it
+    # breaks is stale, and with it the coils could meet no row set at all)
+    matrix, offset = fitted.linear_matrix()
+    kept = matrix @ np.asarray(solution.x, dtype=float) + offset >= -FEASIBILITY_TOLERANCE
+    if not np.any(kept):
+        return None
+    labels = [label for label, keep in zip(rows.labels, kept) if keep]
+    return solution, LinearRows(list(rows.names), rows.matrix[kept], rows.offset[kept], labels, rows.scale)
+
+
+def _largest_outer_diameter(coil: HelicalCoilSpring) -> float:
+    """The largest outer diameter [m] the coil's bounds allow: its envelope, else ``D + d`` at their upper bounds."""
+    if coil.max_outer_diameter is not None:
+        return float(coil.max_outer_diameter)
+    return _bounds(coil, "mean_diameter")[1] + _bounds(coil, "wire_diameter")[1]
 
 
 def _wound(problem: DesignProblem, twin: DesignProblem, coils: list[HelicalCoilSpring], x: np.ndarray) -> np.ndarray:

@@ -15,7 +15,7 @@ from typing import Any, Mapping, Protocol
 
 import numpy as np
 
-from springbalance.design.clearance import FitRecord
+from springbalance.design.clearance import FitRecord, LinearRows
 from springbalance.design.problem import DesignProblem
 from springbalance.design.solvers import Solution
 from springbalance.design.standard_wire import WireRounding
@@ -102,6 +102,7 @@ class SolveState:
         verification: what verifying the design at unseen poses found (None when not verified).
         twin: what the ideal twin achieved (the coils' ideal twin, else the optimum before the fit to the
             arm; None for a problem that has neither coils nor clearance or mountings).
+        kept_rows: the rows of the ideal twin's fit to the arm, which the coils keep (None without one).
     """
 
     problem: DesignProblem
@@ -112,6 +113,7 @@ class SolveState:
     wire_rounding: WireRounding | None = None
     verification: VerificationRecord | None = None
     twin: TwinRecord | None = None
+    kept_rows: LinearRows | None = None
 
     @property
     def solved(self) -> Solution:

@@ -25,9 +25,10 @@ from __future__ import annotations
 from typing import Callable
 
 from springbalance.design import clearance_fit, clearance_rows, coil_start, standard_wire, verification_loop
-from springbalance.design.solvers import solve_problem
+from springbalance.design.problem import DesignProblem
+from springbalance.design.solvers import Solution, solve_problem
 from springbalance.design.twin import twin_record
-from springbalance.errors import Interrupted
+from springbalance.errors import Interrupted, SolverError
 from springbalance.pipeline.state import SolveState
 
 #: what the twin of a problem fitted to the arm is (without coils), in the words of its record
@@ -59,29 +60,44 @@ def first_guess(state: SolveState) -> SolveState:
         ) from None
     if start is None:
         return state
-    return state.but(initial=start.starts, twin=start.record)
+    if start.rows is None:
+        return state.but(initial=start.starts, twin=start.record)
+    # the twin was fitted to the arm: the coils start from its fitted design, inside its rows
+    rows = start.rows
+    return state.but(initial=start.starts, twin=start.record, problem=problem.with_linear_rows(rows), kept_rows=rows)
 
 
 def mount_rows(state: SolveState) -> SolveState:
     """Mounted anchors: the rows that hold them on their surfaces, linearised at the problem's first guess."""
     problem = state.problem
-    if not problem.mounts:
+    if not problem.mounts or state.kept_rows is not None:  # (the twin's fit holds them already)
         return state
     return state.but(problem=problem.with_linear_rows(clearance_rows.mount_rows(problem, problem.variables.start)))
 
 
 def multi_start(state: SolveState) -> SolveState:
-    """Every start, screened then polished; the best feasible design (SolverError when none is)."""
+    """Every start, screened then polished; the best feasible design (SolverError when none is). When no coil
+    start meets the rows of the twin's fit, the starts run again without them (the fit to the arm then finds
+    its own)."""
     options = state.options
-    solution = solve_problem(
-        state.problem,
-        starts=options.starts,
-        seed=options.seed,
-        progress=options.progress,
-        initial=state.initial,
-        **options.solver_options(),
-    )
-    return state.but(solution=solution)
+
+    def solved(problem: DesignProblem) -> Solution:
+        return solve_problem(
+            problem,
+            starts=options.starts,
+            seed=options.seed,
+            progress=options.progress,
+            initial=state.initial,
+            **options.solver_options(),
+        )
+
+    try:
+        return state.but(solution=solved(state.problem))
+    except SolverError:
+        if state.kept_rows is None:
+            raise
+    problem = state.problem.with_linear_rows(None)
+    return state.but(problem=problem, solution=solved(problem), kept_rows=None)
 
 
 def fit_to_arm(state: SolveState) -> SolveState:
@@ -91,7 +107,9 @@ def fit_to_arm(state: SolveState) -> SolveState:
         return state
     twin = state.twin or twin_record(problem, state.solved.x, FIT_TWIN_SOURCE)
     with _interrupted_after_starts(state, "fitting the springs to the arm"):
-        solution, fit, problem = clearance_fit.fit_from_starts(problem, state.solved, **state.options.solver_options())
+        solution, fit, problem = clearance_fit.fit_from_starts(
+            problem, state.solved, state.kept_rows, **state.options.solver_options()
+        )
     return state.but(problem=problem, solution=solution, fit=fit, twin=twin)
 
 
