@@ -57,7 +57,7 @@ from springbalance.results.failure_flags import infeasible_flags, not_converged_
 from springbalance.results.flag import FAILURE, WARNING, Flag, failures_first
 from springbalance.results.own_link import inside_own_link
 from springbalance.results.range_flags import beyond_joint_limits_flags, off_series_wire_flags
-from springbalance.results.rules import BOUND_TOLERANCE
+from springbalance.results.rules import BOUND_TOLERANCE, at_bounds
 from springbalance.results.verification_report import margin_text, pose_text
 from springbalance.results.weak_design import weak_design_flags
 from springbalance.springs import CompressionSpring, ExtensionSpring, GasSpring
@@ -119,21 +119,9 @@ def _nonnegative_parameter(problem: DesignProblem, name: str) -> str | None:
 
 def at_bound_flags(result: EvaluatedDesign, tolerance: float = BOUND_TOLERANCE) -> list[Flag]:
     """Design variables at (within ``tolerance`` of their range of) a bound; fixed ones are skipped."""
-    variables = result.problem.variables
     found = []
-    for name, unit, lower, upper, value in zip(
-        variables.names, variables.units, variables.lower, variables.upper, result.x.tolist()
-    ):
-        width = upper - lower
-        if not width > 0:
-            continue
-        near = tolerance * width
-        if value >= upper - near:
-            side, bound, direction = "upper", upper, "raise"
-        elif value <= lower + near:
-            side, bound, direction = "lower", lower, "lower"
-        else:
-            continue
+    for name, unit, side, bound, value in at_bounds(result, tolerance):
+        direction = "raise" if side == "upper" else "lower"
         message = f"{name} = {_quantity(value, unit)} is at its {side} bound {_quantity(bound, unit)}"
         law = _nonnegative_parameter(result.problem, name)
         if side == "lower" and bound <= 0 and law is not None:

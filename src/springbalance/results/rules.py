@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import dataclasses
 import re
+from typing import Iterator
 
 import numpy as np
 
@@ -70,10 +71,12 @@ def rule_margins(result: EvaluatedDesign) -> list[RuleMargin]:
     return sorted(found.values(), key=lambda margin: margin.scaled)
 
 
-def bound_rules(result: EvaluatedDesign, tolerance: float = BOUND_TOLERANCE) -> list[RuleMargin]:
-    """The design variables at (within ``tolerance`` of their range of) a bound, as rules of margin 0."""
+def at_bounds(
+    result: EvaluatedDesign, tolerance: float = BOUND_TOLERANCE
+) -> Iterator[tuple[str, str, str, float, float]]:
+    """``(name, unit, side, bound, value)`` of each design variable at (within ``tolerance`` of its range of) its
+    ``"upper"`` or ``"lower"`` bound; variables whose bounds are equal are not variables and are skipped."""
     variables = result.problem.variables
-    found = []
     for name, unit, lower, upper, value in zip(
         variables.names, variables.units, variables.lower, variables.upper, result.x.tolist()
     ):
@@ -81,10 +84,17 @@ def bound_rules(result: EvaluatedDesign, tolerance: float = BOUND_TOLERANCE) -> 
         if not width > 0:
             continue
         if value >= upper - tolerance * width:
-            found.append(RuleMargin(f"{name} at its upper bound", 0.0, unit, 0.0))
+            yield name, unit, "upper", upper, value
         elif value <= lower + tolerance * width:
-            found.append(RuleMargin(f"{name} at its lower bound", 0.0, unit, 0.0))
-    return found
+            yield name, unit, "lower", lower, value
+
+
+def bound_rules(result: EvaluatedDesign, tolerance: float = BOUND_TOLERANCE) -> list[RuleMargin]:
+    """The design variables at (within ``tolerance`` of their range of) a bound, as rules of margin 0."""
+    return [
+        RuleMargin(f"{name} at its {side} bound", 0.0, unit, 0.0)
+        for name, unit, side, _, _ in at_bounds(result, tolerance)
+    ]
 
 
 def binding_rules(result: EvaluatedDesign, limit: int = 6) -> list[RuleMargin]:
