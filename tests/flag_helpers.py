@@ -7,7 +7,10 @@ import json
 import re
 from pathlib import Path
 
+import numpy as np
+
 import springbalance as sb
+from springbalance.springs.laws.helical_extension import HelicalExtensionSpring
 
 #: a horizontal slide (0.1 … 0.3 m) carrying a pendulum (−90° … 90°): gravity (along −z) never loads the slide
 SLIDER_URDF = """<?xml version="1.0"?>
@@ -99,3 +102,24 @@ def assert_clean(result, tmp_path: Path) -> None:
     saved = json.loads(result.save(tmp_path / "design.json").read_text())
     assert saved["warnings"] == [] and saved["failures"] == []
     assert result.ok
+
+
+def fixed_design(mechanism: sb.Mechanism, springs: list, poses: np.ndarray) -> sb.DesignResult:
+    """A finished design with fixed springs (no free variable) on the poses ``poses`` (N×nv) [rad]."""
+    workspace = sb.Workspace.from_array(mechanism, poses)
+    return sb.DesignResult(sb.DesignProblem(mechanism, workspace, springs), np.zeros(0))
+
+
+def overloaded_coil() -> HelicalExtensionSpring:
+    """A fixed coil on single_link_r1.urdf stretched far beyond its allowable load: 1 mm wire, D = 8 mm,
+    10 coils: k = 81e9 · 1e-12 / (8 · 5.12e-7 · 10) ≈ 1978 N/m, free length 25 mm, stretched to about
+    0.43 m: ≈ 800 N on a wire whose body allows 45 % · 2211 MPa ≈ 1 GPa at ≈ 20 N."""
+    return HelicalExtensionSpring(
+        sb.Anchor("universe", [0, 0, 0.16]),
+        sb.Anchor("link1", [0, 0, 0.3]),
+        "thin",
+        wire_diameter=1e-3,
+        mean_diameter=8e-3,
+        active_coils=10.0,
+        initial_tension=5.0,
+    )

@@ -17,6 +17,7 @@ import pytest
 from scipy.optimize import minimize_scalar
 
 import springbalance as sb
+from flag_helpers import fixed_design
 from springbalance.cli import main
 from springbalance.results.clearance import ClearanceReport
 
@@ -30,10 +31,7 @@ def arm():
     return sb.Mechanism.from_urdf(URDF / "two_link_planar_collision.urdf")
 
 
-def design(mechanism, springs, poses):
-    """A finished design with fixed springs (no free variable) on the poses ``poses`` (N×2) [rad]."""
-    workspace = sb.Workspace.from_array(mechanism, poses)
-    return sb.DesignResult(sb.DesignProblem(mechanism, workspace, springs), np.zeros(0))
+design = fixed_design
 
 
 def rotation(angle):

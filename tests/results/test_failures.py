@@ -21,10 +21,9 @@ import numpy as np
 import pytest
 
 import springbalance as sb
-from flag_helpers import SLIDER_URDF, assert_clean, assert_flagged
+from flag_helpers import SLIDER_URDF, assert_clean, assert_flagged, overloaded_coil
 from springbalance.design.clearance import FitRecord, LinearRows
 from springbalance.results.failure_flags import last_solver_status
-from springbalance.springs.laws.helical_extension import HelicalExtensionSpring
 
 URDF = Path(__file__).resolve().parents[2] / "urdf"
 M, C, G = 8.0, 0.183, 9.81  # link mass [kg], centre of mass [m], gravity [m/s²]
@@ -159,15 +158,7 @@ def test_an_overloaded_coil_is_an_unbuildable_failure(tmp_path):
     workspace = sb.Workspace.grid(mechanism, 31)
     # 1 mm wire, D = 8 mm, 10 coils: k ≈ 1978 N/m, free length 25 mm, stretched to about 0.43 m: ≈ 800 N
     # on a wire whose body allows about 20 N (tests/springs/test_helical.py)
-    coil = HelicalExtensionSpring(
-        sb.Anchor("universe", [0, 0, 0.16]),
-        sb.Anchor("link1", [0, 0, 0.3]),
-        "thin",
-        wire_diameter=1e-3,
-        mean_diameter=8e-3,
-        active_coils=10.0,
-        initial_tension=5.0,
-    )
+    coil = overloaded_coil()
     result = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [coil]), np.zeros(0))
     record = assert_flagged(result, tmp_path, "unbuildable", "thin", severity="failure")
     assert "cannot be built" in record["message"]

@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 import springbalance as sb
+from flag_helpers import fixed_design
 from springbalance.results.flags import inside_own_link_flags
 from springbalance.results.own_link import OWN_STRETCH, inside_own_link
 
@@ -25,10 +26,7 @@ def arm():
     return sb.Mechanism.from_urdf(URDF / "two_link_planar_collision.urdf")
 
 
-def design(mechanism, springs, poses):
-    """A finished design with fixed springs on the poses ``poses`` (N×2) [rad]."""
-    workspace = sb.Workspace.from_array(mechanism, poses)
-    return sb.DesignResult(sb.DesignProblem(mechanism, workspace, springs), np.zeros(0))
+design = fixed_design
 
 
 def test_a_spring_along_both_links_runs_inside_each_of_them(arm):

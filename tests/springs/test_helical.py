@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 import springbalance as sb
+from flag_helpers import overloaded_coil
 from springbalance.cli import main
 from springbalance.io.config import load_config
 from springbalance.springs import SPRING_TYPES, spring_from_dict
@@ -253,15 +254,7 @@ def test_an_overloaded_coil_is_flagged_in_every_report(tmp_path):
     workspace = sb.Workspace.grid(mechanism, 31, ranges={"pivot": (2 * np.pi / 3, np.pi)})
     # 1 mm wire, D = 8 mm, 10 coils: k = 81e9 · 1e-12 / (8 · 5.12e-7 · 10) ≈ 1978 N/m, free length 25 mm,
     # stretched to about 0.43 m: ≈ 800 N on a wire whose body allows 45 % · 2211 MPa ≈ 1 GPa at ≈ 20 N
-    coil = HelicalExtensionSpring(
-        sb.Anchor("universe", [0, 0, 0.16]),
-        sb.Anchor("link1", [0, 0, 0.3]),
-        "thin",
-        wire_diameter=1e-3,
-        mean_diameter=8e-3,
-        active_coils=10.0,
-        initial_tension=5.0,
-    )
+    coil = overloaded_coil()
     result = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [coil]), np.zeros(0))
     assert not result.spring("thin")["helical"]["buildable"]
     kinds = [flag.kind for flag in result.warnings()]
