@@ -168,7 +168,11 @@ def test_the_demo_passes_with_its_objective(tmp_path, capsys):
     assert "Failures" not in captured.out and "springbalance: failure" not in captured.err
     saved = json.loads(out.read_text())
     assert saved["failures"] == [] and "partial" not in saved
-    assert saved["metrics"]["objectives"]["rms"]["after"] == pytest.approx(0.5022753637856906, abs=1e-9)
+    # the three coils remove most of the gravity torque (docs/model.md §9: the arm can be balanced exactly by
+    # ideal springs, and coils that fit a 40 mm envelope keep at least 90 % of it here), and hold at 10x the poses
+    objective = saved["metrics"]["objectives"]["rms"]
+    assert objective["after"] <= 0.1 * objective["before"]
+    assert saved["solver"]["verification"]["passed"] and saved["solver"]["verification"]["poses"] >= 10 * 128
     assert saved["solver"]["twin"]["objective"] < 1e-6  # the ideal twin balances the arm exactly
     assert main(["evaluate", str(out)]) == 0
 
