@@ -382,7 +382,7 @@ def twin_part(record: dict[str, Any], case: Case, default: dict[str, Any], joint
 def summary(cases: list[dict[str, Any]]) -> None:
     print("\nSummary (PASS/MISS per goal; - where the part was not run)")
     print(
-        f"  {'case':<20}{'default [s]':>12}{'gap ≤ 1':>10}{'spread ≤ 1':>12}{'clear':>8}"
+        f"  {'case':<20}{'default [s]':>12}{'solved':>8}{'gap ≤ 1':>10}{'spread ≤ 1':>12}{'clear':>8}"
         f"{'loss ≤ 2':>10}{'time ≤ 10×':>12}"
     )
 
@@ -396,6 +396,7 @@ def summary(cases: list[dict[str, Any]]) -> None:
         twin = case.get("twin", {})
         print(
             f"  {case['case']:<20}{default['seconds'] if default else float('nan'):>12.1f}"
+            f"{'-' if default is None else ('FAILED' if 'error' in default else 'yes'):>8}"
             f"{mark(case.get('gap', {}).get('pass')):>10}{mark(case.get('spread', {}).get('pass')):>12}"
             f"{mark(clear):>8}{mark(twin.get('loss_pass')):>10}{mark(twin.get('ratio_pass')):>12}"
         )
