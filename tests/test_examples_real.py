@@ -13,10 +13,8 @@ benchmarks/bench_real.py on 2026-11-26 (docs/developer/performance.md#real-arms)
   and 70.0 %. The floors, 88 % and 65 %, sit below the worst seed, so a platform whose rounding lands on
   another of these optima still passes, while a broken pipeline does not. The ceiling, from physics:
   ideal springs (no coil limits) in the same boxes reach 99.2 % and 98.0 %.
-- Panda (examples/panda.yaml, 256 poses, 8 starts): 32 starts with 4 fitted ones end on the same design
-  (81.9 % on joint 2, 55.4 % on joint 4); ideal springs in the same boxes, kept clear, reach 95.5 % and
-  86.9 %. The floors are 75 % and 45 %. Other seeds end much lower (down to 24 % and -9 %): the coil and
-  clearance search of this arm is not robust yet, which the benchmark reports as a miss of its spread goal.
+- The Panda (benchmarks/real/panda_example.yaml) is not shipped: on this code its coil and clearance search
+  fails a check (a joint made worse, a coil slack between samples) at every setting tried.
 """
 
 from __future__ import annotations
@@ -37,7 +35,6 @@ TIMEOUT = 1200  # [s] one design on a loaded 2-core machine with an empty compil
 #: the RMS cut [%] each example must at least reach on its gravity-loaded joints (see the module docstring)
 FLOORS = {
     "ur5.yaml": {"shoulder_lift_joint": 88.0, "elbow_joint": 65.0},
-    "panda.yaml": {"panda_joint2": 75.0, "panda_joint4": 45.0},
 }
 
 
