@@ -116,3 +116,31 @@ def test_the_demo_wires_are_rounded_together_to_preferred_sizes():
         before - rounding.continuous_objective
     )
     assert result.evaluation.max_violation <= 1e-6
+
+
+def test_a_start_where_a_spring_has_zero_length_is_skipped_not_a_crash():
+    """Both anchor boxes centred on the shoulder pivot (the ground's origin and link1's): at the first start
+    (the boxes' midpoints) the spring has zero length in every pose and no direction, so the design has no
+    value there. That start is reported as not run; the other starts solve. With that start alone the solve
+    fails with a message that says why (this was a LinAlgError traceback on the Panda, link1 → link2)."""
+    import pytest
+
+    import springbalance as sb
+    from springbalance.errors import SolverError
+
+    mechanism = sb.Mechanism.from_urdf("urdf/two_link_planar.urdf")
+    workspace = sb.Workspace.sobol(mechanism, n=64, seed=0)
+    spring = sb.ExtensionSpring(
+        sb.Anchor("universe", sb.Free([-0.1, 0, -0.1], [0.1, 0, 0.1])),
+        sb.Anchor("link1", sb.Free([-0.1, 0, -0.1], [0.1, 0, 0.1])),
+        name="s1",
+        stiffness=sb.Free(0, 5000),
+        free_length=sb.Free(0.0, 0.5),
+        keep_tension=False,
+    )
+    problem = sb.DesignProblem(mechanism, workspace, [spring])
+    result = solve(problem, starts=3, seed=0, progress=False, verify="off")
+    assert result.starts[0].status == multistart.NOT_FINITE and not result.starts[0].feasible
+    assert np.isfinite(result.evaluation.tau).all()
+    with pytest.raises(SolverError, match="anchors coincide"):
+        solve(problem, starts=1, seed=0, progress=False, verify="off")

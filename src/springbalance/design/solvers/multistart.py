@@ -181,6 +181,8 @@ def _screen(
     return records
 
 
+#: the status of a start where the design has no finite value (a spring of zero length: its anchors coincide)
+NOT_FINITE = "not run: the design is not finite at this start (a spring of zero length: its two anchors coincide)"
 #: starts that the budget stopped short of feasible, below the best feasible objective, that the polish continues
 PROMISING_INFEASIBLE = 2
 
@@ -333,7 +335,11 @@ class _MultiStartSolver(LeastSquaresStarts, IpoptStarts):
         lam_g: np.ndarray | None
         evaluation: Evaluation | None
         z, status, iterations, lam_g, evaluation = np.array(z0, dtype=float), "evaluated", 0, None, None
-        if not self.fixed.all():
+        if not self.fixed.all() and nlp_multipliers is None:
+            start = problem.evaluate(problem.scale(z))
+            if not np.isfinite(problem.objective_value(start)):  # no solver can leave a start without a value
+                z, status, evaluation = z, NOT_FINITE, start
+        if not self.fixed.all() and evaluation is None:
             z, status, iterations, lam_g, evaluation = (
                 self._warm(z, nlp_multipliers)
                 if nlp_multipliers is not None and self._matches(nlp_multipliers)
