@@ -195,3 +195,19 @@ def test_design_verify_option_overrides_the_config(tmp_path):
     with pytest.raises(SystemExit) as usage:
         main(["design", str(config), "--out", str(tmp_path / "x.json"), "--verify", "always"])
     assert usage.value.code == 2
+
+
+def test_report_of_a_failing_design_is_written_and_exits_3(tmp_path, capsys):
+    """The report of a design that fails a check is written (it shows what failed) and the command exits 3
+    with one line per failure, as evaluate does."""
+    out = tmp_path / "design.json"
+    assert main(["design", str(_config(tmp_path, THROUGH)), "--out", str(out), "--partial", "--quiet"]) == 3
+    capsys.readouterr()
+    folder = tmp_path / "report"
+    assert main(["report", str(out), "--out", str(folder), "--no-scene"]) == 3
+    captured = capsys.readouterr()
+    assert (folder / "report.html").is_file() and "report written to" in captured.out
+    assert [line.split("]")[0] for line in _failure_lines(captured.err)] == [
+        "springbalance: failure: [partial",
+        "springbalance: failure: [overlap",
+    ]

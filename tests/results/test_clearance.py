@@ -226,7 +226,8 @@ def test_reports_carry_the_clearance_table_when_the_urdf_has_collision_geometry(
 def test_cli_prints_the_table(arm, tmp_path, capsys):
     path = tmp_path / "design.json"
     design(arm, [through_spring()], [[0.0, 0.0], [0.2, 0.3]]).save(path)
-    assert main(["clearance", str(path), "--samples", "32", "--margin", "0.01", "--radius", "0.012"]) == 0
+    # the spring runs through link2: the check fails (exit 3, a design that fails a check) and says where
+    assert main(["clearance", str(path), "--samples", "32", "--margin", "0.01", "--radius", "0.012"]) == 3
     out = capsys.readouterr().out
     assert "over 32 poses" in out and "margin 10.0 mm" in out
     line = next(line for line in out.splitlines() if line.startswith("through"))

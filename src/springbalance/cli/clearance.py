@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 
 from springbalance.cli.arguments import positive_int
+from springbalance.cli.outcome import FAILED_CHECK, OK
 from springbalance.results.result import DesignResult
 
 
@@ -19,7 +20,8 @@ def add_parser(commands: argparse._SubParsersAction, common: argparse.ArgumentPa
         "print its smallest distance to the URDF's collision geometry over the workspace, with the "
         "closest link and the pose. The collision objects of a spring's two anchor bodies are exempt. "
         "An independent check of the finished design, against the URDF's own shapes (a config's "
-        "clearance section makes the optimisation keep the margin).",
+        "clearance section makes the optimisation keep the margin). Exits with 3 when a spring comes closer "
+        "than the margin.",
     )
     clearance.add_argument("design", metavar="DESIGN.json", help="design file written by 'springbalance design'")
     clearance.add_argument(
@@ -50,8 +52,9 @@ def add_parser(commands: argparse._SubParsersAction, common: argparse.ArgumentPa
 
 
 def handle(args: argparse.Namespace) -> int:
-    """Print the clearance report: per spring the smallest distance [m], the closest link and the pose."""
+    """Print the clearance report: per spring the smallest distance [m], the closest link and the pose; 3 when a
+    spring comes closer than the margin (or touches the arm)."""
     result = DesignResult.load(args.design)
     report = result.clearance(radius=args.radius, samples=args.samples, margin=args.margin)
     print("\n".join(report.lines()))
-    return 0
+    return OK if report.clear else FAILED_CHECK

@@ -8,6 +8,7 @@ from pathlib import Path
 
 from springbalance.cli.arguments import positive_int
 from springbalance.cli.inputs import check_scene_budget, load_result
+from springbalance.cli.outcome import outcome, print_failures
 from springbalance.errors import InputError
 
 
@@ -19,7 +20,7 @@ def add_parser(commands: argparse._SubParsersAction, common: argparse.ArgumentPa
         help="write an HTML report of a saved design (tables, plots, 3-D scene)",
         description="Write FOLDER/report.html (design and metrics tables, plots), FOLDER/scene.html (the "
         "self-contained Meshcat scene, opens without a server or network), FOLDER/torques.png/.svg "
-        "and FOLDER/histogram.png/.svg.",
+        "and FOLDER/histogram.png/.svg. Exits with 3 when the design fails a check (the report says which).",
     )
     report.add_argument("design", metavar="DESIGN.json", help="design file written by 'springbalance design'")
     report.add_argument("--out", "-o", required=True, metavar="FOLDER", help="folder for the report (created)")
@@ -38,7 +39,8 @@ def add_parser(commands: argparse._SubParsersAction, common: argparse.ArgumentPa
 
 
 def handle(args: argparse.Namespace) -> int:
-    """Write the report's files into ``--out`` and list them."""
+    """Write the report's files into ``--out`` and list them; 3, with one line per failure on stderr, when
+    the design fails a check (its report says which, and is written all the same: it shows what failed)."""
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise InputError(f"--out {str(out)!r} is a file; give a folder")
@@ -53,4 +55,6 @@ def handle(args: argparse.Namespace) -> int:
     )
     print(f"report written to {path}")
     print(f"  files in {out}: {', '.join(files)}")
-    return 0
+    failures = result.failures()
+    print_failures(failures)
+    return outcome(failures)
