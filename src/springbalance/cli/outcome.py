@@ -7,8 +7,10 @@ code  meaning
 1     no feasible design: no start of the solve met the constraints (``SolverError``)
 2     bad input, or trouble reading or writing a file (one line on stderr names the culprit)
 3     a design was found but fails a check (``infeasible``, ``not_converged``, ``unbuildable``,
-      ``overlap``, ``worse_joint`` on a weighted joint, ``partial``): the report is printed, one line
-      per failure on stderr, and ``--out`` is written only with ``--partial``
+      ``overlap``, ``worse_joint`` on a weighted joint, ``not_verified``, ``partial``): the report is
+      printed, one line per failure on stderr, and ``--out`` is written only with ``--partial``
+      (``evaluate`` and ``report`` of such a design exit 3 too; ``clearance`` when a spring comes
+      closer than the margin)
 130   interrupted (Ctrl-C)
 141   the output pipe was closed (e.g. ``| head``)
 ====  ==========================================================================================
