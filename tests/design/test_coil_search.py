@@ -5,6 +5,7 @@ together in one solve."""
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from springbalance.design import coil_start, standard_wire
 from springbalance.design.solvers import StartRecord, multistart
@@ -144,3 +145,21 @@ def test_a_start_where_a_spring_has_zero_length_is_skipped_not_a_crash():
     assert np.isfinite(result.evaluation.tau).all()
     with pytest.raises(SolverError, match="anchors coincide"):
         solve(problem, starts=1, seed=0, progress=False, verify="off")
+
+
+def test_the_twin_cannot_ask_a_coil_for_more_force_than_any_coil_in_its_envelope_carries():
+    """A coil of music wire in a 20 mm envelope (index 4–12): the strongest is the thickest wire whose coil
+    fits at the smallest index, (4 + 1) d ≤ 20 mm: d = 4 mm, D = 16 mm. Its body carries
+    F = τ_a π d² / (8 K_B C) with K_B(4) = 18/13 (Bergsträsser) and τ_a = 98 % · 45 % · S_ut, S_ut = 2211 MPa ·
+    (d / 1 mm)^-0.145 (Shigley Tables 10-4 and 10-7; 2 % kept in reserve): the twin's max_force."""
+    import springbalance as sb
+    from springbalance.springs.laws.helical_extension import HelicalExtensionSpring
+
+    coil = HelicalExtensionSpring(
+        sb.Anchor("universe", [0, 0, 0.2]), sb.Anchor("link1", [0.3, 0, 0]), "c", max_outer_diameter=0.02
+    )
+    strength = 2211e6 * 4.0**-0.145  # [Pa]
+    expected = 0.98 * 0.45 * strength * np.pi * 0.004**2 / (8 * (18 / 13) * 4)  # [N], about 1.07 kN
+    assert coil_start._largest_force(coil) == pytest.approx(expected, rel=1e-9)
+    twin = coil_start._twin(coil)
+    assert twin.max_force == pytest.approx(expected, rel=1e-9)

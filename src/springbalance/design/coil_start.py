@@ -217,6 +217,9 @@ def _twin(coil: HelicalCoilSpring) -> ExtensionSpring | CompressionSpring:
         options.update(via=coil.via, cable_length=coil.parameters["cable_length"])
     if coil.kind == "extension":
         assert isinstance(coil, HelicalExtensionSpring)  # the helical law of kind "extension"
+        force = _largest_force(coil)
+        if options["max_force"] is None or options["max_force"] > force:
+            options["max_force"] = force
         low, high = _bounds(coil, "initial_tension")
         shortest = d_low * (n_low + 1) + 2 * (coil.index_range[0] - 1) * d_low  # [m]
         longest = d_high * (n_high + 1) + 2 * (D_high - d_high)  # [m]
@@ -242,6 +245,28 @@ def _twin(coil: HelicalCoilSpring) -> ExtensionSpring | CompressionSpring:
         stays_compressed=coil.stays_compressed,
         **options,
     )
+
+
+def _largest_force(coil: HelicalExtensionSpring) -> float:
+    """The largest force [N] any coil within the bounds carries at its allowable body stress: the twin's limit,
+    so that its law can be wound. The body stress is ``τ = K_B 8 F D/(π d³)`` (Shigley eq. 10-5); with
+    ``D = C d``, ``F ≤ τ_a π d²/(8 K_B C)``, largest at the smallest index and the thickest wire that the
+    envelope ``(C + 1) d ≤ OD`` and the bounds allow (inf when no wire fits)."""
+    d_low, d_high = _bounds(coil, "wire_diameter")
+    D_low, D_high = _bounds(coil, "mean_diameter")
+    c_low, c_high = coil.index_range
+    fraction = (1.0 - coil.stress_reserve) * coil.material.allowable_fraction[coil.helical_kind]
+    largest = 0.0
+    for d in [d for d in PREFERRED_WIRE_DIAMETERS if d_low <= d <= d_high] or [d_high]:
+        index = max(c_low, D_low / d)
+        if index > c_high or index * d > D_high:
+            continue
+        if coil.max_outer_diameter is not None and (index + 1) * d > coil.max_outer_diameter:
+            continue
+        bergstrasser = (4 * index + 2) / (4 * index - 3)
+        strength = fraction * float(coil.material.tensile_strength(d))  # [Pa]
+        largest = max(largest, strength * math.pi * d * d / (8 * bergstrasser * index))
+    return largest if largest > 0 else math.inf
 
 
 def _wind(coil: HelicalCoilSpring, law: dict, lengths: np.ndarray, forces: np.ndarray) -> dict[str, float]:
