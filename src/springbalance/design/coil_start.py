@@ -107,8 +107,7 @@ def coil_starts(problem: DesignProblem, count: int, **solve_options: Any) -> Twi
         found = solve_problem(twin, **options)
     except SolverError:
         return None
-    source = ROUTED_TWIN_SOURCE if any(getattr(coil, "routed", False) for coil in coils) else TWIN_SOURCE
-    record = twin_record(twin, found.x, source)
+    record = _ideal_record(problem, coils, twin, found, options)
     if problem.clearance is not None or problem.mounts:
         fitted = _fitted_twin(problem, coils, twin, found, options)
         if fitted is not None:  # the coils start from the twin's fitted design, inside its rows
@@ -192,11 +191,26 @@ def _wound(problem: DesignProblem, twin: DesignProblem, coils: list[HelicalCoilS
     return np.clip(design, lower, upper)
 
 
-def _twin_problem(problem: DesignProblem, coils: list[HelicalCoilSpring]) -> DesignProblem:
+def _twin_problem(problem: DesignProblem, coils: list[HelicalCoilSpring], capped: bool = True) -> DesignProblem:
     """``problem`` with each of ``coils`` replaced by its ideal twin (:func:`_twin`), without
     ``no_joint_worse``."""
-    twins = [_twin(spring) if spring in coils else spring for spring in problem.springs]
+    twins = [_twin(spring, capped) if spring in coils else spring for spring in problem.springs]
     return problem.with_springs(twins, no_joint_worse=False)
+
+
+def _ideal_record(
+    problem: DesignProblem, coils: list[HelicalCoilSpring], twin: DesignProblem, found: Solution, options: dict
+) -> TwinRecord:
+    """The :class:`~springbalance.design.twin.TwinRecord` of the ideal twin: without the force cap of the
+    first guess's twin (the reference a weak design is judged against is the law without the coil's
+    limits), solved from the capped twin's optimum; that optimum's record when the uncapped solve fails."""
+    source = ROUTED_TWIN_SOURCE if any(getattr(coil, "routed", False) for coil in coils) else TWIN_SOURCE
+    ideal = _twin_problem(problem, coils, capped=False)
+    try:
+        solved = solve_problem(ideal, **{**options, "starts": 1, "initial": found.x, "progress": False})
+    except SolverError:
+        return twin_record(twin, found.x, source)
+    return twin_record(ideal, solved.x, source)
 
 
 def _bounds(spring: Spring, key: str) -> tuple[float, float]:
@@ -204,9 +218,11 @@ def _bounds(spring: Spring, key: str) -> tuple[float, float]:
     return (float(value.lower), float(value.upper)) if isinstance(value, Free) else (float(value), float(value))
 
 
-def _twin(coil: HelicalCoilSpring) -> ExtensionSpring | CompressionSpring:
+def _twin(coil: HelicalCoilSpring, capped: bool = True) -> ExtensionSpring | CompressionSpring:
     """The ideal law of the coil's kind, with the coil's anchors and limits, over generous ranges; a routed
-    coil's twin keeps its pulleys and cable length (a twin between the path's ends alone removes nothing)."""
+    coil's twin keeps its pulleys and cable length (a twin between the path's ends alone removes nothing).
+    ``capped``: an extension spring's force is at most what a coil within the bounds carries
+    (:func:`_largest_force`)."""
     d_low, d_high = _bounds(coil, "wire_diameter")
     D_low, D_high = _bounds(coil, "mean_diameter")
     n_low, n_high = _bounds(coil, "active_coils")
@@ -217,8 +233,8 @@ def _twin(coil: HelicalCoilSpring) -> ExtensionSpring | CompressionSpring:
         options.update(via=coil.via, cable_length=coil.parameters["cable_length"])
     if coil.kind == "extension":
         assert isinstance(coil, HelicalExtensionSpring)  # the helical law of kind "extension"
-        force = _largest_force(coil)
-        if options["max_force"] is None or options["max_force"] > force:
+        force = _largest_force(coil) if capped else math.inf
+        if force < math.inf and (options["max_force"] is None or options["max_force"] > force):
             options["max_force"] = force
         low, high = _bounds(coil, "initial_tension")
         shortest = d_low * (n_low + 1) + 2 * (coil.index_range[0] - 1) * d_low  # [m]
