@@ -123,3 +123,17 @@ def overloaded_coil() -> HelicalExtensionSpring:
         active_coils=10.0,
         initial_tension=5.0,
     )
+
+
+def slider_pull(tmp_path: Path, weights: dict | None = None) -> sb.DesignResult:
+    """The slider of :data:`SLIDER_URDF` with a zero-free-length spring from the origin to the cart: it pulls
+    the slide back with k·q [N], from 0 to 100 N/m × 0.3 m = 30 N, a joint that gravity never loads; the
+    pendulum's joint is untouched (5×5 grid)."""
+    path = tmp_path / "slider.urdf"
+    path.write_text(SLIDER_URDF)
+    mechanism = sb.Mechanism.from_urdf(path)
+    workspace = sb.Workspace.grid(mechanism, 5)
+    spring = sb.ZeroFreeLengthSpring(
+        sb.Anchor("universe", (0, 0, 0)), sb.Anchor("cart", (0, 0, 0)), name="pull", stiffness=100.0
+    )
+    return sb.DesignResult(sb.DesignProblem(mechanism, workspace, [spring], weights=weights), np.zeros(0))

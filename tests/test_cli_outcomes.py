@@ -19,6 +19,7 @@ import pytest
 import yaml
 
 import springbalance as sb
+from config_helpers import SHOULDER_SPRING
 from springbalance.cli import main
 from springbalance.results.result import DesignResult
 
@@ -136,17 +137,7 @@ def test_a_workspace_beyond_the_joint_limits_is_warned_about_before_the_solve(tm
             "degrees": True,
             "ranges": {"shoulder": [-100, 100], "elbow": [0, 0]},
         },
-        "springs": [
-            {
-                "name": "s1",
-                "type": "extension",
-                "ideal": True,
-                "a": {"body": "universe", "point": [0, 0, 0.1]},
-                "b": {"body": "link1", "box": {"lower": [0.05, 0, 0], "upper": [0.5, 0, 0]}},
-                "stiffness": {"lower": 0, "upper": 10000},
-                "free_length": {"lower": 0.05, "upper": 1.0},
-            }
-        ],
+        "springs": [SHOULDER_SPRING],
         "weights": {"elbow": 0.0},
         "solve": {"starts": 1, "seed": 0},
     }

@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 
 import springbalance as sb
-from flag_helpers import SLIDER_URDF, assert_clean, assert_flagged, overloaded_coil
+from flag_helpers import assert_clean, assert_flagged, overloaded_coil, slider_pull
 from springbalance.design.clearance import FitRecord, LinearRows
 from springbalance.results.failure_flags import last_solver_status
 
@@ -168,18 +168,9 @@ def test_an_overloaded_coil_is_an_unbuildable_failure(tmp_path):
 def test_a_worse_joint_of_weight_zero_is_only_a_warning(tmp_path):
     # the slider of test_flags.py: a spring loads the horizontal slide (0 → 30 N) that gravity never loads;
     # with the slide's weight 0 the design was not asked to balance it
-    path = tmp_path / "slider.urdf"
-    path.write_text(SLIDER_URDF)
-    mechanism = sb.Mechanism.from_urdf(path)
-    workspace = sb.Workspace.grid(mechanism, 5)
-    spring = sb.ZeroFreeLengthSpring(
-        sb.Anchor("universe", (0, 0, 0)), sb.Anchor("cart", (0, 0, 0)), name="pull", stiffness=100.0
-    )
-    weighted = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [spring]), np.zeros(0))
+    weighted = slider_pull(tmp_path)
     assert [flag.kind for flag in weighted.failures()] == ["worse_joint"]
-    unweighted = sb.DesignResult(
-        sb.DesignProblem(mechanism, workspace, [spring], weights={"slide": 0.0, "pitch": 1.0}), np.zeros(0)
-    )
+    unweighted = slider_pull(tmp_path, weights={"slide": 0.0, "pitch": 1.0})
     assert unweighted.failures() == [] and unweighted.ok
     assert_flagged(unweighted, tmp_path, "worse_joint", "slide", severity="warning")
 

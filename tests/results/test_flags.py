@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 import springbalance as sb
-from flag_helpers import SLIDER_URDF, assert_clean, assert_flagged
+from flag_helpers import assert_clean, assert_flagged, slider_pull
 from springbalance.cli import main
 
 URDF = Path(__file__).resolve().parents[2] / "urdf"
@@ -126,14 +126,7 @@ def test_joint_gravity_does_not_load_is_worse_when_a_spring_loads_it(tmp_path):
     # A horizontal slide carries a pendulum: gravity (along −z) never loads the slide (axis x).
     # A zero-free-length spring from the origin to the cart pulls it back with k·q [N], so the
     # slide goes from 0 to k q_max = 100 N/m × 0.3 m = 30 N; the pendulum's joint is untouched.
-    path = tmp_path / "slider.urdf"
-    path.write_text(SLIDER_URDF)
-    mechanism = sb.Mechanism.from_urdf(path)
-    workspace = sb.Workspace.grid(mechanism, 5)
-    spring = sb.ZeroFreeLengthSpring(
-        sb.Anchor("universe", (0, 0, 0)), sb.Anchor("cart", (0, 0, 0)), name="pull", stiffness=100.0
-    )
-    result = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [spring]), np.zeros(0))
+    result = slider_pull(tmp_path)
     rows = {row["joint"]: row for row in result.metrics()["joints"]}
     assert rows["slide"]["peak_before"] == pytest.approx(0, abs=1e-12)
     assert rows["slide"]["peak_after"] == pytest.approx(100 * 0.3, rel=1e-9)
