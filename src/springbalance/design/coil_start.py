@@ -203,11 +203,12 @@ def _ideal_record(
 ) -> TwinRecord:
     """The :class:`~springbalance.design.twin.TwinRecord` of the ideal twin: without the force cap of the
     first guess's twin (the reference a weak design is judged against is the law without the coil's
-    limits), solved from the capped twin's optimum; that optimum's record when the uncapped solve fails."""
+    limits), solved with the first guess's starts, its first from the capped optimum; that optimum's record when
+    the uncapped solve fails."""
     source = ROUTED_TWIN_SOURCE if any(getattr(coil, "routed", False) for coil in coils) else TWIN_SOURCE
     ideal = _twin_problem(problem, coils, capped=False)
     try:
-        solved = solve_problem(ideal, **{**options, "starts": 1, "initial": found.x, "progress": False})
+        solved = solve_problem(ideal, **{**options, "initial": found.x, "progress": False})
     except SolverError:
         return twin_record(twin, found.x, source)
     return twin_record(ideal, solved.x, source)
