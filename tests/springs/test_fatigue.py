@@ -59,7 +59,9 @@ def test_shigley_example_10_6_and_10_7_extension_spring_stresses() -> None:
     d, mean = 0.035 * IN, 0.248 * IN - 0.035 * IN
     hook_a, hook_b = 2 * 0.106 * IN / d, 2 * 0.089 * IN / d  # C_1 = 2 r_1/d, C_2 = 2 r_2/d
     # Example 10-6, static 5.25 lbf: the stress per force of each location
-    assert float(stress_per_force("hook_bending", d, mean, hook_a)) * 5.25 * LBF / KPSI == pytest.approx(156.9, rel=3e-3)
+    assert float(stress_per_force("hook_bending", d, mean, hook_a)) * 5.25 * LBF / KPSI == pytest.approx(
+        156.9, rel=3e-3
+    )
     assert float(stress_per_force("hook_torsion", d, mean, None, hook_b)) * 5.25 * LBF / KPSI == pytest.approx(
         78.4, rel=3e-3
     )
@@ -100,7 +102,9 @@ def test_a_preload_lowers_the_amplitude_and_goodman_is_linear() -> None:
     base = fatigue_margins(2e-3, 16e-3, wire, 0.0, 100.0, {"criterion": "goodman"})["body"]
     loaded = fatigue_margins(2e-3, 16e-3, wire, 50.0, 100.0, {"criterion": "goodman"})["body"]
     assert loaded.amplitude == pytest.approx(base.amplitude / 2)
-    assert 1 / loaded.safety_factor == pytest.approx(loaded.amplitude / loaded.endurance + loaded.mean / loaded.ultimate)
+    assert 1 / loaded.safety_factor == pytest.approx(
+        loaded.amplitude / loaded.endurance + loaded.mean / loaded.ultimate
+    )
 
 
 @pytest.mark.parametrize(
