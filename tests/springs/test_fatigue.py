@@ -139,3 +139,36 @@ def test_reliability_scales_the_endurance_strength() -> None:
     mid = fatigue_margins(2e-3, 16e-3, MUSIC_WIRE, 10.0, 50.0, {"reliability": 0.5}, "compression")["body"]
     assert low.endurance == pytest.approx(0.814 * mid.endurance)  # Shigley Table 6-5
     assert Duty().to_dict()["cycles"] == 1e6 and math.isinf(duty_from_record({"cycles": "infinite"}).cycles)
+
+
+@pytest.mark.parametrize(
+    ("duty", "culprit"),
+    [({"cycles": -5}, "duty.cycles"), ({"peened": True}, "duty.peened"), ({"criterion": 3}, "duty.criterion")],
+)
+def test_a_coil_record_with_a_bad_duty_is_one_line_naming_the_spring_and_key(duty: dict, culprit: str) -> None:
+    from springbalance.springs.records import spring_from_dict
+
+    record = {"name": "s", "type": "extension", "a": {"body": "universe"}, "b": {"body": "link1"}, "duty": duty}
+    with pytest.raises(InputError) as error:
+        spring_from_dict(record)
+    message = str(error.value)
+    assert "'s'" in message or " s:" in message or "s: duty" in message, message
+    assert culprit in message and "\n" not in message
+
+
+def test_a_coil_with_a_duty_has_fatigue_rows_and_a_floor_variable() -> None:
+    from springbalance.springs.params import Anchor, Free
+    from springbalance.springs.laws.helical_extension import HelicalExtensionSpring
+
+    coil = HelicalExtensionSpring(Anchor("universe"), Anchor("link1", Free([0.1, 0, 0], [0.3, 0, 0])), "s", duty={})
+    rules = [c for c in coil.constraints() if c.name == "fatigue"]
+    assert len(rules) == 1 and [p[0] for p in rules[0].parts] == [
+        "fatigue_floor",
+        "fatigue_body",
+        "fatigue_hook_bending",
+        "fatigue_hook_torsion",
+    ]
+    assert rules[0].auxiliary[0][0] == "fatigue_min_force" and rules[0].auxiliary[0][3] > 0
+    # without a duty, or fixed in place, nothing is added
+    plain = HelicalExtensionSpring(Anchor("universe"), Anchor("link1", Free([0.1, 0, 0], [0.3, 0, 0])), "s")
+    assert not [c for c in plain.constraints() if c.name == "fatigue"]
