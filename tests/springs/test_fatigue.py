@@ -157,8 +157,8 @@ def test_a_coil_record_with_a_bad_duty_is_one_line_naming_the_spring_and_key(dut
 
 
 def test_a_coil_with_a_duty_has_fatigue_rows_and_a_floor_variable() -> None:
-    from springbalance.springs.params import Anchor, Free
     from springbalance.springs.laws.helical_extension import HelicalExtensionSpring
+    from springbalance.springs.params import Anchor, Free
 
     coil = HelicalExtensionSpring(Anchor("universe"), Anchor("link1", Free([0.1, 0, 0], [0.3, 0, 0])), "s", duty={})
     rules = [c for c in coil.constraints() if c.name == "fatigue"]
