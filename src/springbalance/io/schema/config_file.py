@@ -30,7 +30,7 @@ TITLE = "springbalance config"
 
 
 #: the ``tolerance`` section: checked by :meth:`springbalance.design.tolerance_spec.ToleranceSpec.from_record`
-TOLERANCE_FIELD = (
+TOLERANCE_FIELD: tuple[Any, Any] = (
     Optional[dict[str, Any]],
     Field(
         None,
