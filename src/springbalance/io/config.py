@@ -35,6 +35,7 @@ from springbalance.design.bounds import check_bounds
 from springbalance.design.clearance import Clearance
 from springbalance.design.problem import DesignProblem
 from springbalance.design.spring_mass import check_mass_bound
+from springbalance.design.tolerance_spec import ToleranceSpec
 from springbalance.errors import ConfigError
 from springbalance.files import read_input_text
 from springbalance.io.config_errors import check_finite, errors_as_config_errors, one_line
@@ -123,6 +124,8 @@ class Config:
     springs: list[Spring]
     problem: DesignProblem
     solve_options: Mapping[str, Any]
+    #: the ``tolerance`` section (None: grade 2 for every coil)
+    tolerance: ToleranceSpec | None = None
 
     def solve(self, **overrides: Any) -> DesignResult:
         """:func:`springbalance.solve` of this config: its ``solve`` options, overridden by the ``overrides``
@@ -181,7 +184,12 @@ def config_from_dict(
         )
         check_bounds(problem)  # contradictions between the springs' bounds, named before any solve
         check_mass_bound(problem)  # a mass bound below the lightest springs the bounds allow
-    return Config(path, mechanism, workspace, springs, problem, solve_options)
+        tolerance = (
+            ToleranceSpec.from_record(record["tolerance"], f"{label}: tolerance")
+            if record.get("tolerance") is not None
+            else None
+        )
+    return Config(path, mechanism, workspace, springs, problem, solve_options, tolerance)
 
 
 def load_workspace(path: str | Path, mechanism: Mechanism) -> Workspace:

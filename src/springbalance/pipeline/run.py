@@ -102,6 +102,7 @@ def solve(
         },
     )
     result = run_steps(problem, options)
+    result.tolerance = getattr(problem_or_config, "tolerance", None)  # a config's tolerance section
     if stock is None:
         return result
     # the problem as the steps left it (with the rows of the fit), as the parts are fitted to the arm the same way
@@ -124,6 +125,7 @@ def _stocked(result: DesignResult, selection: StockSelection, options: SolveOpti
         stock=selection,
         verification=_verified(stocked, options),
         twin=result.twin or twin_record(result.problem, result.x, STOCK_TWIN_SOURCE),
+        tolerance=result.tolerance,
     )
 
 
