@@ -227,8 +227,7 @@ def _title_block(canvas: Canvas, order: SpringOrder, scale: float, design_label:
     x, y = MARGIN + 5, 183.0
     missing = [field.label for field in order.fields if field.value is None]
     notes = "Values marked 'see note' are not set by the design: see order.html for why. " if missing else ""
-    if order.tolerances.missing:
-        notes += f"Tolerances: {order.tolerances.standard} grade {order.tolerances.grade}."
+    notes += f"Tolerances: {order.tolerances.standard} grade {order.tolerances.grade}; (…): reference dimension."
     canvas.text(x, y - 3.5, notes, size=2.2)
     canvas.rect(x, y, SHEET[0] - 2 * MARGIN - 10, 12.0)
     canvas.text(x + 2, y + 5.5, f"{order.name}", size=TITLE, bold=True)

@@ -1,73 +1,75 @@
 """The duty an order states: how many load cycles the spring must live, whether it is shot-peened, and the
-fatigue safety factor per location (the seam to the fatigue check).
+fatigue safety factor and life per location.
 
-A gravity balancer's spring is preloaded and cycles between its working loads ``F1`` and ``F2`` every
-time the arm moves, so a spring maker asks for the number of cycles and the surface treatment
-(DIN 2099-1/-2, "type of loading"). The fatigue check of issue 28 (part 2) gives every coil a ``duty``
-record (``cycles``, ``peened``, ``reliability``) and its spec sheet the fatigue safety factor ``n_f`` per
-location (body; hook bending and hook torsion for extension springs). :func:`coil_duty` reads them
-where they are; on a coil without them it returns a :class:`Duty` whose ``missing`` says that the design
-was checked against the static rules only, and the order prints that instead of a number of cycles.
+A gravity balancer's spring is preloaded and cycles between its working loads ``F1`` and ``F2`` every time
+the arm moves, so a spring maker asks for the number of cycles and the surface treatment (DIN 2099-1/-2,
+"type of loading"). :func:`coil_duty` takes the coil's ``duty`` record (:class:`springbalance.springs.fatigue.Duty`)
+when it has one, else the default duty (10⁶ cycles, not peened, docs/model.md §3.8.2) marked as assumed, and
+computes the fatigue margin of every location (body; hook bending and hook torsion of an extension spring)
+for the force range ``F1`` … ``F2`` with :func:`springbalance.springs.fatigue.fatigue_margins`.
 """
 
 from __future__ import annotations
 
 import dataclasses
-from typing import Any, Mapping
+import math
+from typing import Any
 
-#: the spec-sheet entries of the fatigue check: location → key of its safety factor n_f
-FATIGUE_KEYS = {
-    "body": "body_fatigue_factor",
-    "hook bending": "hook_bending_fatigue_factor",
-    "hook torsion": "hook_torsion_fatigue_factor",
-}
+from springbalance.springs.fatigue import Duty, Margin, fatigue_margins
+from springbalance.springs.laws.coil import HelicalCoilSpring
 
 
 @dataclasses.dataclass(frozen=True)
-class Duty:
-    """What the order says about the spring's duty (None: not given, see ``missing``).
+class OrderDuty:
+    """What the order says about the spring's duty.
 
     Attributes:
-        cycles: the load cycles it must live [1].
-        peened: whether it is shot-peened.
-        reliability: the reliability the fatigue check used [1].
-        safety_factors: location → fatigue safety factor n_f [1] (empty when not checked).
-        missing: why the duty is not given ("" when it is).
+        duty: the duty (cycles, peening, reliability, required n_f, criterion).
+        assumed: True when the design gives no duty and the default one is stated instead.
+        margins: location → its fatigue margin at the force range of the order (n_f, the life it allows).
     """
 
-    cycles: float | None = None
-    peened: bool | None = None
-    reliability: float | None = None
-    safety_factors: dict[str, float] = dataclasses.field(default_factory=dict)
-    missing: str = ""
+    duty: Duty
+    assumed: bool
+    margins: dict[str, Margin]
+
+    @property
+    def cycles_text(self) -> str:
+        """The cycles as the form shows them: ``1e+06`` or ``infinite``."""
+        return "infinite" if math.isinf(self.duty.cycles) else f"{self.duty.cycles:.3g}"
+
+    @property
+    def note(self) -> str:
+        """Where the duty comes from."""
+        if self.assumed:
+            return (
+                "the design gives no duty: the default duty of docs/model.md §3.8.2 is stated (an arm that moves "
+                "every 10 s, 8 h a day, 250 days a year cycles its springs 7·10⁵ times a year); change it in the "
+                "design's coil record (duty) if the arm works otherwise"
+            )
+        return "the design's duty (its coil's duty record)"
 
     def to_dict(self) -> dict[str, Any]:
         """The record of ``order.json``."""
-        return dataclasses.asdict(self)
+        return {
+            **self.duty.to_dict(),
+            "assumed": self.assumed,
+            "margins": {location: margin.to_dict() for location, margin in self.margins.items()},
+        }
 
 
-def _entry(record: Any, key: str) -> Any:
-    """``record[key]`` of a mapping, or its attribute ``key``; None when it has neither."""
-    if isinstance(record, Mapping):
-        return record.get(key)
-    return getattr(record, key, None)
-
-
-def coil_duty(spring: Any, sheet: Mapping[str, Any]) -> Duty:
-    """The duty of the coil ``spring`` (its ``duty`` record, when it has one) and the fatigue safety factors
-    of its spec sheet ``sheet`` (:meth:`~springbalance.springs.laws.helical_extension.HelicalExtensionSpring.spec_sheet`)."""
+def coil_duty(
+    spring: HelicalCoilSpring, wire_diameter: float, mean_diameter: float, min_force: float, max_force: float
+) -> OrderDuty:
+    """The duty of the coil ``spring`` of wire ``wire_diameter`` and mean coil diameter ``mean_diameter`` [m]
+    (its ``duty`` record, or the default, assumed) and its fatigue margins for a force magnitude cycling
+    between ``min_force`` and ``max_force`` [N] (clipped at 0: a coil that goes slack cycles from 0)."""
     record = getattr(spring, "duty", None)
-    factors = {location: float(sheet[key]) for location, key in FATIGUE_KEYS.items() if key in sheet}
-    if record is None:
-        return Duty(
-            safety_factors=factors,
-            missing="the design gives no duty: it was checked against the static rules only (no fatigue "
-            "check); state the load cycles the spring must live before ordering it for a moving arm",
-        )
-    cycles, peened, reliability = (_entry(record, key) for key in ("cycles", "peened", "reliability"))
-    return Duty(
-        cycles=None if cycles is None else float(cycles),
-        peened=None if peened is None else bool(peened),
-        reliability=None if reliability is None else float(reliability),
-        safety_factors=factors,
+    duty = record if isinstance(record, Duty) else Duty()
+    low = max(min(min_force, max_force), 0.0)
+    high = max(max_force, min_force, 0.0)
+    # its record as a mapping: fatigue_margins reads a mapping (it calls dict() on what it is given)
+    margins = fatigue_margins(
+        wire_diameter, mean_diameter, spring.material, low, high, duty.to_dict(), spring.helical_kind
     )
+    return OrderDuty(duty, not isinstance(record, Duty), margins)

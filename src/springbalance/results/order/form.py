@@ -22,12 +22,13 @@ statically only) has no value and a ``note`` that says why; nothing is left blan
 from __future__ import annotations
 
 import dataclasses
+import math
 from typing import Any
 
 import numpy as np
 
 from springbalance.design.evaluated import EvaluatedDesign
-from springbalance.results.order.duty import Duty, coil_duty
+from springbalance.results.order.duty import OrderDuty, coil_duty
 from springbalance.results.order.tolerances import DEFAULT_GRADE, Tolerances, grade_tolerances
 from springbalance.springs.helical_formulas import HOOK_SIDE_BEND_INDEX
 from springbalance.springs.laws.coil import HelicalCoilSpring
@@ -77,7 +78,7 @@ class SpringOrder:
     form: str
     fields: tuple[Field, ...]
     tolerances: Tolerances
-    duty: Duty
+    duty: OrderDuty
     geometry: dict[str, float]
     loads: tuple[tuple[str, float, float], ...]
 
@@ -144,7 +145,7 @@ def _spring_order(
     initial = float(sheet.get("initial_tension", 0.0))
     (l1, f1), (l2, f2) = states
     tolerances = grade_tolerances(kind, options.grade, d, D, n, free, rate, initial, (f1, f2))
-    duty = coil_duty(spring, sheet)
+    duty = coil_duty(spring, d, D, f1, f2)
     total = n if kind == "extension" else n + 2
     geometry = {"wire_diameter": d, "mean_diameter": D, "active_coils": n, "total_coils": total, "free_length": free}
     geometry.update(body_length=float(sheet["body_length"]), rate=rate, initial_tension=initial)
@@ -354,9 +355,9 @@ def _end_fields(spring: HelicalCoilSpring, sheet: dict[str, Any]) -> tuple[Field
 
 
 def _quality_fields(
-    kind: str, tolerances: Tolerances, duty: Duty, options: OrderOptions, record: dict[str, Any]
+    kind: str, tolerances: Tolerances, duty: OrderDuty, options: OrderOptions, record: dict[str, Any]
 ) -> tuple[Field, ...]:
-    """Quality grade, duty (cycles, peening, fatigue factors), finish and quantity."""
+    """Quality grade, duty (cycles, peening, fatigue factor and life per location), finish and quantity."""
     fields = [
         Field(
             "quality_grade",
@@ -365,23 +366,26 @@ def _quality_fields(
             note="the tolerances of this grade apply to every toleranced value",
         ),
         Field(
-            "cycles",
-            "Load cycles",
-            duty.cycles,
-            "1",
-            note="between F1 and F2 at every move of the arm" if duty.cycles is not None else duty.missing,
+            "cycles", "Load cycles", duty.cycles_text, note=f"between F1 and F2 at every move of the arm; {duty.note}"
         ),
         Field(
             "peening",
             "Shot peening",
-            None if duty.peened is None else ("peened" if duty.peened else "not peened"),
-            note="" if duty.peened is not None else duty.missing,
+            "peened" if duty.duty.peened else "not peened",
+            note="a close-wound extension spring cannot be peened" if kind == "extension" else duty.note,
         ),
     ]
-    for location, factor in duty.safety_factors.items():
+    for location, margin in duty.margins.items():
+        factor = margin.safety_factor
         fields.append(
             Field(
-                f"fatigue_{location.replace(' ', '_')}", f"Fatigue factor n_f ({location})", factor, "1", reference=True
+                f"fatigue_{location}",
+                f"Fatigue n_f ({location.replace('_', ' ')})",
+                "infinite (no stress range)" if math.isinf(factor) else factor,
+                "" if math.isinf(factor) else "1",
+                reference=True,
+                note=f"{duty.duty.criterion} on {margin.source}, required {margin.required:g}; "
+                f"life at that factor: {margin.life_text()}",
             )
         )
     fields.append(

@@ -1,14 +1,13 @@
-"""The manufacturing tolerances an order states, per quality grade (the seam to the tolerance tables).
+"""The manufacturing tolerances an order states, per quality grade (EN 15800, DIN 2097).
 
 A spring order gives every inspected value with its ± tolerance: the free length ``L0``, the controlled coil
 diameter, the initial tension ``F0`` (extension springs), the rate ``R`` and the loads ``F1``, ``F2`` at
 the test lengths. They follow from the quality grade (DIN 2097 for extension springs, EN 15800 for
 compression springs; grades 1, 2, 3, grade 2 by default) and the spring's geometry.
 
-:func:`grade_tolerances` is the one function that computes them. The grade tables are not part of this
-build (issue 28 part 3 adds them as ``springbalance.springs.tolerance_grades``): until they are, it returns
-a :class:`Tolerances` whose values are None and whose ``missing`` says why, and the order prints that
-reason in every tolerance cell instead of a number.
+:func:`grade_tolerances` computes them with :mod:`springbalance.springs.tolerance_grades` (EN 15800:2008 §4
+and DIN 2097): ``A_F`` on each load, ``A_L0`` on the free length, ``A_D`` on the coil diameter, ``A_F(F0)``
+on the initial tension, and the proportional part ``1.5 % Q`` of ``A_F`` on the rate.
 """
 
 from __future__ import annotations
@@ -16,10 +15,16 @@ from __future__ import annotations
 import dataclasses
 from typing import Any
 
-#: the quality grade an order asks for when the design gives none (DIN 2097 / EN 15800: 1 fine, 2 medium,
-#: 3 coarse; 2 is the usual grade of a spring made to order)
-DEFAULT_GRADE = 2
-#: the quality grades of DIN 2097 and EN 15800
+from springbalance.springs.tolerance_grades import (
+    DEFAULT_GRADE,
+    Kind,
+    force_tolerance,
+    grade_box,
+    initial_tension_tolerance,
+)
+
+__all__ = ["DEFAULT_GRADE", "GRADES", "GRADE_STANDARDS", "Tolerances", "grade_tolerances"]
+#: the quality grades of DIN 2097 and EN 15800 (1 fine, 2 medium: the default, 3 coarse)
 GRADES = (1, 2, 3)
 #: the standard of the tolerances per spring kind
 GRADE_STANDARDS = {"extension": "DIN 2097", "compression": "EN 15800"}
@@ -71,14 +76,19 @@ def grade_tolerances(
 ) -> Tolerances:
     """The tolerances of a ``kind`` ("extension" or "compression") spring of quality ``grade`` with wire
     ``wire_diameter`` d [m], mean coil diameter ``mean_diameter`` D [m], ``active_coils`` n, free length
-    ``free_length`` L0 [m], rate [N/m], initial tension [N] and working loads ``loads`` (F1, F2) [N].
-
-    The grade tables (DIN 2097, EN 15800) are not in this build: the values are None, and ``missing``
-    says so; nothing is guessed.
-    """
+    ``free_length`` L0 [m], rate [N/m], initial tension [N] and working loads ``loads`` (F1, F2) [N]
+    (:mod:`springbalance.springs.tolerance_grades`; an extension spring's initial tension is toleranced as
+    the force at its free length, a compression spring has none: its ``initial_tension`` is None)."""
+    d, D, n = wire_diameter, mean_diameter, active_coils
+    force_kind: Kind = "extension" if kind == "extension" else "compression"
+    box = grade_box(force_kind, d, D, n, free_length, rate, initial_tension, grade)
     return Tolerances(
         grade=grade,
         standard=GRADE_STANDARDS[kind],
-        missing=f"the {GRADE_STANDARDS[kind]} grade {grade} tables are not in this build of springbalance "
-        "(issue 28, tolerances); take the standard's tolerances for this grade",
+        free_length=box.free_length_dimension,
+        coil_diameter=box.coil_diameter,
+        initial_tension=initial_tension_tolerance(d, D, n, initial_tension, grade) if kind == "extension" else None,
+        rate=box.rate * rate,
+        loads=(force_tolerance(d, D, n, loads[0], grade), force_tolerance(d, D, n, loads[1], grade)),
+        source=f"{GRADE_STANDARDS[kind]} grade {grade} (springbalance.springs.tolerance_grades)",
     )
