@@ -22,7 +22,7 @@ import pytest
 
 import springbalance as sb
 from flag_helpers import overloaded_coil
-from physics_helpers import RefSpring, ReferencePotential
+from physics_helpers import ReferencePotential, RefSpring
 from springbalance.cli import main
 from springbalance.results.order import OrderOptions, order_files, spring_orders
 from springbalance.results.order.schema import ORDER_SCHEMA
