@@ -12,7 +12,7 @@ label (:data:`~springbalance.springs.materials.MATERIALS`); the tolerance from i
   ``lower < d ≤ upper``: 0.05-0.09 ±0.003; -0.16 ±0.004; -0.25 ±0.005; -0.63 ±0.008; -0.75 ±0.010;
   -1.00 ±0.015; -1.70 ±0.020; -2.60 ±0.025; -4.00 ±0.030; -5.30 ±0.035; -7.00 ±0.040; -9.00 ±0.045;
   -10.0 ±0.050; -11.0 ±0.070; -14.0 ±0.080; -18.0 ±0.090; -20.0 ±0.100 (EN 10270-1:2011, table of
-  diameter tolerances, as tabulated in the SpringONE project's WIRETOL.csv).
+  diameter tolerances, as listed in the SpringONE project's WIRETOL.csv).
 
 Other wires (ASTM A313 stainless, ASTM A401 chrome-silicon) have no table here: :func:`wire_tolerance`
 then says so, and the order asks the maker for the standard's tolerance instead of inventing one.
@@ -31,7 +31,7 @@ INCH = 0.0254  # [m]
 @dataclasses.dataclass(frozen=True)
 class WireStandard:
     """A wire standard: its name, and its tolerance table as ``(upper d [m], ± [m])`` rows, each for
-    ``previous upper < d ≤ upper``, from ``lowest`` [m] on (empty when not tabulated), and the source."""
+    ``previous upper < d ≤ upper``, from ``lowest`` [m] on (empty when not listed), and the source."""
 
     name: str
     rows: tuple[tuple[float, float], ...] = ()
@@ -109,7 +109,7 @@ def wire_tolerance(material: Material, wire_diameter: float) -> tuple[float | No
     if standard is None:
         return None, f"no wire standard is known for {material.label}; ask the maker for its tolerance"
     if not standard.rows:
-        return None, f"the {standard.name} tolerance table is not tabulated in springbalance; the standard's applies"
+        return None, f"the {standard.name} tolerance table is not included in springbalance; the standard's applies"
     lower = standard.lowest
     if wire_diameter < lower * (1 - 1e-9):
         return None, f"{wire_diameter / MM:g} mm is below the {standard.name} table ({lower / MM:g} mm and up)"
