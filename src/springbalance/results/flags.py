@@ -38,6 +38,8 @@ The warnings:
   beyond its anchor (:mod:`springbalance.results.own_link`; only with collision geometry).
 - ``weak_design``: see :mod:`springbalance.results.weak_design`.
 - ``beyond_joint_limits``, ``off_series_wire``: see :mod:`springbalance.results.range_flags`.
+- ``short_life``: a coil without a stated duty that would not live the default one; see
+  :mod:`springbalance.results.fatigue_flags`.
 
 The text report, ``report.html`` and ``design.json`` all list them, failures first (``design.json``:
 every finding under ``warnings``, the failures again under ``failures``).
@@ -56,6 +58,7 @@ from springbalance.export.common import law_warnings, spring_name
 from springbalance.results.failure_flags import infeasible_flags, not_converged_flags, overlap_flags, partial_flags
 from springbalance.results.flag import FAILURE, WARNING, Flag, failures_first
 from springbalance.results.own_link import inside_own_link
+from springbalance.results.fatigue_flags import short_life_flags
 from springbalance.results.range_flags import beyond_joint_limits_flags, off_series_wire_flags
 from springbalance.results.rules import BOUND_TOLERANCE, at_bounds
 from springbalance.results.verification_report import margin_text, pose_text
@@ -85,6 +88,7 @@ KINDS = {
     "heavy_springs": WARNING,
     "not_verified": FAILURE,
     "inside_own_link": WARNING,
+    "short_life": WARNING,
 }
 #: ``heavy_springs``: the springs are heavy above this fraction of the arm's moving mass [1] ...
 HEAVY_ARM_FRACTION = 0.10
@@ -368,6 +372,7 @@ CHECKS: tuple[Callable[[EvaluatedDesign], list[Flag]], ...] = (
     weak_design_flags,
     beyond_joint_limits_flags,
     off_series_wire_flags,
+    short_life_flags,
     heavy_springs_flags,
     inside_own_link_flags,
 )

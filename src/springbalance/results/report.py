@@ -261,7 +261,8 @@ def fatigue_rows(sheet: dict[str, Any]) -> list[tuple[str, str]]:
         (
             "duty",
             f"{cycles} cycles, n_f ≥ {duty['safety_factor']:g}, {duty['criterion']}"
-            f"{', peened' if duty['peened'] else ''}, reliability {duty['reliability']:g}",
+            f"{', peened' if duty['peened'] else ''}, reliability {duty['reliability']:g}"
+            + ("" if duty.get("stated", True) else " (assumed: the coil states no duty; checked, not designed for)"),
         ),
         ("load range", f"{fatigue['min_load']:.4g}–{fatigue['max_load']:.4g} N"),
     ]

@@ -261,16 +261,19 @@ class HelicalCoilSpring(TwoPointSpring):
         return sheet, reasons
 
     def fatigue_sheet(self, sheet: dict, forces: np.ndarray, reasons: list[str]) -> None:
-        """With a duty: add ``duty`` and ``fatigue`` (per location: ``n_f``, the life it allows, the data) to
-        ``sheet`` from the force range over ``forces`` [N], and a reason for every location below its ``n_f``."""
-        if self.duty is None:
-            return
+        """Add ``duty`` and ``fatigue`` (per location: ``n_f``, the life it allows, the data) to ``sheet`` from the
+        force range over ``forces`` [N]. With a stated duty, a location below its ``n_f`` is a reason the coil is
+        not buildable; without one the coil is judged at the default :class:`~springbalance.springs.fatigue.Duty`
+        (``duty.stated`` false) and a shortfall is only reported (the ``short_life`` warning)."""
+        duty = self.duty if self.duty is not None else Duty()
         low, high = force_range(forces, self.helical_kind)
         margins = fatigue_margins(
-            sheet["wire_diameter"], sheet["mean_diameter"], self.material, low, high, self.duty, self.helical_kind
+            sheet["wire_diameter"], sheet["mean_diameter"], self.material, low, high, duty, self.helical_kind
         )
-        sheet["duty"] = self.duty.to_dict()
+        sheet["duty"] = {**duty.to_dict(), "stated": self.duty is not None}
         sheet["fatigue"] = {"min_load": low, "max_load": high, **{key: m.to_dict() for key, m in margins.items()}}
+        if self.duty is None:
+            return
         for location, margin in margins.items():
             if margin.safety_factor < margin.required * (1 - CHECK_TOLERANCE):
                 reasons.append(
