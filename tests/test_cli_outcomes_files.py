@@ -13,10 +13,6 @@ link's angle from the vertical, against the weight's m g c cos θ: their sum is 
 from __future__ import annotations
 
 import json
-import signal
-import subprocess
-import sys
-import time
 from pathlib import Path
 
 import mujoco
@@ -24,7 +20,7 @@ import numpy as np
 import pytest
 
 import springbalance as sb
-from cli_helpers import default_ctrl_c, failure_kinds
+from cli_helpers import failure_kinds, until_ctrl_c
 from config_helpers import ROOT, THROUGH, config_file
 from springbalance.cli import main
 from springbalance.export.urdf import sidecar_path
@@ -103,24 +99,8 @@ def test_export_of_a_design_that_passes_exits_0_unmarked(tmp_path, capsys):
 
 
 def test_view_of_a_failing_design_prints_its_failures_and_exits_3_when_stopped(failing_design):
-    process = subprocess.Popen(
-        [sys.executable, "-m", "springbalance", "view", str(failing_design), "--frames", "2"],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        preexec_fn=default_ctrl_c,
-    )
-    try:
-        first = process.stdout.readline()
-        assert "http://127.0.0.1:" in first, (first, process.stderr.read() if process.poll() else "")
-        time.sleep(0.3)
-        process.send_signal(signal.SIGINT)
-        out, err = process.communicate(timeout=30)
-    finally:
-        if process.poll() is None:
-            process.kill()
-            process.communicate()
-    assert process.returncode == 3, (process.returncode, err)
+    code, out, err = until_ctrl_c(["view", str(failing_design), "--frames", "2"])
+    assert code == 3, (code, err)
     assert "Traceback" not in err and "stopped" in out
     assert failure_kinds(err) == ["partial", "overlap"]
     assert "shown all the same" in err
