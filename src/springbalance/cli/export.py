@@ -71,17 +71,20 @@ def handle(args: argparse.Namespace) -> int:
         files[Path(args.mjcf)] = mjcf
         warnings += [warning for warning in mjcf_warnings if warning not in warnings]
     failures = result.failures()
-    if failures and not args.partial:
-        print_failures(failures, "nothing written (--partial writes the files, marked partial)")
-        return outcome(failures)
-    if failures:
-        files = {path: _marked(text, failure_summary(failures)) for path, text in files.items()}
-    for path, text in files.items():
-        write_text_atomic(path, text)
-    print(f"wrote {', '.join(str(path) for path in files)}" + (" (partial: marked so)" if failures else ""))
+    written = not failures or args.partial
+    if written:
+        marked = {path: _marked(text, failure_summary(failures)) if failures else text for path, text in files.items()}
+        for path, text in marked.items():
+            write_text_atomic(path, text)
+        print(f"wrote {', '.join(str(path) for path in files)}" + (" (marked partial)" if failures else ""))
     for warning in warnings:
         print(f"{PROG}: warning: {warning}", file=sys.stderr)
-    print_failures(failures, "written marked partial: not a part to build")
+    print_failures(
+        failures,
+        "written marked partial: not a part to build"
+        if written
+        else "nothing written (existing files are unchanged; --partial writes them, marked partial)",
+    )
     return outcome(failures)
 
 
