@@ -18,6 +18,7 @@ from pathlib import Path
 
 import pytest
 
+from cli_helpers import default_ctrl_c
 from springbalance.results.result import DesignResult
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -44,13 +45,6 @@ def _cpu_seconds(pid: int) -> float:
     return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
-def _default_ctrl_c() -> None:
-    """In the child before it starts: SIGINT unblocked and at its default, whatever the test process inherited
-    (a blocked or ignored SIGINT is inherited across exec, and Python then never raises KeyboardInterrupt)."""
-    signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
-    signal.signal(signal.SIGINT, signal.SIG_DFL)
-
-
 def _sigint_state(pid: int) -> dict[str, bool]:
     """Whether SIGINT is blocked, ignored or caught in process ``pid`` (Linux /proc)."""
     fields = dict(line.split(":", 1) for line in Path(f"/proc/{pid}/status").read_text().splitlines() if ":" in line)
@@ -66,7 +60,7 @@ def _interrupt(tmp_path, *extra) -> tuple[int, str, Path]:
         stderr=subprocess.PIPE,
         text=True,
         env={**os.environ, "SPRINGBALANCE_WORKERS": "1"},
-        preexec_fn=_default_ctrl_c,
+        preexec_fn=default_ctrl_c,
     )
     # start-up, compile and some starts: wait for 6 s of the process's own CPU time (not wall time, which a
     # loaded machine stretches), at most 120 s

@@ -2,11 +2,8 @@
 prints its report and one line per failure on stderr, and is saved only with ``--partial`` (marked
 ``"partial": true``); ``evaluate`` of such a file exits with 3 too; a design that passes exits with 0.
 
-The failing design: urdf/two_link_planar_collision.urdf (link1's collision box 0.5 × 0.04 × 0.04 m along x
-from its joint) with one zero-free-length spring from (0.25, 0, −0.1) on the ground to (0.2, 0, 0.1) on
-link2. Near the pose (0, 0) link2's point is at (0.7, 0, 0.1), and the spring's line crosses z = 0 at
-x = 0.25 + 0.45 · 0.1/0.2 = 0.475 m, inside link1's box: whatever its stiffness, it overlaps link1 at every
-pose of the ±10° workspace. Only its stiffness is free.
+The failing design is config_helpers.THROUGH: a spring that overlaps link1 at every pose, whatever its
+stiffness (its docstring says why).
 """
 
 from __future__ import annotations
@@ -16,56 +13,25 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-import yaml
 
 import springbalance as sb
-from config_helpers import SHOULDER_SPRING
+from cli_helpers import failure_kinds, failure_lines
+from config_helpers import SHOULDER_SPRING, THROUGH, config_file
 from springbalance.cli import main
 from springbalance.results.result import DesignResult
 
 ROOT = Path(__file__).resolve().parents[1]
 
-THROUGH = {
-    "mechanism": {"urdf": str(ROOT / "urdf" / "two_link_planar_collision.urdf")},
-    "workspace": {
-        "kind": "sobol",
-        "n": 32,
-        "seed": 0,
-        "degrees": True,
-        "ranges": {"shoulder": [-10, 10], "elbow": [-10, 10]},
-    },
-    "springs": [
-        {
-            "name": "through",
-            "type": "zero_free_length",
-            "a": {"body": "universe", "point": [0.25, 0, -0.1]},
-            "b": {"body": "link2", "point": [0.2, 0, 0.1]},
-            "stiffness": {"lower": 0, "upper": 1000},
-        }
-    ],
-    "solve": {"starts": 1, "seed": 0},
-}
-
-
-def _config(tmp_path: Path, record: dict, name: str = "config.yaml") -> Path:
-    path = tmp_path / name
-    path.write_text(yaml.safe_dump(record, sort_keys=False))
-    return path
-
-
-def _failure_lines(err: str) -> list[str]:
-    return [line for line in err.splitlines() if line.startswith("springbalance: failure: ")]
-
 
 def test_a_failing_design_exits_3_prints_its_failures_and_saves_nothing(tmp_path, capsys):
     out = tmp_path / "design.json"
-    assert main(["design", str(_config(tmp_path, THROUGH)), "--out", str(out)]) == 3
+    assert main(["design", str(config_file(tmp_path, THROUGH)), "--out", str(out)]) == 3
     captured = capsys.readouterr()
     assert not out.exists() and not list(tmp_path.glob(".design.json*"))
     # the report is printed, with the failures under their own heading before the warnings
     assert "Failures (1): this design does not pass" in captured.out and "[overlap]" in captured.out
     assert "not saved" in captured.out
-    (line,) = _failure_lines(captured.err)
+    (line,) = failure_lines(captured.err)
     assert line.startswith("springbalance: failure: [overlap] spring 'through'") and "overlaps link link1" in line
     assert "nothing saved" in captured.err.splitlines()[-1] and "--partial" in captured.err.splitlines()[-1]
 
@@ -73,16 +39,16 @@ def test_a_failing_design_exits_3_prints_its_failures_and_saves_nothing(tmp_path
 def test_an_existing_output_is_left_untouched_by_a_failing_design(tmp_path, capsys):
     out = tmp_path / "design.json"
     out.write_text("keep me")
-    assert main(["design", str(_config(tmp_path, THROUGH)), "--out", str(out), "--quiet"]) == 3
+    assert main(["design", str(config_file(tmp_path, THROUGH)), "--out", str(out), "--quiet"]) == 3
     captured = capsys.readouterr()
     assert out.read_text() == "keep me"
     assert captured.out == ""  # --quiet: no report, but the failures still go to stderr
-    assert len(_failure_lines(captured.err)) == 1
+    assert len(failure_lines(captured.err)) == 1
 
 
 def test_partial_saves_a_marked_file_and_evaluate_exits_3(tmp_path, capsys):
     out = tmp_path / "design.json"
-    assert main(["design", str(_config(tmp_path, THROUGH)), "--out", str(out), "--partial"]) == 3
+    assert main(["design", str(config_file(tmp_path, THROUGH)), "--out", str(out), "--partial"]) == 3
     captured = capsys.readouterr()
     assert "design saved to" in captured.out and "partial" in captured.out
     assert "[partial]" in captured.out  # the text says so
@@ -96,18 +62,15 @@ def test_partial_saves_a_marked_file_and_evaluate_exits_3(tmp_path, capsys):
     assert main(["evaluate", str(out)]) == 3
     captured = capsys.readouterr()
     assert "Failures (2)" in captured.out
-    assert [line.split("]")[0] for line in _failure_lines(captured.err)] == [
-        "springbalance: failure: [partial",
-        "springbalance: failure: [overlap",
-    ]
+    assert failure_kinds(captured.err) == ["partial", "overlap"]
 
 
 def test_an_unconverged_fit_is_a_failure_of_the_command(tmp_path, capsys):
     # asked to keep 5 mm from the arm in one round, with fixed anchors: the fit cannot move the spring
     record = {**THROUGH, "clearance": {"margin": 0.005, "rounds": 1, "check_samples": 64}}
     out = tmp_path / "design.json"
-    assert main(["design", str(_config(tmp_path, record)), "--out", str(out), "--quiet"]) == 3
-    kinds = {line.split("[")[1].split("]")[0] for line in _failure_lines(capsys.readouterr().err)}
+    assert main(["design", str(config_file(tmp_path, record)), "--out", str(out), "--quiet"]) == 3
+    kinds = set(failure_kinds(capsys.readouterr().err))
     assert {"not_converged", "overlap", "infeasible"} <= kinds
     assert not out.exists()
 
@@ -142,7 +105,7 @@ def test_a_workspace_beyond_the_joint_limits_is_warned_about_before_the_solve(tm
         "solve": {"starts": 1, "seed": 0},
     }
     out = tmp_path / "design.json"
-    code = main(["design", str(_config(tmp_path, record)), "--out", str(out), "--quiet"])
+    code = main(["design", str(config_file(tmp_path, record)), "--out", str(out), "--quiet"])
     err = capsys.readouterr().err.splitlines()
     assert err[0].startswith("springbalance: warning: the workspace takes joint shoulder over")
     assert "beyond its URDF limits [-1.571, 1.571] rad ([-90.0°, 90.0°])" in err[0]
@@ -192,13 +155,10 @@ def test_report_of_a_failing_design_is_written_and_exits_3(tmp_path, capsys):
     """The report of a design that fails a check is written (it shows what failed) and the command exits 3
     with one line per failure, as evaluate does."""
     out = tmp_path / "design.json"
-    assert main(["design", str(_config(tmp_path, THROUGH)), "--out", str(out), "--partial", "--quiet"]) == 3
+    assert main(["design", str(config_file(tmp_path, THROUGH)), "--out", str(out), "--partial", "--quiet"]) == 3
     capsys.readouterr()
     folder = tmp_path / "report"
     assert main(["report", str(out), "--out", str(folder), "--no-scene"]) == 3
     captured = capsys.readouterr()
     assert (folder / "report.html").is_file() and "report written to" in captured.out
-    assert [line.split("]")[0] for line in _failure_lines(captured.err)] == [
-        "springbalance: failure: [partial",
-        "springbalance: failure: [overlap",
-    ]
+    assert failure_kinds(captured.err) == ["partial", "overlap"]

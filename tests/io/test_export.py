@@ -375,7 +375,11 @@ def test_cli_export_writes_both_files_and_warns(two_link, tmp_path, capsys):
         design
     )
     urdf, mjcf = tmp_path / "out" / "balanced.urdf", tmp_path / "out" / "balanced.xml"
-    assert main(["export", str(design), "--urdf", str(urdf), "--mjcf", str(mjcf)]) == 0
+    # a slack spring that only pulls part of the way is no balancer: it makes the shoulder worse, a failure,
+    # so the files are written only with --partial (and the exit status is 3); the law warnings come all the same
+    assert main(["export", str(design), "--urdf", str(urdf), "--mjcf", str(mjcf)]) == 3
+    assert not urdf.exists() and "[worse_joint]" in capsys.readouterr().err
+    assert main(["export", str(design), "--urdf", str(urdf), "--mjcf", str(mjcf), "--partial"]) == 3
     captured = capsys.readouterr()
     assert urdf.is_file() and mjcf.is_file() and sidecar_path(urdf).is_file()
     assert "warning" in captured.err and "'loose'" in captured.err and "slack" in captured.err

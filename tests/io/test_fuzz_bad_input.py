@@ -250,8 +250,10 @@ def run(argv, capsys) -> tuple[int | None, str]:
     captured = capsys.readouterr()
     if "Traceback" in captured.err or "Traceback" in captured.out:
         return code, f"printed a traceback: {captured.err[-500:]}"
-    if code not in (0, 1, 2):
+    if code not in (0, 1, 2, 3):
         return code, f"exit status {code}: {captured.err[-300:]}"
+    if code == 3 and "springbalance: failure: " not in captured.err:  # a design that fails a check says which
+        return code, f"exit status 3 without a failure line: {captured.err[-300:]}"
     if code == 2 and not captured.err.strip():
         return code, "exit status 2 without a message"
     return code, ""

@@ -15,7 +15,7 @@ from pathlib import Path
 from springbalance.cli.arguments import nonnegative_int, positive_int
 from springbalance.cli.formatting import PROG, interrupted_message
 from springbalance.cli.inputs import check_output
-from springbalance.cli.outcome import INTERRUPTED, outcome, print_failures
+from springbalance.cli.outcome import INTERRUPTED, failure_summary, outcome, print_failures
 from springbalance.design.solvers import METHODS
 from springbalance.design.stock import StockSelection
 from springbalance.design.verification_loop import MODES as VERIFY_MODES
@@ -114,7 +114,7 @@ def handle(args: argparse.Namespace) -> int:
         return _interrupted(stop, out, args.partial)
     failures = result.failures()
     if failures and args.partial:
-        result.partial = f"it fails {len(failures)} check(s): {', '.join(sorted({f.kind for f in failures}))}"
+        result.partial = failure_summary(failures)
     saved = not failures or args.partial
     if saved:
         _save_design(result, out, result.stock, args.stock)
@@ -123,15 +123,10 @@ def handle(args: argparse.Namespace) -> int:
         if result.stock is not None:
             print(f"\n{result.stock.summary()}")
         print(_saved_line(out, saved, bool(failures)))
-    print_failures(failures)
-    if failures:
-        print(
-            f"{PROG}: the design fails {len(failures)} check(s); "
-            + (
-                f"saved to {out} marked partial" if saved else f"nothing saved ({out} is unchanged; --partial saves it)"
-            ),
-            file=sys.stderr,
-        )
+    print_failures(
+        failures,
+        f"saved to {out} marked partial" if saved else f"nothing saved ({out} is unchanged; --partial saves it)",
+    )
     return outcome(failures)
 
 

@@ -9,8 +9,8 @@ code  meaning
 3     a design was found but fails a check (``infeasible``, ``not_converged``, ``unbuildable``,
       ``overlap``, ``worse_joint`` on a weighted joint, ``not_verified``, ``partial``): the report is
       printed, one line per failure on stderr, and ``--out`` is written only with ``--partial``
-      (``evaluate`` and ``report`` of such a design exit 3 too, ``order`` writes nothing without
-      ``--partial``; ``clearance`` when a spring comes closer than the margin)
+      (``export`` and ``order`` write their files only with ``--partial`` too; ``evaluate``, ``report``
+      and ``view`` of such a design exit 3 too; ``clearance`` when a spring comes closer than the margin)
 130   interrupted (Ctrl-C)
 141   the output pipe was closed (e.g. ``| head``)
 ====  ==========================================================================================
@@ -32,10 +32,19 @@ INTERRUPTED = 130
 CLOSED_PIPE = 141
 
 
-def print_failures(failures: Sequence[Flag]) -> None:
-    """One line per failure on stderr: ``springbalance: failure: [kind] message``."""
+def print_failures(failures: Sequence[Flag], consequence: str | None = None) -> None:
+    """One line per failure on stderr: ``springbalance: failure: [kind] message``; then, given a
+    ``consequence`` (what the command did about them), ``springbalance: the design fails N check(s);
+    <consequence>``."""
     for flag in failures:
         print(f"{PROG}: failure: [{flag.kind}] {' '.join(flag.message.split())}", file=sys.stderr)
+    if failures and consequence is not None:
+        print(f"{PROG}: the design fails {len(failures)} check(s); {consequence}", file=sys.stderr)
+
+
+def failure_summary(failures: Sequence[Flag]) -> str:
+    """Why a file is marked partial: ``it fails N check(s): kind, kind`` (the kinds sorted, once each)."""
+    return f"it fails {len(failures)} check(s): {', '.join(sorted({flag.kind for flag in failures}))}"
 
 
 def outcome(failures: Sequence[Flag]) -> int:

@@ -1,4 +1,8 @@
-"""``springbalance view DESIGN.json``: serve the 3-D scene of a saved design in Meshcat on 127.0.0.1."""
+"""``springbalance view DESIGN.json``: serve the 3-D scene of a saved design in Meshcat on 127.0.0.1.
+
+A design that fails a check is shown all the same (the scene shows what failed), as ``report`` writes its
+report: one ``springbalance: failure:`` line per failure on stderr when the scene is served, and exit status 3
+when the viewer is stopped (:mod:`springbalance.cli.outcome`)."""
 
 from __future__ import annotations
 
@@ -9,6 +13,7 @@ import webbrowser
 from springbalance.cli.arguments import port, positive_int
 from springbalance.cli.formatting import PROG
 from springbalance.cli.inputs import check_scene_budget
+from springbalance.cli.outcome import outcome, print_failures
 from springbalance.errors import SpringBalanceError
 from springbalance.results.result import DesignResult
 from springbalance.viz.design_scene import DesignScene
@@ -23,7 +28,8 @@ def add_parser(commands: argparse._SubParsersAction, common: argparse.ArgumentPa
         help="show a saved design in Meshcat, served on 127.0.0.1",
         description="Serve the 3-D scene of a saved design on this machine only (127.0.0.1): the arm, each "
         "spring as a helix coloured by its tension, animated through a sweep of each joint. "
-        "Prints the URL and serves until Ctrl-C.",
+        "Prints the URL and serves until Ctrl-C. Exits with 3 when the design fails a check (one line per "
+        "failure on stderr when the scene is served).",
     )
     view.add_argument("design", metavar="DESIGN.json", help="design file written by 'springbalance design'")
     view.add_argument("--port", type=port, metavar="P", help="web port (default: the first free one from 7000)")
@@ -35,8 +41,10 @@ def add_parser(commands: argparse._SubParsersAction, common: argparse.ArgumentPa
 
 
 def handle(args: argparse.Namespace) -> int:
-    """Draw the scene, print its URL and serve it until Ctrl-C (exit status 0)."""
+    """Draw the scene, print its URL and serve it until Ctrl-C: exit status 0, or 3 (with one line per failure on
+    stderr when the scene is served) when the design fails a check."""
     result = DesignResult.load(args.design)
+    failures = result.failures()
     check_scene_budget(result, args.frames)
     scene = DesignScene(result, frames_per_joint=args.frames)
     server = MeshcatServer(port=args.port)
@@ -46,6 +54,7 @@ def handle(args: argparse.Namespace) -> int:
         print(f"  {scene.color_scale.describe()}")
         if scene.skipped:
             print(f"  not drawn (they act in a joint): {', '.join(scene.skipped)}")
+        print_failures(failures, "shown all the same: not a part to build (exit status 3)")
         print("  press Ctrl-C to stop", flush=True)
         if args.open:
             webbrowser.open(server.web_url, new=2)
@@ -54,6 +63,6 @@ def handle(args: argparse.Namespace) -> int:
         raise SpringBalanceError("the meshcat server stopped unexpectedly")
     except KeyboardInterrupt:
         print(f"{PROG}: stopped", flush=True)
-        return 0
+        return outcome(failures)
     finally:
         server.stop()

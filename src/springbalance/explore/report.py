@@ -5,8 +5,9 @@ the springs' total mass [kg]) against its residual peak relative to the unbalanc
 scale); buildable designs (every spring a helical coil whose spec sheet passes) are filled, the
 others hollow, and the front (no other design has
 fewer springs and a smaller residual) is joined by a line. The tables list the best design of
-each spring count (with its design file), every solved topology, and the topologies that were
-not solved and why (proven unreachable, degenerate, dominated by an exact subset, failed).
+each spring count (with its design file), every solved topology (with whether its design passes every
+check of :meth:`~springbalance.results.result.DesignResult.failures`, or which kinds it fails), and the
+topologies that were not solved and why (proven unreachable, degenerate, dominated by an exact subset, failed).
 """
 
 from __future__ import annotations
@@ -76,6 +77,38 @@ def _rows(records: list[dict], columns: list[tuple[str, Callable[[dict], Any]]])
     return f"<table><tr>{head}</tr>{body}</table>"
 
 
+def checks(record: dict) -> str:
+    """A solved topology's verdict: "pass" when its design passes every check, else "fails: " and the kinds
+    of its failures ("" for a result of an earlier version, which did not record it)."""
+    if "ok" not in record:
+        return ""
+    return "pass" if record["ok"] else "fails: " + ", ".join(record.get("failures", []))
+
+
+#: the columns that name a topology: its springs and its grid point
+_TOPOLOGY: list[tuple[str, Callable[[dict], Any]]] = [
+    ("springs", lambda r: " + ".join(r.get("springs", []))),
+    ("grid", lambda r: json.dumps(r.get("grid", {}), sort_keys=True) if r.get("grid") else ""),
+]
+#: the columns that judge a solved topology's design
+_VERDICT: list[tuple[str, Callable[[dict], Any]]] = [
+    ("residual / unbalanced", lambda r: f"{r['relative_residual']:.3g}"),
+    ("exact", lambda r: "yes" if r["exact"] else ""),
+    ("buildable", lambda r: "yes" if r["buildable"] else ""),
+    ("checks", checks),
+]
+
+
+def _not_solved(summary: Mapping[str, Any], dominated: list[dict], failed: list[dict]) -> list[dict]:
+    """The topologies that were not solved, each with why."""
+    return (
+        [{**item, "why": "proven unreachable: " + item["reason"]} for item in summary["unreachable"]]
+        + [{**item, "why": "degenerate: " + item["reason"]} for item in summary["degenerate"]]
+        + [{**item, "why": "dominated: " + " + ".join(item["because"]) + " balances exactly"} for item in dominated]
+        + [{**item, "why": "failed: " + item.get("error", "")} for item in failed]
+    )
+
+
 def write_study_report(
     folder: str | Path,
     mechanism_name: str,
@@ -96,8 +129,6 @@ def write_study_report(
         (r for r in results.values() if r.get("status") == "solved"), key=lambda r: (r["count"], r["relative_residual"])
     )
     failed = [r for r in results.values() if r.get("status") != "solved"]
-    grid = lambda r: json.dumps(r.get("grid", {}), sort_keys=True) if r.get("grid") else ""  # noqa: E731
-    springs = lambda r: " + ".join(r.get("springs", []))  # noqa: E731
     parts = [
         "<!DOCTYPE html><html><head><meta charset='utf-8'><title>springbalance study</title>",
         "<style>body{font-family:sans-serif;margin:2em;max-width:70em}table{border-collapse:collapse;margin:1em 0}"
@@ -112,36 +143,20 @@ def write_study_report(
         "<h2>Best design per spring count</h2>",
         _rows(
             [{**record, "file": f"best_{count}_springs.json"} for count, record in best.items()],
-            [
-                ("springs", springs),
-                ("grid", grid),
-                ("residual / unbalanced", lambda r: f"{r['relative_residual']:.3g}"),
-                ("exact", lambda r: "yes" if r["exact"] else ""),
-                ("buildable", lambda r: "yes" if r["buildable"] else ""),
-                ("design file", lambda r: r["file"]),
-            ],
+            [*_TOPOLOGY, *_VERDICT, ("design file", lambda r: r["file"])],
         ),
         "<h2>Solved topologies</h2>",
         _rows(
             solved,
             [
-                ("springs", springs),
-                ("grid", grid),
+                *_TOPOLOGY,
                 ("objective", lambda r: f"{r['objective']} {r['objective_value']:.4g}"),
-                ("residual / unbalanced", lambda r: f"{r['relative_residual']:.3g}"),
-                ("exact", lambda r: "yes" if r["exact"] else ""),
-                ("buildable", lambda r: "yes" if r["buildable"] else ""),
+                *_VERDICT,
                 ("time [s]", lambda r: f"{r['seconds']:.1f}"),
             ],
         ),
         "<h2>Not solved</h2>",
-        _rows(
-            [{**item, "why": "proven unreachable: " + item["reason"]} for item in summary["unreachable"]]
-            + [{**item, "why": "degenerate: " + item["reason"]} for item in summary["degenerate"]]
-            + [{**item, "why": "dominated: " + " + ".join(item["because"]) + " balances exactly"} for item in dominated]
-            + [{**item, "why": "failed: " + item.get("error", "")} for item in failed],
-            [("springs", springs), ("grid", grid), ("why", lambda r: r["why"])],
-        ),
+        _rows(_not_solved(summary, dominated, failed), [*_TOPOLOGY, ("why", lambda r: r["why"])]),
         "</body></html>",
     ]
     write_text_atomic(Path(folder) / "report.html", "\n".join(parts))

@@ -95,6 +95,8 @@ COLUMNS = (
     "exact",
     "spring_mass",
     "buildable",
+    "ok",
+    "failures",
     "seconds",
     "error",
 )
@@ -381,6 +383,7 @@ def _csv(rows: Sequence[dict]) -> str:
                 **row,
                 "springs": " + ".join(row.get("springs", [])),
                 "grid": json.dumps(row.get("grid", {}), sort_keys=True),
+                "failures": " ".join(row.get("failures", [])),
             }
         )
     return stream.getvalue()

@@ -77,40 +77,32 @@ def solve_task(payload: dict[str, Any]) -> dict[str, Any]:
         with one_thread():
             result = solve(config, starts=payload["starts"], seed=payload["seed"], progress=False, workers=1)
     except (SolverError, SpringBalanceError) as error:
-        return {
-            **row,
-            "status": "failed",
-            "error": str(error).splitlines()[0],
-            "exact": False,
-            "design": None,
-            "seconds": time.perf_counter() - clock,
-        }
+        message = str(error).splitlines()[0]
     except (
         ArithmeticError,
         ValueError,
         RuntimeError,
     ) as error:  # numerical trouble: this topology fails, not the study
-        return {
-            **row,
-            "status": "failed",
-            "error": f"{type(error).__name__}: {str(error).splitlines()[0]}",
-            "exact": False,
-            "design": None,
-            "seconds": time.perf_counter() - clock,
-        }
-    return {**row, **_solved_row(result), "seconds": time.perf_counter() - clock}
+        message = f"{type(error).__name__}: {str(error).splitlines()[0]}"
+    else:
+        return {**row, **_solved_row(result), "seconds": time.perf_counter() - clock}
+    failed = {"status": "failed", "error": message, "exact": False, "ok": False, "failures": [], "design": None}
+    return {**row, **failed, "seconds": time.perf_counter() - clock}
 
 
 def _solved_row(result: DesignResult) -> dict[str, Any]:
     """The columns of a solved task: objective before and after, residual (relative to the unbalanced
-    peak), exactness, the springs' total mass [kg] and whether every spring is buildable."""
+    peak), exactness, the springs' total mass [kg], whether every spring is buildable, and whether the design
+    passes every check (``ok``; else ``failures``, the kinds of its failures, sorted, once each)."""
     metrics = result.metrics()
     balance = result.exact_balance()
     objective = metrics["optimised"]
     masses = [record.get("mass") for record in result.springs]
     known = [mass for mass in masses if mass is not None]
     sheets = [record["helical"]["buildable"] for record in result.springs if isinstance(record.get("helical"), dict)]
-    flags = [flag.kind for flag in result.warnings()]
+    findings = result.warnings()
+    flags = [flag.kind for flag in findings]
+    failures = sorted({flag.kind for flag in findings if flag.failure})
     # buildable: every spring is a coil whose spec sheet passes (an ideal law, such as a zero-free-length
     # spring, says nothing about a part that could be wound)
     buildable = (
@@ -128,6 +120,8 @@ def _solved_row(result: DesignResult) -> dict[str, Any]:
         "exact": bool(balance["relative_residual"] < EXACT),
         "spring_mass": float(sum(known)) if masses and len(known) == len(masses) else None,
         "buildable": bool(buildable),
+        "ok": not failures,
+        "failures": failures,
         "error": "",
         "design": result.to_dict(),
     }
