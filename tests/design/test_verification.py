@@ -19,6 +19,7 @@ from springbalance.design.clearance import LinearRows, stacked_rows
 from springbalance.design.verification import VERIFY_FACTOR, VERIFY_SEED, check_design, verification_poses
 from springbalance.design.verification_loop import check_mode
 from springbalance.errors import InputError
+from springbalance.springs.fatigue import fatigue_margins
 
 URDF = Path(__file__).resolve().parents[2] / "urdf"
 RANGES = {"shoulder": [-np.pi / 2, np.pi / 2], "elbow": [-2.0, 2.0]}
@@ -194,3 +195,33 @@ def test_check_design_of_a_fixed_spring_reports_its_residual_peak_and_rms(arm):
     assert record.objective_dense >= record.objective_sampled
     exceeded = record.objective_dense > 1.05 * record.objective_sampled
     assert record.residual_passed == (not exceeded) and (check.poses.shape[0] > 0) == exceeded
+
+
+# ---------------------------------------------------------------------- a coil with a duty
+def test_a_fatigue_floor_undercut_between_samples_is_judged_by_the_force_range_met(arm):
+    # F_lo, the fatigue rows' lower bound of the coil's force, sits at the least force over the 8 samples; a
+    # pose between them pulls a little less. That is not a broken rule: n_f over the force range the coil
+    # really sees is (Shigley's fatigue check of a preloaded spring: F_min and F_max over every pose).
+    coil = forearm_coil()
+    coil = sb.HelicalExtensionSpring(coil.anchors["a"], coil.anchors["b"], "forearm", max_outer_diameter=0.04, duty={})
+    workspace = sb.Workspace.sobol(arm, n=8, ranges=RANGES, seed=0)
+    result = sb.solve(sb.DesignProblem(arm, workspace, [coil]), starts=1, verify="off", progress=False)
+    floor = result.variables["forearm.fatigue_min_force"]
+    values, _ = verification_poses(workspace)
+    forces = np.concatenate(
+        [result.evaluation.tensions[:, 0], result.on_workspace(sb.Workspace(arm, values)).evaluation.tensions[:, 0]]
+    )
+    assert forces.min() < floor - 1e-6  # the unseen poses undercut the floor (else this test proves nothing)
+    record = check_design(result.problem, result.x).record
+    rules = {rule.label: rule for rule in record.rules}
+    assert rules["forearm.fatigue_floor"].passed and rules["forearm.fatigue_floor"].margin >= 0
+    values_of = result.spring("forearm")
+    margins = fatigue_margins(
+        values_of["wire_diameter"], values_of["mean_diameter"], "music_wire", forces.min(), forces.max(), {}
+    )
+    for location, margin in margins.items():
+        # each damage rule holds exactly when n_f over the whole range met (samples and poses) reaches the
+        # duty's 1.2: its margin has the sign of n_f - 1.2 (Gerber's row at n = 1.2, docs/model.md §3.8.2)
+        rule = rules[f"forearm.fatigue_{location}"]
+        assert np.sign(rule.margin) == np.sign(margin.safety_factor - 1.2), (location, rule, margin)
+        assert rule.passed == (margin.safety_factor >= 1.2)
