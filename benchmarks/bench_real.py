@@ -11,7 +11,7 @@ solved as a user solves them (``sb.solve(config)``: the config's ``solve`` secti
   panda-ideal        Panda, 4 ideal springs on links 1–4 (upper-arm roll held, fingers held)
   panda-coils-clear  panda-ideal as coils of at most 40 mm, kept 5 mm clear
   example-ur5        examples/ur5.yaml (the shipped example, sized to run in about a minute)
-  example-panda      examples/panda.yaml (the shipped example: shoulder coils beside the arm, elbow coils in its plane)
+  example-panda      examples/panda.yaml (shipped: two shoulder coils beside the arm, one elbow coil in its plane)
 
 Per case, in the same run:
 
