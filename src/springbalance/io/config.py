@@ -35,9 +35,10 @@ from springbalance.design.bounds import check_bounds
 from springbalance.design.clearance import Clearance
 from springbalance.design.problem import DesignProblem
 from springbalance.design.spring_mass import check_mass_bound
+from springbalance.design.stock import StockPart
 from springbalance.errors import ConfigError
 from springbalance.files import read_input_text
-from springbalance.io.config_errors import check_finite, errors_as_config_errors, one_line
+from springbalance.io.config_errors import check_finite, errors_as_config_errors, one_line, prefixed
 from springbalance.io.schema import (
     REQUIRED_SECTIONS,
     SECTIONS,
@@ -63,6 +64,7 @@ from springbalance.io.sections import (
     weights_from_record,
     workspace_from_record,
 )
+from springbalance.io.stock_catalogues import load_stock
 from springbalance.loaders import MAX_BYTES, DuplicateKeyError, LimitError, load_json, load_yaml
 from springbalance.model.mechanism import Mechanism
 from springbalance.model.workspace import Workspace
@@ -115,6 +117,9 @@ class Config:
         problem: the :class:`~springbalance.design.problem.DesignProblem` built from them.
         solve_options: keyword arguments for :meth:`DesignProblem.solve` given in the
             ``solve`` section (only the keys present; the rest take the solver's defaults).
+        stock: the stock parts that ``solve.stock`` names (:func:`~springbalance.io.stock_catalogues.load_stock`),
+            which :func:`springbalance.solve` picks from when it is given no ``stock``; None without one.
+        stock_source: ``solve.stock`` as written (a catalogue name, path, or several joined by commas).
     """
 
     path: Path | None
@@ -123,6 +128,8 @@ class Config:
     springs: list[Spring]
     problem: DesignProblem
     solve_options: Mapping[str, Any]
+    stock: list[StockPart] | None = None
+    stock_source: str | None = None
 
     def solve(self, **overrides: Any) -> DesignResult:
         """:func:`springbalance.solve` of this config: its ``solve`` options, overridden by the ``overrides``
@@ -162,6 +169,9 @@ def config_from_dict(
         springs = springs_from_records(mechanism, record["springs"], f"{label}: springs")
         weights = weights_from_record(mechanism, model.weights, f"{label}: weights")
         solve_options = solve_options_from_record(model.solve)
+        stock_spec = solve_options.pop("stock", None)
+        with prefixed(f"{label}: solve.stock"):
+            stock = None if stock_spec is None else load_stock(stock_spec, base_dir)
         scenario_options = scenarios_from_record(mechanism, model.scenarios, f"{label}: scenarios")
         clearance = (
             Clearance.from_dict(model.clearance.model_dump(exclude_none=True), f"{label}: clearance")
@@ -181,7 +191,8 @@ def config_from_dict(
         )
         check_bounds(problem)  # contradictions between the springs' bounds, named before any solve
         check_mass_bound(problem)  # a mass bound below the lightest springs the bounds allow
-    return Config(path, mechanism, workspace, springs, problem, solve_options)
+    source = None if stock_spec is None else stock_spec if isinstance(stock_spec, str) else ",".join(stock_spec)
+    return Config(path, mechanism, workspace, springs, problem, solve_options, stock, source)
 
 
 def load_workspace(path: str | Path, mechanism: Mechanism) -> Workspace:
