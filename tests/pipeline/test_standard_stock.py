@@ -1,0 +1,88 @@
+"""A stock design from the standard catalogues: the desk lamp (urdf/desk_lamp.urdf, 0.3 kg at 0.15 m, ±90°)
+balanced by real MS24586 / MS24585 parts, from Python, a config's solve.stock and the command line."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+import springbalance as sb
+from springbalance.cli import main
+
+ROOT = Path(__file__).resolve().parents[2]
+LAMP = ROOT / "urdf" / "desk_lamp.urdf"
+EXAMPLE = ROOT / "examples" / "desk_lamp.yaml"
+#: gravity torque at the pivot: m g s sin q, largest at ±90°
+PEAK_TORQUE = 0.3 * 9.81 * 0.15  # [N·m]
+
+
+def lamp(*springs):
+    mechanism = sb.Mechanism.from_urdf(LAMP)
+    return sb.DesignProblem(mechanism, sb.Workspace.grid(mechanism, n=16), list(springs))
+
+
+@pytest.fixture(scope="module")
+def extension_design():
+    lift = sb.HelicalExtensionSpring(
+        sb.Anchor("ground", sb.Free([0, -0.02, 0.02], [0, 0.02, 0.15])),
+        sb.Anchor("arm", sb.Free([0, 0, 0.01], [0, 0, 0.15])),
+        "lift",
+    )
+    return sb.solve(lamp(lift), starts=2, progress=False, stock=sb.load_stock("ms24586"))
+
+
+def test_the_lamp_is_balanced_by_an_ms24586_part(extension_design):
+    result = extension_design
+    catalogue = {part.part_number: part for part in sb.load_stock("ms24586")}
+    (choice,) = result.stock.choices
+    assert choice.spring == "lift" and choice.part == catalogue[choice.part.part_number]
+    record = result.spring("lift")
+    assert record["part_number"] == choice.part.part_number
+    assert record["stiffness"] == pytest.approx(choice.part.rate, rel=1e-6)
+    assert record["initial_tension"] == pytest.approx(choice.part.initial_tension)
+    # the part's spec sheet is checked like a wound coil: its loads stay within the rules
+    sheet = record["helical"]
+    assert sheet["part_number"] == choice.part.part_number and sheet["buildable"], sheet["reasons"]
+    assert sheet["max_stress"] <= sheet["allowable_stress"]
+    assert result.ok, result.failures()
+    joint = result.metrics()["joints"][0]
+    assert joint["peak_before"] == pytest.approx(PEAK_TORQUE, rel=1e-3)
+    # one spring from above the pivot nearly balances a single link (a zero-free-length-like line)
+    assert joint["rms_reduction_percent"] > 90
+    summary = result.stock.summary()
+    assert f"→ {choice.part.part_number} (extension, " in summary
+
+
+def test_a_compression_part_of_ms24585_takes_a_pushing_spring():
+    push = sb.HelicalCompressionSpring(
+        sb.Anchor("ground", sb.Free([0, -0.02, -0.1], [0, 0.02, -0.01])),
+        sb.Anchor("arm", sb.Free([0, 0, 0.01], [0, 0, 0.1])),
+        "push",
+        guided=True,
+    )
+    result = sb.solve(lamp(push), starts=2, progress=False, stock=sb.load_stock("ms24585,ms24586"))
+    (choice,) = result.stock.choices
+    assert choice.kind == "compression" and choice.part.part_number.startswith("MS24585")
+    sheet = result.spring("push")["helical"]
+    assert sheet["part_number"] == choice.part.part_number and sheet["buildable"], sheet["reasons"]
+    # MS24585 parts are at most 38.1 mm long: the design is worse than the free coil, but it helps
+    assert result.evaluation.max_violation <= 1e-6
+    assert result.stock.stock_objective >= result.stock.continuous_objective
+    assert result.metrics()["joints"][0]["rms_after"] < result.metrics()["joints"][0]["rms_before"]
+
+
+def test_cli_design_takes_the_configs_stock_and_the_command_lines(tmp_path, capsys):
+    out = tmp_path / "lamp.json"
+    assert main(["design", str(EXAMPLE), "--out", str(out), "--quiet"]) == 0
+    record = json.loads(out.read_text())
+    number = record["stock"]["parts"]["lift"]
+    assert record["stock"]["catalogue"] == "ms24586" and number.startswith("MS24586")
+    assert record["design"][0]["part_number"] == number
+
+    assert main(["design", str(EXAMPLE), "--out", str(out), "--stock", "ms24585,ms24586"]) == 0
+    printed = capsys.readouterr().out
+    record = json.loads(out.read_text())
+    assert record["stock"]["catalogue"] == "ms24585,ms24586"
+    assert f"→ {record['stock']['parts']['lift']} (extension" in printed
