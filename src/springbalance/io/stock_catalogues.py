@@ -23,7 +23,6 @@ or one string separated by commas), and returns their parts together.
 
 from __future__ import annotations
 
-from importlib import resources
 from pathlib import Path
 from typing import Sequence
 
@@ -33,6 +32,8 @@ from springbalance.io.catalogue import read_catalogue
 
 __all__ = ["STANDARD_CATALOGUES", "load_stock", "standard_catalogue_path"]
 
+#: the folder of the packaged catalogues (package data: pyproject.toml [tool.setuptools.package-data])
+DATA = Path(__file__).resolve().parents[1] / "data" / "catalogues"
 #: name → what it holds (the packaged file is ``data/catalogues/<name>.csv``)
 STANDARD_CATALOGUES = {
     "ms24585": "MS24585 (SAE-AS24585) helical compression springs, music wire and 302 stainless",
@@ -46,7 +47,7 @@ def standard_catalogue_path(name: str) -> Path:
     key = name.strip().lower()
     if key not in STANDARD_CATALOGUES:
         raise InputError(f"unknown standard stock catalogue {name!r}; valid: {', '.join(STANDARD_CATALOGUES)}")
-    return Path(str(resources.files("springbalance") / "data" / "catalogues" / f"{key}.csv"))
+    return DATA / f"{key}.csv"
 
 
 def load_stock(spec: str | Path | Sequence[str | Path], base_dir: str | Path | None = None) -> list[StockPart]:

@@ -87,8 +87,7 @@ def solve(
         Interrupted: Ctrl-C; it carries the starts that had finished and the best design so far.
     """
     problem, given = _problem_and_options(problem_or_config)
-    if stock is None:  # a Config's solve.stock
-        stock = getattr(problem_or_config, "stock", None)
+    stock = getattr(problem_or_config, "stock", None) if stock is None else stock  # default: a Config's solve.stock
     options = SolveOptions.merged(
         given,
         {
