@@ -1,0 +1,332 @@
+r"""Tolerances and the adjuster (docs/model.md §3.10): the worst residual over the springs' tolerance box,
+and the adjuster travel that restores the balance.
+
+**The box.** Each two-point extension or compression spring (not routed) has a linear law
+:math:`F = F_0 + k (L - l_0)` (extension, ``F_0`` the initial tension) or
+:math:`F = -(P + k (l_0 - L))` (compression, ``P`` the preload, 0 for a coil). A
+:class:`ToleranceSpec` gives each law a box: ``k (1 ± ρ)``, ``F_0 ± f`` (or ``P ± f``), ``l_0 ± λ``,
+from a quality grade (:func:`springbalance.springs.tolerance_grades.grade_box`: a coil's geometry) or
+explicit ± (``rate`` ρ [1, a fraction], ``initial_tension`` f [N], ``free_length`` λ [m]).
+
+**Worst case without enumerating corners.** With the anchors fixed, spring ``s`` adds
+:math:`\tau_s(q) = F_s(L_s(q))\,m_s(q)` to the residual, :math:`m_s = (J_{p_b} - J_{p_a})^T u` its
+moment arm, which the law does not change. A change of the law changes the residual by
+:math:`\delta\tau_s = \delta F_s\,m_s`, and :math:`\delta F_s` is multilinear in the spring's own three
+deviations (the product :math:`\delta k\,\delta l_0` is the only cross term). A multilinear function
+takes its extremes on a box at the box's corners, and the residual is a sum over springs of
+functions of each spring's own deviations, so at each pose and joint the largest and smallest residual
+over all :math:`8^n` corner combinations are
+
+.. math:: r^\pm_j(q) = r_j(q) + \sum_s \operatorname{max/min}_{c \in \{\pm1\}^3} \delta\tau_{s,j}(q; c),
+
+exact, with :math:`8 n` evaluations. The worst ``|r|`` is :math:`\max(r^+, -r^-)`; its peak over the
+poses is the worst peak of any build; its RMS over the poses bounds the RMS of every build from above.
+
+**The adjuster.** A preload screw (a threaded end plug or turnbuckle in series with the spring)
+shortens the spring's effective free length by ``t`` [m] (positive: more deflection), the same at every
+pose: :math:`\delta F = \sigma k t` (σ = +1 extension, −1 compression), so
+:math:`\partial r/\partial t_s = \sigma_s k_s m_s` (nominal ``k``: the :math:`\delta k\,t` term is second
+order). At a corner the least-squares adjustment is :math:`t = -A^+ W r` (``A`` the columns
+:math:`W \sigma_s k_s m_s`, ``W`` the joint weights); it is linear in ``r``, so its extremes over the box
+are separable like the residual's. A spring's travel is the range :math:`\max t_s - \min t_s` over the box.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from dataclasses import dataclass, field
+from typing import Any, Mapping
+
+import numpy as np
+
+from springbalance.design.evaluated import EvaluatedDesign
+from springbalance.design.problem import DesignProblem
+from springbalance.errors import InputError
+from springbalance.springs.laws import Spring, TwoPointSpring
+from springbalance.springs.laws.coil import HelicalCoilSpring
+from springbalance.springs.tolerance_grades import DEFAULT_GRADE, grade_box, quality_factor
+
+#: the 8 corners of a spring's box: signs of (rate, initial tension or preload, free length)
+CORNERS = np.array(list(itertools.product((-1.0, 1.0), repeat=3)))
+_KEYS = ("grade", "rate", "initial_tension", "free_length", "robust", "adjuster_travel")
+
+
+@dataclass(frozen=True)
+class ToleranceSpec:
+    """What the springs may deviate by, and how the design treats it.
+
+    Attributes:
+        grade: the quality grade 1, 2, 3 (EN 15800 / DIN 2097) of every coil (default 2), or None when
+            the ± are explicit.
+        rate: explicit ± on the rate [1, fraction of k], or None.
+        initial_tension: explicit ± on the initial tension (extension) or preload (compression) [N], or None.
+        free_length: explicit ± on the free length [m], or None.
+        robust: design for the box (minimise the worst case over its corners) instead of the nominal law.
+        adjuster_travel: the adjuster's travel bound [m] (the design must be re-balanceable within it at
+            every corner), or None for no adjuster in the design.
+    """
+
+    grade: int | None = DEFAULT_GRADE
+    rate: float | None = None
+    initial_tension: float | None = None
+    free_length: float | None = None
+    robust: bool = False
+    adjuster_travel: float | None = None
+
+    @property
+    def explicit(self) -> bool:
+        """True when the ± are explicit (they apply to every extension and compression spring)."""
+        return self.grade is None
+
+    @classmethod
+    def from_record(cls, record: Mapping[str, Any] | None, where: str = "tolerance") -> ToleranceSpec:
+        """The spec of a config's ``tolerance`` record: ``{grade}`` or ``{rate, initial_tension, free_length}``
+        (any subset, the rest 0), plus ``robust`` and ``adjuster_travel``. One-line InputError naming the key."""
+        if record is None:
+            return cls()
+        if not isinstance(record, Mapping):
+            raise InputError(f"{where} must be a mapping, got {record!r}")
+        unknown = sorted(set(record) - set(_KEYS))
+        if unknown:
+            raise InputError(f"{where}: unknown key(s) {', '.join(map(repr, unknown))}; valid: {', '.join(_KEYS)}")
+        explicit = {key: record[key] for key in ("rate", "initial_tension", "free_length") if key in record}
+        if explicit and record.get("grade") is not None:
+            raise InputError(f"{where}: give a grade or explicit ± (rate, initial_tension, free_length), not both")
+        values: dict[str, Any] = {}
+        for key, value in explicit.items():
+            number = _number(value)
+            upper = 1.0 if key == "rate" else math.inf
+            if not (0 <= number < upper):
+                bound = "in [0, 1) [fraction of the rate]" if key == "rate" else "≥ 0 [" + _UNITS[key] + "]"
+                raise InputError(f"{where}.{key} must be a number {bound}, got {value!r}")
+            values[key] = number
+        if explicit:
+            values["grade"] = None
+        elif "grade" in record:
+            try:
+                quality_factor(record["grade"])
+            except InputError:
+                raise InputError(
+                    f"{where}.grade must be 1, 2 or 3 (EN 15800 / DIN 2097), got {record['grade']!r}"
+                ) from None
+            values["grade"] = int(record["grade"])
+        robust = record.get("robust", False)
+        if not isinstance(robust, bool):
+            raise InputError(f"{where}.robust must be true or false, got {robust!r}")
+        travel = record.get("adjuster_travel")
+        if travel is not None:
+            number = _number(travel)
+            if not (number > 0 and math.isfinite(number)):
+                raise InputError(f"{where}.adjuster_travel must be a positive number [m], got {travel!r}")
+            travel = number
+        return cls(robust=robust, adjuster_travel=travel, **values)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The record :meth:`from_record` reads."""
+        record: dict[str, Any] = (
+            {"grade": self.grade}
+            if not self.explicit
+            else {key: getattr(self, key) or 0.0 for key in ("rate", "initial_tension", "free_length")}
+        )
+        if self.robust:
+            record["robust"] = True
+        if self.adjuster_travel is not None:
+            record["adjuster_travel"] = self.adjuster_travel
+        return record
+
+
+_UNITS = {"initial_tension": "N", "free_length": "m"}
+
+
+def _number(value: Any) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return math.nan
+    return float(value)
+
+
+@dataclass(frozen=True)
+class SpringBox:
+    """One spring's law and its box: ``sign`` +1 extension / −1 compression; ``rate`` [N/m], ``tension``
+    (initial tension or preload) [N], ``free_length`` [m]; the ± ``d_rate`` [1], ``d_tension`` [N],
+    ``d_free_length`` [m]; ``source`` ("grade 2", "explicit")."""
+
+    name: str
+    column: int
+    sign: float
+    rate: float
+    tension: float
+    free_length: float
+    d_rate: float
+    d_tension: float
+    d_free_length: float
+    source: str
+
+    def forces(self, lengths: np.ndarray, corners: np.ndarray = CORNERS) -> np.ndarray:
+        """Tension [N] at ``lengths`` (N) for each corner (C×3 signs): C×N."""
+        a, b, c = (corners[:, i : i + 1] for i in range(3))
+        rate = self.rate * (1 + a * self.d_rate)
+        tension = self.tension + b * self.d_tension
+        free = self.free_length + c * self.d_free_length
+        deflection = self.sign * (lengths[None, :] - free)  # extension: L − l0; compression: l0 − L
+        return self.sign * (tension + rate * deflection)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "name": self.name,
+            "source": self.source,
+            "rate": self.d_rate,
+            "initial_tension": self.d_tension,
+            "free_length": self.d_free_length,
+        }
+
+
+def spring_box(problem: DesignProblem, x: np.ndarray, column: int, spec: ToleranceSpec) -> SpringBox | None:
+    """The box of spring ``column`` of ``problem`` at design ``x``, or None for a spring without one (not an
+    extension or compression law, routed, or an ideal law under a grade, which has no coil to grade)."""
+    spring = problem.springs[column]
+    kind = getattr(spring, "kind", None)
+    if not isinstance(spring, TwoPointSpring) or spring.routed or kind not in ("extension", "compression"):
+        return None
+    values = problem.model.spring_values(spring, x)
+    law = spring.derived_values(values) if isinstance(spring, HelicalCoilSpring) else values
+    sign = 1.0 if kind == "extension" else -1.0
+    rate, free = float(law["stiffness"]), float(law["free_length"])
+    tension = float(law.get("initial_tension", law.get("preload", 0.0)))
+    name = str(spring.name)
+    if spec.explicit:
+        return SpringBox(
+            name, column, sign, rate, tension, free,
+            spec.rate or 0.0, spec.initial_tension or 0.0, spec.free_length or 0.0, "explicit",
+        )  # fmt: skip
+    if not isinstance(spring, HelicalCoilSpring) or spec.grade is None:
+        return None
+    d, D, n = (float(values[key]) for key in ("wire_diameter", "mean_diameter", "active_coils"))
+    box = grade_box(kind, d, D, n, free, rate, tension, spec.grade)
+    return SpringBox(
+        name, column, sign, rate, tension, free, box.rate, box.initial_tension, box.free_length, f"grade {spec.grade}"
+    )
+
+
+def moment_arms(problem: DesignProblem, x: np.ndarray, spring: Spring) -> np.ndarray:
+    r"""``m_s(q) = (J_{p_b} - J_{p_a})^T u`` (N×nv) [m or 1] of a two-point spring over the problem's samples:
+    its torque per newton of tension."""
+    kinematics = problem.workspace.kinematics()
+    ends = []
+    for end, anchor in spring.anchors.items():
+        body = kinematics.body(anchor.body)
+        point = problem.model.anchor_point(spring, end, x)
+        ends.append((body.points(point), body.point_jacobians(point)))
+    (xa, ja), (xb, jb) = ends
+    d = xb - xa
+    u = d / np.linalg.norm(d, axis=1, keepdims=True)
+    return np.einsum("ni,niv->nv", u, jb - ja)
+
+
+@dataclass
+class ToleranceAnalysis:
+    """The worst case of a design over its springs' tolerance box, and the adjuster travel.
+
+    Attributes:
+        spec: the tolerances.
+        boxes: the springs with a box.
+        joints: per joint: ``joint``, ``unit``, nominal ``peak``/``rms`` and ``worst_peak``/``worst_rms`` (the
+            envelope's), and after adjusting at every corner ``adjusted_peak``/``adjusted_rms`` [N·m or N].
+        travel: per spring with a box: ``low``/``high`` adjustments [m] over the box (the nominal's is
+            ``nominal``) and ``travel`` = high − low [m].
+        upper, lower: the residual's envelope over the box (N×nv) [N·m or N].
+    """
+
+    spec: ToleranceSpec
+    boxes: list[SpringBox]
+    joints: list[dict[str, Any]] = field(default_factory=list)
+    travel: list[dict[str, Any]] = field(default_factory=list)
+    upper: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    lower: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+
+    @property
+    def largest_travel(self) -> float:
+        """The largest travel of any spring [m] (0 without boxes)."""
+        return max((row["travel"] for row in self.travel), default=0.0)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "spec": self.spec.to_dict(),
+            "adjuster": "preload screw: shortens the effective free length by t (t > 0: more deflection) [m]",
+            "springs": [box.to_dict() for box in self.boxes],
+            "joints": self.joints,
+            "travel": self.travel,
+        }
+
+
+def analyse_tolerance(design: EvaluatedDesign, spec: ToleranceSpec | None = None) -> ToleranceAnalysis:
+    """The worst residual over the tolerance box of ``design`` and each spring's adjuster travel (see the module)."""
+    return analyse(design.problem, design.x, design.evaluation.tau, design.evaluation.lengths, spec or ToleranceSpec())
+
+
+def corner_deltas(problem: DesignProblem, x: np.ndarray, lengths: np.ndarray, boxes: list[SpringBox]) -> list:
+    """Per box: (the 8 corners' residual changes, 8×N×nv; the adjuster's column σ k m, N×nv)."""
+    out = []
+    for box in boxes:
+        arms = moment_arms(problem, x, problem.springs[box.column])
+        lengths_s = lengths[:, box.column]
+        nominal = box.forces(lengths_s, np.zeros((1, 3)))[0]
+        deltas = (box.forces(lengths_s) - nominal)[:, :, None] * arms[None]
+        out.append((deltas, box.sign * box.rate * arms))
+    return out
+
+
+def analyse(
+    problem: DesignProblem, x: np.ndarray, tau: np.ndarray, lengths: np.ndarray, spec: ToleranceSpec
+) -> ToleranceAnalysis:
+    """:func:`analyse_tolerance` of design ``x`` of ``problem`` with residual ``tau`` (N×nv) and lengths (N×n_s)."""
+    boxes = [box for column in range(len(problem.springs)) if (box := spring_box(problem, x, column, spec))]
+    analysis = ToleranceAnalysis(spec, boxes)
+    if not boxes:
+        return analysis
+    parts = corner_deltas(problem, x, lengths, boxes)
+    upper = tau + sum(np.max(deltas, axis=0) for deltas, _ in parts)
+    lower = tau + sum(np.min(deltas, axis=0) for deltas, _ in parts)
+    weights = np.asarray(problem.weights, dtype=float)
+    columns = np.stack([column.reshape(-1) for _, column in parts], axis=1)  # (N·nv)×n, unweighted
+    pinv = np.linalg.pinv(columns * np.tile(weights, tau.shape[0])[:, None])
+
+    def adjustment(r: np.ndarray) -> np.ndarray:  # t = −A⁺ W r for residual changes (..., N, nv)
+        return -np.einsum("sk,...k->...s", pinv, (r * weights).reshape(*r.shape[:-2], -1))
+
+    def adjusted(r: np.ndarray) -> np.ndarray:  # r + Σ_s t_s a_s
+        return r + (adjustment(r) @ columns.T).reshape(r.shape)
+
+    nominal_t = adjustment(tau)
+    t_high = nominal_t + sum(np.max(adjustment(deltas), axis=0) for deltas, _ in parts)
+    t_low = nominal_t + sum(np.min(adjustment(deltas), axis=0) for deltas, _ in parts)
+    adjusted_upper = adjusted(tau) + sum(np.max(adjusted(deltas), axis=0) for deltas, _ in parts)
+    adjusted_lower = adjusted(tau) + sum(np.min(adjusted(deltas), axis=0) for deltas, _ in parts)
+    worst = np.maximum(upper, -lower)
+    adjusted_worst = np.maximum(adjusted_upper, -adjusted_lower)
+    for joint in problem.mechanism.joints:
+        j = joint.index_v
+        analysis.joints.append(
+            {
+                "joint": joint.name,
+                "unit": joint.torque_unit,
+                "peak": float(np.max(np.abs(tau[:, j]))),
+                "rms": float(np.sqrt(np.mean(tau[:, j] ** 2))),
+                "worst_peak": float(np.max(worst[:, j])),
+                "worst_rms": float(np.sqrt(np.mean(worst[:, j] ** 2))),
+                "adjusted_peak": float(np.max(adjusted_worst[:, j])),
+                "adjusted_rms": float(np.sqrt(np.mean(adjusted_worst[:, j] ** 2))),
+            }
+        )
+    for i, box in enumerate(boxes):
+        analysis.travel.append(
+            {
+                "name": box.name,
+                "nominal": float(nominal_t[i]),
+                "low": float(t_low[i]),
+                "high": float(t_high[i]),
+                "travel": float(t_high[i] - t_low[i]),
+            }
+        )
+    analysis.upper, analysis.lower = upper, lower
+    return analysis
