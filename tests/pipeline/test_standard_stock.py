@@ -10,6 +10,9 @@ import pytest
 
 import springbalance as sb
 from springbalance.cli import main
+from springbalance.pipeline.stock import select_stock
+from springbalance.springs.fatigue import Duty, fatigue_margins
+from springbalance.springs.tolerance_grades import grade_box
 
 ROOT = Path(__file__).resolve().parents[2]
 LAMP = ROOT / "urdf" / "desk_lamp.urdf"
@@ -53,6 +56,57 @@ def test_the_lamp_is_balanced_by_an_ms24586_part(extension_design):
     assert joint["rms_reduction_percent"] > 90
     summary = result.stock.summary()
     assert f"→ {choice.part.part_number} (extension, " in summary
+
+
+def test_the_chosen_part_is_checked_for_fatigue_and_tolerance(extension_design):
+    result = extension_design
+    (choice,) = result.stock.choices
+    part = choice.part
+    # the force range the part sees: its own law F_i + k (L − l0) at the stock design's lengths
+    lengths = result.evaluation.lengths[:, 0]
+    forces = part.initial_tension + part.rate * (lengths - part.free_length)
+    fatigue = choice.fatigue
+    assert fatigue.duty == Duty()  # 10⁶ cycles, n_f ≥ 1.2, Gerber: the default duty of a coil
+    assert fatigue.min_force == pytest.approx(forces.min(), rel=1e-5)
+    assert fatigue.max_force == pytest.approx(forces.max(), rel=1e-5)
+    expected = fatigue_margins(
+        part.wire_diameter, part.mean_diameter, part.material, forces.min(), forces.max(), kind="extension"
+    )
+    assert set(fatigue.margins) == {"body", "hook_bending", "hook_torsion"}
+    for location, margin in expected.items():
+        assert fatigue.margins[location].safety_factor == pytest.approx(margin.safety_factor, rel=1e-4)
+    assert fatigue.holds  # a candidate that fails its duty is never chosen
+    # tolerance: the part's grade-2 box (EN 15800 / DIN 2097) and the adjuster that restores the balance
+    box = grade_box(
+        "extension", part.wire_diameter, part.mean_diameter, part.active_coils, part.free_length, part.rate,
+        part.initial_tension,
+    )  # fmt: skip
+    assert choice.tolerance["box"]["rate"] == pytest.approx(box.rate)
+    assert choice.tolerance["box"]["initial_tension"] == pytest.approx(box.initial_tension, rel=1e-6)
+    assert choice.tolerance["travel"] > 0
+    (joint,) = result.stock.tolerance.joints
+    assert joint["worst_peak"] >= joint["peak"]  # the box holds the nominal part
+    assert joint["adjusted_peak"] < joint["worst_peak"]
+    summary = result.stock.summary()
+    assert "fatigue ok (1e+06 cycles, gerber" in summary and "tolerance grade 2: k ± 1.5 %" in summary
+    record = result.stock.to_dict()
+    assert record["choices"][0]["fatigue"]["holds"] is True and record["tolerance"]["joints"][0]["joint"] == "pivot"
+
+
+def test_a_part_that_cannot_live_its_duty_is_not_chosen():
+    lift = sb.HelicalExtensionSpring(
+        sb.Anchor("ground", sb.Free([0, -0.02, 0.02], [0, 0.02, 0.15])),
+        sb.Anchor("arm", sb.Free([0, 0, 0.01], [0, 0, 0.15])),
+        "lift",
+    )
+    # a duty no wire survives: n_f ≥ 50 (until coils take a duty record, the attribute is what the stock step reads)
+    lift.duty = Duty(safety_factor=50.0)
+    problem = lamp(lift)
+    continuous = sb.solve(problem, starts=1, progress=False, verify="off")
+    with pytest.raises(
+        sb.SolverError, match=r"no stock part fits spring 'lift'.*fails fatigue \(body n_f [0-9.]+ < 50"
+    ):
+        select_stock(problem, continuous, sb.load_stock("ms24586"), candidates=2, starts=1)
 
 
 def test_a_compression_part_of_ms24585_takes_a_pushing_spring():
