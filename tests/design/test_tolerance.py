@@ -13,7 +13,8 @@ import numpy as np
 import pytest
 
 import springbalance as sb
-from springbalance.design.tolerance import ToleranceSpec, analyse_tolerance
+from springbalance.design.tolerance import analyse_tolerance
+from springbalance.design.tolerance_spec import ToleranceSpec
 from springbalance.errors import InputError
 
 URDF = Path(__file__).resolve().parents[2] / "urdf"
@@ -128,3 +129,31 @@ def test_grade_box_of_a_coil_is_the_standard(case):
 def test_bad_records(record, message):
     with pytest.raises(InputError, match=message.replace("(", r"\(").replace(")", r"\)").replace("[", r"\[")):
         ToleranceSpec.from_record(record)
+
+
+def test_config_section_reaches_the_report(tmp_path):
+    """A config's tolerance section: explicit ± and an adjuster bound, shown in the text report; a bad value
+    is a one-line error naming the key."""
+    from springbalance.io.config import config_from_dict
+    from springbalance.results.report import result_table
+
+    record = {
+        "mechanism": {"urdf": str(URDF / "two_link_planar.urdf")},
+        "workspace": {"kind": "grid", "n": 3, "ranges": {"shoulder": [-1, 1], "elbow": [-1, 1]}},
+        "springs": [
+            {
+                "name": "s1", "type": "extension", "ideal": True, "keep_tension": False,
+                "a": {"body": "universe", "point": [0, 0, 0.25]}, "b": {"body": "link1", "point": [0.3, 0, 0]},
+                "stiffness": 900.0, "free_length": 0.12, "initial_tension": 10.0,
+            }
+        ],
+        "tolerance": {"rate": 0.1, "initial_tension": 2.0, "adjuster_travel": 0.0001},
+    }  # fmt: skip
+    config = config_from_dict(record, tmp_path)
+    assert config.tolerance == ToleranceSpec(grade=None, rate=0.1, initial_tension=2.0, adjuster_travel=0.0001)
+    design = sb.DesignResult(config.problem, np.zeros(0), tolerance=config.tolerance)
+    text = result_table(design)
+    assert "Tolerances:" in text and "±10 %" in text and "EXCEEDED by s1" in text
+    assert design.to_dict()["tolerance"]["spec"]["rate"] == 0.1
+    with pytest.raises(InputError, match=r"tolerance\.grade must be 1, 2 or 3, got 5|tolerance.grade"):
+        config_from_dict({**record, "tolerance": {"grade": 5}}, tmp_path)

@@ -25,6 +25,7 @@ from springbalance.design.solvers import StartRecord
 from springbalance.design.spring_mass import SpringMass, spring_mass
 from springbalance.design.standard_wire import WireRounding
 from springbalance.design.stock import StockSelection
+from springbalance.design.tolerance_spec import ToleranceSpec
 from springbalance.design.twin import TwinRecord
 from springbalance.design.verification_record import VerificationRecord
 from springbalance.errors import InputError
@@ -61,6 +62,8 @@ class EvaluatedDesign:
         twin: what the design's ideal twin achieved (:mod:`springbalance.design.twin`), or None.
         partial: why the design was kept although it is not a finished one (saved with ``--partial``:
             interrupted, or failing a check), or None for a finished design.
+        tolerance: the springs' tolerances (:class:`~springbalance.design.tolerance_spec.ToleranceSpec`), or None
+            for the default (grade 2 for every coil).
     """
 
     def __init__(
@@ -77,6 +80,7 @@ class EvaluatedDesign:
         verification: VerificationRecord | None = None,
         twin: TwinRecord | None = None,
         partial: str | None = None,
+        tolerance: ToleranceSpec | None = None,
     ) -> None:
         self.problem = problem
         self.x = np.asarray(x, dtype=float)
@@ -94,6 +98,8 @@ class EvaluatedDesign:
         self.twin = twin
         #: why this design was saved unfinished (``--partial``), or None
         self.partial = partial
+        #: the springs' tolerances (None: grade 2 for every coil, docs/model.md §3.10)
+        self.tolerance = tolerance
         self.evaluation = problem.evaluate(self.x)
 
     # ---------------------------------------------------------------- values

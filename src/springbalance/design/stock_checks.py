@@ -10,8 +10,8 @@ more checks follow from its force over the workspace, at the optimum of its cand
   and every location (body; an extension part's hook A bending and hook B torsion) must reach the
   duty's safety factor :math:`n_f` at its cycles. A candidate that does not is not chosen;
 - **tolerance** (:func:`springbalance.design.tolerance.analyse_tolerance`): the part's box of rate,
-  initial tension (or preload) and free length under its quality grade (EN 15800 / DIN 2097, grade 2
-  unless the problem says otherwise), the worst residual over the boxes of all springs, and the travel
+  initial tension (or preload) and free length under the design's tolerances (a config's ``tolerance``
+  section; grade 2 of EN 15800 / DIN 2097 by default), the worst residual over the boxes of all springs, and the travel
   of the preload screw that restores the balance.
 """
 
@@ -23,25 +23,20 @@ from typing import Any
 import numpy as np
 
 from springbalance.design.problem import DesignProblem
-from springbalance.design.tolerance import ToleranceAnalysis, ToleranceSpec, analyse
+from springbalance.design.tolerance import ToleranceAnalysis, analyse
+from springbalance.design.tolerance_spec import ToleranceSpec
 from springbalance.errors import InputError
 from springbalance.springs.fatigue import Duty, Margin, duty_from_record, fatigue_margins, force_range
 from springbalance.springs.laws import Spring
 from springbalance.springs.laws.coil import HelicalCoilSpring
 
-__all__ = ["PartFatigue", "fatigue_of", "spring_duty", "tolerance_of", "tolerance_spec"]
+__all__ = ["PartFatigue", "fatigue_of", "spring_duty", "tolerance_of"]
 
 
 def spring_duty(spring: Spring) -> Duty:
     """The duty of ``spring`` (its ``duty`` when it has one), else the default :class:`Duty` (10⁶ cycles)."""
     duty = getattr(spring, "duty", None)
     return Duty() if duty is None else duty_from_record(duty)
-
-
-def tolerance_spec(problem: DesignProblem) -> ToleranceSpec:
-    """The problem's tolerances (its ``tolerance`` when it has one), else grade 2."""
-    spec = getattr(problem, "tolerance", None)
-    return spec if isinstance(spec, ToleranceSpec) else ToleranceSpec()
 
 
 @dataclasses.dataclass(frozen=True)
@@ -106,6 +101,9 @@ def fatigue_of(problem: DesignProblem, x: np.ndarray, tensions: np.ndarray, name
     return PartFatigue(duty, low, high, margins)
 
 
-def tolerance_of(problem: DesignProblem, x: np.ndarray, tau: np.ndarray, lengths: np.ndarray) -> ToleranceAnalysis:
-    """The tolerance analysis of design ``x`` (residual ``tau`` N×nv, lengths N×n_s) under the problem's spec."""
-    return analyse(problem, x, tau, lengths, tolerance_spec(problem))
+def tolerance_of(
+    problem: DesignProblem, x: np.ndarray, tau: np.ndarray, lengths: np.ndarray, spec: ToleranceSpec | None = None
+) -> ToleranceAnalysis:
+    """The tolerance analysis of design ``x`` (residual ``tau`` N×nv, lengths N×n_s) under ``spec`` (the
+    design's, e.g. a config's ``tolerance`` section; None: grade 2 for every coil)."""
+    return analyse(problem, x, tau, lengths, spec or ToleranceSpec())

@@ -36,6 +36,7 @@ from springbalance.design.clearance import Clearance
 from springbalance.design.problem import DesignProblem
 from springbalance.design.spring_mass import check_mass_bound
 from springbalance.design.stock import StockPart
+from springbalance.design.tolerance_spec import ToleranceSpec
 from springbalance.errors import ConfigError
 from springbalance.files import read_input_text
 from springbalance.io.config_errors import check_finite, errors_as_config_errors, one_line, prefixed
@@ -128,6 +129,8 @@ class Config:
     springs: list[Spring]
     problem: DesignProblem
     solve_options: Mapping[str, Any]
+    #: the ``tolerance`` section (None: grade 2 for every coil)
+    tolerance: ToleranceSpec | None = None
     stock: list[StockPart] | None = None
     stock_source: str | None = None
 
@@ -191,8 +194,15 @@ def config_from_dict(
         )
         check_bounds(problem)  # contradictions between the springs' bounds, named before any solve
         check_mass_bound(problem)  # a mass bound below the lightest springs the bounds allow
+        tolerance = (
+            ToleranceSpec.from_record(record["tolerance"], f"{label}: tolerance")
+            if record.get("tolerance") is not None
+            else None
+        )
     source = None if stock_spec is None else stock_spec if isinstance(stock_spec, str) else ",".join(stock_spec)
-    return Config(path, mechanism, workspace, springs, problem, solve_options, stock, source)
+    return Config(
+        path, mechanism, workspace, springs, problem, solve_options, tolerance, stock=stock, stock_source=source
+    )
 
 
 def load_workspace(path: str | Path, mechanism: Mechanism) -> Workspace:

@@ -104,6 +104,7 @@ def solve(
         },
     )
     result = run_steps(problem, options)
+    result.tolerance = getattr(problem_or_config, "tolerance", None)  # a config's tolerance section
     if stock is None:
         return result
     # the problem as the steps left it (with the rows of the fit), as the parts are fitted to the arm the same way
@@ -126,6 +127,7 @@ def _stocked(result: DesignResult, selection: StockSelection, options: SolveOpti
         stock=selection,
         verification=_verified(stocked, options),
         twin=result.twin or twin_record(result.problem, result.x, STOCK_TWIN_SOURCE),
+        tolerance=result.tolerance,
     )
 
 
@@ -151,7 +153,7 @@ def _select_stock(
     problem: DesignProblem, result: DesignResult, parts: Sequence[StockPart], options: SolveOptions
 ) -> StockSelection:
     """Catalogue parts for the continuous design ``result``; each candidate part is solved from the warm
-    start at the continuous anchors plus one Sobol start."""
+    start at the continuous anchors plus one Sobol start; the chosen parts are checked under the design's tolerances."""
     return select_stock(
         problem,
         result,
@@ -162,4 +164,5 @@ def _select_stock(
         max_iterations=options.max_iterations,
         tolerance=options.tolerance,
         workers=options.workers,
+        tolerances=result.tolerance,
     )

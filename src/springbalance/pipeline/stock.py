@@ -22,6 +22,7 @@ from springbalance.design.stock import (
     warm_started,
 )
 from springbalance.design.stock_checks import fatigue_of, spring_duty, tolerance_of
+from springbalance.design.tolerance_spec import ToleranceSpec
 from springbalance.errors import InputError, SolverError
 from springbalance.pipeline.sequence import run_steps
 from springbalance.pipeline.state import SolveOptions
@@ -42,6 +43,7 @@ def select_stock(
     max_iterations: int = 100,
     tolerance: float = 1e-8,
     workers: int | None = None,
+    tolerances: ToleranceSpec | None = None,
 ) -> StockSelection:
     """Replace each extension and compression spring of a continuous design by a catalogue part.
 
@@ -57,6 +59,7 @@ def select_stock(
         max_iterations: iteration budget of each start.
         tolerance: stopping tolerance of the least squares.
         workers: processes that run the starts of each solve at once (:meth:`DesignProblem.solve`).
+        tolerances: the spring tolerances the chosen parts are checked with (None: grade 2 for every coil).
 
     Returns a :class:`StockSelection`. Raises :class:`SolverError` naming the spring when none of
     its candidates (or no part of its type) gives a feasible design, :class:`InputError` when the
@@ -120,16 +123,16 @@ def select_stock(
         choices,
         notes,
     )
-    return _checked(selection, problem)
+    return _checked(selection, problem, tolerances)
 
 
-def _checked(selection: StockSelection, problem: DesignProblem) -> StockSelection:
+def _checked(selection: StockSelection, problem: DesignProblem, spec: ToleranceSpec | None) -> StockSelection:
     """``selection`` with the fatigue of each chosen part (under the duty of the spring it replaced) and the
     tolerance analysis of the stock design (:mod:`springbalance.design.stock_checks`)."""
     result = selection.result
     evaluation = result.evaluation
     duties = {spring.name: spring_duty(spring) for spring in problem.springs}
-    analysis = tolerance_of(result.problem, result.x, evaluation.tau, evaluation.lengths)
+    analysis = tolerance_of(result.problem, result.x, evaluation.tau, evaluation.lengths, spec)
     boxes = {box.name: box.to_dict() for box in analysis.boxes}
     travel = {row["name"]: row["travel"] for row in analysis.travel}
     for choice in selection.choices:

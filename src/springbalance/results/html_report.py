@@ -31,6 +31,7 @@ from springbalance.results import plots
 from springbalance.results.clearance import checked_clearance
 from springbalance.results.flags import Flag, flags
 from springbalance.results.report import balance_statement, spec_sheet_rows, spring_mass_statement
+from springbalance.results.tolerance_report import tolerance_html
 from springbalance.results.verification_report import verification_html
 from springbalance.viz.design_scene import DesignScene
 
@@ -171,6 +172,7 @@ def report_html(
         parts.append(f"<p><b>Infeasible:</b> largest constraint violation {_number(metrics['max_violation'])}.</p>")
     parts.extend(clearance_html(result))
     parts.extend(verification_html(result))
+    parts.extend(tolerance_html(result))
     parts.extend(warnings_html(flags(result)))
     parts.extend(plots_html(torques, histogram))
     parts.append("</body></html>")

@@ -14,6 +14,7 @@ from springbalance.design.spring_mass import SpringMass
 from springbalance.design.standard_wire import WireRounding
 from springbalance.results.clearance import checked_clearance
 from springbalance.results.flags import Flag, flags
+from springbalance.results.tolerance_report import tolerance_lines
 from springbalance.results.verification_report import verification_lines
 from springbalance.springs.laws import Spring
 
@@ -26,7 +27,7 @@ def result_table(result: EvaluatedDesign) -> str:
     helical sizing (:func:`helical_sizing_lines`), the springs' mass (:func:`spring_mass_lines`), the torque and
     objective tables (:func:`torque_lines`), the balance statement, the scenarios, the clearance table, the
     verification at unseen poses (:func:`~springbalance.results.verification_report.verification_lines`), the
-    failures and the warnings (:func:`warning_lines`).
+    tolerances (:func:`~springbalance.results.tolerance_report.tolerance_lines`), the failures and the warnings (:func:`warning_lines`).
     """
     metrics = result.metrics()
     problem = result.problem
@@ -50,6 +51,7 @@ def result_table(result: EvaluatedDesign) -> str:
     lines.append("")
     lines.extend(clearance_section(result))
     lines.extend(verification_lines(result))
+    lines.extend(tolerance_lines(result))
     lines.extend(warning_lines(flags(result)))
     return "\n".join(lines)
 

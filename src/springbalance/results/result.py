@@ -20,6 +20,7 @@ from springbalance.design.clearance import FitRecord
 from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.design.objectives import OBJECTIVES
 from springbalance.design.problem import DesignProblem
+from springbalance.design.tolerance_spec import ToleranceSpec
 from springbalance.design.twin import TwinRecord
 from springbalance.design.verification_record import VerificationRecord
 from springbalance.errors import InputError
@@ -35,6 +36,7 @@ from springbalance.results.flags import Flag, flags
 from springbalance.results.html_report import write_report
 from springbalance.results.plots import plot_torques
 from springbalance.results.report import result_table
+from springbalance.results.tolerance_report import tolerance_record
 from springbalance.springs.records import spring_from_dict
 from springbalance.viz.live import LiveScene
 from springbalance.viz.scene import StaticScene, show
@@ -152,6 +154,7 @@ class DesignResult(EvaluatedDesign):
             "spring_mass": self.spring_mass().to_dict(),
             **self.findings_record(),
             **problem.scenarios_record(),
+            **tolerance_record(self),
         }
 
     def findings_record(self) -> dict[str, Any]:
@@ -232,7 +235,14 @@ class DesignResult(EvaluatedDesign):
             # the twin was solved on the design's own workspace: no reference on another one
             twin=TwinRecord.from_dict(solver.get("twin")) if own_workspace else None,
             partial=partial,
+            tolerance=_saved_tolerance(record, label),
         )
 
     def __repr__(self) -> str:
         return f"DesignResult({self.problem!r}, status={self.status!r})"
+
+
+def _saved_tolerance(record: dict[str, Any], label: str) -> ToleranceSpec | None:
+    """The tolerance spec a design file was saved with (None when it has none)."""
+    saved = record.get("tolerance")
+    return ToleranceSpec.from_record(saved.get("spec"), f"{label}: tolerance.spec") if isinstance(saved, dict) else None

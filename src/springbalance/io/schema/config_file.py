@@ -7,7 +7,7 @@ The record is rebuilt (:func:`config_model`) when a spring law registers itself,
 from __future__ import annotations
 
 import functools
-from typing import Optional
+from typing import Any, Optional
 
 import pydantic
 from pydantic import ConfigDict, Field
@@ -27,6 +27,18 @@ from springbalance.springs import SPRING_TYPES
 
 #: the title of the config's JSON Schema.
 TITLE = "springbalance config"
+
+
+#: the ``tolerance`` section: checked by :meth:`springbalance.design.tolerance_spec.ToleranceSpec.from_record`
+TOLERANCE_FIELD: tuple[Any, Any] = (
+    Optional[dict[str, Any]],
+    Field(
+        None,
+        description="the springs' tolerances (docs/guides/tolerances.md): {grade: 1|2|3} (EN 15800 / "
+        "DIN 2097; grade 2 by default) or explicit ± {rate [fraction], initial_tension [N], free_length [m]}; "
+        "adjuster_travel [m]: the preload screws' travel, checked in the report",
+    ),
+)
 
 
 class _ConfigBase(Record):
@@ -106,6 +118,7 @@ def _config_model(laws: tuple) -> type[Record]:
             Optional[ClearanceRecord],
             Field(None, description="keep every spring this far from the arm's collision geometry"),
         ),
+        tolerance=TOLERANCE_FIELD,
         max_spring_mass=(
             Optional[MassBound],
             Field(

@@ -34,6 +34,7 @@ SECTIONS = (
     "no_joint_worse",
     "clearance",
     "max_spring_mass",
+    "tolerance",
 )
 REQUIRED_SECTIONS = ("mechanism", "workspace", "springs")
 WORKSPACE_KINDS = ("grid", "sobol", "random", "sweep", "array")
