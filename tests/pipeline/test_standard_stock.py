@@ -94,12 +94,17 @@ def test_the_chosen_part_is_checked_for_fatigue_and_tolerance(extension_design):
 
 
 def test_a_part_that_cannot_live_its_duty_is_not_chosen():
-    lift = sb.HelicalExtensionSpring(
-        sb.Anchor("ground", sb.Free([0, -0.02, 0.02], [0, 0.02, 0.15])),
-        sb.Anchor("arm", sb.Free([0, 0, 0.01], [0, 0, 0.15])),
+    # fixed anchors: the parts' solves have nothing to steer (no fatigue rows), so each candidate is feasible
+    # and the check of its force range under the duty is what turns it down
+    lift = sb.ExtensionSpring(
+        sb.Anchor("ground", [0, 0, 0.15]),
+        sb.Anchor("arm", [0, 0, 0.05]),
         "lift",
+        stiffness=sb.Free(0, 1e4),
+        free_length=sb.Free(0.01, 0.3),
+        initial_tension=sb.Free(0, 100),
     )
-    # a duty no wire survives: n_f ≥ 50 (until coils take a duty record, the attribute is what the stock step reads)
+    # a duty no wire survives, n_f ≥ 50; an ideal law takes no duty record, so it is set as the coil's attribute
     lift.duty = Duty(safety_factor=50.0)
     problem = lamp(lift)
     continuous = sb.solve(problem, starts=1, progress=False, verify="off")
@@ -107,6 +112,21 @@ def test_a_part_that_cannot_live_its_duty_is_not_chosen():
         sb.SolverError, match=r"no stock part fits spring 'lift'.*fails fatigue \(body n_f [0-9.]+ < 50"
     ):
         select_stock(problem, continuous, sb.load_stock("ms24586"), candidates=2, starts=1)
+
+
+def test_the_springs_duty_goes_with_the_part():
+    lift = sb.HelicalExtensionSpring(
+        sb.Anchor("ground", sb.Free([0, -0.02, 0.02], [0, 0.02, 0.15])),
+        sb.Anchor("arm", sb.Free([0, 0, 0.01], [0, 0, 0.15])),
+        "lift",
+        duty={"cycles": 1e7},
+    )
+    result = sb.solve(lamp(lift), starts=2, progress=False, stock=sb.load_stock("ms24586"))
+    spring = result.problem.springs[0]
+    assert spring.part_number == result.stock.choices[0].part.part_number
+    assert spring.duty == Duty(cycles=1e7) == result.stock.choices[0].fatigue.duty
+    sheet = result.spring("lift")["helical"]
+    assert sheet["duty"]["cycles"] == 1e7 and sheet["buildable"], sheet["reasons"]
 
 
 def test_a_compression_part_of_ms24585_takes_a_pushing_spring():

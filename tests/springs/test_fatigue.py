@@ -59,7 +59,9 @@ def test_shigley_example_10_6_and_10_7_extension_spring_stresses() -> None:
     d, mean = 0.035 * IN, 0.248 * IN - 0.035 * IN
     hook_a, hook_b = 2 * 0.106 * IN / d, 2 * 0.089 * IN / d  # C_1 = 2 r_1/d, C_2 = 2 r_2/d
     # Example 10-6, static 5.25 lbf: the stress per force of each location
-    assert float(stress_per_force("hook_bending", d, mean, hook_a)) * 5.25 * LBF / KPSI == pytest.approx(156.9, rel=3e-3)
+    assert float(stress_per_force("hook_bending", d, mean, hook_a)) * 5.25 * LBF / KPSI == pytest.approx(
+        156.9, rel=3e-3
+    )
     assert float(stress_per_force("hook_torsion", d, mean, None, hook_b)) * 5.25 * LBF / KPSI == pytest.approx(
         78.4, rel=3e-3
     )
@@ -100,7 +102,9 @@ def test_a_preload_lowers_the_amplitude_and_goodman_is_linear() -> None:
     base = fatigue_margins(2e-3, 16e-3, wire, 0.0, 100.0, {"criterion": "goodman"})["body"]
     loaded = fatigue_margins(2e-3, 16e-3, wire, 50.0, 100.0, {"criterion": "goodman"})["body"]
     assert loaded.amplitude == pytest.approx(base.amplitude / 2)
-    assert 1 / loaded.safety_factor == pytest.approx(loaded.amplitude / loaded.endurance + loaded.mean / loaded.ultimate)
+    assert 1 / loaded.safety_factor == pytest.approx(
+        loaded.amplitude / loaded.endurance + loaded.mean / loaded.ultimate
+    )
 
 
 @pytest.mark.parametrize(
@@ -135,3 +139,36 @@ def test_reliability_scales_the_endurance_strength() -> None:
     mid = fatigue_margins(2e-3, 16e-3, MUSIC_WIRE, 10.0, 50.0, {"reliability": 0.5}, "compression")["body"]
     assert low.endurance == pytest.approx(0.814 * mid.endurance)  # Shigley Table 6-5
     assert Duty().to_dict()["cycles"] == 1e6 and math.isinf(duty_from_record({"cycles": "infinite"}).cycles)
+
+
+@pytest.mark.parametrize(
+    ("duty", "culprit"),
+    [({"cycles": -5}, "duty.cycles"), ({"peened": True}, "duty.peened"), ({"criterion": 3}, "duty.criterion")],
+)
+def test_a_coil_record_with_a_bad_duty_is_one_line_naming_the_spring_and_key(duty: dict, culprit: str) -> None:
+    from springbalance.springs.records import spring_from_dict
+
+    record = {"name": "s", "type": "extension", "a": {"body": "universe"}, "b": {"body": "link1"}, "duty": duty}
+    with pytest.raises(InputError) as error:
+        spring_from_dict(record)
+    message = str(error.value)
+    assert "'s'" in message or " s:" in message or "s: duty" in message, message
+    assert culprit in message and "\n" not in message
+
+
+def test_a_coil_with_a_duty_has_fatigue_rows_and_a_floor_variable() -> None:
+    from springbalance.springs.laws.helical_extension import HelicalExtensionSpring
+    from springbalance.springs.params import Anchor, Free
+
+    coil = HelicalExtensionSpring(Anchor("universe"), Anchor("link1", Free([0.1, 0, 0], [0.3, 0, 0])), "s", duty={})
+    rules = [c for c in coil.constraints() if c.name == "fatigue"]
+    assert len(rules) == 1 and [p[0] for p in rules[0].parts] == [
+        "fatigue_floor",
+        "fatigue_body",
+        "fatigue_hook_bending",
+        "fatigue_hook_torsion",
+    ]
+    assert rules[0].auxiliary[0][0] == "fatigue_min_force" and rules[0].auxiliary[0][3] > 0
+    # without a duty, or fixed in place, nothing is added
+    plain = HelicalExtensionSpring(Anchor("universe"), Anchor("link1", Free([0.1, 0, 0], [0.3, 0, 0])), "s")
+    assert not [c for c in plain.constraints() if c.name == "fatigue"]

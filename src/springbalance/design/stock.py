@@ -135,7 +135,7 @@ def part_spring(part: StockPart, spring: Spring) -> Spring:
     rules (index range, initial-tension band) do not apply, the rules of its use (stresses, hooks,
     solid length, buckling unless the spring was ``guided``) do. The spring's own limits stay when they
     are stricter (``max_force``, ``max_length``, ``min_length``: space or load limits of the arm), and
-    so does its envelope (``max_outer_diameter``).
+    so does its envelope (``max_outer_diameter``) and its ``duty`` (fatigue rows while the anchors are free).
     """
     kind = stock_kind(spring)
     if kind is None or not isinstance(spring, TwoPointSpring):  # (a stock kind is a two-point spring's)
@@ -157,6 +157,7 @@ def part_spring(part: StockPart, spring: Spring) -> Spring:
         "min_length": spring.min_length,
         "max_outer_diameter": getattr(spring, "max_outer_diameter", None),
         "part_number": part.part_number,
+        "duty": getattr(spring, "duty", None),
     }
     if getattr(spring, "routed", False):  # the part on the same path, with the same cable
         coil.update(via=spring.via, cable_length=spring.parameters["cable_length"])

@@ -164,7 +164,7 @@ class FatiguePoint:
 def fatigue_point(material: Material, wire_diameter: Any, location: str, life: float, peened: bool) -> FatiguePoint:
     """The fatigue data of ``location`` for a life of ``life`` cycles: Zimmerli's point for the body at
     infinite life (and for a compression spring's body at any life), else Table 10-8's column of the
-    smallest tabulated life ≥ ``life`` (its last, 10⁷, beyond). ``wire_diameter`` [m] may be a CasADi expression."""
+    smallest listed life ≥ ``life`` (its last, 10⁷, beyond). ``wire_diameter`` [m] may be a CasADi expression."""
     strength = material.tensile_strength(wire_diameter)  # S_ut [Pa]
     ultimate = strength if location == "hook_bending" else SHEAR_ULTIMATE * strength
     if location == "body" and (math.isinf(life) or peened):
@@ -277,7 +277,9 @@ def fatigue_margins(
     ``hook_index``, ``side_bend_index``: the hook's bend indices (:func:`stress_per_force`).
 
     This is what a bought part is checked with: its geometry, its material and the force range it sees."""
-    duty = (duty_from_record(dict(duty)) if duty is not None else Duty()).check_kind(kind)
+    duty = (Duty() if duty is None else duty if isinstance(duty, Duty) else duty_from_record(dict(duty))).check_kind(
+        kind
+    )
     material = material_named(material)
     low, high = float(min_force), float(max_force)
     if not (0 <= low <= high and math.isfinite(high)):

@@ -52,8 +52,10 @@ class DutyOption(pydantic.BaseModel):
         1e6, description="load cycles the coil must live [1], or 'infinite' (Zimmerli's endurance data)"
     )
     peened: bool = pydantic.Field(False, description="shot-peened wire (compression springs only)")
-    reliability: Literal[0.5, 0.9, 0.95, 0.99, 0.999, 0.9999] = pydantic.Field(
-        0.5, description="probability the fatigue data hold; factor k_e of Shigley Table 6-5 (0.5: 1.0)"
+    reliability: float = pydantic.Field(
+        0.5,
+        description="probability the fatigue data hold; factor k_e of Shigley Table 6-5 (0.5: 1.0)",
+        json_schema_extra={"enum": [0.5, 0.9, 0.95, 0.99, 0.999, 0.9999]},
     )
     safety_factor: Annotated[float, annotated_types.Ge(1)] = pydantic.Field(
         1.2, description="fatigue safety factor n_f every location must reach [1]"
