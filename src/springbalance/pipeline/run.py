@@ -68,9 +68,10 @@ def solve(
             re-optimise the rest (True); the result's ``wire_rounding`` says what it cost.
         workers: processes that run the starts (and polish runs) at once; the design does not depend on it.
             Default: ``$SPRINGBALANCE_WORKERS``, else ``os.cpu_count()`` (1 for a small problem).
-        stock: a parts catalogue (:func:`springbalance.io.catalogue.read_catalogue`): each extension and
-            compression spring is then replaced by its nearest part and the rest re-optimised; the
-            result's ``stock`` is the :class:`~springbalance.pipeline.stock.StockSelection`.
+        stock: stock parts (:func:`springbalance.load_stock`: ``sb.load_stock("ms24586")``, the standard
+            catalogues or a CSV file): each extension and compression spring is then replaced by its
+            nearest part and the rest re-optimised; the result's ``stock`` is the
+            :class:`~springbalance.design.stock.StockSelection`. Default: a Config's ``solve.stock``, else none.
         verify: the verification at 10× as many unseen poses (:mod:`springbalance.design.verification`):
             ``"resolve"`` (the default, :data:`~springbalance.pipeline.state.VERIFY_DEFAULT`) re-solves with the
             worst poses added where a rule fails there, ``"report"`` only reports, ``"off"`` skips it.
@@ -86,6 +87,7 @@ def solve(
         Interrupted: Ctrl-C; it carries the starts that had finished and the best design so far.
     """
     problem, given = _problem_and_options(problem_or_config)
+    stock = getattr(problem_or_config, "stock", None) if stock is None else stock  # default: a Config's solve.stock
     options = SolveOptions.merged(
         given,
         {
@@ -151,7 +153,7 @@ def _select_stock(
     problem: DesignProblem, result: DesignResult, parts: Sequence[StockPart], options: SolveOptions
 ) -> StockSelection:
     """Catalogue parts for the continuous design ``result``; each candidate part is solved from the warm
-    start at the continuous anchors plus one Sobol start."""
+    start at the continuous anchors plus one Sobol start; the chosen parts are checked under the design's tolerances."""
     return select_stock(
         problem,
         result,
@@ -162,4 +164,5 @@ def _select_stock(
         max_iterations=options.max_iterations,
         tolerance=options.tolerance,
         workers=options.workers,
+        tolerances=result.tolerance,
     )

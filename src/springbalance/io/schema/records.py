@@ -267,6 +267,12 @@ class WorkspaceRecord(Record, title="Workspace"):
     )
 
 
+if TYPE_CHECKING:  # what by_shape builds at run time (a tagged union), as mypy can read it
+    _StockSpec = Union[str, list[str]]
+else:
+    _StockSpec = by_shape(list=Annotated[list[Text], annotated_types.MinLen(1)], scalar=Text)
+
+
 class SolveRecord(Record, title="Solve"):
     """Options of the multi-start solve (the command line's --starts, --seed, --method, --workers override them)."""
 
@@ -292,6 +298,12 @@ class SolveRecord(Record, title="Solve"):
         "the check of the design at 10x as many unseen poses (docs/model.md §12): resolve (re-solve with the "
         "worst poses added where a rule fails there), report (only report) or off",
         shown="resolve",
+    )
+    stock: _StockSpec = optional(
+        "then replace each extension and compression spring by a stock part and re-optimise the anchors: "
+        "ms24585 (compression), ms24586 (extension), the standard catalogues, or a CSV catalogue (relative "
+        "to the config file); a list, or one string separated by commas (the command line's --stock "
+        "overrides it; docs/guides/coils-and-stock.md)"
     )
 
 
