@@ -1,6 +1,6 @@
 """Real designs on real arms: each case at its default settings, against a 4× search and over 5 seeds, checked densely.
 
-The cases are config files (benchmarks/real/*.yaml, and the shipped examples/ur5.yaml),
+The cases are config files (benchmarks/real/*.yaml, and the shipped examples/ur5.yaml and examples/panda.yaml),
 solved as a user solves them (``sb.solve(config)``: the config's ``solve`` section, nothing else):
 
   ur5-ideal          UR5, 4 ideal extension springs on the shoulder, upper arm and forearm, ±0.3 m boxes
@@ -11,7 +11,7 @@ solved as a user solves them (``sb.solve(config)``: the config's ``solve`` secti
   panda-ideal        Panda, 4 ideal springs on links 1–4 (upper-arm roll held, fingers held)
   panda-coils-clear  panda-ideal as coils of at most 40 mm, kept 5 mm clear
   example-ur5        examples/ur5.yaml (the shipped example, sized to run in about a minute)
-  example-panda      benchmarks/real/panda_example.yaml (the Panda set up as examples/ur5.yaml; not shipped)
+  example-panda      examples/panda.yaml (the shipped example: shoulder coils beside the arm, elbow coils in its plane)
 
 Per case, in the same run:
 
@@ -85,7 +85,7 @@ CASES = [
     Case("panda-ideal", REAL / "panda_ideal.yaml"),
     Case("panda-coils-clear", REAL / "panda_coils_clear.yaml"),
     Case("example-ur5", ROOT / "examples" / "ur5.yaml"),
-    Case("example-panda", ROOT / "benchmarks" / "real" / "panda_example.yaml"),
+    Case("example-panda", ROOT / "examples" / "panda.yaml"),
 ]
 BY_NAME = {case.name: case for case in CASES}
 

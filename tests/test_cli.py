@@ -239,6 +239,7 @@ def test_every_command_has_a_parser_and_a_handler():
         "clearance",
         "view",
         "report",
+        "order",
         "export",
         "payload-range",
         "robots",

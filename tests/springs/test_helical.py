@@ -233,8 +233,13 @@ def test_make_demo_design_is_buildable(demo):
         # standard wire: the preferred series
         assert min(abs(sheet["wire_diameter"] - d) for d in PREFERRED_WIRE_DIAMETERS) < 1e-12, spring["name"]
         assert sheet["outer_diameter"] <= 0.04 * (1 + 1e-6)
+        # its duty (10⁶ cycles, n_f ≥ 1.2): fatigue of the body and both hooks is a rule of the design
+        assert sheet["duty"]["cycles"] == 1e6 and sheet["duty"]["safety_factor"] == 1.2
+        for location in ("body", "hook_bending", "hook_torsion"):
+            assert sheet["fatigue"][location]["safety_factor"] >= 1.2 * (1 - 1e-5), (spring["name"], location)
     shoulder = next(row for row in demo["metrics"]["joints"] if row["joint"] == "shoulder")
-    assert shoulder["rms_reduction_percent"] >= 90
+    # 90 % without fatigue; the forearm coil's duty costs some balance (docs/model.md §3.8.2)
+    assert shoulder["rms_reduction_percent"] >= 85
     rounding = demo["solver"]["standard_wire"]
     assert set(rounding["wires"]) == {"shoulder_spring", "forearm_spring", "elbow_spring"}
     assert rounding["objective"] >= rounding["continuous_objective"] * (1 - 1e-6) or rounding["cost_percent"] < 0

@@ -7,6 +7,7 @@
     springbalance clearance design.json [--samples N] [--radius R] [--margin M]
     springbalance view design.json [--port P] [--open] [--frames N]
     springbalance report design.json --out FOLDER [--no-scene]
+    springbalance order design.json --out FOLDER [--grade G] [--finish TEXT] [--partial]
     springbalance export design.json [--urdf OUT.urdf] [--mjcf OUT.xml] [--resolve-packages]
     springbalance payload-range design.json --body BODY [--point X Y Z] [--masses M ...] [--max-residual R] [--plot PATH]
     springbalance robots [--paths]
@@ -26,7 +27,7 @@ leaves no (partial) output file behind.
 
 The package: :mod:`~springbalance.cli.app` (:func:`main`, :func:`run`), :mod:`~springbalance.cli.parser`
 (:func:`build_parser`), one module per command (``design``, ``evaluate``, ``clearance``, ``view``,
-``report``, ``export``, ``payload_range``, ``robots``, ``inspect``, ``explore``, ``schema``), each adding its
+``report``, ``order``, ``export``, ``payload_range``, ``robots``, ``inspect``, ``explore``, ``schema``), each adding its
 own parser and handler, and :mod:`~springbalance.cli.formatting` (the text: errors, tables, the
 ``inspect`` summary, the message of an interrupted design).
 """

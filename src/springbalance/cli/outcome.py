@@ -9,8 +9,8 @@ code  meaning
 3     a design was found but fails a check (``infeasible``, ``not_converged``, ``unbuildable``,
       ``overlap``, ``worse_joint`` on a weighted joint, ``not_verified``, ``partial``): the report is
       printed, one line per failure on stderr, and ``--out`` is written only with ``--partial``
-      (``evaluate`` and ``report`` of such a design exit 3 too; ``clearance`` when a spring comes
-      closer than the margin)
+      (``evaluate`` and ``report`` of such a design exit 3 too, ``order`` writes nothing without
+      ``--partial``; ``clearance`` when a spring comes closer than the margin)
 130   interrupted (Ctrl-C)
 141   the output pipe was closed (e.g. ``| head``)
 ====  ==========================================================================================

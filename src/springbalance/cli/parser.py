@@ -13,6 +13,7 @@ from springbalance.cli import (
     explore,
     export,
     inspect,
+    order,
     payload_range,
     report,
     robots,
@@ -23,7 +24,7 @@ from springbalance.cli.arguments import MEMORY_HELP
 from springbalance.cli.formatting import PROG
 
 #: the commands in the order ``springbalance --help`` lists them
-COMMANDS = (design, evaluate, clearance, view, report, export, payload_range, robots, inspect, explore, schema)
+COMMANDS = (design, evaluate, clearance, view, report, order, export, payload_range, robots, inspect, explore, schema)
 
 
 def build_parser() -> argparse.ArgumentParser:

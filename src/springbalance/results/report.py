@@ -248,6 +248,30 @@ def spec_sheet_rows(sheet: dict[str, Any]) -> list[tuple[str, str]]:
             continue
         value = sheet[key] if scale is None else sheet[key] * scale
         rows.append((label, f"{value:{style}} {unit}".strip()))
+    return rows + fatigue_rows(sheet)
+
+
+def fatigue_rows(sheet: dict[str, Any]) -> list[tuple[str, str]]:
+    """``(label, value)`` of a coil's duty and its fatigue safety factor per location (docs/model.md §3.8.2)."""
+    fatigue, duty = sheet.get("fatigue"), sheet.get("duty")
+    if not fatigue or not duty:
+        return []
+    cycles = duty["cycles"] if isinstance(duty["cycles"], str) else f"{duty['cycles']:.0e}"
+    rows = [
+        (
+            "duty",
+            f"{cycles} cycles, n_f ≥ {duty['safety_factor']:g}, {duty['criterion']}"
+            f"{', peened' if duty['peened'] else ''}, reliability {duty['reliability']:g}",
+        ),
+        ("load range", f"{fatigue['min_load']:.4g}–{fatigue['max_load']:.4g} N"),
+    ]
+    for key, margin in fatigue.items():
+        if not isinstance(margin, dict):
+            continue
+        factor = "∞" if margin["safety_factor"] is None else f"{margin['safety_factor']:.2f}"
+        rows.append(
+            (f"fatigue n_f, {key.replace('_', ' ')}", f"{factor} ({margin['source']}); lives {margin['life_text']}")
+        )
     return rows
 
 

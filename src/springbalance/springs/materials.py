@@ -12,6 +12,11 @@ Table 10-4), and the allowable static shear stress is a fraction of it:
 - Table A-5: unit weight of carbon steel 0.282 lbf/in³ (7800 kg/m³), stainless 18-8
   0.280 lbf/in³ (7750 kg/m³).
 
+European wire, EN 10270-1 grades SH and DH (patented cold-drawn unalloyed spring steel): the
+standard's minimum tensile strength fitted by two power laws (0.2–1 mm: A = 2213 MPa·mm^m,
+m = 0.146; 1–10 mm: A = 2218 MPa·mm^m, m = 0.200), never above the table (0 to −2.7 %);
+G = 81.5 GPa (EN 13906-1), ρ = 7850 kg/m³. docs/model.md §3.8.1 gives the sources.
+
 Every quantity is in SI units (m, N, Pa, kg).
 """
 
@@ -169,6 +174,25 @@ MATERIALS: dict[str, Material] = {
             7800.0,
             (StrengthRange(1.6 * MM, 9.5 * MM, 1974.0, 0.108),),
             {"compression": 0.50, "extension": 0.45},
+        ),
+        *(
+            # EN 10270-1 patented cold-drawn unalloyed spring steel wire, grades SH (static duty)
+            # and DH (dynamic duty): the same minimum tensile strength, DH also below 0.30 mm.
+            # S_ut: a conservative two-piece power law fitted to Rm,min (docs/model.md §3.8.1);
+            # G = 81.5 GPa and ρ = 7850 kg/m³ (EN 10270-1 / EN 13906-1 reference values);
+            # allowable fractions of cold-drawn carbon steel (Shigley Tables 10-6, 10-7).
+            Material(
+                f"en10270_1_{grade.lower()}",
+                f"patented cold-drawn spring steel EN 10270-1 {grade}",
+                81.5e9,
+                7850.0,
+                (
+                    StrengthRange(thinnest * MM, 1.0 * MM, 2213.0, 0.146),
+                    StrengthRange(1.0 * MM, 10.0 * MM, 2218.0, 0.200),
+                ),
+                {"compression": 0.45, "extension": 0.45},
+            )
+            for grade, thinnest in (("SH", 0.30), ("DH", 0.20))
         ),
     )
 }

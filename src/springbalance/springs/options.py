@@ -10,7 +10,7 @@ a config is validated or the schema written.
 
 from __future__ import annotations
 
-from typing import Annotated, Optional
+from typing import Annotated, Literal, Optional, Union
 
 import annotated_types
 import pydantic
@@ -41,3 +41,25 @@ class CoilMassRecord(pydantic.BaseModel):
     material: Optional[str] = pydantic.Field(None, description="a material of springbalance.springs.sizing.MATERIALS")
     shear_modulus: Optional[_Positive] = pydantic.Field(None, description="G [Pa], instead of a material")
     density: Optional[_Positive] = pydantic.Field(None, description="ρ [kg/m³], instead of a material")
+
+
+class DutyOption(pydantic.BaseModel):
+    """The keys of a coil's ``duty`` (docs/model.md §3.8.2): what it must survive; fatigue is then a rule."""
+
+    model_config = pydantic.ConfigDict(extra="forbid")
+
+    cycles: Union[Annotated[float, annotated_types.Ge(1)], Literal["infinite"]] = pydantic.Field(
+        1e6, description="load cycles the coil must live [1], or 'infinite' (Zimmerli's endurance data)"
+    )
+    peened: bool = pydantic.Field(False, description="shot-peened wire (compression springs only)")
+    reliability: float = pydantic.Field(
+        0.5,
+        description="probability the fatigue data hold; factor k_e of Shigley Table 6-5 (0.5: 1.0)",
+        json_schema_extra={"enum": [0.5, 0.9, 0.95, 0.99, 0.999, 0.9999]},
+    )
+    safety_factor: Annotated[float, annotated_types.Ge(1)] = pydantic.Field(
+        1.2, description="fatigue safety factor n_f every location must reach [1]"
+    )
+    criterion: Literal["gerber", "goodman", "sines"] = pydantic.Field(
+        "gerber", description="how the fatigue data are projected to zero mean stress"
+    )

@@ -111,6 +111,9 @@ class TorqueModel:
                         float(value.upper),
                         float(value.start),
                     )
+            for constraint in spring.constraints():  # a constraint's own variables (a coil's fatigue floor)
+                for key, unit, lower, upper, start in getattr(constraint, "auxiliary", ()):
+                    self.variables.add(f"{spring.name}.{key}", unit, lower, upper, start)
         return variable_slots
 
     def _sample_context(self, data: ca.SX) -> SampleContext:
@@ -150,7 +153,7 @@ class TorqueModel:
             point = ca.DM(region.offset) + (ca.mtimes(ca.DM(region.basis), local[indices]) if indices else 0)
             points[(spring.name, end)] = point
         for spring in self.springs:
-            parameters = self.parameter_values(spring, local)
+            parameters = {**self.parameter_values(spring, local), **self.auxiliary_values(spring, local)}
             own_points = {end: points[(spring.name, end)] for end in spring.anchors}
             share = spring.contribution(context, parameters, own_points)
             # Contribution declares its fields as object (springs package); they are CasADi expressions
@@ -299,6 +302,12 @@ class TorqueModel:
             else:
                 values[key] = float(value.lower) if isinstance(value, Free) else float(value)
         return values
+
+    def auxiliary_values(self, spring: Spring, x: ca.SX | np.ndarray) -> dict:
+        """The entries of the base vector ``x`` of the auxiliary variables of ``spring``'s constraints, by key."""
+        prefix = f"{spring.name}."
+        keys = [key for constraint in spring.constraints() for key, *_ in getattr(constraint, "auxiliary", ())]
+        return {key: x[self._index[prefix + key]] for key in keys if prefix + key in self._index}
 
     @property
     def linear_indices(self) -> list[int]:

@@ -18,6 +18,8 @@ import annotated_types
 import numpy as np
 
 from springbalance.errors import InputError
+from springbalance.springs.fatigue import DUTY_OPTION, Duty, duty_from_record, fatigue_margins, force_range
+from springbalance.springs.fatigue_rows import FatigueRules
 from springbalance.springs.helical_formulas import bergstrasser_factor
 from springbalance.springs.laws.spring import PositiveNumber
 from springbalance.springs.laws.two_point import TwoPointSpring
@@ -51,6 +53,7 @@ class HelicalCoilSpring(TwoPointSpring):
         "index_range": IndexRange | None,
         "own_mass": bool,
         "stress_reserve": Annotated[float, annotated_types.Ge(0), annotated_types.Lt(1)],
+        "duty": DUTY_OPTION | None,  # type: ignore[operator]  # typeshed's ForwardRef lacks __or__
     }
     helical_kind: ClassVar[str] = ""
     end_type: ClassVar[str] = ""
@@ -68,10 +71,13 @@ class HelicalCoilSpring(TwoPointSpring):
         index_range: Sequence[float] | None = None,
         own_mass: bool = True,
         stress_reserve: float = STRESS_RESERVE,
+        duty: Duty | dict | None = None,
         ideal: bool = False,
         **kwargs: Any,
     ):
         label = f"{type(self).__name__} {name or ''}".strip()
+        #: what the coil must survive (fatigue is then a rule at every sample), or None
+        self.duty = _duty(duty, self.helical_kind, label)
         if ideal:
             raise InputError(
                 f"{label}: a helical spring is not ideal; write ideal: true on a spring without coil "
@@ -112,6 +118,10 @@ class HelicalCoilSpring(TwoPointSpring):
             kwargs.setdefault(key, Free(lower, upper))
         self.own_mass = bool(own_mass)
         super().__init__(a, b, name, **kwargs)
+        self._check_wire_range(label)
+
+    def _check_wire_range(self, label: str) -> None:
+        """InputError when the bounds of ``wire_diameter`` leave the material's range."""
         wire = self.parameters["wire_diameter"]
         lowest, highest = (float(wire.lower), float(wire.upper)) if isinstance(wire, Free) else (float(wire),) * 2
         if lowest < self.material.diameter_range[0] * (1 - 1e-9) or highest > self.material.diameter_range[1] * (
@@ -153,6 +163,19 @@ class HelicalCoilSpring(TwoPointSpring):
             rows.append(self.max_outer_diameter - (values["mean_diameter"] + values["wire_diameter"]))
         return rows
 
+    def fatigue_constraints(self) -> list:
+        """The fatigue rows (:class:`~springbalance.springs.fatigue_rows.FatigueRules`) when the coil has a duty and
+        something to design (a free parameter or anchor); a coil fixed in place has nothing they could steer, and
+        its spec sheet judges its fatigue from the force range."""
+        if self.duty is None:
+            return []
+        free = any(isinstance(value, Free) and value.upper > value.lower for value in self.parameters.values())
+        try:
+            free = free or any(anchor.is_free for anchor in self.anchors.values())
+        except InputError:  # an anchor on a collision surface: its region follows from the arm
+            free = True
+        return [FatigueRules(self, self.duty)] if free else []
+
     def common_parts(self) -> list:
         parts = [("index_low", "1", 1.0), ("index_high", "1", 1.0)] if self.winds else []
         if self.max_outer_diameter is not None:
@@ -192,6 +215,8 @@ class HelicalCoilSpring(TwoPointSpring):
         )
         if self.max_outer_diameter is not None:
             record["max_outer_diameter"] = self.max_outer_diameter
+        if self.duty is not None:
+            record["duty"] = self.duty.to_dict()
         return record
 
     # ---------------------------------------------------------------- the data sheet
@@ -234,6 +259,30 @@ class HelicalCoilSpring(TwoPointSpring):
             "mass": float(self.coil_mass(values)),
         }
         return sheet, reasons
+
+    def fatigue_sheet(self, sheet: dict, forces: np.ndarray, reasons: list[str]) -> None:
+        """With a duty: add ``duty`` and ``fatigue`` (per location: ``n_f``, the life it allows, the data) to
+        ``sheet`` from the force range over ``forces`` [N], and a reason for every location below its ``n_f``."""
+        if self.duty is None:
+            return
+        low, high = force_range(forces, self.helical_kind)
+        margins = fatigue_margins(
+            sheet["wire_diameter"], sheet["mean_diameter"], self.material, low, high, self.duty, self.helical_kind
+        )
+        sheet["duty"] = self.duty.to_dict()
+        sheet["fatigue"] = {"min_load": low, "max_load": high, **{key: m.to_dict() for key, m in margins.items()}}
+        for location, margin in margins.items():
+            if margin.safety_factor < margin.required * (1 - CHECK_TOLERANCE):
+                reasons.append(
+                    f"fatigue at the {location.replace('_', ' ')}: n_f = {margin.safety_factor:.2f} below "
+                    f"{margin.required:g} for {sheet['duty']['cycles']} cycles ({margin.source}); it lives "
+                    f"{margin.life_text()}"
+                )
+
+
+def _duty(record: Duty | dict | None, kind: str, label: str) -> Duty | None:
+    """The coil's :class:`~springbalance.springs.fatigue.Duty` (None without one); InputError naming the key."""
+    return None if record is None else duty_from_record(record, f"{label}: duty").check_kind(kind, f"{label}: duty")
 
 
 def _index_range(value: Any, label: str) -> tuple[float, float]:

@@ -110,7 +110,7 @@ class HelicalCompressionSpring(HelicalCoilSpring):
         return {"stiffness": float(self.rate(values)), "free_length": float(values["free_length"]), "preload": 0.0}
 
     def constraints(self) -> list:
-        return [CompressionCoilRules(self)] + super().constraints()
+        return [CompressionCoilRules(self), *self.fatigue_constraints()] + super().constraints()
 
     def options(self) -> dict:
         return {**super().options(), "stays_compressed": self.stays_compressed, "guided": self.guided}
@@ -154,6 +154,7 @@ class HelicalCompressionSpring(HelicalCoilSpring):
                 f"free length {free * 1e3:.0f} mm above the buckling limit {critical * 1e3:.0f} mm; "
                 "guide it (guided: true) or shorten it"
             )
+        self.fatigue_sheet(sheet, forces, reasons)
         sheet.update(
             {
                 "free_length": free,

@@ -122,7 +122,7 @@ class HelicalExtensionSpring(HelicalCoilSpring):
         }
 
     def constraints(self) -> list:
-        return [ExtensionCoilRules(self)] + super().constraints()
+        return [ExtensionCoilRules(self), *self.fatigue_constraints()] + super().constraints()
 
     def options(self) -> dict:
         return {**super().options(), "keep_tension": self.keep_tension}
@@ -180,6 +180,7 @@ class HelicalExtensionSpring(HelicalCoilSpring):
                 f"shortest length {np.min(lengths) * 1e3:.1f} mm is below the free length {free * 1e3:.1f} mm: "
                 "the coil goes slack"
             )
+        self.fatigue_sheet(sheet, forces, reasons)
         d_, n = sheet["wire_diameter"], sheet["active_coils"]
         sheet.update(
             {
