@@ -124,7 +124,7 @@ class DesignProblem(ProblemNlp):
         scenarios = case_scenarios(self.corners) if self.corners is not None else scenarios
         self.scenarios = check_scenarios(mechanism, scenarios) if scenarios is not None else []
         self.per_scenario = [str(name) for name in per_scenario]
-        self.aggregate = aggregate
+        self.aggregate = aggregate if self.corners is None else "worst"
         if self.scenarios:
             workspace = ScenarioWorkspace(workspace, self.scenarios)
         self.mechanism, self.workspace = mechanism, workspace
@@ -338,7 +338,13 @@ class DesignProblem(ProblemNlp):
         robust = self.tolerance if self.corners is not None else None
         scenarios = self.scenarios if robust is None else []
         return options_record(
-            scenarios, self.per_scenario, self.aggregate, self.no_joint_worse, self.max_spring_mass, self.clearance, robust
+            scenarios,
+            self.per_scenario,
+            self.aggregate,
+            self.no_joint_worse,
+            self.max_spring_mass,
+            self.clearance,
+            robust,
         )
 
     @staticmethod

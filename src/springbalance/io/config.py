@@ -171,6 +171,11 @@ def config_from_dict(
             if model.clearance is not None
             else None
         )
+        tolerance = (
+            ToleranceSpec.from_record(record["tolerance"], f"{label}: tolerance")
+            if record.get("tolerance") is not None
+            else None
+        )
         problem = DesignProblem(
             mechanism,
             workspace,
@@ -181,14 +186,10 @@ def config_from_dict(
             clearance=clearance,
             max_spring_mass=model.max_spring_mass,
             **scenario_options,
+            tolerance=tolerance,
         )
         check_bounds(problem)  # contradictions between the springs' bounds, named before any solve
         check_mass_bound(problem)  # a mass bound below the lightest springs the bounds allow
-        tolerance = (
-            ToleranceSpec.from_record(record["tolerance"], f"{label}: tolerance")
-            if record.get("tolerance") is not None
-            else None
-        )
     return Config(path, mechanism, workspace, springs, problem, solve_options, tolerance)
 
 

@@ -86,6 +86,11 @@ def solve(
         Interrupted: Ctrl-C; it carries the starts that had finished and the best design so far.
     """
     problem, given = _problem_and_options(problem_or_config)
+    if stock is not None and problem.corners is not None:
+        raise InputError(
+            "tolerance.robust: stock parts cannot be chosen for a robust design (a part's law is fixed); "
+            "solve without --stock, or without robust"
+        )
     options = SolveOptions.merged(
         given,
         {
