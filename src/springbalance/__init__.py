@@ -28,6 +28,7 @@ if TYPE_CHECKING:  # the real imports, for type checkers and IDEs
     from springbalance.design.objectives import OBJECTIVES
     from springbalance.design.problem import DesignProblem, Evaluation
     from springbalance.design.scenarios import Payload, Scenario, payload_scenarios
+    from springbalance.design.tolerance_spec import ToleranceSpec
     from springbalance.io.stock_catalogues import load_stock
     from springbalance.model.mechanism import GROUND, Joint, Mechanism
     from springbalance.model.workspace import Coupling, Workspace
@@ -88,6 +89,7 @@ __all__ = [
     "SolverError",
     "Spring",
     "SpringBalanceError",
+    "ToleranceSpec",
     "TorsionalSpring",
     "TwoPointSpring",
     "Workspace",
@@ -113,6 +115,7 @@ _SOURCES = {
     "springbalance.design.problem": ("DesignProblem", "Evaluation"),
     "springbalance.design.scenarios": ("Payload", "Scenario", "payload_scenarios"),
     "springbalance.io.stock_catalogues": ("load_stock",),
+    "springbalance.design.tolerance_spec": ("ToleranceSpec",),
     "springbalance.model.mechanism": ("GROUND", "Joint", "Mechanism"),
     "springbalance.model.workspace": ("Coupling", "Workspace"),
     "springbalance.pipeline": ("solve",),

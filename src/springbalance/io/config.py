@@ -181,6 +181,11 @@ def config_from_dict(
             if model.clearance is not None
             else None
         )
+        tolerance = (
+            ToleranceSpec.from_record(record["tolerance"], f"{label}: tolerance")
+            if record.get("tolerance") is not None
+            else None
+        )
         problem = DesignProblem(
             mechanism,
             workspace,
@@ -191,14 +196,10 @@ def config_from_dict(
             clearance=clearance,
             max_spring_mass=model.max_spring_mass,
             **scenario_options,
+            tolerance=tolerance,
         )
         check_bounds(problem)  # contradictions between the springs' bounds, named before any solve
         check_mass_bound(problem)  # a mass bound below the lightest springs the bounds allow
-        tolerance = (
-            ToleranceSpec.from_record(record["tolerance"], f"{label}: tolerance")
-            if record.get("tolerance") is not None
-            else None
-        )
     source = None if stock_spec is None else stock_spec if isinstance(stock_spec, str) else ",".join(stock_spec)
     return Config(
         path, mechanism, workspace, springs, problem, solve_options, tolerance, stock=stock, stock_source=source

@@ -86,8 +86,8 @@ def solve(
         SolverError: no start gives a feasible design (or no stock part fits a spring).
         Interrupted: Ctrl-C; it carries the starts that had finished and the best design so far.
     """
-    problem, given = _problem_and_options(problem_or_config)
     stock = getattr(problem_or_config, "stock", None) if stock is None else stock  # default: a Config's solve.stock
+    problem, given = _problem_and_options(problem_or_config, stock)
     options = SolveOptions.merged(
         given,
         {
@@ -139,14 +139,20 @@ def _verified(result: DesignResult, options: SolveOptions) -> VerificationRecord
     return verify_and_resolve(result.problem, solution, "report")[1]
 
 
-def _problem_and_options(source: DesignProblem | ConfiguredProblem) -> tuple[DesignProblem, dict]:
-    """The problem and the options its source gave (none for a bare problem)."""
-    if isinstance(source, DesignProblem):
-        return source, {}
-    problem = getattr(source, "problem", None)
+def _problem_and_options(
+    source: DesignProblem | ConfiguredProblem, stock: Sequence[StockPart] | None = None
+) -> tuple[DesignProblem, dict]:
+    """The problem and the options its source gave (none for a bare problem); InputError for stock parts
+    with a robust design (a part's law is fixed, so it has no corners to design for)."""
+    problem = source if isinstance(source, DesignProblem) else getattr(source, "problem", None)
     if not isinstance(problem, DesignProblem):
         raise InputError(f"springbalance.solve takes a DesignProblem or a Config, got {type(source).__name__}")
-    return problem, dict(getattr(source, "solve_options", None) or {})
+    if stock is not None and problem.corners is not None:
+        raise InputError(
+            "tolerance.robust: stock parts cannot be chosen for a robust design (a part's law is fixed); "
+            "solve without --stock, or without robust"
+        )
+    return problem, ({} if source is problem else dict(getattr(source, "solve_options", None) or {}))
 
 
 def _select_stock(
