@@ -29,13 +29,14 @@ def arm():
     return sb.Mechanism.from_urdf(URDF / "two_link_planar.urdf")
 
 
-def forearm_coil():
+def forearm_coil(**options):
     """A free helical extension spring from the ground to link2 (a forearm balancer)."""
     return sb.HelicalExtensionSpring(
         sb.Anchor("universe", sb.Free([-0.3, 0, -0.1], [0.3, 0, 0.6])),
         sb.Anchor("link2", sb.Free([0.02, 0, 0], [0.4, 0, 0])),
         "forearm",
         max_outer_diameter=0.04,
+        **options,
     )
 
 
@@ -194,3 +195,26 @@ def test_check_design_of_a_fixed_spring_reports_its_residual_peak_and_rms(arm):
     assert record.objective_dense >= record.objective_sampled
     exceeded = record.objective_dense > 1.05 * record.objective_sampled
     assert record.residual_passed == (not exceeded) and (check.poses.shape[0] > 0) == exceeded
+
+
+def test_a_fatigue_floor_above_the_unseen_minimum_is_lowered_to_it_and_fatigue_judged_there(arm):
+    """The fatigue floor F_lo is an auxiliary bound on the force range (springs/fatigue_rows.py), not a rule: the
+    verification lowers it to the coil's smallest force at the poses verified and judges the fatigue rows with it.
+    A floor set 5 N above that minimum verifies exactly like the floor set at it (measured from the coil's own
+    tension at those poses), and the floor rule then holds."""
+    workspace = sb.Workspace.sobol(arm, n=8, ranges=RANGES, seed=0)
+    problem = sb.DesignProblem(arm, workspace, [forearm_coil(duty={"cycles": 1e6})])
+    result = sb.solve(problem, starts=1, verify="off", progress=False)
+    values, _ = verification_poses(workspace)
+    tension = result.on_workspace(sb.Workspace(arm, values)).evaluation.tensions[:, 0]
+    floor = problem.variables.names.index("forearm.fatigue_min_force")
+    at_minimum, above = np.array(result.x, dtype=float), np.array(result.x, dtype=float)
+    at_minimum[floor] = float(np.min(tension))
+    above[floor] = float(np.min(tension)) + 5.0
+    judged = {rule.label: rule for rule in check_design(problem, above).record.rules}
+    reference = {rule.label: rule for rule in check_design(problem, at_minimum).record.rules}
+    assert judged["forearm.fatigue_floor"].passed
+    fatigue = [label for label in judged if label.startswith("forearm.fatigue_") and label != "forearm.fatigue_floor"]
+    assert fatigue
+    for label in fatigue:
+        assert judged[label].margin == pytest.approx(reference[label].margin, abs=1e-9), label

@@ -45,6 +45,7 @@ from springbalance.design.torque_model import BlockEvaluator, compiled
 from springbalance.design.torque_model.variables import ConstraintBlock
 from springbalance.design.verification_record import JointResidual, RuleMargin, VerificationRecord
 from springbalance.model.workspace import Coupling, Workspace
+from springbalance.springs.fatigue import FLOOR
 
 #: the poses verified per sample optimised on
 VERIFY_FACTOR = 10
@@ -170,6 +171,20 @@ class _Dense:
         return rule, failing[:WORST_PER_RULE]
 
 
+def _floors_at_unseen_minimum(problem: DesignProblem, dense: _Dense, x: np.ndarray) -> np.ndarray | None:
+    """``x`` with each coil's fatigue floor ``F_lo`` [N] lowered to its smallest force at the poses verified
+    where that is below it, or None when every floor holds. The floor is an auxiliary bound of the force
+    range, not a rule (:mod:`springbalance.springs.fatigue_rows`): what must hold is fatigue over the real
+    range, which the fatigue rows then check with the lowered floor, at the samples and the poses."""
+    lowered, names = x.copy(), problem.variables.names
+    for block in dense.blocks:
+        margin = min(dense.candidates[block.offset])[0]
+        name = f"{block.spring}.{FLOOR}"
+        if block.name == "fatigue_floor" and margin < -FEASIBILITY_TOLERANCE and name in names:
+            lowered[names.index(name)] += margin
+    return None if np.array_equal(lowered, x) else lowered
+
+
 def check_design(
     problem: DesignProblem, x: np.ndarray, round_: int = 0, checker: _Checker | None = None, mode: str = "resolve"
 ) -> Check:
@@ -181,6 +196,9 @@ def check_design(
     values, sampling = verification_poses(problem.base_workspace, round_)
     x = np.asarray(x, dtype=float)
     dense = _Dense(problem, x, values)
+    lowered = _floors_at_unseen_minimum(problem, dense, x)
+    if lowered is not None:
+        x, dense = lowered, _Dense(problem, lowered, values)
     sampled = problem.evaluate(x)
     rules, poses = [], []
     for block in dense.blocks:
