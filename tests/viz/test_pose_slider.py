@@ -9,11 +9,15 @@ import re
 
 import numpy as np
 import pinocchio as pin
+import pytest
 
 import springbalance as sb
 from scene_helpers import model_end_points
+from springbalance.cli import main
+from springbalance.errors import InputError
 from springbalance.viz import scene as viz
 from springbalance.viz.pose_data import PoseData
+from springbalance.viz.pose_paths import parse_poses, scene_poses
 from springbalance.viz.pose_slider import DATA_ID, SLIDER_ID, live_page, pose_slider_html
 
 
@@ -118,3 +122,57 @@ def test_prismatic_coordinates_in_mm_and_torsional_springs_in_degrees():
     np.testing.assert_allclose([row[0] for row in data.length], [math.degrees(0.2), math.degrees(-0.4)], rtol=1e-5)
     # the lift carries both bodies: gravity alone on it is (2 + 1) kg · 9.81 m/s² [N], whatever the hinge does
     np.testing.assert_allclose([row[0] for row in data.gravity], [3 * 9.81] * 2, rtol=1e-3)
+
+
+# ---------------------------------------------------------------------- which poses: sweep, workspace, worst
+@pytest.mark.parametrize(
+    "spec, expected",
+    [
+        ("sweep", ("sweep", None)),
+        ("workspace", ("workspace", None)),
+        ("worst", ("worst", None)),
+        ("worst:3", ("worst", 3)),
+    ],
+)
+def test_parse_poses(spec, expected):
+    assert parse_poses(spec) == expected
+
+
+@pytest.mark.parametrize("spec", ["all", "worst:0", "worst:x", "worst:-2", "sweep:3", ""])
+def test_bad_poses_name_the_value(spec):
+    with pytest.raises(InputError, match=re.escape(repr(spec))):
+        parse_poses(spec)
+
+
+def test_worst_poses_have_the_largest_residual_torque(design):
+    """The residual torque is the gradient of the total potential (checked above): the worst poses' weighted norms,
+    from central differences of the potential at every workspace sample, are the largest, in decreasing order."""
+    mechanism, samples = design.problem.mechanism, design.problem.workspace.joint_values
+    h = 1e-6
+    probes = np.array([q + sign * h * np.eye(2)[j] for q in samples for j in range(2) for sign in (1, -1)])
+    potential = design.evaluate_on(sb.Workspace.from_array(mechanism, probes)).potential.reshape(len(samples), 2, 2)
+    gradient = (potential[:, :, 0] - potential[:, :, 1]) / (2 * h)  # N×2 [N·m]
+    norm = np.linalg.norm(gradient * design.problem.weights, axis=1)
+    joint_values, title = scene_poses(design, "worst:5")
+    chosen = [int(np.flatnonzero(np.all(samples == row, axis=1))[0]) for row in joint_values]
+    assert len(chosen) == 5 and title == "the 5 worst poses (largest residual torque first)"
+    assert np.all(np.diff(norm[chosen]) <= 1e-6)  # worst first
+    assert norm[chosen].min() >= np.delete(norm, chosen).max() - 1e-6  # none left out is worse
+    # the whole workspace, in its order; a scene made from either
+    joint_values, title = scene_poses(design, "workspace")
+    np.testing.assert_array_equal(joint_values, samples)
+    scene = viz.DesignScene(design, poses="worst:4")
+    assert scene.size == 4 and scene.pose_data().title == "the 4 worst poses (largest residual torque first)"
+
+
+def test_report_and_view_take_poses(design_file, tmp_path, capsys):
+    out = tmp_path / "report"
+    assert main(["report", str(design_file), "--out", str(out), "--poses", "worst:3"]) in (0, 3)
+    page = (out / "scene.html").read_text()
+    assert re.search(rf'<input id="{SLIDER_ID}" type="range" min="1" max="3"', page)
+    assert "the 3 worst poses" in page
+    capsys.readouterr()
+    for command in (["report", str(design_file), "--out", str(tmp_path / "r2")], ["view", str(design_file)]):
+        assert main([*command, "--poses", "worst:0"]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and err[0].startswith("springbalance: error: poses 'worst:0'"), err

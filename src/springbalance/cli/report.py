@@ -35,6 +35,13 @@ def add_parser(commands: argparse._SubParsersAction, common: argparse.ArgumentPa
         metavar="N",
         help="animation frames per swept joint in scene.html (default 48)",
     )
+    report.add_argument(
+        "--poses",
+        default="sweep",
+        metavar="WHICH",
+        help="the poses the scene animates and its pose slider scrubs: sweep (each joint in turn, default), "
+        "workspace (the design's samples) or worst[:N] (its N worst samples, worst first; default 12)",
+    )
     report.set_defaults(handler=handle)
 
 
@@ -46,8 +53,8 @@ def handle(args: argparse.Namespace) -> int:
         raise InputError(f"--out {str(out)!r} is a file; give a folder")
     result = load_result(args.design, args.workspace)
     if not args.no_scene:
-        check_scene_budget(result, args.frames)
-    path = result.report(out, scene=not args.no_scene, frames_per_joint=args.frames)
+        check_scene_budget(result, args.frames, args.poses)
+    path = result.report(out, scene=not args.no_scene, frames_per_joint=args.frames, poses=args.poses)
     files = (
         ["report.html"]
         + ([] if args.no_scene else ["scene.html"])

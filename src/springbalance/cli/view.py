@@ -38,6 +38,13 @@ def add_parser(commands: argparse._SubParsersAction, common: argparse.ArgumentPa
     view.add_argument(
         "--frames", type=positive_int, default=48, metavar="N", help="animation frames per swept joint (default 48)"
     )
+    view.add_argument(
+        "--poses",
+        default="sweep",
+        metavar="WHICH",
+        help="the poses the scene animates and its pose slider scrubs: sweep (each joint in turn, default), "
+        "workspace (the design's samples) or worst[:N] (its N worst samples, worst first; default 12)",
+    )
     view.set_defaults(handler=handle)
 
 
@@ -46,8 +53,8 @@ def handle(args: argparse.Namespace) -> int:
     stderr when the scene is served) when the design fails a check."""
     result = DesignResult.load(args.design)
     failures = result.failures()
-    check_scene_budget(result, args.frames)
-    scene = DesignScene(result, frames_per_joint=args.frames)
+    check_scene_budget(result, args.frames, args.poses)
+    scene = DesignScene(result, frames_per_joint=args.frames, poses=args.poses)
     server = MeshcatServer(port=args.port)
     try:
         scene.draw(server.visualizer())

@@ -58,6 +58,7 @@ from springbalance.viz.helix import HelixStyle, placement
 from springbalance.viz.meshcat_glue import ROOT, insert_before_body_end, meshcat_classes
 from springbalance.viz.meshcat_import import import_meshcat
 from springbalance.viz.pose_data import PoseData, pose_data
+from springbalance.viz.pose_paths import scene_poses
 from springbalance.viz.pose_slider import pose_slider_html
 from springbalance.viz.recorder import SceneRecorder
 from springbalance.viz.regions import REGION_COLOR, REGION_OPACITY, RegionShape, anchor_regions, region_geometry
@@ -91,6 +92,8 @@ class DesignScene:
             ``<collision>`` elements; :attr:`clearance_note` then says why.
         path_title: what the poses are, the pose slider's caption (default "sweep of each joint", or
             "poses" for given ``joint_values``).
+        poses: instead of ``joint_values``, ``"sweep"``, ``"workspace"`` (the design's samples) or
+            ``"worst"``/``"worst:N"`` (its N worst samples): :func:`springbalance.viz.pose_paths.scene_poses`.
 
     Attributes:
         design: the design drawn.
@@ -115,8 +118,11 @@ class DesignScene:
         fps: int = 30,
         margin: float | None = None,
         path_title: str | None = None,
+        poses: str | None = None,
     ) -> None:
         self.design = design
+        if poses is not None and joint_values is None:  # "sweep", "workspace", "worst" or "worst:N"
+            joint_values, path_title = scene_poses(design, poses, frames_per_joint)
         #: what the poses are (the pose slider's caption)
         self.path_title = path_title or ("sweep of each joint" if joint_values is None else "poses")
         mechanism = design.problem.mechanism
