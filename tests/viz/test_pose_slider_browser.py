@@ -81,6 +81,7 @@ def _check_pose(page: PageSession, design, scene, frame: int) -> None:
     alone = design.evaluate_on(sb.Workspace.from_array(design.problem.mechanism, q[None]))
     overlay = _overlay(page)
     for joint in range(2):
+        assert overlay[("q", joint)][0] == pytest.approx(np.degrees(q[joint]), rel=1e-5, abs=1e-9)
         value, text = overlay[("tau", joint)]
         assert value == pytest.approx(alone.tau[0, joint], rel=1e-5, abs=1e-9)
         assert float(text) == pytest.approx(alone.tau[0, joint], rel=5e-4, abs=1e-9)  # four significant digits

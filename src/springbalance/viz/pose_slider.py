@@ -2,7 +2,8 @@
 with each spring's force and each joint's residual torque at that pose (:class:`~springbalance.viz.pose_data.PoseData`,
 embedded as JSON).
 
-The scene's animation has one key frame per pose, pose ``i`` (1-based on the page) at time ``(i − 1) / fps``
+The overlay shows four significant digits (a magnitude below 1e-9 as 0; the full six-digit value is the
+number's ``data-value``). The scene's animation has one key frame per pose, pose ``i`` (1-based on the page) at time ``(i − 1) / fps``
 [s]. Moving the slider pauses meshcat's animation and seeks it to that time (``viewer.animator.seek``, the
 same call as meshcat's own time scrubber): the arm moves, the springs stretch and change colour, and the
 overlay shows that pose's numbers. While the animation plays, the slider and the numbers follow it. The
@@ -32,19 +33,18 @@ CONTAINER_ID, SLIDER_ID, LABEL_ID, TABLE_ID, DATA_ID = (
 
 _STYLE = """
 <style>
-#springbalance-poses{position:fixed;left:8px;bottom:8px;width:min(520px,calc(100vw - 16px));z-index:10;
-  padding:6px 10px;background:rgba(255,255,255,0.88);border-radius:4px;font:12px sans-serif;color:#222;
+#springbalance-poses{position:fixed;left:8px;bottom:8px;width:max-content;max-width:min(420px,calc(100vw - 16px));
+  z-index:10;padding:5px 8px;background:rgba(255,255,255,0.85);border-radius:4px;font:11px sans-serif;color:#222;
   box-sizing:border-box}
-#springbalance-poses .bar{display:flex;align-items:center;gap:8px}
-#springbalance-poses input[type=range]{flex:1;min-width:80px}
-#springbalance-poses button{width:28px;height:22px;padding:0;font:12px sans-serif;cursor:pointer}
-#springbalance-poses table{border-collapse:collapse;margin-top:4px;width:100%}
-#springbalance-poses th,#springbalance-poses td{padding:1px 6px;text-align:right;white-space:nowrap}
+#springbalance-poses .bar{display:flex;align-items:center;gap:6px}
+#springbalance-poses input[type=range]{width:240px;max-width:50vw;margin:0}
+#springbalance-poses button{width:26px;height:20px;padding:0;font:11px sans-serif;cursor:pointer}
+#springbalance-poses table{border-collapse:collapse;margin-top:2px}
+#springbalance-poses th,#springbalance-poses td{padding:0 5px;text-align:right;white-space:nowrap}
 #springbalance-poses th.l,#springbalance-poses td.l{text-align:left}
 #springbalance-poses th{font-weight:600;border-bottom:1px solid #bbb}
 #springbalance-poses summary{cursor:pointer;margin-top:3px;color:#444}
 #springbalance-pose-label{min-width:96px}
-#springbalance-pose-q{color:#444;margin-top:2px}
 </style>"""
 
 _SCRIPT = r"""
@@ -55,7 +55,6 @@ _SCRIPT = r"""
   var n = data.q.length, current = -1, pending = null;
   var slider = document.getElementById("springbalance-pose-slider");
   var label = document.getElementById("springbalance-pose-label");
-  var coordinates = document.getElementById("springbalance-pose-q");
   var button = document.getElementById("springbalance-pose-play");
   var table = document.getElementById("springbalance-pose-numbers");
   function animator() {
@@ -64,6 +63,7 @@ _SCRIPT = r"""
   }
   function number(value) {
     if (value === null || value === undefined) { return "n/a"; }
+    if (Math.abs(value) < 1e-9) { return "0"; }
     return String(Number(value.toPrecision(4)));
   }
   function cell(text, field, row, unit) {
@@ -71,7 +71,7 @@ _SCRIPT = r"""
     if (field) {
       var span = document.createElement("span");
       span.className = "springbalance-number"; span.dataset.field = field; span.dataset.row = row;
-      td.appendChild(span); td.appendChild(document.createTextNode(" " + unit));
+      td.appendChild(span); td.appendChild(document.createTextNode((unit === "\u00b0" ? "" : " ") + unit));
     } else { td.className = "l"; td.textContent = text; }
     return td;
   }
@@ -83,25 +83,24 @@ _SCRIPT = r"""
     });
     table.appendChild(tr);
   }
-  header(["spring", "force", "length"]);
-  data.springs.forEach(function (s, i) {
-    var tr = document.createElement("tr"); tr.appendChild(cell(s.name));
-    tr.appendChild(cell(null, "force", i, s.force_unit)); tr.appendChild(cell(null, "length", i, s.length_unit));
-    table.appendChild(tr);
-  });
-  header(["joint", "residual torque", "gravity alone"]);
+  header(["joint", "position", "residual torque", "gravity alone"]);
   data.joints.forEach(function (j, i) {
     var tr = document.createElement("tr"); tr.appendChild(cell(j.name));
+    tr.appendChild(cell(null, "q", i, j.unit === "deg" ? "\u00b0" : j.unit));
     tr.appendChild(cell(null, "tau", i, j.torque_unit)); tr.appendChild(cell(null, "gravity", i, j.torque_unit));
+    table.appendChild(tr);
+  });
+  if (data.springs.length) { header(["spring", "length", "force", ""]); }
+  data.springs.forEach(function (s, i) {
+    var tr = document.createElement("tr"); tr.appendChild(cell(s.name));
+    tr.appendChild(cell(null, "length", i, s.length_unit)); tr.appendChild(cell(null, "force", i, s.force_unit));
+    tr.appendChild(document.createElement("td"));
     table.appendChild(tr);
   });
   var numbers = table.querySelectorAll(".springbalance-number");
   function show(k) {
     current = k; slider.value = String(k + 1);
     label.textContent = "pose " + (k + 1) + " of " + n;
-    coordinates.textContent = data.joints.map(function (j, i) {
-      return j.name + " " + number(data.q[k][i]) + (j.unit === "deg" ? "\u00b0" : " " + j.unit);
-    }).join(", ");
     numbers.forEach(function (span) {
       var value = data[span.dataset.field][k][Number(span.dataset.row)];
       span.textContent = number(value); span.dataset.value = String(value);
@@ -163,8 +162,7 @@ def pose_slider_html(data: PoseData) -> str:
         f'<input id="{SLIDER_ID}" type="range" min="1" max="{size}" step="1" value="1" '
         f'aria-label="pose ({html.escape(data.title)})">'
         f'<span id="{LABEL_ID}">pose 1 of {size}</span></div>'
-        f'<div id="springbalance-pose-q"></div>'
-        f"<details open><summary>{html.escape(data.title)}: forces and residual torques at this pose</summary>"
+        f"<details open><summary>{html.escape(data.title)}: torques and forces at this pose</summary>"
         f'<table id="{TABLE_ID}"></table></details></div>\n'
         f'<script type="application/json" id="{DATA_ID}">{data.to_json()}</script>'
         f"{_SCRIPT}\n"
