@@ -6,13 +6,16 @@ arm is) and the overlay shows that pose's spring forces and residual torques, co
 
 from __future__ import annotations
 
+import re
 import time
+import urllib.request
 
 import numpy as np
 import pinocchio as pin
 import pytest
 
 import springbalance as sb
+from cli_helpers import until_ctrl_c
 from scene_helpers import LINK1_RGB, URDF, model_end_points, require_chromium
 from springbalance.viz import browser
 from springbalance.viz import scene as viz
@@ -162,3 +165,24 @@ def test_live_view_page_has_the_same_slider(design):
             _check_pose(page, design, scene, 2)
     finally:
         server.stop()
+
+
+def test_view_prints_and_serves_its_slider_page(design_file):
+    """`view --poses worst:4`: the first line names the page on 127.0.0.1, which is served there with four poses."""
+    require_chromium()
+    pages = []
+
+    def check(process, first):
+        match = re.search(r"http://127\.0\.0\.1:(\d+)/springbalance/", first)
+        assert match is not None and "/static/" in first, first  # the slider page, and meshcat's own viewer
+        with urllib.request.urlopen(match.group(0), timeout=10) as response:
+            assert response.status == 200
+            pages.append(response.read().decode("utf-8"))
+        with PageSession(match.group(0)) as page:
+            page.wait_for(READY)
+            assert page.evaluate(f"document.getElementById('{SLIDER_ID}').max") == "4"
+            assert page.evaluate("springbalancePoses.data.title") == "the 4 worst poses (largest residual torque first)"
+
+    code, out, err = until_ctrl_c(["view", str(design_file), "--poses", "worst:4"], check)
+    assert "Traceback" not in err and "stopped" in out, err
+    assert 'src="/static/main.min.js"' in pages[0]
