@@ -11,4 +11,9 @@ first use, :mod:`~springbalance.viz.meshcat_import`). The scene is recorded in m
 (:mod:`~springbalance.viz.recorder`) or drawn on a live server on 127.0.0.1
 (:mod:`~springbalance.viz.live`, which runs :mod:`~springbalance.viz.server` in a child process).
 :mod:`~springbalance.viz.browser` renders a page in headless Chromium and checks its pixels.
+
+The pose slider: the poses a scene shows (:mod:`~springbalance.viz.pose_paths`: a sweep, the workspace, the
+worst samples), their numbers (:mod:`~springbalance.viz.pose_data`: forces, residual torques) and the page's
+slider and overlay (:mod:`~springbalance.viz.pose_slider`); :mod:`~springbalance.viz.devtools` drives a page in
+headless Chromium over the DevTools protocol (the tests move the slider with it).
 """
