@@ -16,7 +16,7 @@ from scene_helpers import model_end_points
 from springbalance.cli import main
 from springbalance.errors import InputError
 from springbalance.viz import scene as viz
-from springbalance.viz.pose_data import PoseData
+from springbalance.viz.pose_data import PoseData, scene_pose_data
 from springbalance.viz.pose_paths import parse_poses, scene_poses
 from springbalance.viz.pose_slider import DATA_ID, SLIDER_ID, live_page, pose_slider_html
 
@@ -27,7 +27,7 @@ def _scene(design):
 
 def test_pose_numbers_are_the_physics_of_each_pose(design):
     scene = _scene(design)
-    data = scene.pose_data()
+    data = scene_pose_data(scene)
     mechanism = design.problem.mechanism
     model, pin_data = mechanism.model, mechanism.model.createData()
     q_rad = scene.joint_values
@@ -84,7 +84,7 @@ def test_static_page_has_the_slider_and_its_data(design):
     embedded = re.search(rf'<script type="application/json" id="{DATA_ID}">(.*?)</script>', page, re.S)
     assert embedded is not None
     data = json.loads(embedded.group(1))
-    assert data == json.loads(scene.pose_data().to_json())
+    assert data == json.loads(scene_pose_data(scene).to_json())
     assert data["fps"] == scene.fps and len(data["tau"]) == scene.size
     assert data["title"] == "sweep of each joint"
     # a page without animation has nothing to scrub
@@ -94,7 +94,7 @@ def test_static_page_has_the_slider_and_its_data(design):
 
 def test_live_page_loads_meshcat_from_its_server(design):
     scene = _scene(design)
-    page = live_page(scene.pose_data(), scene.legend_html())
+    page = live_page(scene_pose_data(scene), scene.legend_html())
     assert '<script src="/static/main.min.js"></script>' in page  # same origin: the loopback server
     assert "viewer.connect()" in page and SLIDER_ID in page and "springbalance-legend" in page
     assert "http" not in page.split(DATA_ID)[0]  # no address elsewhere: nothing from the network
@@ -112,7 +112,7 @@ def test_prismatic_coordinates_in_mm_and_torsional_springs_in_degrees():
     springs = [sb.TorsionalSpring("hinge", name="coil", stiffness=2.0, neutral_angle=0.0)]
     problem = sb.DesignProblem(mechanism, workspace, springs, objective="rms")
     design = sb.DesignResult(problem, np.zeros(0))
-    data = viz.DesignScene(design, workspace.joint_values).pose_data()
+    data = scene_pose_data(viz.DesignScene(design, workspace.joint_values))
     assert [joint["unit"] for joint in data.joints] == ["mm", "deg"]
     assert [joint["torque_unit"] for joint in data.joints] == ["N", "N·m"]
     np.testing.assert_allclose(data.q, [[100.0, math.degrees(0.2)], [300.0, math.degrees(-0.4)]], rtol=1e-5)
@@ -162,7 +162,7 @@ def test_worst_poses_have_the_largest_residual_torque(design):
     joint_values, title = scene_poses(design, "workspace")
     np.testing.assert_array_equal(joint_values, samples)
     scene = viz.DesignScene(design, poses="worst:4")
-    assert scene.size == 4 and scene.pose_data().title == "the 4 worst poses (largest residual torque first)"
+    assert scene.size == 4 and scene_pose_data(scene).title == "the 4 worst poses (largest residual torque first)"
 
 
 def test_report_and_view_take_poses(design_file, tmp_path, capsys):

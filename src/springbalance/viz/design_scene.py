@@ -28,9 +28,8 @@ What is drawn (all lengths in m, forces in N):
   problem (box, segment or plane rectangle of :mod:`springbalance.springs.params`) as a
   translucent shape fixed to its body (:mod:`springbalance.viz.regions`);
 - an animation along an ordered path of poses (by default a sweep of each joint in turn,
-  :func:`springbalance.model.sweeps.animation_path`), with meshcat's play/pause/time controls, and on the
-  static page a pose slider with each spring's force and each joint's residual torque at the pose
-  (:mod:`springbalance.viz.pose_slider`).
+  :func:`springbalance.model.sweeps.animation_path`), with meshcat's play/pause/time controls and a
+  pose slider with each spring's force and each joint's residual torque (:mod:`~springbalance.viz.pose_slider`).
 
 The camera frames everything drawn over the whole animation (:mod:`springbalance.viz.camera`).
 The end points come from the workspace kinematics (:mod:`springbalance.model.kinematics`), lengths
@@ -57,7 +56,7 @@ from springbalance.viz.colors import CLEARANCE_COLOR, CLEARANCE_RGB, ColorScale
 from springbalance.viz.helix import HelixStyle, placement
 from springbalance.viz.meshcat_glue import ROOT, insert_before_body_end, meshcat_classes
 from springbalance.viz.meshcat_import import import_meshcat
-from springbalance.viz.pose_data import PoseData, pose_data
+from springbalance.viz.pose_data import scene_pose_data
 from springbalance.viz.pose_paths import scene_poses
 from springbalance.viz.pose_slider import pose_slider_html
 from springbalance.viz.recorder import SceneRecorder
@@ -90,10 +89,8 @@ class DesignScene:
             documentation). Default: ``design.problem.clearance.margin`` when the problem has a
             clearance, else no clearance is drawn. Ignored (no error) when the URDF has no
             ``<collision>`` elements; :attr:`clearance_note` then says why.
-        path_title: what the poses are, the pose slider's caption (default "sweep of each joint", or
-            "poses" for given ``joint_values``).
-        poses: instead of ``joint_values``, ``"sweep"``, ``"workspace"`` (the design's samples) or
-            ``"worst"``/``"worst:N"`` (its N worst samples): :func:`springbalance.viz.pose_paths.scene_poses`.
+        path_title: the pose slider's caption; poses: instead of ``joint_values``, ``"sweep"``, ``"workspace"``
+            or ``"worst[:N]"`` (:func:`~springbalance.viz.pose_paths.scene_poses`, which gives the caption).
 
     Attributes:
         design: the design drawn.
@@ -123,7 +120,6 @@ class DesignScene:
         self.design = design
         if poses is not None and joint_values is None:  # "sweep", "workspace", "worst" or "worst:N"
             joint_values, path_title = scene_poses(design, poses, frames_per_joint)
-        #: what the poses are (the pose slider's caption)
         self.path_title = path_title or ("sweep of each joint" if joint_values is None else "poses")
         mechanism = design.problem.mechanism
         self.mechanism = mechanism
@@ -366,10 +362,6 @@ class DesignScene:
         place_camera(visualizer, position)
 
     # ---------------------------------------------------------------- exports
-    def pose_data(self) -> PoseData:
-        """The numbers of each pose for the pose slider (:mod:`springbalance.viz.pose_data`)."""
-        return pose_data(self.design, self.workspace, self.evaluation, self.fps, self.path_title)
-
     def html(self, animate: bool = True, autoplay: bool = True, legend: bool = True, slider: bool = True) -> str:
         """Self-contained HTML page of the scene (meshcat's static page plus the colour legend and, when
         animated, the pose slider of :mod:`springbalance.viz.pose_slider`)."""
@@ -380,5 +372,5 @@ class DesignScene:
         if legend:
             page = insert_before_body_end(page, self.legend_html())
         if slider and animate:
-            page = insert_before_body_end(page, pose_slider_html(self.pose_data()))
+            page = insert_before_body_end(page, pose_slider_html(scene_pose_data(self)))
         return page

@@ -18,6 +18,7 @@ from typing import Any
 from springbalance.errors import SpringBalanceError
 from springbalance.viz.design_scene import DesignScene
 from springbalance.viz.meshcat_import import import_meshcat
+from springbalance.viz.pose_data import scene_pose_data
 from springbalance.viz.pose_slider import live_page
 
 
@@ -121,7 +122,7 @@ def local_server(port: int | None = None) -> MeshcatServer:
 def publish_scene(server: MeshcatServer, scene: DesignScene) -> str:
     """Serve the page of ``scene`` drawn on ``server`` (meshcat's viewer with the colour legend and the pose
     slider, :func:`~springbalance.viz.pose_slider.live_page`) at ``/springbalance/``; returns its address."""
-    return server.publish(live_page(scene.pose_data(), scene.legend_html()))
+    return server.publish(live_page(scene_pose_data(scene), scene.legend_html()))
 
 
 class LiveScene:

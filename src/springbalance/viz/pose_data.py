@@ -23,7 +23,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
-from typing import Any
+from typing import Any, Protocol
 
 import numpy as np
 
@@ -115,3 +115,19 @@ def pose_data(
         length=_round(evaluation.lengths * np.array(length_scales)),
         title=title,
     )
+
+
+class SceneLike(Protocol):
+    """What :func:`scene_pose_data` reads of a scene (:class:`~springbalance.viz.design_scene.DesignScene`)."""
+
+    design: EvaluatedDesign
+    workspace: Workspace
+    evaluation: Evaluation
+    fps: int
+    path_title: str
+
+
+def scene_pose_data(scene: SceneLike) -> PoseData:
+    """The :class:`PoseData` of a :class:`~springbalance.viz.design_scene.DesignScene`: its design along its
+    path of poses, from the evaluation its colours come from, captioned with its ``path_title``."""
+    return pose_data(scene.design, scene.workspace, scene.evaluation, scene.fps, scene.path_title)
