@@ -16,7 +16,7 @@ import pytest
 
 import springbalance as sb
 from cli_helpers import until_ctrl_c
-from scene_helpers import LINK1_RGB, URDF, model_end_points, require_chromium
+from scene_helpers import LINK1_RGB, URDF, model_end_points, require_chromium, ur5_design
 from springbalance.viz import browser
 from springbalance.viz import scene as viz
 from springbalance.viz.devtools import PageSession
@@ -98,13 +98,34 @@ def _check_pose(page: PageSession, design, scene, frame: int) -> None:
         assert overlay[("length", column)][0] == pytest.approx(1e3 * length, rel=1e-5)
 
 
+def _check_panel_box(page: PageSession) -> None:
+    """The slider's panel lies inside browser.POSES_BOX, which the screenshot censuses leave out."""
+    box = page.evaluate(
+        "(function () { var r = document.getElementById('springbalance-poses').getBoundingClientRect();"
+        " return [r.left, r.top, r.right, r.bottom]; })()"
+    )
+    left, top, right, bottom = browser.POSES_BOX
+    assert left <= box[0] and top <= box[1] and box[2] <= right and box[3] <= bottom, box
+
+
+def test_ur5_panel_fits_its_box(tmp_path):
+    """Six joints and two springs: the panel still fits the box the censuses leave out."""
+    require_chromium()
+    page_file = tmp_path / "ur5.html"
+    page_file.write_text(viz.DesignScene(ur5_design(), frames_per_joint=4).html(autoplay=False))
+    with PageSession(page_file) as page:
+        page.wait_for(READY)
+        _check_panel_box(page)
+
+
 def _arm_pixels(image) -> np.ndarray:
     from PIL import Image
 
     with Image.open(image) as picture:
         rgb = np.asarray(picture.convert("RGB"), dtype=float) / 255.0
     mask = browser.hue_mask(rgb, LINK1_RGB)
-    mask[rgb.shape[0] - 200 :, :560] = False  # the slider's panel (bottom left) is not the arm
+    left, top, right, bottom = browser.POSES_BOX
+    mask[top:bottom, left:right] = False  # the slider's panel is not the arm
     return mask
 
 
@@ -118,6 +139,7 @@ def test_static_scene_slider_moves_the_arm_and_shows_that_poses_numbers(design, 
         page.wait_for(READY)
         assert page.evaluate(f"document.getElementById('{SLIDER_ID}').type") == "range"
         assert page.evaluate(f"document.getElementById('{SLIDER_ID}').max") == str(scene.size)
+        _check_panel_box(page)
         # while the animation plays, the slider follows it
         seen = set()
         for _ in range(12):

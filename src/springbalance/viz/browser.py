@@ -38,6 +38,9 @@ WINDOW = (900, 700)
 LEGEND_BOX = (0, 0, 300, 90)
 #: Where meshcat puts its "Open Controls" bar; not counted.
 CONTROLS_BOX = (WINDOW[0] - 260, 0, WINDOW[0], 24)
+#: Where the scene page puts its pose slider and its numbers (bottom right, :mod:`springbalance.viz.pose_slider`:
+#: up to 8 joints and springs in all); not counted.
+POSES_BOX = (WINDOW[0] - 400, WINDOW[1] - 190, WINDOW[0], WINDOW[1])
 
 
 class BrowserError(RuntimeError):
@@ -151,7 +154,7 @@ def colour_census(
     image: str | Path,
     arm_colours: Iterable[Sequence[float]],
     spring_colours: Iterable[Sequence[float]],
-    exclude: Iterable[tuple[int, int, int, int]] = (LEGEND_BOX, CONTROLS_BOX),
+    exclude: Iterable[tuple[int, int, int, int]] = (LEGEND_BOX, CONTROLS_BOX, POSES_BOX),
 ) -> Census:
     """Count pixels of the arm's and the springs' colours on ``image``.
 

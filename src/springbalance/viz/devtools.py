@@ -80,6 +80,14 @@ class PageSession:
             self._session = self.send("Target.attachToTarget", targetId=page["targetId"], flatten=True)["sessionId"]
             self.call("Page.enable")
             self.call("Runtime.enable")
+            # the viewport is the window's size, as for browser.screenshot (a headless window keeps room for chrome)
+            self.call(
+                "Emulation.setDeviceMetricsOverride",
+                width=window[0],
+                height=window[1],
+                deviceScaleFactor=1,
+                mobile=False,
+            )
             self.navigate(url)
         except BaseException:
             self.close()

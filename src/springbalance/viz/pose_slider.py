@@ -1,4 +1,5 @@
-"""The pose slider of a scene page: a range input that sets the pose of the scene's animation, and an overlay
+"""The pose slider of a scene page (at its bottom right, inside :data:`springbalance.viz.browser.POSES_BOX` for
+the shipped examples): a range input that sets the pose of the scene's animation, and an overlay
 with each spring's force and each joint's residual torque at that pose (:class:`~springbalance.viz.pose_data.PoseData`,
 embedded as JSON).
 
@@ -33,7 +34,7 @@ CONTAINER_ID, SLIDER_ID, LABEL_ID, TABLE_ID, DATA_ID = (
 
 _STYLE = """
 <style>
-#springbalance-poses{position:fixed;left:8px;bottom:8px;width:max-content;max-width:min(420px,calc(100vw - 16px));
+#springbalance-poses{position:fixed;right:8px;bottom:8px;width:max-content;max-width:min(400px,calc(100vw - 16px));
   z-index:10;padding:5px 8px;background:rgba(255,255,255,0.85);border-radius:4px;font:11px sans-serif;color:#222;
   box-sizing:border-box}
 #springbalance-poses .bar{display:flex;align-items:center;gap:6px}
