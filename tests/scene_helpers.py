@@ -5,7 +5,7 @@ RGBA 0.2 0.3 0.8) with two extension springs whose values are the middles of the
 bounds (the design vector is the problem's first guess):
 
 - ``shoulder``: ground point (0, 0, 0.15) to a point free on a segment of link1, stiff, so
-  its tension is high (dark red on the colour scale);
+  its tension is high (dark raspberry on the colour scale);
 - ``forearm``: a point free in a box of link1 to a point of link2, soft, so its tension
   stays low (yellow).
 

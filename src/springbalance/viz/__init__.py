@@ -2,7 +2,7 @@
 
 :mod:`~springbalance.viz.scene` is the entry point (``scene_html``, ``show``): it draws a design's
 :class:`~springbalance.viz.design_scene.DesignScene` (arm, springs as helices coloured by tension or
-magenta below the clearance margin, their name labels, anchor regions, animation), made of the springs'
+solid red below the clearance margin, their name labels, anchor regions, animation), made of the springs'
 tracks (:mod:`~springbalance.viz.tracks`, with :mod:`~springbalance.viz.helix` and
 :mod:`~springbalance.viz.colors`), the anchors' regions (:mod:`~springbalance.viz.regions`), the arm
 (:mod:`~springbalance.viz.arm`) and the camera (:mod:`~springbalance.viz.camera`), and drawn with

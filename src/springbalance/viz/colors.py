@@ -1,10 +1,11 @@
 """The colour scale of spring forces: warm colours for tension [N], greens for compression, and the
 fixed solid red of a spring that comes closer to the arm than the clearance margin.
 
-The tension scale runs from yellow through orange to a dark crimson (hues about 46° down to
-346°, values down to 0.65). A spring below the clearance margin is drawn in :data:`CLEARANCE_RGB`,
-a pure, full-value red (hue 0°, value 1) with a marker at its closest point: brighter than every
-colour of the scale, the one red a reader is told to look for in the legend.
+The tension scale runs from yellow through orange to a dark raspberry (hues about 46° down to
+325°). A spring below the clearance margin is drawn in :data:`CLEARANCE_RGB`, a pure red (hue 0°,
+saturation and value 1) with a marker at its closest point: every colour of the scale within 14°
+of its hue is at most 80 % saturated (a pinkish orange-red), every one at least 90 % saturated is
+26° of hue or more away, so a census (and a reader) tells the red apart.
 """
 
 from __future__ import annotations
@@ -16,11 +17,11 @@ import numpy as np
 import numpy.typing as npt
 
 #: Tension colours, from no tension to the scale's limit (RGB in [0, 1]).
-TENSION_STOPS = ((0.0, (1.0, 0.85, 0.35)), (0.5, (0.96, 0.43, 0.16)), (1.0, (0.65, 0.0, 0.15)))
+TENSION_STOPS = ((0.0, (1.0, 0.85, 0.35)), (0.5, (0.96, 0.43, 0.16)), (1.0, (0.55, 0.0, 0.32)))
 #: Compression colours (a spring that pushes), from none to the scale's limit.
 COMPRESSION_STOPS = ((0.0, (0.75, 0.9, 0.7)), (1.0, (0.1, 0.47, 0.22)))
 #: Colour of a spring in a frame where it is below the clearance margin (0xRRGGBB): pure red, full value
-#: (the tension scale ends in a darker crimson).
+#: (the tension scale ends in a dark raspberry, 35° of hue away).
 CLEARANCE_COLOR = 0xFF0000
 #: :data:`CLEARANCE_COLOR` as RGB in [0, 1].
 _RED, _GREEN, _BLUE = (((CLEARANCE_COLOR >> shift) & 0xFF) / 255.0 for shift in (16, 8, 0))
@@ -68,7 +69,7 @@ class ColorScale:
     def describe(self) -> str:
         """One line of text for a terminal."""
         return (
-            f"spring colour: tension 0 N (yellow) … {self.limit:.4g} N (dark red); "
+            f"spring colour: tension 0 N (yellow) … {self.limit:.4g} N (dark raspberry); "
             f"compression (pushing) in greens; scale limit {self.limit:.4g} N"
         )
 
