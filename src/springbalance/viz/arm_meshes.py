@@ -76,7 +76,7 @@ def mesh_parts(path: str, file_colors: bool = True, keep: float = KEEP) -> tuple
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # trimesh and pycollada warn about unused COLLADA elements
-        scene = trimesh.load(path, force="scene")
+        scene: Any = trimesh.load(path, force="scene")
     groups: dict[tuple[float, float, float] | None, list[Any]] = {}
     for node in scene.graph.nodes_geometry:
         transform, name = scene.graph[node]
@@ -88,7 +88,7 @@ def mesh_parts(path: str, file_colors: bool = True, keep: float = KEEP) -> tuple
         groups.setdefault(_color(mesh) if file_colors else None, []).append(mesh)
     parts = []
     for color, meshes in groups.items():
-        merged = trimesh.util.concatenate([trimesh.Trimesh(m.vertices, m.faces, process=False) for m in meshes])
+        merged: Any = trimesh.util.concatenate([trimesh.Trimesh(m.vertices, m.faces, process=False) for m in meshes])
         merged.merge_vertices()
         vertices, faces = decimate(merged.vertices, merged.faces, keep)
         parts.append(MeshPart(np.asarray(vertices, dtype=np.float32), np.asarray(faces, dtype=np.uint32), color))

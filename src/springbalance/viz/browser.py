@@ -142,9 +142,7 @@ def screenshot(
     return image
 
 
-def dump_dom(
-    page: str | Path, window: tuple[int, int] = WINDOW, budget_ms: int = 2500, timeout: float = 120.0
-) -> str:
+def dump_dom(page: str | Path, window: tuple[int, int] = WINDOW, budget_ms: int = 2500, timeout: float = 120.0) -> str:
     """The DOM (HTML) of ``page`` after headless Chromium ran its scripts for ``budget_ms`` of virtual time.
 
     Raises:
@@ -322,7 +320,11 @@ def main(argv: list[str] | None = None) -> int:
     census = colour_census(image, arm, springs)
     verdict = "PASSED" if census.ok() else "FAILED"
     box = drawn_box(image)
-    fill = "nothing drawn" if box is None else f"drawn box {box[2] - box[0]}×{box[3] - box[1]} px of {WINDOW[0]}×{WINDOW[1]}"
+    fill = (
+        "nothing drawn"
+        if box is None
+        else f"drawn box {box[2] - box[0]}×{box[3] - box[1]} px of {WINDOW[0]}×{WINDOW[1]}"
+    )
     print(f"demo-check: {verdict}: {page} rendered by {find_chromium()} into {image}: {census}; {fill}")
     return 0 if census.ok() else 1
 

@@ -72,9 +72,7 @@ def camera_distance(
             sight = np.arccos(np.clip(-(to_centres @ direction) / reach, -1.0, 1.0))
             return bool(np.max(sight + np.arcsin(np.minimum(radii / reach, 1.0))) > half)
         depth = to_centres @ forward
-        return bool(
-            np.max(planar(depth, to_centres @ up)) > half or np.max(planar(depth, to_centres @ right)) > wide
-        )
+        return bool(np.max(planar(depth, to_centres @ up)) > half or np.max(planar(depth, to_centres @ right)) > wide)
 
     low = float(np.max(np.linalg.norm(centres, axis=1) + radii))  # outside every sphere
     high = 2 * low / np.sin(half) + 1e-3

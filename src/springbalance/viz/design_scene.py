@@ -63,8 +63,8 @@ from springbalance.viz.colors import CLEARANCE_COLOR, CLEARANCE_RGB, ColorScale
 from springbalance.viz.helix import HelixStyle, placement
 from springbalance.viz.meshcat_glue import ROOT, insert_before_body_end, meshcat_classes
 from springbalance.viz.meshcat_import import import_meshcat
-from springbalance.viz.recorder import SceneRecorder
 from springbalance.viz.overlay import overlay_html
+from springbalance.viz.recorder import SceneRecorder
 from springbalance.viz.regions import REGION_COLOR, RegionShape, anchor_regions, region_geometry
 from springbalance.viz.tracks import SpringTrack, add_clearances, spring_tracks
 
@@ -409,9 +409,7 @@ class DesignScene:
         """Frame the arm and its springs over the whole animation (:meth:`bounding_spheres` without the
         hidden anchor regions): look at the centre of their box from a three-quarter view, far enough
         that all of it is in view (:func:`~springbalance.viz.camera.camera_view`); the grid under the arm."""
-        centres, radii = bounding_spheres(
-            self.springs, [], self.mechanism.model, arm.visual_model, self.configurations
-        )
+        centres, radii = bounding_spheres(self.springs, [], self.mechanism.model, arm.visual_model, self.configurations)
         center, radius, position = camera_view(centres, radii)
         self.camera_center, self.camera_radius = center, radius
         self.camera_target, self.camera_position = center, position
