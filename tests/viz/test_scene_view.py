@@ -4,6 +4,7 @@ headless Chromium (screenshots and the DOM after the page's scripts ran)."""
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 
 import numpy as np
@@ -65,10 +66,13 @@ def test_anchor_regions_are_hidden_wireframes():
     node = record_scene(scene).tree["meshcat"][viz.ROOT]["regions"]
     properties = [umsgpack.unpackb(p) for p in node.properties]
     assert {"property": "visible", "value": False} in [{k: p[k] for k in ("property", "value")} for p in properties]
-    kinds = [umsgpack.unpackb(child.object)["object"]["object"]["type"] for child in walk(node) if child.object is not None]
+    kinds = [
+        umsgpack.unpackb(child.object)["object"]["object"]["type"] for child in walk(node) if child.object is not None
+    ]
     assert kinds == ["LineSegments"] * len(scene.regions)  # edges only, no filled volume
 
 
+@pytest.mark.slow  # trimesh's closest points to 95 000 vertices: about 10 s
 def test_arm_meshes_are_decimated_and_keep_their_shape():
     """Every vertex of the UR5's original meshes lies within 1 cm of the decimated surface (1 % of the
     arm's reach: 4 px across a 900 px view of 2 m), and the decimated meshes keep under 30 % of the
@@ -116,6 +120,8 @@ def test_what_a_person_sees_in_chromium(make, tmp_path):
     # what is drawn (the arm and its springs at frame 0) is where the camera's projection puts them
     drawn = browser.drawn_box(shot)
     assert drawn is not None
+    census = browser.colour_census(shot, None, browser.scale_colours())  # the arm whatever its colours
+    assert census.ok(), census
     pixels = project(scene, arm_points(design, path[:1]))
     (left, top), (right, bottom) = pixels.min(axis=0), pixels.max(axis=0)
     slack = 40  # [px] the links' and coils' thickness around their frames' origins
@@ -132,5 +138,28 @@ def test_what_a_person_sees_in_chromium(make, tmp_path):
     width, height = browser.WINDOW
     for mode, box in boxes.values():
         assert mode in ("label", "dot") and 0 <= box[0] and box[2] <= width and 0 <= box[1] and box[3] <= height
+    for (a, (_, box_a)), (b, (_, box_b)) in itertools.combinations(boxes.items(), 2):
+        assert not _overlap(box_a, box_b), (a, box_a, b, box_b)
+
+
+@pytest.mark.slow
+def test_crowded_labels_become_dots_that_name_themselves_on_hover(tmp_path):
+    """Eight springs with long names side by side in a small window: the labels that find no free spot
+    shrink to dots (their name shows on hover), and still none overlaps another."""
+    require_chromium()
+    design = two_link_design()
+    path = sweeps.animation_path(design, frames_per_joint=4)
+    scene = viz.DesignScene(design, path)
+    template = scene.springs[0]
+    scene.springs = [
+        dataclasses.replace(template, name=f"a_rather_long_spring_name_{index}", starts=template.starts + 0.01 * index)
+        for index in range(8)
+    ]
+    page = tmp_path / "crowded.html"
+    page.write_text(scene.html(autoplay=False, legend=False))
+    assert ".sb-label.sb-dot:hover" in page.read_text()  # the dot shows its name under the pointer
+    boxes = browser.label_boxes(browser.dump_dom(page, window=(320, 240)))
+    assert len(boxes) == 8
+    assert any(mode == "dot" for mode, _ in boxes.values()), boxes
     for (a, (_, box_a)), (b, (_, box_b)) in itertools.combinations(boxes.items(), 2):
         assert not _overlap(box_a, box_b), (a, box_a, b, box_b)
