@@ -21,7 +21,8 @@ from springbalance.viz import browser
 from springbalance.viz import scene as viz
 from springbalance.viz.devtools import PageSession
 from springbalance.viz.live import MeshcatServer, publish_scene
-from springbalance.viz.pose_slider import SLIDER_ID
+from springbalance.viz.pose_data import PoseData
+from springbalance.viz.pose_slider import SLIDER_ID, pose_slider_html
 
 pytestmark = pytest.mark.slow  # every test here opens headless Chromium
 
@@ -109,12 +110,28 @@ def _check_panel_box(page: PageSession) -> None:
 
 
 def test_ur5_panel_fits_its_box(tmp_path):
-    """Six joints and two springs: the panel still fits the box the censuses leave out."""
+    """Six joints and two springs, and seven joints and six springs: the panel fits the box the censuses leave out."""
     require_chromium()
     page_file = tmp_path / "ur5.html"
     page_file.write_text(viz.DesignScene(ur5_design(), frames_per_joint=4).html(autoplay=False))
     with PageSession(page_file) as page:
         page.wait_for(READY)
+        _check_panel_box(page)
+        # the most the box is made for: 7 joints and 6 springs with long names and wide numbers
+        data = PoseData(
+            30.0,
+            [{"name": f"shoulder_lift_joint_{i}", "unit": "deg", "torque_unit": "N·m"} for i in range(7)],
+            [{"name": f"spring_{i}", "type": "extension", "force_unit": "N", "length_unit": "mm"} for i in range(6)],
+            [[-123.456] * 7] * 2,
+            [[-12.3456] * 7] * 2,
+            [[-12.3456] * 7] * 2,
+            [[-1234.56] * 6] * 2,
+            [[1234.56] * 6] * 2,
+            title="the 12 worst poses (largest residual torque first)",
+        )
+        crowded = tmp_path / "crowded.html"
+        crowded.write_text(f"<!DOCTYPE html><html><body>{pose_slider_html(data)}</body></html>")
+        page.navigate(crowded)
         _check_panel_box(page)
 
 

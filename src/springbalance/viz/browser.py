@@ -49,8 +49,8 @@ LEGEND_BOX = (0, 0, 300, 90)
 #: Where meshcat puts its "Open Controls" bar; not counted.
 CONTROLS_BOX = (WINDOW[0] - 260, 0, WINDOW[0], 24)
 #: Where the scene page puts its pose slider and its numbers (bottom right, :mod:`springbalance.viz.pose_slider`:
-#: up to 8 joints and springs in all); not counted.
-POSES_BOX = (WINDOW[0] - 400, WINDOW[1] - 190, WINDOW[0], WINDOW[1])
+#: up to 13 joints and springs in all, such as a 7-joint arm with 6 springs); not counted.
+POSES_BOX = (WINDOW[0] - 400, WINDOW[1] - 240, WINDOW[0], WINDOW[1])
 #: Where the scene page puts its "anchor regions" checkbox; not counted.
 REGIONS_BOX = (0, WINDOW[1] - 40, 140, WINDOW[1])
 #: The scene's background gradient, top and bottom (RGB in [0, 1]; DesignScene.draw sets it).

@@ -40,7 +40,7 @@ _STYLE = """
 #springbalance-poses .bar{display:flex;align-items:center;gap:6px}
 #springbalance-poses input[type=range]{width:240px;max-width:50vw;margin:0}
 #springbalance-poses button{width:26px;height:20px;padding:0;font:11px sans-serif;cursor:pointer}
-#springbalance-poses table{border-collapse:collapse;margin-top:2px}
+#springbalance-poses table{border-collapse:collapse;margin-top:2px;font:inherit}
 #springbalance-poses th,#springbalance-poses td{padding:0 5px;text-align:right;white-space:nowrap}
 #springbalance-poses th.l,#springbalance-poses td.l{text-align:left}
 #springbalance-poses th{font-weight:600;border-bottom:1px solid #bbb}
@@ -163,7 +163,7 @@ def pose_slider_html(data: PoseData) -> str:
         f'<input id="{SLIDER_ID}" type="range" min="1" max="{size}" step="1" value="1" '
         f'aria-label="pose ({html.escape(data.title)})">'
         f'<span id="{LABEL_ID}">pose 1 of {size}</span></div>'
-        f"<details open><summary>{html.escape(data.title)}: torques and forces at this pose</summary>"
+        f"<details open><summary>{html.escape(data.title)}</summary>"
         f'<table id="{TABLE_ID}"></table></details></div>\n'
         f'<script type="application/json" id="{DATA_ID}">{data.to_json()}</script>'
         f"{_SCRIPT}\n"
