@@ -11,6 +11,7 @@ from __future__ import annotations
 import xml.etree.ElementTree as ElementTree
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from springbalance.io.config import load_config, read_config_file
@@ -50,3 +51,31 @@ def test_structure_ii_balances_exactly_with_the_papers_forces():
     peak = result.metrics()["objectives"]["peak"]
     assert peak["before"] > 1.0  # the arm is far from balanced without the forces [N·m]
     assert peak["after"] <= 1e-9 * peak["before"]
+
+
+def test_mujoco_holds_the_exported_structure_ii(tmp_path):
+    """MuJoCo, with the transfer crank's joint set to the elbow's (its equality constraint off, the crank's
+    torque added to the elbow's as the export's warning says), needs no torque to hold the arm."""
+    mujoco = pytest.importorskip("mujoco")
+    result = load_config(EXAMPLE).solve()
+    result.to_mjcf(tmp_path / "structure_ii.xml")
+    model = mujoco.MjModel.from_xml_path(str(tmp_path / "structure_ii.xml"))
+    model.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_CONTACT | mujoco.mjtDisableBit.mjDSBL_EQUALITY
+    data = mujoco.MjData(model)
+    joint = {
+        name: mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, name) for name in ("shoulder", "elbow", "a_transfer")
+    }
+    residual, gravity = [], []
+    for shoulder, elbow in np.random.default_rng(1).uniform(-1.5, 1.5, (40, 2)):
+        for name, value in (("shoulder", shoulder), ("elbow", elbow), ("a_transfer", elbow)):
+            data.qpos[model.jnt_qposadr[joint[name]]] = value
+        data.qvel[:] = 0
+        data.qacc[:] = 0
+        mujoco.mj_inverse(model, data)
+        mujoco.mj_fwdActuation(model, data)
+        held = data.qfrc_inverse - data.qfrc_actuator  # gravity minus the exported forces
+        dof = {name: model.jnt_dofadr[index] for name, index in joint.items()}
+        residual.append([held[dof["shoulder"]], held[dof["elbow"]] + held[dof["a_transfer"]]])
+        gravity.append(data.qfrc_inverse[dof["shoulder"]])
+    assert np.max(np.abs(gravity)) > 1.0
+    assert np.max(np.abs(residual)) <= 1e-9 * np.max(np.abs(gravity))
