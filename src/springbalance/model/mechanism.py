@@ -22,6 +22,7 @@ import pinocchio as pin
 from springbalance.errors import InputError
 from springbalance.model import robots, validation
 from springbalance.model.joints import Joint, degrees_of_freedom
+from springbalance.model.mimic_order import ordered_for_pinocchio, restore_names
 from springbalance.model.native import quiet_native_stderr
 
 GROUND = "universe"
@@ -83,11 +84,7 @@ class Mechanism:
         where = f"URDF file {str(path)!r}"
         text = validation.read_urdf(path)
         validation.check_urdf(text, where, physics=validate)
-        try:
-            with quiet_native_stderr():
-                model = pin.buildModelFromUrdf(str(path), mimic=mimic)
-        except Exception as exc:  # Pinocchio raises RuntimeError/ValueError with C++ text
-            raise InputError(f"{where} could not be parsed: {_one_line(exc)}") from None
+        model = _build_model(text, where, mimic, path)
         if not mimic:
             _warn_unused_mimic(text, str(path))
         source = {"kind": "urdf", "path": str(path.resolve()), "mimic": mimic}
@@ -101,11 +98,7 @@ class Mechanism:
         if not isinstance(text, str):
             raise InputError(f"a URDF string must be text, got {type(text).__name__}")
         validation.check_urdf(text, "URDF string", physics=validate)
-        try:
-            with quiet_native_stderr():
-                model = pin.buildModelFromXML(text, mimic=mimic)
-        except Exception as exc:
-            raise InputError(f"URDF string could not be parsed: {_one_line(exc)}") from None
+        model = _build_model(text, "URDF string", mimic)
         if not mimic:
             _warn_unused_mimic(text, "URDF string")
         return cls(
@@ -368,6 +361,25 @@ class Mechanism:
 
     def __repr__(self) -> str:
         return f"Mechanism({self.name!r}, joints={self.joint_names})"
+
+
+def _build_model(text: str, where: str, mimic: bool, path: Path | None = None) -> pin.Model:
+    """Pinocchio's model of the URDF ``text`` (read from ``path`` when given); with ``mimic``, a mimic
+    joint that Pinocchio would number before its primary is reordered first (:mod:`springbalance.model.mimic_order`)."""
+    reordered = ordered_for_pinocchio(text, where) if mimic else None
+    try:
+        with quiet_native_stderr():
+            if reordered is not None:
+                model = pin.buildModelFromXML(reordered[0], mimic=True)
+            elif path is not None:
+                model = pin.buildModelFromUrdf(str(path), mimic=mimic)
+            else:
+                model = pin.buildModelFromXML(text, mimic=mimic)
+    except Exception as exc:  # Pinocchio raises RuntimeError/ValueError with C++ text
+        raise InputError(f"{where} could not be parsed: {_one_line(exc)}") from None
+    if reordered is not None:
+        restore_names(model, reordered[1])
+    return model
 
 
 def _warn_unused_mimic(text: str, where: str) -> None:

@@ -24,6 +24,8 @@ What is drawn (all lengths in m, forces in N):
 - the **name of each spring** as a text label (a sprite that always faces the camera,
   :mod:`springbalance.viz.meshcat_glue`) just above the middle of the spring, following it in the
   animation;
+- a force along a fixed direction (docs/model.md §3.11) as an arrow from its anchor along its push
+  (:mod:`springbalance.viz.arrows`);
 - a small sphere at each anchor, and the free region of each anchor of the original
   problem (box, segment or plane rectangle of :mod:`springbalance.springs.params`) as a
   translucent shape fixed to its body (:mod:`springbalance.viz.regions`);
@@ -50,6 +52,7 @@ from springbalance.errors import InputError
 from springbalance.model import sweeps
 from springbalance.model.workspace import Workspace
 from springbalance.viz.arm import stick_figure, visual_geometry
+from springbalance.viz.arrows import animate_arrow, draw_arrows, force_arrows
 from springbalance.viz.camera import bounding_spheres, camera_view, place_camera
 from springbalance.viz.colors import CLEARANCE_COLOR, CLEARANCE_RGB, ColorScale
 from springbalance.viz.helix import HelixStyle, placement
@@ -125,8 +128,10 @@ class DesignScene:
         self.springs, self._records, columns = spring_tracks(
             design, self.evaluation.lengths, self.evaluation.tensions, kinematics, style
         )
+        #: forces along a fixed direction, drawn as arrows (:mod:`springbalance.viz.arrows`)
+        self.arrows, drawn = force_arrows(design, self.evaluation.tensions, kinematics)
         #: the springs left out of the drawing (torsional springs), by name
-        self.skipped = [record["name"] for column, record in enumerate(design.springs) if column not in columns]
+        self.skipped = [record["name"] for column, record in enumerate(design.springs) if column not in columns + drawn]
         path_tensions = self.evaluation.tensions[:, columns]
         design_tensions = design.evaluation.tensions[:, columns]
         self.color_scale = ColorScale.for_tensions(path_tensions, design_tensions)
@@ -209,6 +214,7 @@ class DesignScene:
 
         root = visualizer[ROOT]
         helix_objects = self._draw_springs(root)
+        draw_arrows(root, self.arrows)
         self._draw_regions(root)
         if animate and self.size > 1:
             visualizer.window.send(
@@ -288,6 +294,8 @@ class DesignScene:
                 root = at[ROOT]
                 for spring in self.springs:
                     self._animate_spring(root, spring, frame, helix_objects[spring.name], labels[spring.name])
+                for arrow in self.arrows:
+                    animate_arrow(root, arrow, frame)
                 for region in self.regions:
                     root["regions"][f"{region.spring}.{region.end}"].set_transform(region.placements[frame])
         return animation
