@@ -94,3 +94,13 @@ def test_exported_urdf_has_the_mimic_chains_and_loads_back(design, tmp_path):
     for q in mechanism.configurations(poses[:5]):
         tau = pin.computeGeneralizedGravity(mechanism.model, data, q)
         np.testing.assert_allclose(pin.computeGeneralizedGravity(again.model, data_again, q), tau, rtol=0, atol=1e-12)
+
+
+def test_saved_design_rebuilds_its_pseudo_bases(design, tmp_path):
+    result, poses = design
+    path = result.save(tmp_path / "design.json")
+    again = sb.DesignResult.load(path)
+    assert [b.to_dict() for b in again.problem.mechanism.pseudo_bases] == [
+        b.to_dict() for b in result.problem.mechanism.pseudo_bases
+    ]
+    np.testing.assert_allclose(again.residual_torque(poses), result.residual_torque(poses), rtol=0, atol=1e-12)

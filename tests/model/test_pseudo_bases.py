@@ -179,3 +179,29 @@ def test_source_rebuilds_the_pseudo_bases(kr):
     assert [base.to_dict() for base in again.pseudo_bases] == [base.to_dict() for base in kr.pseudo_bases]
     assert again.body_names == kr.body_names
     assert kr.pseudo_bases[2].mass == 0.7 and kr.pseudo_bases[2].com == (0.02, -0.01, 0.05)
+
+
+def test_report_gives_the_pseudo_bases_mass_and_the_torque_it_adds(kr):
+    """design.json's peak per joint is the peak of -Σ m Jᵀγ over the samples (J: the bare arm's Jacobian of the
+    joint origins); the text report names each pseudo-base and the total mass."""
+    poses = _poses(kr, 30, seed=8)
+    result = _fixed(kr, _hand_springs(_lumped_moments(KR, PB_MASS), ["a2"]), poses)
+    bare = sb.Mechanism.from_urdf(KR)
+    data = bare.model.createData()
+    torques = []
+    for q in bare.configurations(poses):
+        pin.computeJointJacobians(bare.model, data, q)
+        tau = np.zeros(bare.nv)
+        for joint, mass in PB_MASS.items():
+            jacobian = pin.getJointJacobian(bare.model, data, bare.model.getJointId(joint), pin.LOCAL_WORLD_ALIGNED)
+            tau += mass * G * jacobian[2]  # -m Jᵀ γ with γ = (0, 0, -g)
+        torques.append(tau)
+    record = result.to_dict()["pseudo_bases"]
+    assert record["total_mass"] == pytest.approx(1.0, abs=1e-15)
+    peaks = np.max(np.abs(np.array(torques)), axis=0)
+    np.testing.assert_allclose(list(record["peak_torque"].values()), peaks, rtol=1e-12, atol=1e-12)
+    assert peaks[1] > 1 and record["peak_torque"]["a6"] == 0.0  # nothing beyond a6's origin hangs on a6
+    assert [base["body"] for base in record["bases"]] == ["pb_a2", "pb_a3", "pb_a4", "pb_a5", "pb_a6"]
+    text = result.table()
+    assert "Pseudo-bases (world-oriented anchors, docs/model.md §1.1): 1 kg in all" in text
+    assert "pb_a4            at joint a4: 0.7 kg, centre of mass (0.02, -0.01, 0.05) m" in text

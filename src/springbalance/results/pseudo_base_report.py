@@ -25,13 +25,13 @@ def pseudo_base_record(result: EvaluatedDesign) -> dict[str, Any]:
     kinematics = result.problem.base_workspace.kinematics()
     torques = pseudo_base_torques(kinematics)
     names = mechanism.joint_names
-    gravity_peak = np.max(np.abs(kinematics.gravity_torque), axis=0) if len(kinematics.gravity_torque) else None
+    gravity_peak = np.max(np.abs(kinematics.gravity_torque), axis=0, initial=0.0)
     bases = []
     for base in mechanism.pseudo_bases:
-        peak = np.max(np.abs(torques[base.body]), axis=0)
+        peak = np.max(np.abs(torques[base.body]), axis=0, initial=0.0)
         bases.append({**base.to_dict(), "body": base.body, "peak_torque": dict(zip(names, map(float, peak)))})
-    total = np.max(np.abs(sum(torques.values())), axis=0)
-    share = [float(p / g) if gravity_peak is not None and g > 0 else 0.0 for p, g in zip(total, gravity_peak)]
+    total = np.max(np.abs(sum(torques.values())), axis=0, initial=0.0)
+    share = [float(p / g) if g > 0 else 0.0 for p, g in zip(total, gravity_peak)]
     return {
         "pseudo_bases": {
             "bases": bases,
