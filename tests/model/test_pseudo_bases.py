@@ -205,3 +205,24 @@ def test_report_gives_the_pseudo_bases_mass_and_the_torque_it_adds(kr):
     text = result.table()
     assert "Pseudo-bases (world-oriented anchors, docs/model.md §1.1): 1 kg in all" in text
     assert "pb_a4            at joint a4: 0.7 kg, centre of mass (0.02, -0.01, 0.05) m" in text
+
+
+@pytest.mark.parametrize(
+    "make",
+    [
+        lambda: sb.Mechanism.from_robot("ur5", pseudo_bases=["elbow_joint", "wrist_2_joint", "wrist_3_joint"]),
+        lambda: sb.Mechanism.from_urdf_string(
+            KR.read_text().replace('<joint name="a1" type="revolute">', '<joint name="a1" type="continuous">'),
+            pseudo_bases=["a3", "a6"],
+        ),
+    ],
+    ids=["ur5_origin_rotations", "continuous_joint_in_the_chain"],
+)
+def test_orientation_is_kept_on_other_arms(make):
+    """The UR5's joint origins turn by ±π/2 about several axes; a continuous joint is mimicked as well."""
+    mechanism = make()
+    data = mechanism.model.createData()
+    for row in mechanism.configurations(_poses(mechanism, 40, seed=11)):
+        pin.framesForwardKinematics(mechanism.model, data, row)
+        for base in mechanism.pseudo_bases:
+            np.testing.assert_allclose(data.oMf[mechanism.frame_id(base.body)].rotation, np.eye(3), atol=1e-12)
