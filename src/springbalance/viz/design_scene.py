@@ -29,6 +29,7 @@ What is drawn (all lengths in m, forces in N):
 - a small sphere at each anchor, and the free region of each anchor of the original
   problem (box, segment or plane rectangle of :mod:`springbalance.springs.params`) as a
   translucent shape fixed to its body (:mod:`springbalance.viz.regions`);
+- the parallelograms that realise the mechanism's pseudo-bases, as rods (:mod:`springbalance.viz.parallelograms`);
 - an animation along an ordered path of poses (by default a sweep of each joint in turn,
   :func:`springbalance.model.sweeps.animation_path`), with meshcat's play/pause/time controls.
 
@@ -58,6 +59,7 @@ from springbalance.viz.colors import CLEARANCE_COLOR, CLEARANCE_RGB, ColorScale
 from springbalance.viz.helix import HelixStyle, placement
 from springbalance.viz.meshcat_glue import ROOT, insert_before_body_end, meshcat_classes
 from springbalance.viz.meshcat_import import import_meshcat
+from springbalance.viz.parallelograms import draw_parallelograms, parallelogram_rods, place_parallelograms
 from springbalance.viz.recorder import SceneRecorder
 from springbalance.viz.regions import REGION_COLOR, REGION_OPACITY, RegionShape, anchor_regions, region_geometry
 from springbalance.viz.tracks import SpringTrack, add_clearances, spring_tracks
@@ -138,6 +140,8 @@ class DesignScene:
         # the legend's compression half is for springs that push in the animation, not for laws that could
         self.compression = bool(np.any(self.color_scale.pushes(path_tensions)))
         self.regions: list[RegionShape] = anchor_regions(design.problem.springs, kinematics, self.size)
+        #: the rods of the parallelograms realising the pseudo-bases (:mod:`springbalance.viz.parallelograms`)
+        self.parallelograms = parallelogram_rods(mechanism, self.configurations)
         self.margin, self.clearance_note = self._margin(margin), None
         if self.margin is not None:
             radius = getattr(getattr(design.problem, "clearance", None), "radius", None)
@@ -216,6 +220,7 @@ class DesignScene:
         helix_objects = self._draw_springs(root)
         draw_arrows(root, self.arrows)
         self._draw_regions(root)
+        draw_parallelograms(root, self.parallelograms)
         if animate and self.size > 1:
             visualizer.window.send(
                 classes.SetAnimation(
@@ -298,6 +303,7 @@ class DesignScene:
                     animate_arrow(root, arrow, frame)
                 for region in self.regions:
                     root["regions"][f"{region.spring}.{region.end}"].set_transform(region.placements[frame])
+                place_parallelograms(root, self.parallelograms, frame)
         return animation
 
     def _animate_spring(self, root: Any, spring: SpringTrack, frame: int, helix: str, labels: np.ndarray) -> None:
