@@ -153,7 +153,10 @@ def _drake_holding(path, result, poses):
 
 
 def test_drake_holding_torque_of_a_pseudo_base_arm_matches(design, tmp_path):
-    pytest.importorskip("pydrake", reason="Drake is not installed (pip install drake); the MuJoCo check runs")
+    pytest.importorskip(
+        "pydrake",
+        reason="Drake is not installed: `make test-drake` installs it and runs this check; the MuJoCo check runs",
+    )
     result, poses = design
     path = tmp_path / "kr.urdf"
     result.to_urdf(path)
