@@ -79,7 +79,7 @@ def _panel(axes: Axes, name: str, spring: Any, sheet: dict[str, Any], lengths: n
     axes.set_ylabel("force [N]")
     axes.set_title(f"{name}: {sheet['type']}, {'buildable' if sheet['buildable'] else 'NOT buildable'}", fontsize=9)
     axes.grid(True, alpha=0.3)
-    axes.legend(loc="lower right" if extension else "upper right", fontsize=7)
+    axes.legend(loc="best", fontsize=7)
 
 
 def plot_coils(result: EvaluatedDesign, path: str | Path | None = None) -> Figure | None:
