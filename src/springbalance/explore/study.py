@@ -364,7 +364,8 @@ class Study:
                         f"(fingerprint {previous} ≠ {self.fingerprint}); use another --out, or --force "
                         "to discard them"
                     )
-                shutil.rmtree(folder / "results", ignore_errors=True)
+                for stale in ("results", "designs"):
+                    shutil.rmtree(folder / stale, ignore_errors=True)
         elif folder.exists() and any(folder.iterdir()) and not force:
             raise InputError(
                 f"study folder {str(folder)!r} is not empty and holds no study; use another --out, or --force"
