@@ -19,7 +19,7 @@ import yaml
 from springbalance.errors import InputError
 from springbalance.explore import load_study
 from springbalance.explore.pareto import pareto_figure, pareto_svg
-from study_report_helpers import Links
+from study_report_helpers import Links, assert_links_resolve
 
 ROOT = Path(__file__).resolve().parents[2]
 THREE_LINK = ROOT / "examples" / "explore_three_link.yaml"
@@ -142,6 +142,7 @@ def test_without_approximations_the_report_says_why_each_count_has_no_design(tmp
     parser = Links()
     parser.feed(page)
     assert parser.svg and all(href.startswith("designs/") and href.endswith(".json") for href in parser.svg)
+    assert_links_resolve(tmp_path / "study")
 
 
 @pytest.mark.parametrize("value", [-1, 1.5, True, "3"])
