@@ -103,6 +103,7 @@ def _print_summary(study: Study, result: StudyResult, out: Path) -> None:
         print(
             f"  best with {count} spring(s): {' + '.join(record['springs'])}  residual "
             f"{record['relative_residual']:.3g} of the unbalanced peak{'  (exact)' if record['exact'] else ''}"
+            f"{'  (approximate: every topology of this count was pruned)' if record.get('pruned') else ''}"
             f"{'  FAILS: ' + ', '.join(record['failures']) if record.get('ok') is False else ''}"
             f"  -> {out / f'best_{count}_springs.json'}"
         )

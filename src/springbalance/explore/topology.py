@@ -64,7 +64,9 @@ class Reachability:
         self.loaded = [j for j in range(1, self.chain.size) if gravity[j] > GRAVITY_ZERO * max(gravity.max(), 1e-300)]
         self.ends = [_ordered(self.chain.body_index(c.a), self.chain.body_index(c.b)) for c in candidates]
 
-    def _reached(self, spring: tuple[int, int]) -> set[tuple[int, int]]:
+    def reached(self, spring: tuple[int, int]) -> set[tuple[int, int]]:
+        """The blocks ``(i, j)`` (``i < j``) of the stiffness matrix that a spring between chain bodies
+        ``spring = (a, b)`` reaches."""
         a, b = spring
         bodies = sorted({a, *range(max(a, 1), b + 1)})
         return set(itertools.combinations(bodies, 2))
@@ -79,7 +81,7 @@ class Reachability:
                 f"{len(topology)} spring(s) give {4 * len(topology)} anchor coordinates for "
                 f"{n * (n - 1)} conditions: at least {needed} springs are needed",
             )
-        reach = [self._reached(self.ends[index]) for index in topology]
+        reach = [self.reached(self.ends[index]) for index in topology]
         names = self.chain.bodies
         for j in self.loaded:
             if not any((0, j) in blocks for blocks in reach):

@@ -103,7 +103,10 @@ def _spring_lines(spring: Spring, record: dict[str, Any], states: np.ndarray, fo
         )
     if "joint" in record:
         lines.append(f"    joint: {record['joint']}")
-    parameters = "  ".join(f"{key} {record[key]:.6g} {unit}" for key, unit in spring.parameter_units.items())
+    # a count or a ratio (unit "1", such as active_coils) is printed bare: no unit after its number
+    parameters = "  ".join(
+        f"{key} {record[key]:.6g}" + ("" if unit == "1" else f" {unit}") for key, unit in spring.parameter_units.items()
+    )
     lines.append(f"    {parameters}")
     if "helical" in record:
         lines.extend(f"    {line}" for line in spec_sheet_lines(record["helical"]))
