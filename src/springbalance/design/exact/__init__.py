@@ -48,6 +48,7 @@ from __future__ import annotations
 
 from springbalance.design.exact.blocks import BalanceBlocks, CountCheck, count_check, residual_blocks
 from springbalance.design.exact.chain import PlanarChain
+from springbalance.design.exact.multilinear import SPATIAL_EXACT, SpatialCoefficients, spatial_coefficients
 from springbalance.design.exact.synthesis import EXACT_TOLERANCE, ExactBalanceUnreachable, ExactSynthesis, synthesize
 
 __all__ = [
@@ -57,7 +58,10 @@ __all__ = [
     "ExactBalanceUnreachable",
     "ExactSynthesis",
     "PlanarChain",
+    "SPATIAL_EXACT",
+    "SpatialCoefficients",
     "count_check",
     "residual_blocks",
+    "spatial_coefficients",
     "synthesize",
 ]
