@@ -49,6 +49,7 @@ from __future__ import annotations
 from springbalance.design.exact.blocks import BalanceBlocks, CountCheck, count_check, residual_blocks
 from springbalance.design.exact.chain import PlanarChain
 from springbalance.design.exact.multilinear import SPATIAL_EXACT, SpatialCoefficients, spatial_coefficients
+from springbalance.design.exact.stiffness_fit import StiffnessFit, fit_stiffnesses
 from springbalance.design.exact.synthesis import EXACT_TOLERANCE, ExactBalanceUnreachable, ExactSynthesis, synthesize
 
 __all__ = [
@@ -60,7 +61,9 @@ __all__ = [
     "PlanarChain",
     "SPATIAL_EXACT",
     "SpatialCoefficients",
+    "StiffnessFit",
     "count_check",
+    "fit_stiffnesses",
     "residual_blocks",
     "spatial_coefficients",
     "synthesize",
