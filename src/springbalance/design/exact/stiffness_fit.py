@@ -106,7 +106,8 @@ def fit_stiffnesses(mechanism: Mechanism, candidates: Sequence[ZeroFreeLengthSpr
         for index, ((a, b, mass), spring, k) in enumerate(zip(ends, candidates, stiffness))
         if k > 0
     ]
-    total = target + sum((spring_grid_potential(kinematics, s, float(s.parameters["stiffness"])) for s in springs), 0.0)
+    used = [float(k) for k in stiffness if k > 0]
+    total = target + sum((spring_grid_potential(kinematics, s, k) for s, k in zip(springs, used)), 0.0)
     gravity_alone = coefficients_of(kinematics.potential, joints)
     coefficients = SpatialCoefficients(mechanism.joint_names, coefficients_of(total, joints), gravity_alone)
     return StiffnessFit(stiffness, springs, coefficients, residual)
