@@ -49,6 +49,13 @@ from __future__ import annotations
 from springbalance.design.exact.blocks import BalanceBlocks, CountCheck, count_check, residual_blocks
 from springbalance.design.exact.chain import PlanarChain
 from springbalance.design.exact.multilinear import SPATIAL_EXACT, SpatialCoefficients, spatial_coefficients
+from springbalance.design.exact.spatial_synthesis import (
+    SpatialReachability,
+    SpatialSynthesis,
+    SpatialVerdict,
+    spatial_reachability,
+    synthesize_spatial,
+)
 from springbalance.design.exact.stiffness_fit import StiffnessFit, fit_stiffnesses
 from springbalance.design.exact.synthesis import EXACT_TOLERANCE, ExactBalanceUnreachable, ExactSynthesis, synthesize
 
@@ -61,10 +68,15 @@ __all__ = [
     "PlanarChain",
     "SPATIAL_EXACT",
     "SpatialCoefficients",
+    "SpatialReachability",
+    "SpatialSynthesis",
+    "SpatialVerdict",
     "StiffnessFit",
     "count_check",
     "fit_stiffnesses",
     "residual_blocks",
     "spatial_coefficients",
+    "spatial_reachability",
     "synthesize",
+    "synthesize_spatial",
 ]
