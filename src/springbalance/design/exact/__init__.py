@@ -34,13 +34,21 @@ moment).
 
 Use :meth:`PlanarChain.from_mechanism`, :func:`residual_blocks` (how far a design is from
 exact, N·m), :func:`count_check` and :func:`synthesize` (anchors that balance exactly for a
-given topology and stiffnesses, or why none exist). Spatial arms are left to the general
-optimiser (:class:`~springbalance.design.problem.DesignProblem`); its result reports the residual
-relative to the unbalanced torque and says "exactly balanced" when it is zero to solver
-precision.
+given topology and stiffnesses, or why none exist).
+
+**Spatial chains and trees** (any revolute axes; docs/model.md §9.1): the potential is multilinear in
+``(1, cos θ_j, sin θ_j)``; :func:`spatial_coefficients` is the exact test (its coefficients from
+Pinocchio on the grid ``{0, 2π/3, 4π/3}^n``), :func:`fit_stiffnesses` the stiffnesses of fixed anchors
+(linear, NNLS), :func:`synthesize_spatial` builds an exactly balanced design pair by pair and
+:func:`spatial_reachability` proves that a topology cannot balance.
 
 The modules: :mod:`~springbalance.design.exact.chain` (:class:`PlanarChain`), :mod:`~springbalance.design.exact.blocks`
-(:func:`residual_blocks`, :func:`count_check`) and :mod:`~springbalance.design.exact.synthesis` (:func:`synthesize`).
+(:func:`residual_blocks`, :func:`count_check`), :mod:`~springbalance.design.exact.synthesis` (:func:`synthesize`),
+:mod:`~springbalance.design.exact.multilinear` (:func:`spatial_coefficients`),
+:mod:`~springbalance.design.exact.stiffness_fit` (:func:`fit_stiffnesses`),
+:mod:`~springbalance.design.exact.spatial_tree` (pair matrices), :mod:`~springbalance.design.exact.spatial_blocks`
+(one pair at a time) and :mod:`~springbalance.design.exact.spatial_synthesis` (:func:`synthesize_spatial`,
+:func:`spatial_reachability`).
 This package re-exports their public names.
 """
 
