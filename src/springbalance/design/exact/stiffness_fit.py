@@ -17,7 +17,6 @@ import dataclasses
 from typing import Sequence
 
 import numpy as np
-from scipy.optimize import nnls
 
 from springbalance.design.exact.multilinear import (
     SPATIAL_EXACT,
@@ -82,6 +81,8 @@ def _candidate(spring: ZeroFreeLengthSpring, index: int) -> tuple[Anchor, Anchor
 def fit_stiffnesses(mechanism: Mechanism, candidates: Sequence[ZeroFreeLengthSpring]) -> StiffnessFit:
     """The stiffnesses ``k ≥ 0`` [N/m] of candidate springs (fixed anchors; their stiffness is ignored, fixed or
     free) that come closest to exact balance (module documentation)."""
+    from scipy.optimize import nnls  # scipy.optimize stays out of start-up (tests/test_package.py)
+
     candidates = list(candidates)
     if not candidates:
         raise InputError("fit_stiffnesses: give at least one candidate spring")
