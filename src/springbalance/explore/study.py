@@ -15,6 +15,7 @@ whose ``springs`` section is replaced by ``explore``::
       grid: {objective: [rms, peak], "workspace.n": [64, 128]}   # optional sweep: dotted keys -> values
       prune: true                  # skip the topologies that cannot balance exactly (false: solve them too,
                                    # for the best approximate design of each spring count)
+      max_topologies: 20000        # a larger study is refused before it is enumerated
 
 Each task is one topology at one grid point: a pure function of its record
 (:func:`~springbalance.explore.task.solve_task`), so the same task gives the same result on any
@@ -59,7 +60,7 @@ from springbalance.explore.candidates import (
 from springbalance.explore.execution import execute, make_client, progress_bar  # noqa: F401  (make_client: see _MOVED)
 from springbalance.explore.report import write_study_report
 from springbalance.explore.task import Task
-from springbalance.explore.topology import Verdict, enumerate_topologies, reachability
+from springbalance.explore.topology import MAX_TOPOLOGIES, Verdict, enumerate_topologies, reachability
 from springbalance.files import write_json_atomic, write_text_atomic
 from springbalance.io.config import config_from_dict, mechanism_from_dict, read_config_file
 from springbalance.model.mechanism import Mechanism
@@ -79,6 +80,7 @@ EXPLORE_KEYS = (
     "seed",
     "grid",
     "prune",
+    "max_topologies",
 )
 #: the columns of ``results.csv``
 COLUMNS = (
@@ -179,6 +181,9 @@ class Study:
         for key, value in (("margin", self.margin), ("default_box", self.default_box)):
             if isinstance(value, bool) or not isinstance(value, (int, float)) or not value >= 0:
                 raise InputError(f"{label}: explore.{key} must be a number ≥ 0 [m], got {value!r}")
+        self.limit = self.explore.get("max_topologies", MAX_TOPOLOGIES)
+        if isinstance(self.limit, bool) or not isinstance(self.limit, int) or self.limit < 1:
+            raise InputError(f"{label}: explore.max_topologies must be an integer ≥ 1, got {self.limit!r}")
         self.prune = self.explore.get("prune", True)
         if not isinstance(self.prune, bool):
             raise InputError(f"{label}: explore.prune must be true or false, got {self.prune!r}")
@@ -211,7 +216,7 @@ class Study:
             except InputError as error:
                 raise InputError(f"{label}: {error}") from None
             test, note = reachability(mechanism, found, self.law.get("type", "extension"))
-            topologies = enumerate_topologies(len(found), self.max_springs)
+            topologies = enumerate_topologies(len(found), self.max_springs, self.limit)
             verdicts = {}
             if test is not None:
                 for topology in topologies:
