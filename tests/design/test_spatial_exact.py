@@ -69,6 +69,14 @@ def test_the_balanced_arm_has_zero_torque_in_pinocchio():
     result = sb.DesignResult(sb.DesignProblem(arm, ws, [_spring(a, b, k)]), np.zeros(0))
     assert exact.spatial_coefficients(result).exact
     assert result.exact_balance()["relative_residual"] < 1e-12
+    # a problem with the stiffness free, and its design vector
+    free = sb.ZeroFreeLengthSpring(
+        sb.Anchor("ground", (0.0, 0.0, H + a)), sb.Anchor("link2", (b, 0.0, 0.0)), stiffness=sb.Free(0, 2 * k)
+    )
+    problem = sb.DesignProblem(arm, ws, [free])
+    assert len(problem.variables.names) == 1  # the stiffness
+    assert exact.spatial_coefficients(problem, np.array([k])).exact
+    assert not exact.spatial_coefficients(problem, np.array([1.01 * k])).exact
 
 
 def test_refuses_what_is_not_multilinear():

@@ -37,10 +37,15 @@ def _worst_torque_ratio(mechanism: sb.Mechanism, springs: list, poses: int = 12,
     rng = np.random.default_rng(seed)
     data = model.createData()
     worst, scale, h = 0.0, 0.0, 1e-5
+
+    def potential(angles: np.ndarray) -> float:  # continuous joints store (cos, sin)
+        return reference(mechanism.configurations(angles)[0])
+
     for _ in range(poses):
-        q = rng.uniform(-np.pi, np.pi, model.nq)
-        tau = [(reference(q + h * e) - reference(q - h * e)) / (2 * h) for e in np.eye(model.nq)]
+        angles = rng.uniform(-np.pi, np.pi, mechanism.nv)
+        tau = [(potential(angles + h * e) - potential(angles - h * e)) / (2 * h) for e in np.eye(mechanism.nv)]
         worst = max(worst, float(np.max(np.abs(tau))))
+        q = mechanism.configurations(angles)[0]
         scale = max(scale, float(np.max(np.abs(pin.computeGeneralizedGravity(model, data, q)))))
     return worst / scale
 
@@ -76,6 +81,42 @@ def test_the_yaw_pitch_roll_arm_needs_one_spring():
     synthesis = exact.synthesize_spatial(arm)
     assert len(synthesis.springs) == 1 and synthesis.exact
     assert _worst_torque_ratio(arm, synthesis.springs) < 1e-7
+
+
+_LINK = (
+    '<link name="{0}"><inertial><origin xyz="{1}"/><mass value="{2}"/>'
+    '<inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>'
+)
+_JOINT = (
+    '<joint name="{0}" type="{5}"><parent link="{1}"/><child link="{2}"/><origin xyz="{3}" rpy="0.3 -0.2 0.5"/>'
+    '<axis xyz="{4}"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>'
+)
+
+
+def test_a_tree_with_skew_axes_and_a_continuous_joint_is_balanced_by_construction():
+    # a torso on a continuous waist carrying two arms, every joint placement turned (rpy) and axes skew
+    links = [("torso", "0.02 0 0.3", 5), ("arm_l", "0.2 0.03 0", 2), ("fore_l", "0.15 0 0.01", 1)]
+    links += [("arm_r", "0.2 -0.02 0", 2), ("hand_r", "0.05 0.01 0", 0.5)]
+    joints = [
+        ("waist", "ground", "torso", "0 0 0.1", "0 0 1", "continuous"),
+        ("sh_l", "torso", "arm_l", "0 0.2 0.5", "0 1 0", "revolute"),
+        ("el_l", "arm_l", "fore_l", "0.3 0 0", "0 0.6 0.8", "revolute"),
+        ("sh_r", "torso", "arm_r", "0 -0.2 0.5", "1 1 0", "revolute"),
+        ("wr_r", "arm_r", "hand_r", "0.3 0 0", "1 0 0", "revolute"),
+    ]
+    text = (
+        '<?xml version="1.0"?><robot name="tree"><link name="ground"/>'
+        + "".join(_LINK.format(*link) for link in links)
+        + "".join(_JOINT.format(*joint) for joint in joints)
+        + "</robot>"
+    )
+    tree = sb.Mechanism.from_urdf_string(text, gravity=G)
+    synthesis = exact.synthesize_spatial(tree)
+    assert synthesis.exact
+    # gravity couples no body of one arm to one of the other: no spring joins the two arms
+    left, right = {"arm_l", "fore_l"}, {"arm_r", "hand_r"}
+    assert not any({a, b} & left and {a, b} & right for a, b in synthesis.pairs)
+    assert _worst_torque_ratio(tree, synthesis.springs) < 1e-7
 
 
 def test_a_pair_the_topology_lacks_is_named():
