@@ -5,7 +5,7 @@ reach it (:func:`spatial_reachability`); docs/model.md §9.1.
 move the axis parts of :math:`C_{pq}` to shorter pairs, and cancel what is left with
 :func:`~springbalance.design.exact.spatial_blocks.fewest_springs` springs between ``p`` and ``q``: split the
 block by SVD, :math:`-(B + N) = \sum_r \sigma_r u_r v_r^T`, and give spring ``r`` the vectors
-:math:`D_p = \sqrt{\sigma_r/k}\, U_p u_r`, :math:`D_q = \sqrt{\sigma_r/k}\, U_q v_r` (anchors from
+:math:`D_p = \alpha U_p u_r`, :math:`D_q = \beta U_q v_r` with :math:`k\alpha\beta = \sigma_r` (anchors from
 :meth:`~springbalance.design.exact.spatial_tree.SpatialTree.spring_vectors`). A spring changes only the
 pairs on its own path, all shorter, so the pairs already done stay cancelled: the arm ends exactly
 balanced with at most two springs per pair. The result is checked by the exact test
@@ -83,7 +83,8 @@ def synthesize_spatial(
     r"""Springs that balance a revolute chain or tree exactly (module documentation).
 
     ``allowed``: body pairs that may carry springs (None: every pair); ``stiffness`` [N/m] of every spring,
-    or None to choose each one's so that its vectors :math:`|D_p| = |D_q| =` ``reach`` [m].
+    or None to choose each one's so that its vectors :math:`|D_p|\,|D_q| =` ``reach``² [m²]. How that product
+    splits between the two ends puts the anchors as near their joints as it can (:func:`_spring`).
     """
     if stiffness is not None and not (np.isfinite(stiffness) and stiffness > 0):
         raise InputError(f"stiffness must be a number > 0 [N/m], got {stiffness!r}")
@@ -110,21 +111,33 @@ def synthesize_spatial(
         u, sigma, vt = np.linalg.svd(-target)
         for r in range(count):
             k = stiffness if stiffness is not None else sigma[r] / reach**2
-            size = np.sqrt(sigma[r] / k)
-            vectors = (planes.left @ u[:, r] * size, planes.right @ vt[r] * size)
-            springs.append(_spring(tree, pairs, (p, q), vectors, k, f"zfl{len(springs) + 1}"))
+            directions = (planes.left @ u[:, r], planes.right @ vt[r])
+            springs.append(_spring(tree, pairs, (p, q), directions, sigma[r] / k, k, f"zfl{len(springs) + 1}"))
         counts[names] = count
         pairs.pop((p, q), None)  # what the springs leave on their own pair is invisible (a constant)
     return SpatialSynthesis(springs, counts, spatial_coefficients(mechanism, springs), missing)
 
 
 def _spring(
-    tree: SpatialTree, pairs: dict[Pair, np.ndarray], ends: Pair, vectors: tuple, k: float, name: str
+    tree: SpatialTree, pairs: dict[Pair, np.ndarray], ends: Pair, directions: tuple, product: float, k: float, name: str
 ) -> ZeroFreeLengthSpring:
-    """The spring from ``p`` to ``q`` whose vectors are ``D_p``, ``D_q`` [m]; its terms are added to ``pairs``."""
-    (p, q), (d_p, d_q) = ends, vectors
+    r"""The spring from ``p`` to ``q`` with :math:`D_p = \alpha u`, :math:`D_q = \beta v`, :math:`\alpha\beta =`
+    ``product`` [m²]; its terms are added to ``pairs``.
+
+    The split is free: :math:`\alpha` minimises :math:`|z_p|^2 + |z_q|^2` (the anchors nearest their joints),
+    :math:`z_p = o_p - \alpha u`, :math:`z_q = (c/\alpha) v - o_q`, a real root of
+    :math:`\alpha^4 - (u\cdot o_p)\alpha^3 + c (v\cdot o_q)\alpha - c^2 = 0` (:math:`o` the path's offsets).
+    """
+    (p, q), (u, v) = ends, directions
     offsets = tree.spring_vectors(p, q, np.zeros(3), np.zeros(3))
-    z_p, z_q = offsets[p] - d_p, d_q - offsets[q]  # D_p = −z_p + offset, D_q = z_q + offset
+    roots = np.roots([1.0, -(u @ offsets[p]), 0.0, product * (v @ offsets[q]), -(product**2)])
+    real = [float(root.real) for root in roots if abs(root.imag) <= 1e-9 * max(abs(root), 1e-300)]
+
+    def ends_of(alpha: float) -> tuple[np.ndarray, np.ndarray]:  # D_p = −z_p + offset, D_q = z_q + offset
+        return offsets[p] - alpha * u, product / alpha * v - offsets[q]
+
+    alpha = min(real, key=lambda a: sum(float(z @ z) for z in ends_of(a)))
+    z_p, z_q = ends_of(alpha)
     tree.add_spring(pairs, p, q, z_p, z_q, k)
     anchors = [Anchor(tree.names[body], tree.to_link_frame(tree.names[body], z)) for body, z in ((p, z_p), (q, z_q))]
     return ZeroFreeLengthSpring(anchors[0], anchors[1], name=name, stiffness=float(k))
