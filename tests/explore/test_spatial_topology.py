@@ -33,6 +33,17 @@ def test_a_spatial_arm_gets_the_spatial_test(ur5):
     assert isinstance(test, SpatialTest) and note.startswith("spatial reachability test applied")
 
 
+def test_the_note_says_what_the_construction_gives_on_the_candidates(ur5):
+    mechanism, _ = ur5
+    wide = auto_candidates(mechanism, span=6)  # every pair of bodies along the chain
+    test = SpatialTest(mechanism, wide)
+    assert test.construction.startswith("by construction") and "balance exactly on" in test.construction
+    used = test.construction.split("balance exactly on ", 1)[1].split(" (anchors")[0].split(", ")
+    assert {label.split(" ×")[0] for label in used} <= {c.label for c in wide}
+    only_ground = [c for c in wide if c.a == "universe"][:2]  # the ground to the pan and lift links only
+    assert "not candidates" in SpatialTest(mechanism, only_ground).construction
+
+
 def test_springs_that_miss_wrist_1_are_proven_unreachable(ur5):
     mechanism, candidates = ur5
     test = SpatialTest(mechanism, candidates)

@@ -38,7 +38,7 @@ from typing import Sequence
 
 import numpy as np
 
-from springbalance.design.exact import PlanarChain, SpatialReachability
+from springbalance.design.exact import PlanarChain, SpatialReachability, synthesize_spatial
 from springbalance.errors import InputError
 from springbalance.explore.candidates import Candidate
 from springbalance.model.mechanism import Mechanism
@@ -141,6 +141,19 @@ class SpatialTest:
     def __init__(self, mechanism: Mechanism, candidates: Sequence[Candidate]):
         self.proofs = SpatialReachability(mechanism)
         self.pairs = [(c.a, c.b) for c in candidates]
+        built = synthesize_spatial(mechanism, allowed=self.pairs)
+        if built.exact:
+            pairs = ", ".join(f"{a}→{b}" + (f" ×{n}" if n > 1 else "") for (a, b), n in built.pairs.items())
+            #: what the construction of docs/model.md §9.1 gives on these candidates' pairs
+            self.construction = (
+                f"by construction {len(built.springs)} springs balance exactly on {pairs} "
+                "(anchors not fitted to the boxes)"
+            )
+        else:
+            missing = ", ".join(f"{a}→{b}" for a, b in built.missing)
+            self.construction = (
+                f"the construction of exact balance needs springs on pairs that are not candidates: {missing}"
+            )
 
     def verdict(self, topology: Sequence[int]) -> Verdict | None:
         """None when exact balance may be reached; else why not."""
@@ -158,9 +171,10 @@ def reachability(
         return Reachability(mechanism, candidates), "reachability test applied (planar chain, zero-free-length springs)"
     except InputError as planar:
         try:
-            return SpatialTest(mechanism, candidates), (
+            test = SpatialTest(mechanism, candidates)
+            return test, (
                 "spatial reachability test applied (revolute joints, zero-free-length springs: gravity terms no "
-                "spring reaches, outermost pairs short of springs)"
+                f"spring reaches, outermost pairs short of springs); {test.construction}"
             )
         except InputError as spatial:
             return None, f"reachability test not applied: {planar}; {spatial}"
