@@ -70,6 +70,13 @@ def handle(args: argparse.Namespace) -> int:
     if args.sequential and (args.scheduler or args.workers):
         raise InputError("--sequential runs without Dask: it takes no --scheduler or --workers")
     study = load_study(args.config, max_springs=args.max_springs)
+    if not args.quiet:  # the size of the study before anything is solved
+        summary = study.summary()
+        print(
+            f"{len(study.candidates)} candidates, {summary['topologies']} topologies × {summary['grid_points']} grid "
+            f"point(s), {len(summary['unreachable'])} proven unreachable: {study.pending(args.out)} task(s) to solve",
+            flush=True,
+        )
     # nothing left to solve (a finished study run again): no cluster to start
     client = (
         None

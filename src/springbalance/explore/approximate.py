@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from typing import Sequence
 
-from springbalance.explore.topology import Reachability, Verdict
+from springbalance.explore.topology import Reachability, SpatialTest, Verdict
 
 #: pruned topologies solved per spring count that pruning leaves without a topology to solve
 DEFAULT = 3
@@ -34,11 +34,12 @@ def coverage(test: Reachability, topology: Sequence[int]) -> tuple[int, int]:
 def approximate_topologies(
     topologies: Sequence[tuple[int, ...]],
     verdicts: dict[tuple[int, ...], Verdict],
-    test: Reachability | None,
+    test: Reachability | SpatialTest | None,
     limit: int,
 ) -> list[tuple[int, ...]]:
     """The pruned topologies to solve for an approximate design: per spring count of which every topology is
-    pruned, the ``limit`` that :func:`coverage` ranks highest (none without a reachability test)."""
+    pruned, the ``limit`` that :func:`coverage` ranks highest (the planar test), or the first ``limit`` in
+    enumeration order (the spatial test, which has no ranking; none without a reachability test)."""
     if test is None or limit <= 0:
         return []
     chosen: list[tuple[int, ...]] = []
@@ -46,7 +47,11 @@ def approximate_topologies(
         level = [topology for topology in topologies if len(topology) == count]
         if any(topology not in verdicts for topology in level):
             continue  # the count has a topology to solve: its best design is an exact attempt
-        ranked = sorted(level, key=lambda topology: tuple(-value for value in coverage(test, topology)))
+        ranked = (
+            sorted(level, key=lambda topology: tuple(-value for value in coverage(test, topology)))
+            if isinstance(test, Reachability)
+            else level
+        )
         chosen.extend(ranked[:limit])
     return chosen
 

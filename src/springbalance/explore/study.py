@@ -18,6 +18,7 @@ whose ``springs`` section is replaced by ``explore``::
       approximate: 3               # per spring count that pruning leaves without a topology: solve this many
                                    # of its pruned ones for its best approximate design (0: none)
       reports: true                # write each solved design's report (designs/<id>/report.html)
+      max_topologies: 20000        # a larger study is refused before it is enumerated
 
 Each task is one topology at one grid point: a pure function of its record
 (:func:`~springbalance.explore.task.solve_task`), so the same task gives the same result on any
@@ -65,7 +66,14 @@ from springbalance.explore.execution import execute, make_client, progress_bar  
 from springbalance.explore.report import write_study_report
 from springbalance.explore.table import COLUMNS, results_csv  # noqa: F401  (COLUMNS: importable from here)
 from springbalance.explore.task import Task
-from springbalance.explore.topology import Reachability, Verdict, enumerate_topologies, reachability
+from springbalance.explore.topology import (
+    MAX_TOPOLOGIES,
+    Reachability,
+    SpatialTest,
+    Verdict,
+    enumerate_topologies,
+    reachability,
+)
 from springbalance.files import write_json_atomic, write_text_atomic
 from springbalance.io.config import config_from_dict, mechanism_from_dict, read_config_file
 from springbalance.model.mechanism import Mechanism
@@ -87,6 +95,7 @@ EXPLORE_KEYS = (
     "prune",
     "approximate",
     "reports",
+    "max_topologies",
 )
 #: names that moved out of this module: where they live now (each still importable from here, with a
 #: DeprecationWarning, for one release). ``make_client`` (now :mod:`springbalance.explore.execution`) is
@@ -106,7 +115,7 @@ class Layout:
     note: str
     topologies: list[tuple[int, ...]]
     verdicts: dict[tuple[int, ...], Verdict]
-    test: Reachability | None = None
+    test: Reachability | SpatialTest | None = None
 
 
 def _fingerprint(record: Any) -> str:
@@ -181,6 +190,9 @@ class Study:
             if isinstance(value, bool) or not isinstance(value, (int, float)) or not value >= 0:
                 raise InputError(f"{label}: explore.{key} must be a number ≥ 0 [m], got {value!r}")
         self.prune, self.approximate, self.reports = _switches(self.explore, label)
+        self.limit = self.explore.get("max_topologies", MAX_TOPOLOGIES)
+        if isinstance(self.limit, bool) or not isinstance(self.limit, int) or self.limit < 1:
+            raise InputError(f"{label}: explore.max_topologies must be an integer ≥ 1, got {self.limit!r}")
         self._layouts: dict[str, Layout] = {}
         layout = self._layout(self.base["mechanism"])  # the base mechanism's (a grid may sweep others)
         self.mechanism, self.candidates, self.reachability_note = layout.mechanism, layout.candidates, layout.note
@@ -210,7 +222,7 @@ class Study:
             except InputError as error:
                 raise InputError(f"{label}: {error}") from None
             test, note = reachability(mechanism, found, self.law.get("type", "extension"))
-            topologies = enumerate_topologies(len(found), self.max_springs)
+            topologies = enumerate_topologies(len(found), self.max_springs, self.limit)
             verdicts = {}
             if test is not None:
                 for topology in topologies:
