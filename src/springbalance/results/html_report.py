@@ -33,6 +33,7 @@ from springbalance.files import write_text_atomic
 from springbalance.results import plots, report_plots
 from springbalance.results.clearance import checked_clearance
 from springbalance.results.flags import Flag, flags
+from springbalance.results.own_link import inside_own_link
 from springbalance.results.report import balance_statement, spec_sheet_rows, spring_mass_statement
 from springbalance.results.tolerance_report import tolerance_html
 from springbalance.results.verification_report import verification_html
@@ -403,7 +404,9 @@ def write_report(result: EvaluatedDesign, folder: str | Path, scene: bool = True
     """Write ``report.html``, ``scene.html`` and the plots (PNG and SVG) into ``folder``.
 
     Returns the path of ``report.html``. ``scene=False`` leaves the scene out;
-    ``scene_options`` go to :class:`springbalance.viz.scene.DesignScene`.
+    ``scene_options`` go to :class:`springbalance.viz.scene.DesignScene`. A spring that runs inside its
+    own link beyond its anchor (:func:`~springbalance.results.own_link.inside_own_link`) is drawn red
+    in the scene and named in its legend.
     """
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
@@ -412,7 +415,11 @@ def write_report(result: EvaluatedDesign, folder: str | Path, scene: bool = True
     figures = report_plots.write_plots(result, folder)
     legend = ""
     if scene:
-        design_scene = DesignScene(result, **scene_options)
+        inside = {
+            f.spring: f"runs inside {f.body} beyond its anchor ({1e3 * f.depth:.3g} mm)"
+            for f in inside_own_link(result)
+        }
+        design_scene = DesignScene(result, **{"flagged": inside, **scene_options})
         write_text_atomic(folder / "scene.html", design_scene.html())
         legend = design_scene.legend_html(position="absolute")
     page = report_html(
