@@ -40,6 +40,8 @@ if TYPE_CHECKING:  # the real imports, for type checkers and IDEs
     from springbalance.springs.laws import (
         CompressionSpring,
         ConstantForceSpring,
+        DirectedForce,
+        DirectedGas,
         ExtensionSpring,
         GasSpring,
         Spring,
@@ -63,6 +65,8 @@ __all__ = [
     "Coupling",
     "DesignProblem",
     "DesignResult",
+    "DirectedForce",
+    "DirectedGas",
     "EvaluatedDesign",
     "Evaluation",
     "ExtensionSpring",
@@ -126,6 +130,8 @@ _SOURCES = {
     "springbalance.springs.laws": (
         "CompressionSpring",
         "ConstantForceSpring",
+        "DirectedForce",
+        "DirectedGas",
         "ExtensionSpring",
         "GasSpring",
         "Spring",

@@ -89,7 +89,6 @@ def test_static_page_has_the_slider_and_its_data(design):
     assert data["title"] == "sweep of each joint"
     # a page without animation has nothing to scrub
     assert SLIDER_ID not in scene.html(animate=False)
-    assert SLIDER_ID not in scene.html(slider=False)
 
 
 def test_live_page_loads_meshcat_from_its_server(design):

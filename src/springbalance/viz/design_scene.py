@@ -33,9 +33,11 @@ What is drawn (all lengths in m, forces in N):
   "anchor regions" checkbox shows it;
 - the arm's mesh files decimated, one part per colour (:mod:`springbalance.viz.arm_meshes`), sent
   once and moved by the animation;
+- a force along a fixed direction (docs/model.md §3.11) as an arrow from its anchor along its push
+  (:mod:`springbalance.viz.arrows`);
+- the parallelograms that realise the mechanism's pseudo-bases, as rods (:mod:`springbalance.viz.parallelograms`);
 - an animation along an ordered path of poses (by default a sweep of each joint in turn,
-  :func:`springbalance.model.sweeps.animation_path`), with meshcat's play/pause/time controls and a
-  pose slider with each spring's force and each joint's residual torque (:mod:`~springbalance.viz.pose_slider`).
+  :func:`springbalance.model.sweeps.animation_path`), meshcat's play/pause/time controls and a pose slider.
 
 The camera looks at the middle of the arm and its springs over the whole animation, from a
 three-quarter view, with the floor grid under the arm (:mod:`springbalance.viz.camera`).
@@ -59,15 +61,16 @@ from springbalance.model import sweeps
 from springbalance.model.workspace import Workspace
 from springbalance.viz.arm import stick_figure, visual_geometry
 from springbalance.viz.arm_meshes import draw_mesh_file, drawable
+from springbalance.viz.arrows import animate_arrow, draw_arrows, force_arrows
 from springbalance.viz.camera import bounding_spheres, camera_view, floor_height, place_camera
 from springbalance.viz.colors import CLEARANCE_COLOR, CLEARANCE_RGB, ColorScale
 from springbalance.viz.helix import HelixStyle, placement
 from springbalance.viz.meshcat_glue import ROOT, insert_before_body_end, meshcat_classes
 from springbalance.viz.meshcat_import import import_meshcat
 from springbalance.viz.overlay import overlay_html
-from springbalance.viz.pose_data import scene_pose_data
-from springbalance.viz.pose_paths import scene_poses
-from springbalance.viz.pose_slider import pose_slider_html
+from springbalance.viz.parallelograms import draw_parallelograms, parallelogram_rods, place_parallelograms
+from springbalance.viz.pose_paths import scene_path
+from springbalance.viz.pose_slider import scene_slider_html
 from springbalance.viz.recorder import SceneRecorder
 from springbalance.viz.regions import REGION_COLOR, RegionShape, anchor_regions, region_geometry
 from springbalance.viz.tracks import SpringTrack, add_clearances, spring_tracks
@@ -102,8 +105,7 @@ class DesignScene:
             ``<collision>`` elements; :attr:`clearance_note` then says why.
         flagged: springs drawn red in every frame, by name, with why (one line for the legend), such
             as the springs that run inside their own link (:mod:`springbalance.results.own_link`).
-        path_title: the pose slider's caption; poses: instead of ``joint_values``, ``"sweep"``, ``"workspace"``
-            or ``"worst[:N]"`` (:func:`~springbalance.viz.pose_paths.scene_poses`, which gives the caption).
+        poses: instead of ``joint_values``: "sweep", "workspace" or "worst[:N]" (:mod:`springbalance.viz.pose_paths`).
 
     Attributes:
         design: the design drawn.
@@ -129,13 +131,10 @@ class DesignScene:
         fps: int = 30,
         margin: float | None = None,
         flagged: dict[str, str] | None = None,
-        path_title: str | None = None,
         poses: str | None = None,
     ) -> None:
         self.design = design
-        if poses is not None and joint_values is None:  # "sweep", "workspace", "worst" or "worst:N"
-            joint_values, path_title = scene_poses(design, poses, frames_per_joint)
-        self.path_title = path_title or ("sweep of each joint" if joint_values is None else "poses")
+        joint_values, self.path_title = scene_path(design, joint_values, poses, frames_per_joint)  # slider's caption
         mechanism = design.problem.mechanism
         self.mechanism = mechanism
         if joint_values is None:
@@ -151,14 +150,18 @@ class DesignScene:
         self.springs, self._records, columns = spring_tracks(
             design, self.evaluation.lengths, self.evaluation.tensions, kinematics, style
         )
+        #: forces along a fixed direction, drawn as arrows (:mod:`springbalance.viz.arrows`)
+        self.arrows, drawn = force_arrows(design, self.evaluation.tensions, kinematics)
         #: the springs left out of the drawing (torsional springs), by name
-        self.skipped = [record["name"] for column, record in enumerate(design.springs) if column not in columns]
+        self.skipped = [record["name"] for column, record in enumerate(design.springs) if column not in columns + drawn]
         path_tensions = self.evaluation.tensions[:, columns]
         design_tensions = design.evaluation.tensions[:, columns]
         self.color_scale = ColorScale.for_tensions(path_tensions, design_tensions)
         # the legend's compression half is for springs that push in the animation, not for laws that could
         self.compression = bool(np.any(self.color_scale.pushes(path_tensions)))
         self.regions: list[RegionShape] = anchor_regions(design.problem.springs, kinematics, self.size)
+        #: the rods of the parallelograms realising the pseudo-bases (:mod:`springbalance.viz.parallelograms`)
+        self.parallelograms = parallelogram_rods(mechanism, self.configurations)
         self.flagged = dict(flagged or {})
         self.margin, self.clearance_note = self._margin(margin), None
         if self.margin is not None:
@@ -257,7 +260,9 @@ class DesignScene:
 
         root = visualizer[ROOT]
         helix_objects = self._draw_springs(root, sprites)
+        draw_arrows(root, self.arrows)
         self._draw_regions(root)
+        draw_parallelograms(root, self.parallelograms)
         if animate and self.size > 1:
             visualizer.window.send(
                 classes.SetAnimation(
@@ -339,8 +344,11 @@ class DesignScene:
                 root = at[ROOT]
                 for spring in self.springs:
                     self._animate_spring(root, spring, frame, helix_objects[spring.name], labels[spring.name])
+                for arrow in self.arrows:
+                    animate_arrow(root, arrow, frame)
                 for region in self.regions:
                     root["regions"][f"{region.spring}.{region.end}"].set_transform(region.placements[frame])
+                place_parallelograms(root, self.parallelograms, frame)
         return animation
 
     @staticmethod
@@ -427,18 +435,15 @@ class DesignScene:
         place_camera(visualizer, position, center, floor_height(centres, radii), radius)
 
     # ---------------------------------------------------------------- exports
-    def html(self, animate: bool = True, autoplay: bool = True, legend: bool = True, slider: bool = True) -> str:
+    def html(self, animate: bool = True, autoplay: bool = True, legend: bool = True) -> str:
         """Self-contained HTML page of the scene: meshcat's static page, the name labels and the regions'
-        checkbox (:func:`~springbalance.viz.overlay.overlay_html`), the colour legend and, when animated,
-        the pose slider (:mod:`springbalance.viz.pose_slider`)."""
+        checkbox (:func:`~springbalance.viz.overlay.overlay_html`), the pose slider and the colour legend."""
         recorder = SceneRecorder()
         visualizer = import_meshcat().Visualizer(window=recorder)
         self.draw(visualizer, animate=animate, autoplay=autoplay, sprites=False)
         page = visualizer.static_html()
         labels = [(spring.name, any(self.red(spring, f) for f in range(self.size))) for spring in self.springs]
-        page = insert_before_body_end(page, overlay_html(labels, bool(self.regions)))
+        page = insert_before_body_end(page, overlay_html(labels, bool(self.regions)) + scene_slider_html(self, animate))
         if legend:
             page = insert_before_body_end(page, self.legend_html())
-        if slider and animate:
-            page = insert_before_body_end(page, pose_slider_html(scene_pose_data(self)))
         return page

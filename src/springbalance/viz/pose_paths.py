@@ -12,6 +12,7 @@ r"""Which poses a scene animates and its pose slider scrubs through (:func:`scen
 from __future__ import annotations
 
 import numpy as np
+import numpy.typing as npt
 
 from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.errors import InputError
@@ -61,3 +62,13 @@ def scene_poses(design: EvaluatedDesign, poses: str = "sweep", frames_per_joint:
         return workspace.joint_values.copy(), f"the design's {workspace.size} workspace poses"
     chosen = worst_poses(design, WORST_COUNT if count is None else count)
     return workspace.joint_values[chosen], f"the {len(chosen)} worst poses (largest residual torque first)"
+
+
+def scene_path(
+    design: EvaluatedDesign, joint_values: npt.ArrayLike | None, poses: str | None, frames_per_joint: int = 48
+) -> tuple[npt.ArrayLike | None, str]:
+    """A scene's path and its caption: ``joint_values`` as given (None: the scene sweeps each joint) with the
+    caption "poses" (or "sweep of each joint"), or, for ``poses`` and no ``joint_values``, :func:`scene_poses`."""
+    if poses is not None and joint_values is None:
+        return scene_poses(design, poses, frames_per_joint)
+    return joint_values, "sweep of each joint" if joint_values is None else "poses"

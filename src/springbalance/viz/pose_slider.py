@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import html
 
-from springbalance.viz.pose_data import PoseData
+from springbalance.viz.pose_data import PoseData, SceneLike, scene_pose_data
 
 #: the element ids of the slider's parts (the tests and ``window.springbalancePoses`` use them)
 CONTAINER_ID, SLIDER_ID, LABEL_ID, TABLE_ID, DATA_ID = (
@@ -168,6 +168,12 @@ def pose_slider_html(data: PoseData) -> str:
         f'<script type="application/json" id="{DATA_ID}">{data.to_json()}</script>'
         f"{_SCRIPT}\n"
     )
+
+
+def scene_slider_html(scene: SceneLike, animate: bool = True) -> str:
+    """:func:`pose_slider_html` of a :class:`~springbalance.viz.design_scene.DesignScene` (its poses' numbers,
+    :func:`~springbalance.viz.pose_data.scene_pose_data`), or "" for a page without animation (nothing to scrub)."""
+    return pose_slider_html(scene_pose_data(scene)) if animate else ""
 
 
 def live_page(data: PoseData, legend: str = "", title: str = "springbalance scene") -> str:
