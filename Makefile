@@ -6,7 +6,7 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 DOCS_STAMP := $(VENV)/.docs-installed
 
-.PHONY: bytecode demo lint test test-fast bench bench-buildable bench-clearance bench-explore bench-startup bench-workers bench-memory bench-cli-memory bench-evaluation bench-ipopt bench-real clean chromium demo-check docs
+.PHONY: bytecode demo lint test test-fast bench bench-buildable bench-clearance bench-explore bench-startup bench-workers bench-memory bench-cli-memory bench-evaluation bench-ipopt bench-real clean chromium demo-check docs test-drake
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -33,6 +33,12 @@ test: lint chromium
 
 test-fast: lint
 	$(BIN)/python -m pytest -q -m "not slow"
+
+# Drake's check of an exported pseudo-base arm (tests/io/test_export_pseudo_bases.py skips it without
+# Drake): Drake's wheel is large, so `make test` does not install it; this target does, then runs it.
+test-drake: $(STAMP)
+	$(BIN)/python -m pip install --quiet drake
+	$(BIN)/python -m pytest -q tests/io/test_export_pseudo_bases.py
 
 # The code's shape before any test: ruff's format and lint (imports sorted), mypy on src/ (pyproject.toml),
 # and the layers and cycles of the import contracts

@@ -5,7 +5,7 @@ RGBA 0.2 0.3 0.8) with two extension springs whose values are the middles of the
 bounds (the design vector is the problem's first guess):
 
 - ``shoulder``: ground point (0, 0, 0.15) to a point free on a segment of link1, stiff, so
-  its tension is high (dark red on the colour scale);
+  its tension is high (dark raspberry on the colour scale);
 - ``forearm``: a point free in a box of link1 to a point of link2, soft, so its tension
   stays low (yellow).
 
@@ -109,10 +109,26 @@ def recorded_scene(result, path):
     return scene, recorder
 
 
+def track_keys(track):
+    """The value of each key frame of a lowered animation track, frame by frame: the scene sends
+    ``times`` and flat ``values`` as float32 arrays (msgpack Float32Array extensions); meshcat's own
+    tracks have ``keys``."""
+    if "keys" in track:
+        return [key["value"] for key in track["keys"]]
+    times = np.frombuffer(track["times"].data, dtype=np.float32)
+    np.testing.assert_array_equal(times, np.arange(len(times)))  # one key per frame, in order
+    values = np.frombuffer(track["values"].data, dtype=np.float32).astype(float)
+    return values.reshape(len(times), -1).tolist()
+
+
+#: what float32 key frames keep of a value of about 1 [m or 1]: 2^-24 relative, with margin
+FLOAT32_ATOL = 1e-6
+
+
 def animation_clips(recorder):
     animation = next(umsgpack.unpackb(node.animation) for node in walk(recorder.tree) if node.animation is not None)
     return {
-        item["path"]: {track["name"]: [key["value"] for key in track["keys"]] for track in item["clip"]["tracks"]}
+        item["path"]: {track["name"]: track_keys(track) for track in item["clip"]["tracks"]}
         for item in animation["animations"]
     }
 
@@ -168,3 +184,36 @@ def crossing_spring():
 def elbow_path(degrees):
     elbow = np.radians(degrees)
     return np.column_stack([np.zeros_like(elbow), elbow])
+
+
+def project(scene, points, window=browser.WINDOW):
+    """Pixel coordinates (K×2: right, down) [px] of world ``points`` (K×3) [m] in a ``window`` (width,
+    height) view of the scene: meshcat's perspective camera (75° vertical field of view, the window's
+    aspect, world z up) at ``scene.camera_position`` looking at ``scene.camera_target``."""
+    width, height = window
+    camera, target = np.asarray(scene.camera_position), np.asarray(scene.camera_target)
+    forward = (target - camera) / np.linalg.norm(target - camera)
+    right = np.cross(forward, [0.0, 0.0, 1.0])
+    right /= np.linalg.norm(right)
+    up = np.cross(right, forward)
+    relative = np.asarray(points, dtype=float) - camera
+    depth = relative @ forward
+    assert np.all(depth > 0), "a point behind the camera"
+    half = np.tan(np.radians(75 / 2))
+    x = (relative @ right) / depth / (half * width / height)
+    y = (relative @ up) / depth / half
+    return np.column_stack([(x + 1) / 2 * width, (1 - y) / 2 * height])
+
+
+def arm_points(design, path):
+    """World positions [m] over ``path`` of every frame of the arm's model (joints, links, tool) and both
+    ends of every spring: the arm and its springs, from Pinocchio alone."""
+    mechanism = design.problem.mechanism
+    model, data = mechanism.model, mechanism.model.createData()
+    points = []
+    for q in mechanism.configurations(path):
+        pin.framesForwardKinematics(model, data, q)
+        points += [data.oMf[f].translation.copy() for f in range(model.nframes)]
+    for starts, ends in model_end_points(design, path).values():
+        points += list(starts) + list(ends)
+    return np.array(points)

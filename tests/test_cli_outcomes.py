@@ -123,9 +123,14 @@ def test_the_demo_passes_with_its_objective(tmp_path, capsys):
     saved = json.loads(out.read_text())
     assert saved["failures"] == [] and "partial" not in saved
     # the three coils remove most of the gravity torque (docs/model.md §9: the arm can be balanced exactly by
-    # ideal springs, and coils that fit a 40 mm envelope keep at least 90 % of it here), and hold at 10x the poses
+    # ideal springs; coils that fit a 40 mm envelope and live their stated 10⁶ cycles at n_f ≥ 1.2 keep at
+    # least 85 % of it here: the hooks' bending fatigue binds, where the static rules alone kept over 90 %),
+    # and hold at 10x the poses
     objective = saved["metrics"]["objectives"]["rms"]
-    assert objective["after"] <= 0.1 * objective["before"]
+    assert objective["after"] <= 0.15 * objective["before"]
+    for spring in DesignResult.load(out).springs:
+        for location, margin in spring["helical"]["fatigue"].items():
+            assert not isinstance(margin, dict) or margin["safety_factor"] >= 1.2 * (1 - 1e-6), location
     assert saved["solver"]["verification"]["passed"] and saved["solver"]["verification"]["poses"] >= 10 * 128
     assert saved["solver"]["twin"]["objective"] < 1e-6  # the ideal twin balances the arm exactly
     assert main(["evaluate", str(out)]) == 0

@@ -28,6 +28,8 @@ if TYPE_CHECKING:  # the real imports, for type checkers and IDEs
     from springbalance.design.objectives import OBJECTIVES
     from springbalance.design.problem import DesignProblem, Evaluation
     from springbalance.design.scenarios import Payload, Scenario, payload_scenarios
+    from springbalance.design.tolerance_spec import ToleranceSpec
+    from springbalance.io.stock_catalogues import load_stock
     from springbalance.model.mechanism import GROUND, Joint, Mechanism
     from springbalance.model.workspace import Coupling, Workspace
     from springbalance.pipeline import solve
@@ -38,6 +40,8 @@ if TYPE_CHECKING:  # the real imports, for type checkers and IDEs
     from springbalance.springs.laws import (
         CompressionSpring,
         ConstantForceSpring,
+        DirectedForce,
+        DirectedGas,
         ExtensionSpring,
         GasSpring,
         Spring,
@@ -61,6 +65,8 @@ __all__ = [
     "Coupling",
     "DesignProblem",
     "DesignResult",
+    "DirectedForce",
+    "DirectedGas",
     "EvaluatedDesign",
     "Evaluation",
     "ExtensionSpring",
@@ -87,6 +93,7 @@ __all__ = [
     "SolverError",
     "Spring",
     "SpringBalanceError",
+    "ToleranceSpec",
     "TorsionalSpring",
     "TwoPointSpring",
     "Workspace",
@@ -94,6 +101,7 @@ __all__ = [
     "__version__",
     "constraints",
     "exact",
+    "load_stock",
     "payload_range",
     "payload_scenarios",
     "residual_vs_payload",
@@ -110,6 +118,8 @@ _SOURCES = {
     "springbalance.design.evaluated": ("EvaluatedDesign",),
     "springbalance.design.problem": ("DesignProblem", "Evaluation"),
     "springbalance.design.scenarios": ("Payload", "Scenario", "payload_scenarios"),
+    "springbalance.io.stock_catalogues": ("load_stock",),
+    "springbalance.design.tolerance_spec": ("ToleranceSpec",),
     "springbalance.model.mechanism": ("GROUND", "Joint", "Mechanism"),
     "springbalance.model.workspace": ("Coupling", "Workspace"),
     "springbalance.pipeline": ("solve",),
@@ -120,6 +130,8 @@ _SOURCES = {
     "springbalance.springs.laws": (
         "CompressionSpring",
         "ConstantForceSpring",
+        "DirectedForce",
+        "DirectedGas",
         "ExtensionSpring",
         "GasSpring",
         "Spring",

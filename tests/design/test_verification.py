@@ -19,7 +19,6 @@ from springbalance.design.clearance import LinearRows, stacked_rows
 from springbalance.design.verification import VERIFY_FACTOR, VERIFY_SEED, check_design, verification_poses
 from springbalance.design.verification_loop import check_mode
 from springbalance.errors import InputError
-from springbalance.springs.fatigue import fatigue_margins
 
 URDF = Path(__file__).resolve().parents[2] / "urdf"
 RANGES = {"shoulder": [-np.pi / 2, np.pi / 2], "elbow": [-2.0, 2.0]}
@@ -30,13 +29,14 @@ def arm():
     return sb.Mechanism.from_urdf(URDF / "two_link_planar.urdf")
 
 
-def forearm_coil():
+def forearm_coil(**options):
     """A free helical extension spring from the ground to link2 (a forearm balancer)."""
     return sb.HelicalExtensionSpring(
         sb.Anchor("universe", sb.Free([-0.3, 0, -0.1], [0.3, 0, 0.6])),
         sb.Anchor("link2", sb.Free([0.02, 0, 0], [0.4, 0, 0])),
         "forearm",
         max_outer_diameter=0.04,
+        **options,
     )
 
 
@@ -197,31 +197,24 @@ def test_check_design_of_a_fixed_spring_reports_its_residual_peak_and_rms(arm):
     assert record.residual_passed == (not exceeded) and (check.poses.shape[0] > 0) == exceeded
 
 
-# ---------------------------------------------------------------------- a coil with a duty
-def test_a_fatigue_floor_undercut_between_samples_is_judged_by_the_force_range_met(arm):
-    # F_lo, the fatigue rows' lower bound of the coil's force, sits at the least force over the 8 samples; a
-    # pose between them pulls a little less. That is not a broken rule: n_f over the force range the coil
-    # really sees is (Shigley's fatigue check of a preloaded spring: F_min and F_max over every pose).
-    coil = forearm_coil()
-    coil = sb.HelicalExtensionSpring(coil.anchors["a"], coil.anchors["b"], "forearm", max_outer_diameter=0.04, duty={})
+def test_a_fatigue_floor_above_the_unseen_minimum_is_lowered_to_it_and_fatigue_judged_there(arm):
+    """The fatigue floor F_lo is an auxiliary bound on the force range (springs/fatigue_rows.py), not a rule: the
+    verification lowers it to the coil's smallest force at the poses verified and judges the fatigue rows with it.
+    A floor set 5 N above that minimum verifies exactly like the floor set at it (measured from the coil's own
+    tension at those poses), and the floor rule then holds."""
     workspace = sb.Workspace.sobol(arm, n=8, ranges=RANGES, seed=0)
-    result = sb.solve(sb.DesignProblem(arm, workspace, [coil]), starts=1, verify="off", progress=False)
-    floor = result.variables["forearm.fatigue_min_force"]
+    problem = sb.DesignProblem(arm, workspace, [forearm_coil(duty={"cycles": 1e6})])
+    result = sb.solve(problem, starts=1, verify="off", progress=False)
     values, _ = verification_poses(workspace)
-    forces = np.concatenate(
-        [result.evaluation.tensions[:, 0], result.on_workspace(sb.Workspace(arm, values)).evaluation.tensions[:, 0]]
-    )
-    assert forces.min() < floor - 1e-6  # the unseen poses undercut the floor (else this test proves nothing)
-    record = check_design(result.problem, result.x).record
-    rules = {rule.label: rule for rule in record.rules}
-    assert rules["forearm.fatigue_floor"].passed and rules["forearm.fatigue_floor"].margin >= 0
-    values_of = result.spring("forearm")
-    margins = fatigue_margins(
-        values_of["wire_diameter"], values_of["mean_diameter"], "music_wire", forces.min(), forces.max(), {}
-    )
-    for location, margin in margins.items():
-        # each damage rule holds exactly when n_f over the whole range met (samples and poses) reaches the
-        # duty's 1.2: its margin has the sign of n_f - 1.2 (Gerber's row at n = 1.2, docs/model.md §3.8.2)
-        rule = rules[f"forearm.fatigue_{location}"]
-        assert np.sign(rule.margin) == np.sign(margin.safety_factor - 1.2), (location, rule, margin)
-        assert rule.passed == (margin.safety_factor >= 1.2)
+    tension = result.on_workspace(sb.Workspace(arm, values)).evaluation.tensions[:, 0]
+    floor = problem.variables.names.index("forearm.fatigue_min_force")
+    at_minimum, above = np.array(result.x, dtype=float), np.array(result.x, dtype=float)
+    at_minimum[floor] = float(np.min(tension))
+    above[floor] = float(np.min(tension)) + 5.0
+    judged = {rule.label: rule for rule in check_design(problem, above).record.rules}
+    reference = {rule.label: rule for rule in check_design(problem, at_minimum).record.rules}
+    assert judged["forearm.fatigue_floor"].passed
+    fatigue = [label for label in judged if label.startswith("forearm.fatigue_") and label != "forearm.fatigue_floor"]
+    assert fatigue
+    for label in fatigue:
+        assert judged[label].margin == pytest.approx(reference[label].margin, abs=1e-9), label

@@ -21,6 +21,7 @@ import yaml
 from springbalance.cli import main
 from springbalance.explore import load_study, make_client, solve_task
 from springbalance.results.result import DesignResult
+from study_report_helpers import assert_links_resolve
 
 pytestmark = pytest.mark.slow  # every test here runs a whole study
 
@@ -43,6 +44,7 @@ def small_study(tmp_path, **explore) -> Path:
             "seed": 3,
             "spring": {"type": "zero_free_length", "stiffness": {"lower": 0, "upper": 5000}},
             "grid": {"objective": ["rms", "pe_variance"]},
+            "reports": False,  # no page per design: these tests are about solving
             **explore,
         },
     }
@@ -89,6 +91,13 @@ def test_three_link_chain_exact_topology_found_and_unreachable_ones_listed(tmp_p
     assert loaded.exact_balance()["relative_residual"] < EXACT
     assert main(["evaluate", str(tmp_path / "study" / "best_3_springs.json")]) == 0
     assert "Pareto" in (tmp_path / "study" / "report.html").read_text()
+    # pruning leaves no 1- or 2-spring topology: the report still gives each count's best approximate design,
+    # the best of a few pruned topologies solved anyway, whose residual is not exact
+    for count in (1, 2):
+        approximate = [r for r in result.results.values() if r["count"] == count]
+        assert 1 <= len(approximate) <= study.approximate and all(r["pruned"] for r in approximate)
+        assert not result.best()[count]["exact"] and result.best()[count]["relative_residual"] > 1e-3
+    assert_links_resolve(tmp_path / "study")
     # every pruned topology really is worse: solving the neighbour chain leaves a residual
     unpruned = load_study(THREE_LINK, max_springs=3)
     unpruned.prune = False

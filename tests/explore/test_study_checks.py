@@ -46,6 +46,7 @@ def _study(folder):
             "starts": 1,
             "seed": 0,
             "spring": {"type": "zero_free_length", "stiffness": {"lower": 0, "upper": 1000}},
+            "reports": False,  # the design files only (designs/<id>.json): no page per design, faster
         },
     }
     return config_file(folder, record, "study.yaml")

@@ -93,6 +93,7 @@ def test_demo_form_has_the_loads_at_the_working_extremes(demo):
         d, D, n = entry["wire_diameter"], entry["mean_diameter"], entry["active_coils"]
         assert fields["load_2"]["tolerance"] == pytest.approx(_force_tolerance(d, D, n, f2), rel=1e-9)
         assert fields["free_length"]["value"] == pytest.approx(d * (n + 1) + 2 * (D - d), rel=1e-12)
+        assert fields["free_length"]["reference"] and fields["free_length"]["tolerance"] is None
         assert fields["initial_tension"]["value"] == pytest.approx(entry["initial_tension"], rel=1e-12)
         # ASTM A228: 2 mm = 0.0787 in → ±0.0005 in; 3 and 5 mm (0.118, 0.197 in) → ±0.001 in
         expected = 0.0005 * INCH if d <= 0.080 * INCH else 0.001 * INCH
@@ -132,7 +133,8 @@ def test_drawing_parses_and_carries_the_dimensions(demo):
         texts = [element.text or "" for element in root.iter(f"{SVG}text")]
         d, D, n = entry["wire_diameter"], entry["mean_diameter"], entry["active_coils"]
         free = d * (n + 1) + 2 * (D - d)
-        assert any(text.startswith(f"L0 = {free * 1e3:.2f} ±") for text in texts), texts
+        # two loads are specified, so L0 is a reference dimension (DIN 2099): in parentheses, no tolerance
+        assert f"L0 ({free * 1e3:.2f})" in texts, texts
         assert any(text.startswith(f"De ⌀{(D + d) * 1e3:.2f} ±") for text in texts)
         assert any(text.startswith(f"d = {d * 1e3:.2f} ±") for text in texts)
         assert any(text == f"LK ({d * (n + 1) * 1e3:.2f})" for text in texts)

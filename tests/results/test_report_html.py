@@ -151,13 +151,14 @@ def test_report_of_a_saved_design_round_trips(design, tmp_path):
 def test_the_views_take_the_numbers_of_a_design(design, tmp_path):
     """The views are functions of an EvaluatedDesign: a bare one (no DesignResult) gives the same report."""
     from springbalance.design.evaluated import EvaluatedDesign
-    from springbalance.results import flags, report
+    from springbalance.results import flags, report, report_plots
 
     bare = EvaluatedDesign(design.problem, design.x, status=design.status, method=design.method)
     assert type(bare) is EvaluatedDesign
     assert report.result_table(bare) == design.table()
     assert flags.flags(bare) == design.warnings()
     assert html_report.report_html(bare) == html_report.report_html(design)
-    assert html_report.write_report(bare, tmp_path / "bare", scene=False).read_text() == html_report.report_html(
-        bare, scene=None, exports=[]
-    )
+    page = html_report.write_report(bare, tmp_path / "bare", scene=False).read_text()
+    figures = report_plots.write_plots(bare, tmp_path / "bare")  # the further plots: here the spread only
+    assert [figure.file for figure in figures] == ["spread.svg"]
+    assert page == html_report.report_html(bare, scene=None, exports=[], figures=figures)

@@ -172,3 +172,14 @@ def test_a_coil_with_a_duty_has_fatigue_rows_and_a_floor_variable() -> None:
     # without a duty, or fixed in place, nothing is added
     plain = HelicalExtensionSpring(Anchor("universe"), Anchor("link1", Free([0.1, 0, 0], [0.3, 0, 0])), "s")
     assert not [c for c in plain.constraints() if c.name == "fatigue"]
+
+
+def test_a_compression_spring_short_of_infinite_life_does_not_claim_a_finite_one():
+    """Compression springs have Zimmerli's infinite-life point only (Table 10-8 is for extension springs): a
+    body below the required factor is short of infinite life, not '< 1e5 cycles'."""
+    margins = fatigue_margins(0.002, 0.016, "music_wire", 20.0, 60.0, {"safety_factor": 10.0}, kind="compression")
+    body = margins["body"]
+    assert not body.holds and not body.finite_data
+    assert "no finite-life data" in body.life_text() and "1e+05" not in body.life_text()
+    extension = fatigue_margins(0.002, 0.016, "music_wire", 20.0, 60.0, {"safety_factor": 10.0})
+    assert all(margin.finite_data for margin in extension.values())

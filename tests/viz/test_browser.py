@@ -63,7 +63,7 @@ def test_chromium_census_finds_nothing_on_an_empty_scene(tmp_path):
     assert census.arm < 5 and census.spring < 5, census
 
 
-def test_magenta_spring_renders_in_headless_chromium(tmp_path):
+def test_red_spring_renders_in_headless_chromium(tmp_path):
     require_chromium()
     path = elbow_path([120])  # link2 passes through the spring
     scene = viz.DesignScene(fixed_design(COLLISION_URDF, [crossing_spring()], path), path, margin=MARGIN)

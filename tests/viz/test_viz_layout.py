@@ -17,6 +17,7 @@ from springbalance.viz import scene as viz
 
 VIZ_MODULES = (
     "arm",
+    "arm_meshes",
     "browser",
     "camera",
     "colors",
@@ -25,6 +26,7 @@ VIZ_MODULES = (
     "live",
     "meshcat_glue",
     "meshcat_import",
+    "overlay",
     "recorder",
     "regions",
     "scene",

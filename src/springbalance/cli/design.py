@@ -21,8 +21,8 @@ from springbalance.design.stock import StockSelection
 from springbalance.design.verification_loop import MODES as VERIFY_MODES
 from springbalance.errors import Interrupted
 from springbalance.files import write_json_atomic
-from springbalance.io.catalogue import read_catalogue
 from springbalance.io.config import load_config
+from springbalance.io.stock_catalogues import load_stock
 from springbalance.pipeline import solve
 from springbalance.results.range_flags import beyond_joint_limits
 from springbalance.results.result import DesignResult
@@ -74,9 +74,10 @@ def add_parser(commands: argparse._SubParsersAction, common: argparse.ArgumentPa
     )
     design.add_argument(
         "--stock",
-        metavar="CATALOGUE.csv",
-        help="then pick each extension and compression spring from this stock catalogue (CSV, "
-        "columns: docs/guides/coils-and-stock.md) and re-optimise the anchors",
+        metavar="CATALOGUE",
+        help="then pick each extension and compression spring from these stock parts and re-optimise the "
+        "anchors: ms24585 (compression) and/or ms24586 (extension), the standard catalogues, or a CSV file "
+        "(columns: docs/guides/coils-and-stock.md); several separated by commas (overrides solve.stock)",
     )
     design.add_argument("--quiet", "-q", action="store_true", help="print nothing on success, no progress bar")
     design.add_argument(
@@ -96,8 +97,9 @@ def handle(args: argparse.Namespace) -> int:
     check_output(out)
     parts = None
     if args.stock is not None:  # a bad catalogue fails before the solve
-        parts = read_catalogue(args.stock)
+        parts = load_stock(args.stock)
     config = load_config(args.config)
+    catalogue = args.stock if args.stock is not None else config.stock_source
     for flag in beyond_joint_limits(config.problem.mechanism, config.problem.base_workspace.joint_values):
         print(f"{PROG}: warning: {flag.message}", file=sys.stderr)
     progress = False if args.quiet else None
@@ -117,7 +119,7 @@ def handle(args: argparse.Namespace) -> int:
         result.partial = failure_summary(failures)
     saved = not failures or args.partial
     if saved:
-        _save_design(result, out, result.stock, args.stock)
+        _save_design(result, out, result.stock, catalogue)
     if not args.quiet:
         print(result.table())
         if result.stock is not None:

@@ -70,6 +70,13 @@ def handle(args: argparse.Namespace) -> int:
     if args.sequential and (args.scheduler or args.workers):
         raise InputError("--sequential runs without Dask: it takes no --scheduler or --workers")
     study = load_study(args.config, max_springs=args.max_springs)
+    if not args.quiet:  # the size of the study before anything is solved
+        summary = study.summary()
+        print(
+            f"{len(study.candidates)} candidates, {summary['topologies']} topologies × {summary['grid_points']} grid "
+            f"point(s), {len(summary['unreachable'])} proven unreachable: {study.pending(args.out)} task(s) to solve",
+            flush=True,
+        )
     # nothing left to solve (a finished study run again): no cluster to start
     client = (
         None
@@ -103,6 +110,7 @@ def _print_summary(study: Study, result: StudyResult, out: Path) -> None:
         print(
             f"  best with {count} spring(s): {' + '.join(record['springs'])}  residual "
             f"{record['relative_residual']:.3g} of the unbalanced peak{'  (exact)' if record['exact'] else ''}"
+            f"{'  (approximate: every topology of this count was pruned)' if record.get('pruned') else ''}"
             f"{'  FAILS: ' + ', '.join(record['failures']) if record.get('ok') is False else ''}"
             f"  -> {out / f'best_{count}_springs.json'}"
         )

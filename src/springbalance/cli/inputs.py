@@ -11,6 +11,7 @@ from springbalance.io.config import load_workspace
 from springbalance.model import budget
 from springbalance.model.sweeps import moving_joints
 from springbalance.results.result import DesignResult
+from springbalance.viz.pose_paths import WORST_COUNT, parse_poses
 
 
 def check_output(out: Path, option: str = "--out", example: str = "design.json") -> None:
@@ -36,11 +37,16 @@ def load_result(design: str, workspace: str | None = None) -> DesignResult:
     return result
 
 
-def check_scene_budget(result: DesignResult, frames_per_joint: int) -> None:
-    """Refuse (--frames too large) a scene whose estimated memory is above the limit, before drawing it."""
-    frames = frames_per_joint * max(len(moving_joints(result)), 1) + 1
-    objects = len(result.problem.mechanism.body_names) + len(result.problem.springs)
-    budget.require(
-        budget.scene_bytes(frames, objects),
-        f"a scene of {frames} frames (--frames {frames_per_joint} per moving joint) and {objects} objects",
+def check_scene_budget(result: DesignResult, frames_per_joint: int, poses: str = "sweep") -> None:
+    """Refuse (--frames too large) a scene whose estimated memory is above the limit, before drawing it; ``poses``
+    (``--poses``, :func:`springbalance.viz.pose_paths.parse_poses`) is checked first."""
+    kind, count = parse_poses(poses)
+    frames, why = (
+        frames_per_joint * max(len(moving_joints(result)), 1) + 1,
+        f"--frames {frames_per_joint} per moving joint",
     )
+    if kind != "sweep":
+        size = result.problem.workspace.size
+        frames, why = (size if kind == "workspace" else min(count or WORST_COUNT, size)), f"--poses {poses}"
+    objects = len(result.problem.mechanism.body_names) + len(result.problem.springs)
+    budget.require(budget.scene_bytes(frames, objects), f"a scene of {frames} frames ({why}) and {objects} objects")

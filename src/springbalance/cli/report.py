@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import argparse
+import time
 from pathlib import Path
 
 from springbalance.cli.arguments import positive_int
@@ -35,6 +36,13 @@ def add_parser(commands: argparse._SubParsersAction, common: argparse.ArgumentPa
         metavar="N",
         help="animation frames per swept joint in scene.html (default 48)",
     )
+    report.add_argument(
+        "--poses",
+        default="sweep",
+        metavar="WHICH",
+        help="the poses the scene animates and its pose slider scrubs: sweep (each joint in turn, default), "
+        "workspace (the design's samples) or worst[:N] (its N worst samples, worst first; default 12)",
+    )
     report.set_defaults(handler=handle)
 
 
@@ -46,13 +54,12 @@ def handle(args: argparse.Namespace) -> int:
         raise InputError(f"--out {str(out)!r} is a file; give a folder")
     result = load_result(args.design, args.workspace)
     if not args.no_scene:
-        check_scene_budget(result, args.frames)
-    path = result.report(out, scene=not args.no_scene, frames_per_joint=args.frames)
-    files = (
-        ["report.html"]
-        + ([] if args.no_scene else ["scene.html"])
-        + ["torques.png", "torques.svg", "histogram.png", "histogram.svg"]
-    )
+        check_scene_budget(result, args.frames, args.poses)
+    started = time.time()
+    path = result.report(out, scene=not args.no_scene, frames_per_joint=args.frames, poses=args.poses)
+    # the files this report wrote (the plots depend on the design: coils, tolerances), report.html first
+    written = [item.name for item in sorted(out.iterdir()) if item.is_file() and item.stat().st_mtime >= started - 1]
+    files = sorted(written, key=lambda name: (name != "report.html", name != "scene.html", name))
     print(f"report written to {path}")
     print(f"  files in {out}: {', '.join(files)}")
     failures = result.failures()

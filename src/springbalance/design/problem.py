@@ -41,8 +41,10 @@ from springbalance.design.problem_inputs import (
     spring_mass_bound,
 )
 from springbalance.design.problem_nlp import ProblemNlp
-from springbalance.design.problem_record import options, options_record
+from springbalance.design.problem_record import options, options_record, scenario_rows
+from springbalance.design.robust import case_scenarios, checked_tolerance, robust_cases
 from springbalance.design.scenarios import Scenario, ScenarioWorkspace, check_scenarios
+from springbalance.design.tolerance_spec import ToleranceSpec
 from springbalance.design.torque_model import BlockEvaluator, TorqueModel, compiled
 from springbalance.errors import InputError
 from springbalance.model import budget
@@ -88,6 +90,9 @@ class DesignProblem(ProblemNlp):
         max_spring_mass: an upper bound [kg] on the total mass of the springs, a constraint row of the
             design (:func:`springbalance.design.spring_mass.total_spring_mass`: a coil's wire, a
             given ``mass``; an ideal spring without one counts 0). None: no bound.
+        tolerance: the springs' tolerances (:class:`~springbalance.design.tolerance_spec.ToleranceSpec`); with
+            ``robust`` the problem's scenarios are the nominal law and the corners of the box, its objective
+            the worst of them (:mod:`springbalance.design.robust`, docs/model.md §3.10).
     """
 
     def __init__(
@@ -103,6 +108,7 @@ class DesignProblem(ProblemNlp):
         no_joint_worse: bool = False,
         clearance: Clearance | None = None,
         max_spring_mass: float | None = None,
+        tolerance: ToleranceSpec | None = None,
     ):
         if workspace.mechanism is not mechanism:
             raise InputError(
@@ -111,14 +117,19 @@ class DesignProblem(ProblemNlp):
         if aggregate not in AGGREGATES:
             raise InputError(f"unknown scenario aggregate {aggregate!r}; valid: {', '.join(AGGREGATES)}")
         self.base_workspace = workspace
+        self.springs = resolve_mounts(mechanism, named_springs(springs))
+        self.tolerance = checked_tolerance(tolerance)
+        #: the corner cases of a robust design (they are its scenarios), or None
+        self.corners = robust_cases(self.tolerance, self.springs, objective, scenarios, per_scenario)
+        scenarios = case_scenarios(self.corners) if self.corners is not None else scenarios
         self.scenarios = check_scenarios(mechanism, scenarios) if scenarios is not None else []
         self.per_scenario = [str(name) for name in per_scenario]
-        self.aggregate = aggregate
+        self.aggregate = aggregate if self.corners is None else "worst"
         if self.scenarios:
             workspace = ScenarioWorkspace(workspace, self.scenarios)
         self.mechanism, self.workspace = mechanism, workspace
-        self.springs = resolve_mounts(mechanism, named_springs(springs))
-        self.objective = problem_objective(objective, workspace, len(self.scenarios), aggregate)
+        combined = "worst" if self.corners is not None else aggregate
+        self.objective = problem_objective(objective, workspace, len(self.scenarios), combined)
         self.weights = joint_weights(mechanism, weights)
         nv, nq, samples = mechanism.nv, mechanism.model.nq, workspace.size
         budget.require(budget.kinematics_bytes(samples, nv, nq), f"the gravity torques of {samples} samples")
@@ -152,6 +163,7 @@ class DesignProblem(ProblemNlp):
             self.per_scenario,
             joint_limits=self.joint_limits if self.no_joint_worse else None,
             max_spring_mass=self.max_spring_mass,
+            corners=self.corners,
         )
         budget.require(
             budget.evaluation_bytes(
@@ -323,8 +335,16 @@ class DesignProblem(ProblemNlp):
     def scenarios_record(self) -> dict:
         """The problem's options beyond objective and weights, for a saved design
         (:func:`~springbalance.design.problem_record.options_record`)."""
+        robust = self.tolerance if self.corners is not None else None
+        scenarios = self.scenarios if robust is None else []
         return options_record(
-            self.scenarios, self.per_scenario, self.aggregate, self.no_joint_worse, self.max_spring_mass, self.clearance
+            scenarios,
+            self.per_scenario,
+            self.aggregate,
+            self.no_joint_worse,
+            self.max_spring_mass,
+            self.clearance,
+            robust,
         )
 
     @staticmethod
@@ -334,24 +354,8 @@ class DesignProblem(ProblemNlp):
 
     def scenario_table(self, x: np.ndarray) -> list[dict]:
         """Per scenario: name, payload [kg], per-scenario variable values, peak and RMS residual [N·m]
-        (weighted, over all joints) of design ``x``."""
-        if not self.scenarios:
-            return []
-        tau = self.evaluate(x).tau * self.weights
-        names = [self.model.base_variables.names[i] for i in self.model.per_scenario]
-        rows = []
-        for index, (scenario, block) in enumerate(zip(self.scenarios, np.split(tau, len(self.scenarios)))):
-            base = self.model.scenario_vector(x, index)
-            rows.append(
-                {
-                    "name": scenario.name,
-                    "payload": scenario.payload_mass,
-                    "variables": {name: float(base[i]) for name, i in zip(names, self.model.per_scenario)},
-                    "peak": float(np.max(np.abs(block))),
-                    "rms": float(np.sqrt(np.mean(block**2))),
-                }
-            )
-        return rows
+        (weighted, over all joints) of design ``x`` (:func:`~springbalance.design.problem_record.scenario_rows`)."""
+        return scenario_rows(self, x)
 
     def with_springs(self, springs: Sequence[Spring], **changes: Any) -> DesignProblem:
         """The same problem (mechanism, poses, objective, weights, scenarios) with other springs.
@@ -385,12 +389,13 @@ class DesignProblem(ProblemNlp):
         options = {
             "objective": objective,
             "weights": self.weights_by_name(),
-            "scenarios": self.scenarios or None,
+            "scenarios": (self.scenarios or None) if self.corners is None else None,
             "per_scenario": self.per_scenario,
             "aggregate": self.aggregate,
             "no_joint_worse": self.no_joint_worse,
             "clearance": self.clearance,
             "max_spring_mass": self.max_spring_mass,
+            "tolerance": self.tolerance,
             **changes,
         }
         springs = self.springs if springs is None else springs

@@ -135,7 +135,7 @@ def part_spring(part: StockPart, spring: Spring) -> Spring:
     rules (index range, initial-tension band) do not apply, the rules of its use (stresses, hooks,
     solid length, buckling unless the spring was ``guided``) do. The spring's own limits stay when they
     are stricter (``max_force``, ``max_length``, ``min_length``: space or load limits of the arm), and
-    so does its envelope (``max_outer_diameter``).
+    so does its envelope (``max_outer_diameter``) and its ``duty`` (fatigue rows while the anchors are free).
     """
     kind = stock_kind(spring)
     if kind is None or not isinstance(spring, TwoPointSpring):  # (a stock kind is a two-point spring's)
@@ -157,6 +157,7 @@ def part_spring(part: StockPart, spring: Spring) -> Spring:
         "min_length": spring.min_length,
         "max_outer_diameter": getattr(spring, "max_outer_diameter", None),
         "part_number": part.part_number,
+        "duty": getattr(spring, "duty", None),
     }
     if getattr(spring, "routed", False):  # the part on the same path, with the same cable
         coil.update(via=spring.via, cable_length=spring.parameters["cable_length"])
@@ -260,6 +261,10 @@ class StockChoice:
     part: StockPart
     objective: float
     trials: list
+    #: a :class:`~springbalance.design.stock_checks.PartFatigue` once checked (typed loosely: that module
+    #: imports the tolerance analysis, which imports the evaluated design, which imports these records)
+    fatigue: Any = None
+    tolerance: dict | None = None
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -269,7 +274,20 @@ class StockChoice:
             "part": self.part.to_dict(),
             "objective": self.objective,
             "trials": [trial.to_dict() for trial in self.trials],
+            "fatigue": None if self.fatigue is None else self.fatigue.to_dict(),
+            "tolerance": self.tolerance,
         }
+
+    def check_lines(self) -> list[str]:
+        """The part's fatigue and tolerance, one line each (none before they are checked)."""
+        lines = [] if self.fatigue is None else [self.fatigue.line()]
+        if self.tolerance is not None:
+            box, travel = self.tolerance["box"], self.tolerance["travel"]
+            lines.append(
+                f"tolerance {box['source']}: k ± {100 * box['rate']:.3g} %, F0 ± {box['initial_tension']:.3g} N, "
+                f"l0 ± {box['free_length'] * 1e3:.3g} mm; preload-screw travel {travel * 1e3:.3g} mm restores the balance"
+            )
+        return lines
 
 
 @dataclasses.dataclass
@@ -284,6 +302,8 @@ class StockSelection:
         stock_objective: the objective of the stock design (same objective, workspace and weights).
         choices: one :class:`StockChoice` per replaced spring, in the order they were chosen.
         notes: anything the selection changed besides the springs (per-scenario variables dropped).
+        tolerance: the stock design's worst residual over its springs' tolerance boxes, and the adjuster
+            travel (:mod:`springbalance.design.stock_checks`).
     """
 
     result: Any
@@ -293,6 +313,7 @@ class StockSelection:
     stock_objective: float
     choices: list
     notes: list = dataclasses.field(default_factory=list)
+    tolerance: Any = None  # a springbalance.design.tolerance.ToleranceAnalysis once checked
 
     @property
     def cost(self) -> float:
@@ -330,6 +351,7 @@ class StockSelection:
                 f"{designed['max_length'] * 1e3:.4g} mm"
             )
             lines.append(f"    → {choice.part.describe()}")
+            lines += [f"    {line}" for line in choice.check_lines()]
             lines.append(
                 f"    {feasible} of {len(choice.trials)} candidates feasible; {self.objective} after this "
                 f"choice {choice.objective:.6g} {self.unit}"
@@ -340,6 +362,11 @@ class StockSelection:
             f"  objective {self.objective}: continuous {self.continuous_objective:.6g} {self.unit} → "
             f"stock {self.stock_objective:.6g} {self.unit}{relative}"
         )
+        for joint in [] if self.tolerance is None else self.tolerance.joints:
+            lines.append(
+                f"  worst over the tolerance boxes, {joint['joint']}: peak {joint['worst_peak']:.4g} {joint['unit']} "
+                f"(nominal {joint['peak']:.4g}), {joint['adjusted_peak']:.4g} after the adjusters"
+            )
         lines += [f"  note: {note}" for note in self.notes]
         return "\n".join(lines)
 
@@ -353,6 +380,7 @@ class StockSelection:
             "parts": self.parts(),
             "choices": [choice.to_dict() for choice in self.choices],
             "notes": list(self.notes),
+            "tolerance": None if self.tolerance is None else self.tolerance.to_dict(),
         }
 
 

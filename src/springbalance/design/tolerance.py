@@ -41,6 +41,7 @@ import numpy as np
 
 from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.design.problem import DesignProblem
+from springbalance.design.robust import corner_table, nominal_design
 from springbalance.design.tolerance_spec import ToleranceSpec
 from springbalance.springs.laws import Spring, TwoPointSpring
 from springbalance.springs.laws.coil import HelicalCoilSpring
@@ -140,6 +141,9 @@ class ToleranceAnalysis:
         travel: per spring with a box: ``low``/``high`` adjustments [m] over the box (the nominal's is
             ``nominal``) and ``travel`` = high − low [m].
         upper, lower: the residual's envelope over the box (N×nv) [N·m or N].
+        corners: of a robust design, per case (the nominal law, then the corners it was designed for): ``name``,
+            ``peak``/``rms`` [N·m] and, with adjusters, ``adjusters`` (spring → setting [m]) and ``at_bound``
+            (:func:`springbalance.design.robust.corner_table`); else empty.
     """
 
     spec: ToleranceSpec
@@ -148,6 +152,7 @@ class ToleranceAnalysis:
     travel: list[dict[str, Any]] = field(default_factory=list)
     upper: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
     lower: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    corners: list[dict[str, Any]] = field(default_factory=list)
 
     @property
     def largest_travel(self) -> float:
@@ -161,12 +166,24 @@ class ToleranceAnalysis:
             "springs": [box.to_dict() for box in self.boxes],
             "joints": self.joints,
             "travel": self.travel,
+            **({"corners": self.corners} if self.corners else {}),
         }
 
 
 def analyse_tolerance(design: EvaluatedDesign, spec: ToleranceSpec | None = None) -> ToleranceAnalysis:
-    """The worst residual over the tolerance box of ``design`` and each spring's adjuster travel (see the module)."""
-    return analyse(design.problem, design.x, design.evaluation.tau, design.evaluation.lengths, spec or ToleranceSpec())
+    """The worst residual over the tolerance box of ``design`` and each spring's adjuster travel (see the module).
+
+    Of a robust design (:mod:`springbalance.design.robust`): the analysis of its nominal law, and in
+    :attr:`ToleranceAnalysis.corners` each corner's residual and adjuster settings as designed."""
+    spec = spec or design.tolerance or getattr(design.problem, "tolerance", None) or ToleranceSpec()
+    problem, x = nominal_design(design.problem, design.x)
+    if problem is design.problem:
+        evaluation = design.evaluation
+    else:
+        evaluation = problem.evaluate(x)
+    analysis = analyse(problem, x, evaluation.tau, evaluation.lengths, spec)
+    analysis.corners = corner_table(design.problem, design.x)
+    return analysis
 
 
 def corner_deltas(problem: DesignProblem, x: np.ndarray, lengths: np.ndarray, boxes: list[SpringBox]) -> list:

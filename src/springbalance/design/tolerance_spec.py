@@ -16,7 +16,9 @@ from typing import Any, Mapping
 from springbalance.errors import InputError
 from springbalance.springs.tolerance_grades import DEFAULT_GRADE, quality_factor
 
-_KEYS = ("grade", "rate", "initial_tension", "free_length", "robust", "adjuster_travel")
+_KEYS = ("grade", "rate", "initial_tension", "free_length", "robust", "corners", "adjuster_travel")
+#: the corner sets of the robust design (docs/model.md §3.10; :mod:`springbalance.design.tolerance_corners`)
+CORNERS = ("exact", "strong_weak", "uniform")
 
 
 @dataclass(frozen=True)
@@ -30,8 +32,11 @@ class ToleranceSpec:
         initial_tension: explicit ± on the initial tension (extension) or preload (compression) [N], or None.
         free_length: explicit ± on the free length [m], or None.
         robust: design for the box (minimise the worst case over its corners) instead of the nominal law.
-        adjuster_travel: the adjuster's travel bound [m] (the design must be re-balanceable within it at
-            every corner), or None for no adjuster in the design.
+        corners: which corners the robust design takes: ``"exact"`` (4 per spring, every combination: the
+            worst over the box), ``"strong_weak"`` (each spring strong or weak: the worst peak) or
+            ``"uniform"`` (every spring strong, every spring weak).
+        adjuster_travel: the adjuster's travel bound [m]: the report says which spring needs more; a robust
+            design re-balances each corner with its own settings within it. None: no adjuster.
     """
 
     grade: int | None = DEFAULT_GRADE
@@ -40,6 +45,14 @@ class ToleranceSpec:
     free_length: float | None = None
     robust: bool = False
     adjuster_travel: float | None = None
+    corners: str = "exact"
+
+    def __post_init__(self) -> None:
+        if self.corners not in CORNERS:
+            raise InputError(f"tolerance.corners must be one of {', '.join(CORNERS)}, got {self.corners!r}")
+        travel = self.adjuster_travel
+        if travel is not None and (isinstance(travel, bool) or not (0 < float(travel) < math.inf)):
+            raise InputError(f"tolerance.adjuster_travel must be a positive number [m], got {travel!r}")
 
     @property
     def explicit(self) -> bool:
@@ -81,18 +94,18 @@ class ToleranceSpec:
         robust = record.get("robust", False)
         if not isinstance(robust, bool):
             raise InputError(f"{where}.robust must be true or false, got {robust!r}")
-        if robust:
-            raise InputError(
-                f"{where}.robust: designing for the tolerance box is not available yet; the report gives the "
-                "worst case and the adjuster travel of the nominal design"
-            )
+        corners = record.get("corners", "exact")
+        if not isinstance(corners, str) or corners not in CORNERS:
+            raise InputError(f"{where}.corners must be one of {', '.join(CORNERS)}, got {corners!r}")
+        if "corners" in record and not robust:
+            raise InputError(f"{where}.corners: {corners!r} needs robust: true (the corners of the robust design)")
         travel = record.get("adjuster_travel")
         if travel is not None:
             number = _number(travel)
             if not (number > 0 and math.isfinite(number)):
                 raise InputError(f"{where}.adjuster_travel must be a positive number [m], got {travel!r}")
             travel = number
-        return cls(robust=robust, adjuster_travel=travel, **values)
+        return cls(robust=robust, adjuster_travel=travel, corners=corners, **values)
 
     def to_dict(self) -> dict[str, Any]:
         """The record :meth:`from_record` reads."""
@@ -103,6 +116,8 @@ class ToleranceSpec:
         )
         if self.robust:
             record["robust"] = True
+            if self.corners != "exact":
+                record["corners"] = self.corners
         if self.adjuster_travel is not None:
             record["adjuster_travel"] = self.adjuster_travel
         return record

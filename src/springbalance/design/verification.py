@@ -16,10 +16,8 @@ seen (:func:`verification_poses`):
 Per rule it reports the smallest margin ``c_i(x) + ρ`` over the poses, where ``c_i`` is the row and ``ρ``
 the reserve the optimisation keeps (a coil's :data:`~springbalance.springs.laws.coil.STRESS_RESERVE` of each
 allowable stress): the rule itself is checked, the reserve being there for exactly these poses. Rows that
-do not depend on the pose (a coil's index, its initial tension) are left out. A coil's fatigue floor
-``F_lo`` (docs/model.md §3.8.2) is first lowered to the least force met over the samples and the poses: its
-damage rows then judge the force range the coil really sees, and ``P - F_lo ≥ 0`` holds by construction.
-It reports the residual torque's peak and RMS per joint over the poses beside those over the samples; with a peak objective
+do not depend on the pose (a coil's index, its initial tension) are left out. It reports the residual
+torque's peak and RMS per joint over the poses beside those over the samples; with a peak objective
 (``peak``, ``joint_peaks``, ``peak_then_joints``) the residual fails when the objective over the poses
 exceeds its value over the samples by more than :data:`PEAK_EXCESS` (an RMS or a potential objective
 is an average, which a denser sampling estimates, not a bound: reported only). With a
@@ -173,6 +171,20 @@ class _Dense:
         return rule, failing[:WORST_PER_RULE]
 
 
+def _floors_at_unseen_minimum(problem: DesignProblem, dense: _Dense, x: np.ndarray) -> np.ndarray | None:
+    """``x`` with each coil's fatigue floor ``F_lo`` [N] lowered to its smallest force at the poses verified
+    where that is below it, or None when every floor holds. The floor is an auxiliary bound of the force
+    range, not a rule (:mod:`springbalance.springs.fatigue_rows`): what must hold is fatigue over the real
+    range, which the fatigue rows then check with the lowered floor, at the samples and the poses."""
+    lowered, names = x.copy(), problem.variables.names
+    for block in dense.blocks:
+        margin = min(dense.candidates[block.offset])[0]
+        name = f"{block.spring}.{FLOOR}"
+        if block.name == "fatigue_floor" and margin < -FEASIBILITY_TOLERANCE and name in names:
+            lowered[names.index(name)] += margin
+    return None if np.array_equal(lowered, x) else lowered
+
+
 def check_design(
     problem: DesignProblem, x: np.ndarray, round_: int = 0, checker: _Checker | None = None, mode: str = "resolve"
 ) -> Check:
@@ -184,11 +196,11 @@ def check_design(
     values, sampling = verification_poses(problem.base_workspace, round_)
     x = np.asarray(x, dtype=float)
     dense = _Dense(problem, x, values)
+    lowered = _floors_at_unseen_minimum(problem, dense, x)
+    if lowered is not None:
+        x, dense = lowered, _Dense(problem, lowered, values)
     sampled = problem.evaluate(x)
-    lowered, poses = _fatigue_floors(problem, dense, sampled.constraint_rows, x)
-    if poses:  # the rows again with each F_lo at the least force met: its damage rows see the whole range
-        dense, sampled = _Dense(problem, lowered, values), problem.evaluate(lowered)
-    rules = []
+    rules, poses = [], []
     for block in dense.blocks:
         rule, failing = dense.rule(block, sampled.constraint_rows)
         rules.append(rule)
@@ -217,30 +229,6 @@ def check_design(
     )
     added = values[list(dict.fromkeys(poses))] if poses else np.empty((0, values.shape[1]))
     return Check(record, added, contacts)
-
-
-def _fatigue_floors(
-    problem: DesignProblem, dense: _Dense, sampled_rows: np.ndarray, x: np.ndarray
-) -> tuple[np.ndarray, list[int]]:
-    """``x`` with each coil's fatigue floor ``F_lo`` (``<spring>.fatigue_min_force`` [N]) lowered to the least
-    force over the samples and the poses, and the poses where a force fell below it.
-
-    ``P - F_lo ≥ 0`` is bookkeeping, not a rule: the optimum puts ``F_lo`` at the least force over the samples,
-    which a pose between them undercuts by a hair. What matters is ``n_f`` over the force range the coil
-    really sees, so the damage rows are checked with ``F_lo`` at the least force met (the amplitude of the
-    widened range, against the stress reserve) and the floor row then holds by construction; its poses join
-    the samples if a re-solve is needed."""
-    names = problem.variables.names
-    lowered, poses = np.array(x, dtype=float), []
-    for block in dense.blocks:
-        if block.name != "fatigue_floor" or f"{block.spring}.{FLOOR}" not in names:
-            continue
-        candidates = sorted(dense.candidates[block.offset])
-        least = min(candidates[0][0], float(np.min(sampled_rows[:, block.offset])))  # min P - F_lo [N]
-        if least < 0:
-            lowered[names.index(f"{block.spring}.{FLOOR}")] += least
-            poses += [pose for margin, pose, _ in candidates if margin < 0][:WORST_PER_RULE]
-    return lowered, poses
 
 
 def _residual(

@@ -3,8 +3,11 @@
 :mod:`~springbalance.explore.candidates` (where a spring may go), :mod:`~springbalance.explore.topology`
 (which sets of candidates, and which cannot balance exactly), :mod:`~springbalance.explore.task` (one
 topology at one grid point, solved by a pure function), :mod:`~springbalance.explore.execution` (where
-the tasks run: here or on Dask), :mod:`~springbalance.explore.study` (the study, its folder, resuming)
-and :mod:`~springbalance.explore.report` (report.html).
+the tasks run: here or on Dask), :mod:`~springbalance.explore.approximate` (which pruned topologies to solve
+for a count's best approximate design), :mod:`~springbalance.explore.study` (the study, its folder, resuming),
+:mod:`~springbalance.explore.table` (results.csv), :mod:`~springbalance.explore.designs` (each design's file
+and report), :mod:`~springbalance.explore.pareto` (the Pareto plot) and :mod:`~springbalance.explore.report`
+(report.html).
 """
 
 from springbalance.explore.candidates import Candidate, auto_candidates, candidates_from_records

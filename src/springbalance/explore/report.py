@@ -1,71 +1,31 @@
 """The report of a study: ``report.html`` with the Pareto front and every topology's fate.
 
-The plot puts each solved topology at its number of springs (or, when every spring has a mass,
-the springs' total mass [kg]) against its residual peak relative to the unbalanced peak (log
-scale); buildable designs (every spring a helical coil whose spec sheet passes) are filled, the
-others hollow, and the front (no other design has
-fewer springs and a smaller residual) is joined by a line. The tables list the best design of
-each spring count (with its design file), every solved topology (with whether its design passes every
-check of :meth:`~springbalance.results.result.DesignResult.failures`, or which kinds it fails), and the
-topologies that were not solved and why (proven unreachable, degenerate, dominated by an exact subset, failed).
+The plot (:mod:`springbalance.explore.pareto`) puts each solved topology at its number of springs (or,
+when every spring has a mass, the springs' total mass [kg]) against its residual peak relative to the
+unbalanced peak (log scale), draws the front (no other design has fewer springs and a smaller residual),
+and links each point to its design's report (``designs/<id>/report.html``). The tables list the best
+design of each spring count, every count from 1 to ``max_springs`` (with its report and design file; a
+count that pruning left unsolved gives the best of its few pruned topologies solved for an approximate
+design, :mod:`springbalance.explore.approximate`, or says why it has none), every solved topology (with
+whether its design passes every check of :meth:`~springbalance.results.result.DesignResult.failures`, or
+which kinds it fails), and the topologies that were not solved and why (proven unreachable, degenerate,
+dominated by an exact subset, failed).
 """
 
 from __future__ import annotations
 
 import html
-import io
 import json
 from pathlib import Path
 from typing import Any, Callable, Mapping
 
 from springbalance.deprecation import warn_deprecated
+from springbalance.explore.approximate import DEFAULT as DEFAULT_APPROXIMATE
+from springbalance.explore.approximate import why_not
+from springbalance.explore.pareto import pareto_svg
 from springbalance.files import write_text_atomic
 
-
-def pareto_svg(records: list[dict]) -> str:
-    """The Pareto plot (SVG text) of the solved ``records``."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    by_mass = bool(records) and all(record.get("spring_mass") is not None for record in records)
-    x = [record["spring_mass"] if by_mass else record["count"] for record in records]
-    y = [max(record["relative_residual"], 1e-16) for record in records]
-    figure, axes = plt.subplots(figsize=(6.4, 4.0))
-    for buildable, marker in ((True, "o"), (False, "o")):
-        points = [(a, b) for a, b, record in zip(x, y, records) if bool(record.get("buildable")) == buildable]
-        if points:
-            xs, ys = zip(*points)
-            axes.scatter(
-                xs,
-                ys,
-                s=36,
-                marker=marker,
-                facecolors="C0" if buildable else "none",
-                edgecolors="C0",
-                label="buildable (every spring a coil that passes its spec sheet)"
-                if buildable
-                else "not shown buildable (ideal laws, or a spec sheet fails)",
-            )
-    front, best = [], float("inf")
-    for a, b in sorted(zip(x, y)):
-        if b < best:
-            front.append((a, b))
-            best = b
-    if front:
-        axes.plot(*zip(*front), color="C1", linewidth=1.2, label="Pareto front")
-    axes.set_yscale("log")
-    axes.set_xlabel("total spring mass [kg]" if by_mass else "number of springs")
-    axes.set_ylabel("peak residual / unbalanced peak [1]")
-    axes.grid(True, which="both", alpha=0.3)
-    axes.legend(loc="best", fontsize=8)
-    figure.tight_layout()
-    stream = io.StringIO()
-    figure.savefig(stream, format="svg")
-    plt.close(figure)
-    text = stream.getvalue()
-    return text[text.index("<svg") :]
+__all__ = ["checks", "pareto_svg", "write_report", "write_study_report"]
 
 
 def _rows(records: list[dict], columns: list[tuple[str, Callable[[dict], Any]]]) -> str:
@@ -99,14 +59,65 @@ _VERDICT: list[tuple[str, Callable[[dict], Any]]] = [
 ]
 
 
-def _not_solved(summary: Mapping[str, Any], dominated: list[dict], failed: list[dict]) -> list[dict]:
-    """The topologies that were not solved, each with why."""
+def _not_solved(
+    summary: Mapping[str, Any], dominated: list[dict], failed: list[dict], solved: list[dict]
+) -> list[dict]:
+    """The topologies that were not solved, each with why (a pruned one solved for an approximate design is
+    solved)."""
+    done = {frozenset(record["springs"]) for record in solved}
+    pruned = [
+        {**item, "why": f"{why}: " + item["reason"]}
+        for key, why in (("unreachable", "proven unreachable"), ("degenerate", "degenerate"))
+        for item in summary[key]
+        if frozenset(item["springs"]) not in done
+    ]
     return (
-        [{**item, "why": "proven unreachable: " + item["reason"]} for item in summary["unreachable"]]
-        + [{**item, "why": "degenerate: " + item["reason"]} for item in summary["degenerate"]]
+        pruned
         + [{**item, "why": "dominated: " + " + ".join(item["because"]) + " balances exactly"} for item in dominated]
         + [{**item, "why": "failed: " + item.get("error", "")} for item in failed]
     )
+
+
+def _link(href: str | None, text: str) -> str:
+    return f'<a href="{html.escape(href)}">{html.escape(text)}</a>' if href else ""
+
+
+def _best_rows(
+    best: Mapping[int, dict],
+    max_springs: int,
+    summary: Mapping[str, Any],
+    links: Mapping[str, str],
+    approximate: int,
+) -> str:
+    """The table of the best design of each spring count 1 … ``max_springs``: how it was found (solved for
+    exact balance, or the best of the pruned few solved for an approximate design), its verdict and its
+    pages; a count without a design says why."""
+    head = ["springs", "found", "residual / unbalanced", "exact", "buildable", "checks", "report", "design file"]
+    rows = []
+    pruned: dict[int, int] = {}
+    for item in summary["unreachable"] + summary["degenerate"]:
+        pruned[len(item["springs"])] = pruned.get(len(item["springs"]), 0) + 1
+    for count in range(1, max_springs + 1):
+        record = best.get(count)
+        if record is None:
+            why = why_not(count, len(summary["candidates"]), approximate, pruned.get(count, 0))
+            rows.append(f"<tr><td>{count} spring(s)</td><td colspan={len(head) - 1}>{html.escape(why)}</td></tr>")
+            continue
+        found = (
+            f"approximate: the best of the pruned topologies solved ({record['pruned'].split(':')[0]})"
+            if record.get("pruned")
+            else "solved"
+        )
+        report = links.get(record["id"], "")
+        cells = [
+            html.escape(" + ".join(record.get("springs", []))),
+            html.escape(found),
+            *(html.escape(str(cell(record))) for _, cell in _VERDICT),
+            _link(report, "report") if report.endswith(".html") else "",
+            _link(f"best_{count}_springs.json", f"best_{count}_springs.json"),
+        ]
+        rows.append("<tr>" + "".join(f"<td>{cell}</td>" for cell in cells) + "</tr>")
+    return "<table><tr>" + "".join(f"<th>{h}</th>" for h in head) + "</tr>" + "".join(rows) + "</table>"
 
 
 def write_study_report(
@@ -117,14 +128,19 @@ def write_study_report(
     results: Mapping[str, dict],
     dominated: list[dict],
     best: Mapping[int, dict],
+    links: Mapping[str, str] | None = None,
+    approximate: int = DEFAULT_APPROXIMATE,
 ) -> None:
     """Write ``report.html`` into the study ``folder``.
 
     ``summary`` is the study's enumeration and pruning (``Study.summary()``: candidates, topology
     and grid counts, unreachable and degenerate topologies), ``results`` every task's result by id,
     ``dominated`` the topologies skipped because a subset balances exactly, ``best`` the best solved
-    task per spring count (``StudyResult.best()``).
+    task per spring count (``StudyResult.best()``), ``links`` each solved task's page by id (relative to
+    ``folder``: its report or design file, :func:`springbalance.explore.designs.write_designs`), and
+    ``approximate`` the study's ``explore.approximate``.
     """
+    links = links or {}
     solved = sorted(
         (r for r in results.values() if r.get("status") == "solved"), key=lambda r: (r["count"], r["relative_residual"])
     )
@@ -139,24 +155,27 @@ def write_study_report(
         f"grid point(s). {html.escape(summary['reachability'])}: {len(summary['unreachable'])} proven unreachable, "
         f"{len(summary['degenerate'])} degenerate; {len(dominated)} dominated by an exactly balancing subset; "
         f"{len(solved)} solved, {len(failed)} failed.</p>",
-        pareto_svg(solved) if solved else "<p>No topology was solved.</p>",
+        "<h2>Pareto front</h2>",
+        "<p>Each solved topology is a point; the front (ringed, joined by its staircase) holds the designs that "
+        "no other beats with as few springs (as light springs). Click a point to open its design's report.</p>"
+        if solved
+        else "",
+        pareto_svg(solved, links) if solved else "<p>No topology was solved.</p>",
         "<h2>Best design per spring count</h2>",
-        _rows(
-            [{**record, "file": f"best_{count}_springs.json"} for count, record in best.items()],
-            [*_TOPOLOGY, *_VERDICT, ("design file", lambda r: r["file"])],
-        ),
+        _best_rows(best, max_springs, summary, links, approximate),
         "<h2>Solved topologies</h2>",
         _rows(
             solved,
             [
                 *_TOPOLOGY,
+                ("pruned", lambda r: r.get("pruned", "").split(":")[0]),
                 ("objective", lambda r: f"{r['objective']} {r['objective_value']:.4g}"),
                 *_VERDICT,
                 ("time [s]", lambda r: f"{r['seconds']:.1f}"),
             ],
         ),
         "<h2>Not solved</h2>",
-        _rows(_not_solved(summary, dominated, failed), [*_TOPOLOGY, ("why", lambda r: r["why"])]),
+        _rows(_not_solved(summary, dominated, failed, solved), [*_TOPOLOGY, ("why", lambda r: r["why"])]),
         "</body></html>",
     ]
     write_text_atomic(Path(folder) / "report.html", "\n".join(parts))

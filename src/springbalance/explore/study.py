@@ -15,6 +15,10 @@ whose ``springs`` section is replaced by ``explore``::
       grid: {objective: [rms, peak], "workspace.n": [64, 128]}   # optional sweep: dotted keys -> values
       prune: true                  # skip the topologies that cannot balance exactly (false: solve them too,
                                    # for the best approximate design of each spring count)
+      approximate: 3               # per spring count that pruning leaves without a topology: solve this many
+                                   # of its pruned ones for its best approximate design (0: none)
+      reports: true                # write each solved design's report (designs/<id>/report.html)
+      max_topologies: 20000        # a larger study is refused before it is enumerated
 
 Each task is one topology at one grid point: a pure function of its record
 (:func:`~springbalance.explore.task.solve_task`), so the same task gives the same result on any
@@ -27,28 +31,29 @@ subset already balances exactly is not solved (dominance, :mod:`springbalance.ex
 to ``results/<id>.json`` (``<id>``: a hash of the task's record), and ``results.csv`` is rewritten
 after each. Running the same command again resumes: the tasks whose result files exist are not
 solved again. A folder that holds another config's study is refused unless ``force`` (which starts
-it afresh). At the end, ``report.html`` (:mod:`springbalance.explore.report`) and the best design of
-each spring count, ``best_<k>_springs.json`` (a design file every command accepts), are written.
+it afresh). At the end, ``report.html`` (:mod:`springbalance.explore.report`), the best design of
+each spring count, ``best_<k>_springs.json`` (a design file every command accepts), and each solved
+design's file and report under ``designs/`` (:mod:`springbalance.explore.designs`) are written.
 """
 
 from __future__ import annotations
 
 import copy
-import csv
 import dataclasses
 import hashlib
-import io
 import itertools
 import json
 import math
 import shutil
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Callable, Sequence
+from typing import TYPE_CHECKING, Any, Callable
 
 from springbalance.deprecation import moved_names
 from springbalance.errors import InputError
 from springbalance.explore import execution as _execution
 from springbalance.explore import task as _task
+from springbalance.explore.approximate import DEFAULT as DEFAULT_APPROXIMATE
+from springbalance.explore.approximate import approximate_topologies
 from springbalance.explore.candidates import (
     DEFAULT_HALF_WIDTH,
     DEFAULT_MARGIN,
@@ -56,10 +61,19 @@ from springbalance.explore.candidates import (
     auto_candidates,
     candidates_from_records,
 )
+from springbalance.explore.designs import write_designs
 from springbalance.explore.execution import execute, make_client, progress_bar  # noqa: F401  (make_client: see _MOVED)
 from springbalance.explore.report import write_study_report
+from springbalance.explore.table import COLUMNS, results_csv  # noqa: F401  (COLUMNS: importable from here)
 from springbalance.explore.task import Task
-from springbalance.explore.topology import Verdict, enumerate_topologies, reachability
+from springbalance.explore.topology import (
+    MAX_TOPOLOGIES,
+    Reachability,
+    SpatialTest,
+    Verdict,
+    enumerate_topologies,
+    reachability,
+)
 from springbalance.files import write_json_atomic, write_text_atomic
 from springbalance.io.config import config_from_dict, mechanism_from_dict, read_config_file
 from springbalance.model.mechanism import Mechanism
@@ -79,26 +93,9 @@ EXPLORE_KEYS = (
     "seed",
     "grid",
     "prune",
-)
-#: the columns of ``results.csv``
-COLUMNS = (
-    "id",
-    "status",
-    "springs",
-    "count",
-    "grid",
-    "objective",
-    "objective_value",
-    "objective_before",
-    "peak_residual",
-    "relative_residual",
-    "exact",
-    "spring_mass",
-    "buildable",
-    "ok",
-    "failures",
-    "seconds",
-    "error",
+    "approximate",
+    "reports",
+    "max_topologies",
 )
 #: names that moved out of this module: where they live now (each still importable from here, with a
 #: DeprecationWarning, for one release). ``make_client`` (now :mod:`springbalance.explore.execution`) is
@@ -118,6 +115,7 @@ class Layout:
     note: str
     topologies: list[tuple[int, ...]]
     verdicts: dict[tuple[int, ...], Verdict]
+    test: Reachability | SpatialTest | None = None
 
 
 def _fingerprint(record: Any) -> str:
@@ -133,6 +131,18 @@ def _set_dotted(record: dict, key: str, value: object, where: str) -> None:
             node[part] = {}
         node = node[part]
     node[parts[-1]] = value
+
+
+def _switches(explore: dict, label: str) -> tuple[bool, int, bool]:
+    """``prune``, ``approximate`` and ``reports`` of the ``explore`` section, checked."""
+    prune, reports = explore.get("prune", True), explore.get("reports", True)
+    for key, value in (("prune", prune), ("reports", reports)):
+        if not isinstance(value, bool):
+            raise InputError(f"{label}: explore.{key} must be true or false, got {value!r}")
+    approximate = explore.get("approximate", DEFAULT_APPROXIMATE)
+    if isinstance(approximate, bool) or not isinstance(approximate, int) or approximate < 0:
+        raise InputError(f"{label}: explore.approximate must be an integer ≥ 0, got {approximate!r}")
+    return prune, approximate, reports
 
 
 class Study:
@@ -179,9 +189,10 @@ class Study:
         for key, value in (("margin", self.margin), ("default_box", self.default_box)):
             if isinstance(value, bool) or not isinstance(value, (int, float)) or not value >= 0:
                 raise InputError(f"{label}: explore.{key} must be a number ≥ 0 [m], got {value!r}")
-        self.prune = self.explore.get("prune", True)
-        if not isinstance(self.prune, bool):
-            raise InputError(f"{label}: explore.prune must be true or false, got {self.prune!r}")
+        self.prune, self.approximate, self.reports = _switches(self.explore, label)
+        self.limit = self.explore.get("max_topologies", MAX_TOPOLOGIES)
+        if isinstance(self.limit, bool) or not isinstance(self.limit, int) or self.limit < 1:
+            raise InputError(f"{label}: explore.max_topologies must be an integer ≥ 1, got {self.limit!r}")
         self._layouts: dict[str, Layout] = {}
         layout = self._layout(self.base["mechanism"])  # the base mechanism's (a grid may sweep others)
         self.mechanism, self.candidates, self.reachability_note = layout.mechanism, layout.candidates, layout.note
@@ -211,14 +222,14 @@ class Study:
             except InputError as error:
                 raise InputError(f"{label}: {error}") from None
             test, note = reachability(mechanism, found, self.law.get("type", "extension"))
-            topologies = enumerate_topologies(len(found), self.max_springs)
+            topologies = enumerate_topologies(len(found), self.max_springs, self.limit)
             verdicts = {}
             if test is not None:
                 for topology in topologies:
                     verdict = test.verdict(topology)
                     if verdict is not None:
                         verdicts[topology] = verdict
-            self._layouts[key] = Layout(mechanism, found, note, topologies, verdicts)
+            self._layouts[key] = Layout(mechanism, found, note, topologies, verdicts, test)
         return self._layouts[key]
 
     def _grid(self, grid: object) -> list[dict[str, Any]]:
@@ -240,8 +251,13 @@ class Study:
             _set_dotted(base, key, copy.deepcopy(value), key)
         layout = self._layout(base.get("mechanism"))
         tasks = []
+        approximate = (
+            approximate_topologies(layout.topologies, layout.verdicts, layout.test, self.approximate)
+            if self.prune
+            else []
+        )
         for topology in layout.topologies:
-            if self.prune and topology in layout.verdicts:
+            if self.prune and topology in layout.verdicts and topology not in approximate:
                 continue
             springs = []
             for number, index in enumerate(topology):
@@ -250,7 +266,9 @@ class Study:
             record = {**base, "springs": springs}
             labels = tuple(layout.candidates[index].label for index in topology)
             task_id = _fingerprint({"record": record, "starts": self.starts, "seed": self.seed})
-            tasks.append(Task(task_id, topology, labels, point, record))
+            verdict = layout.verdicts.get(topology) if self.prune else None
+            pruned = f"{verdict.kind}: {verdict.reason}" if verdict else ""
+            tasks.append(Task(task_id, topology, labels, point, record, pruned))
         return tasks
 
     def summary(self) -> dict[str, Any]:
@@ -358,7 +376,8 @@ class Study:
                         f"(fingerprint {previous} ≠ {self.fingerprint}); use another --out, or --force "
                         "to discard them"
                     )
-                shutil.rmtree(folder / "results", ignore_errors=True)
+                for stale in ("results", "designs"):
+                    shutil.rmtree(folder / stale, ignore_errors=True)
         elif folder.exists() and any(folder.iterdir()) and not force:
             raise InputError(
                 f"study folder {str(folder)!r} is not empty and holds no study; use another --out, or --force"
@@ -370,23 +389,7 @@ class Study:
 
     def _write_table(self, folder: Path, done: dict) -> None:
         rows = [done[task.id] for task in self.tasks if task.id in done]
-        write_text_atomic(folder / "results.csv", _csv(rows))
-
-
-def _csv(rows: Sequence[dict]) -> str:
-    stream = io.StringIO()
-    writer = csv.DictWriter(stream, fieldnames=COLUMNS, extrasaction="ignore")
-    writer.writeheader()
-    for row in rows:
-        writer.writerow(
-            {
-                **row,
-                "springs": " + ".join(row.get("springs", [])),
-                "grid": json.dumps(row.get("grid", {}), sort_keys=True),
-                "failures": " ".join(row.get("failures", [])),
-            }
-        )
-    return stream.getvalue()
+        write_text_atomic(folder / "results.csv", results_csv(rows))
 
 
 @dataclasses.dataclass
@@ -416,9 +419,11 @@ class StudyResult:
         return [record for record in self.results.values() if record.get("exact")]
 
     def write(self) -> None:
-        """``best_<k>_springs.json`` per spring count, the dominance in ``study.json``, and ``report.html``."""
+        """``best_<k>_springs.json`` per spring count, each solved design's file and report (``designs/``,
+        :mod:`springbalance.explore.designs`), the dominance in ``study.json``, and ``report.html``."""
         for count, record in self.best().items():
             write_json_atomic(self.folder / f"best_{count}_springs.json", record["design"])
+        links = write_designs(self.folder, self.results, self.study.reports)
         marker = self.folder / "study.json"
         summary = json.loads(marker.read_text(encoding="utf-8"))
         summary["dominated"] = self.dominated
@@ -431,6 +436,8 @@ class StudyResult:
             self.results,
             self.dominated,
             self.best(),
+            links,
+            self.study.approximate,
         )
 
 

@@ -36,6 +36,9 @@ class Task:
     labels: tuple[str, ...]
     grid: dict[str, Any]
     record: dict[str, Any]
+    #: why pruning skipped this topology ("" for a topology solved for exact balance): a pruned one is
+    #: solved only for its spring count's best approximate design (:mod:`springbalance.explore.approximate`)
+    pruned: str = ""
 
     @property
     def count(self) -> int:
@@ -54,6 +57,7 @@ def task_payload(task: Task, base_dir: Path, starts: int, seed: int) -> dict[str
         "base_dir": str(base_dir),
         "starts": starts,
         "seed": seed,
+        "pruned": task.pruned,
     }
 
 
@@ -70,6 +74,7 @@ def solve_task(payload: dict[str, Any]) -> dict[str, Any]:
         "grid": payload["grid"],
         "starts": payload["starts"],
         "seed": payload["seed"],
+        "pruned": payload.get("pruned", ""),
     }
     try:
         config = config_from_dict(payload["record"], payload["base_dir"], f"task {payload['id']}")

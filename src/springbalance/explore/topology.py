@@ -19,6 +19,12 @@ A **topology** is a set of 1 … ``max_springs`` distinct candidates
   and **unreachable but for degenerate anchors** when a block without gravity is reached by one
   spring only: its product :math:`k \bar D_i D_j` must vanish, which puts an anchor on a joint
   axis, where the spring is another topology's.
+- **Spatial reachability** (chains and trees of revolute joints with any axes, zero-free-length
+  springs; docs/model.md §9.1; :class:`~springbalance.design.exact.SpatialReachability`). A topology is
+  proven unreachable when gravity has a non-zero multilinear coefficient on joints that no spring's
+  path crosses, or when an outermost spring pair needs more springs than it has.
+- **Size.** :func:`count_topologies` counts a study before enumerating it; a study of more than
+  :data:`MAX_TOPOLOGIES` topologies is refused (``explore.max_topologies`` raises the limit).
 - **Dominance** (while the study runs): a topology is not solved when one of its subsets already
   balances exactly (:class:`~springbalance.explore.study.Study` solves by spring count).
 """
@@ -32,13 +38,15 @@ from typing import Sequence
 
 import numpy as np
 
-from springbalance.design.exact import PlanarChain
+from springbalance.design.exact import PlanarChain, SpatialReachability, synthesize_spatial
 from springbalance.errors import InputError
 from springbalance.explore.candidates import Candidate
 from springbalance.model.mechanism import Mechanism
 
 #: a gravity block counts as zero below this fraction of the largest one
 GRAVITY_ZERO = 1e-12
+#: the most topologies a study enumerates unless ``explore.max_topologies`` says otherwise
+MAX_TOPOLOGIES = 20000
 
 
 @dataclasses.dataclass(frozen=True)
@@ -64,7 +72,9 @@ class Reachability:
         self.loaded = [j for j in range(1, self.chain.size) if gravity[j] > GRAVITY_ZERO * max(gravity.max(), 1e-300)]
         self.ends = [_ordered(self.chain.body_index(c.a), self.chain.body_index(c.b)) for c in candidates]
 
-    def _reached(self, spring: tuple[int, int]) -> set[tuple[int, int]]:
+    def reached(self, spring: tuple[int, int]) -> set[tuple[int, int]]:
+        """The blocks ``(i, j)`` (``i < j``) of the stiffness matrix that a spring between chain bodies
+        ``spring = (a, b)`` reaches."""
         a, b = spring
         bodies = sorted({a, *range(max(a, 1), b + 1)})
         return set(itertools.combinations(bodies, 2))
@@ -79,7 +89,7 @@ class Reachability:
                 f"{len(topology)} spring(s) give {4 * len(topology)} anchor coordinates for "
                 f"{n * (n - 1)} conditions: at least {needed} springs are needed",
             )
-        reach = [self._reached(self.ends[index]) for index in topology]
+        reach = [self.reached(self.ends[index]) for index in topology]
         names = self.chain.bodies
         for j in self.loaded:
             if not any((0, j) in blocks for blocks in reach):
@@ -102,10 +112,23 @@ class Reachability:
         return None
 
 
-def enumerate_topologies(count: int, max_springs: int) -> list[tuple[int, ...]]:
-    """Every set of 1 … ``max_springs`` of ``count`` candidates, fewer springs first."""
+def count_topologies(count: int, max_springs: int) -> int:
+    """How many sets of 1 … ``max_springs`` of ``count`` candidates there are (without enumerating them)."""
+    return sum(math.comb(count, size) for size in range(1, min(max_springs, count) + 1))
+
+
+def enumerate_topologies(count: int, max_springs: int, limit: int | None = None) -> list[tuple[int, ...]]:
+    """Every set of 1 … ``max_springs`` of ``count`` candidates, fewer springs first; InputError when there are
+    more than ``limit`` (None: no limit)."""
     if isinstance(max_springs, bool) or not isinstance(max_springs, int) or max_springs < 1:
         raise InputError(f"max_springs must be an integer ≥ 1, got {max_springs!r}")
+    total = count_topologies(count, max_springs)
+    if limit is not None and total > limit:
+        raise InputError(
+            f"{count} candidates with up to {max_springs} springs make {total} topologies, more than the limit "
+            f"{limit}: lower explore.max_springs (--max-springs), list fewer explore.candidates, or raise "
+            "explore.max_topologies"
+        )
     return [
         combination
         for size in range(1, min(max_springs, count) + 1)
@@ -113,11 +136,47 @@ def enumerate_topologies(count: int, max_springs: int) -> list[tuple[int, ...]]:
     ]
 
 
-def reachability(mechanism: Mechanism, candidates: Sequence[Candidate], law: str) -> tuple[Reachability | None, str]:
-    """The reachability test when it applies, and a sentence saying whether it does."""
+class SpatialTest:
+    """The spatial reachability proofs (:class:`~springbalance.design.exact.SpatialReachability`) on a study's
+    candidates: the same :meth:`verdict` as :class:`Reachability`."""
+
+    def __init__(self, mechanism: Mechanism, candidates: Sequence[Candidate]):
+        self.proofs = SpatialReachability(mechanism)
+        self.pairs = [(c.a, c.b) for c in candidates]
+        built = synthesize_spatial(mechanism, allowed=self.pairs)
+        if built.exact:
+            pairs = ", ".join(f"{a}→{b}" + (f" ×{n}" if n > 1 else "") for (a, b), n in built.pairs.items())
+            #: what the construction of docs/model.md §9.1 gives on these candidates' pairs
+            self.construction = (
+                f"by construction {len(built.springs)} springs balance exactly on {pairs} "
+                "(anchors not fitted to the boxes)"
+            )
+        else:
+            missing = ", ".join(f"{a}→{b}" for a, b in built.missing)
+            self.construction = (
+                f"the construction of exact balance needs springs on pairs that are not candidates: {missing}"
+            )
+
+    def verdict(self, topology: Sequence[int]) -> Verdict | None:
+        """None when exact balance may be reached; else why not."""
+        found = self.proofs.verdict([self.pairs[index] for index in topology])
+        return Verdict("unreachable", found.reason) if found.unreachable else None
+
+
+def reachability(
+    mechanism: Mechanism, candidates: Sequence[Candidate], law: str
+) -> tuple[Reachability | SpatialTest | None, str]:
+    """The reachability test when it applies (planar, else spatial), and a sentence saying which."""
     if law != "zero_free_length":
         return None, f"reachability test not applied: it is for zero-free-length springs (the study's law is {law!r})"
     try:
         return Reachability(mechanism, candidates), "reachability test applied (planar chain, zero-free-length springs)"
-    except InputError as error:
-        return None, f"reachability test not applied: {error}"
+    except InputError as planar:
+        try:
+            test = SpatialTest(mechanism, candidates)
+            return test, (
+                "spatial reachability test applied (revolute joints, zero-free-length springs: gravity terms no "
+                f"spring reaches, outermost pairs short of springs); {test.construction}"
+            )
+        except InputError as spatial:
+            return None, f"reachability test not applied: {planar}; {spatial}"

@@ -15,6 +15,7 @@ from pathlib import Path
 from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.errors import InputError
 from springbalance.model.mechanism import Mechanism
+from springbalance.model.pseudo_bases import add_pseudo_bases
 from springbalance.springs.laws.spring import Spring
 
 __all__ = [
@@ -49,18 +50,21 @@ class ExportReport:
 
 
 def source_urdf(mechanism: Mechanism) -> tuple[str, Path | None]:
-    """(XML text, folder of the file or None) of the URDF ``mechanism`` was built from."""
+    """(XML text, folder of the file or None) of the URDF ``mechanism`` was built from, with the mimic chains of
+    its pseudo-bases (:func:`~springbalance.model.pseudo_bases.add_pseudo_bases`) when it has any."""
     source = mechanism.source
     kind = source.get("kind")
     if kind in ("urdf", "robot"):
         path = Path(source["path"])
         try:
-            return path.read_text(), path.parent
+            text, folder = path.read_text(), path.parent
         except OSError as error:
             raise InputError(f"cannot read the URDF {str(path)!r} of the design: {error.strerror}") from None
-    if kind == "urdf_string":
-        return source["text"], None
-    raise InputError(f"cannot export a mechanism built from a {kind!r} source: it has no URDF")
+    elif kind == "urdf_string":
+        text, folder = source["text"], None
+    else:
+        raise InputError(f"cannot export a mechanism built from a {kind!r} source: it has no URDF")
+    return add_pseudo_bases(text, mechanism.pseudo_bases), folder
 
 
 def number(value: float) -> str:

@@ -24,7 +24,11 @@ exactly (``inertiafromgeom="false"``, ``balanceinertia="false"``), the design's 
 - a torsional spring as joint ``stiffness`` k with ``springref`` :math:`q_0 - \tau_0 / k`
   (MuJoCo's joint spring torque is :math:`-k (q - q_{ref})`; several springs on one joint are
   summed), or a constant joint actuator when ``k = 0``;
-- a spring's own mass as two point masses (bodies without a joint) at its ends on moving bodies.
+- a spring's own mass as two point masses (bodies without a joint) at its ends on moving bodies;
+- a pseudo-base's mimic chain (:mod:`springbalance.model.pseudo_bases`) as hinge joints tied to their primary
+  joints by joint equality constraints, like every URDF mimic joint; its massless links get
+  :data:`CHAIN_MASS` each, because MuJoCo refuses a massless moving body (a change of static torque below
+  1e-11 N·m per metre of lever).
 
 MuJoCo's tendon spring is linear and two-sided, exactly like the laws springbalance evaluates;
 a real spring may behave differently outside its range (an extension spring goes slack, a
@@ -58,6 +62,7 @@ from springbalance.export.common import (
 from springbalance.export.mjcf_springs import SpringElements
 from springbalance.files import write_text_atomic
 from springbalance.model import robots
+from springbalance.model.pseudo_bases import is_chain_link
 
 if TYPE_CHECKING:  # lxml and yourdfpy (no stubs) are imported when a model is exported
     from lxml.etree import _Element
@@ -65,6 +70,9 @@ if TYPE_CHECKING:  # lxml and yourdfpy (no stubs) are imported when a model is e
 
 __all__ = ["MUJOCO_MESH_FORMATS", "export_mjcf", "mjcf_string"]
 
+#: mass [kg] (and principal moments [kg·m²]) of a pseudo-base chain link in MuJoCo, which refuses massless moving
+#: bodies: at 1 m from a joint it weighs 1e-11 N·m
+CHAIN_MASS = 1e-12
 #: mesh formats MuJoCo loads
 MUJOCO_MESH_FORMATS = (".stl", ".obj", ".msh")
 
@@ -176,7 +184,10 @@ class _MjcfBuilder(SpringElements):
         body = parent if merged else E(parent, "body", **attributes)
         self.bodies[link.name] = body
         inertial = link.inertial
-        if not merged and inertial is not None and inertial.mass is not None and inertial.mass > 0:
+        if joint is not None and joint.type != "fixed" and is_chain_link(link.name, self.mechanism.pseudo_bases):
+            # MuJoCo refuses a massless moving body: a pseudo-base chain link gets a speck (module docstring)
+            E(body, "inertial", pos="0 0 0", mass=number(CHAIN_MASS), diaginertia=vector([CHAIN_MASS] * 3))
+        elif not merged and inertial is not None and inertial.mass is not None and inertial.mass > 0:
             origin = inertial.origin if inertial.origin is not None else np.eye(4)
             rotation = origin[:3, :3]
             inertia = rotation @ (inertial.inertia if inertial.inertia is not None else np.zeros((3, 3))) @ rotation.T

@@ -1,6 +1,7 @@
 """The springs of the MuJoCo export: a site at every anchor, a spatial tendon per two-point spring (its law as
 MuJoCo's linear tendon spring plus a constant-force actuator), pulleys as sites the tendon wraps, torsional
-springs as joint stiffness, and a spring's own mass as point masses (see :mod:`springbalance.export.mjcf`,
+springs as joint stiffness, forces along a fixed direction as site actuators
+(:mod:`springbalance.export.mjcf_directed`), and a spring's own mass as point masses (see :mod:`springbalance.export.mjcf`,
 whose builder these methods are part of).
 """
 
@@ -13,7 +14,9 @@ import numpy as np
 from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.errors import InputError
 from springbalance.export.common import GROUND, anchor_link_name, number, spring_name, vector
+from springbalance.export.mjcf_directed import add_directed
 from springbalance.model.mechanism import Mechanism
+from springbalance.springs.laws.directed import DirectedSpring
 from springbalance.springs.laws.spring import Spring
 from springbalance.springs.laws.two_point import TwoPointSpring
 
@@ -40,6 +43,9 @@ class SpringElements:
         for spring, record in zip(self.design.problem.springs, self.design.springs):
             if not spring.anchors:
                 self._add_torsional(actuator, spring, record)
+                continue
+            if isinstance(spring, DirectedSpring):  # a force along a fixed direction: a site actuator
+                add_directed(self._body, actuator, spring, record)
                 continue
             sites = []  # the tendon's path through the sites; a pulley's cylinder is drawn, not wrapped
             for end, radius in zip(spring.anchors, getattr(spring, "radii", [0.0] * len(spring.anchors))):

@@ -35,10 +35,11 @@ from springbalance.design.bounds import check_bounds
 from springbalance.design.clearance import Clearance
 from springbalance.design.problem import DesignProblem
 from springbalance.design.spring_mass import check_mass_bound
+from springbalance.design.stock import StockPart
 from springbalance.design.tolerance_spec import ToleranceSpec
 from springbalance.errors import ConfigError
 from springbalance.files import read_input_text
-from springbalance.io.config_errors import check_finite, errors_as_config_errors, one_line
+from springbalance.io.config_errors import check_finite, errors_as_config_errors, one_line, prefixed
 from springbalance.io.schema import (
     REQUIRED_SECTIONS,
     SECTIONS,
@@ -64,6 +65,7 @@ from springbalance.io.sections import (
     weights_from_record,
     workspace_from_record,
 )
+from springbalance.io.stock_catalogues import load_stock
 from springbalance.loaders import MAX_BYTES, DuplicateKeyError, LimitError, load_json, load_yaml
 from springbalance.model.mechanism import Mechanism
 from springbalance.model.workspace import Workspace
@@ -116,6 +118,9 @@ class Config:
         problem: the :class:`~springbalance.design.problem.DesignProblem` built from them.
         solve_options: keyword arguments for :meth:`DesignProblem.solve` given in the
             ``solve`` section (only the keys present; the rest take the solver's defaults).
+        stock: the stock parts that ``solve.stock`` names (:func:`~springbalance.io.stock_catalogues.load_stock`),
+            which :func:`springbalance.solve` picks from when it is given no ``stock``; None without one.
+        stock_source: ``solve.stock`` as written (a catalogue name, path, or several joined by commas).
     """
 
     path: Path | None
@@ -126,6 +131,8 @@ class Config:
     solve_options: Mapping[str, Any]
     #: the ``tolerance`` section (None: grade 2 for every coil)
     tolerance: ToleranceSpec | None = None
+    stock: list[StockPart] | None = None
+    stock_source: str | None = None
 
     def solve(self, **overrides: Any) -> DesignResult:
         """:func:`springbalance.solve` of this config: its ``solve`` options, overridden by the ``overrides``
@@ -165,10 +172,18 @@ def config_from_dict(
         springs = springs_from_records(mechanism, record["springs"], f"{label}: springs")
         weights = weights_from_record(mechanism, model.weights, f"{label}: weights")
         solve_options = solve_options_from_record(model.solve)
+        stock_spec = solve_options.pop("stock", None)
+        with prefixed(f"{label}: solve.stock"):
+            stock = None if stock_spec is None else load_stock(stock_spec, base_dir)
         scenario_options = scenarios_from_record(mechanism, model.scenarios, f"{label}: scenarios")
         clearance = (
             Clearance.from_dict(model.clearance.model_dump(exclude_none=True), f"{label}: clearance")
             if model.clearance is not None
+            else None
+        )
+        tolerance = (
+            ToleranceSpec.from_record(record["tolerance"], f"{label}: tolerance")
+            if record.get("tolerance") is not None
             else None
         )
         problem = DesignProblem(
@@ -181,15 +196,14 @@ def config_from_dict(
             clearance=clearance,
             max_spring_mass=model.max_spring_mass,
             **scenario_options,
+            tolerance=tolerance,
         )
         check_bounds(problem)  # contradictions between the springs' bounds, named before any solve
         check_mass_bound(problem)  # a mass bound below the lightest springs the bounds allow
-        tolerance = (
-            ToleranceSpec.from_record(record["tolerance"], f"{label}: tolerance")
-            if record.get("tolerance") is not None
-            else None
-        )
-    return Config(path, mechanism, workspace, springs, problem, solve_options, tolerance)
+    source = None if stock_spec is None else stock_spec if isinstance(stock_spec, str) else ",".join(stock_spec)
+    return Config(
+        path, mechanism, workspace, springs, problem, solve_options, tolerance, stock=stock, stock_source=source
+    )
 
 
 def load_workspace(path: str | Path, mechanism: Mechanism) -> Workspace:

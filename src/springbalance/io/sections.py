@@ -38,13 +38,15 @@ def mechanism_from_record(model: MechanismRecord, base_dir: str | Path, where: s
         raise ConfigError(
             f"{where}: give exactly one of 'urdf' (a file) or 'robot' (an example-robot-data name){given}"
         )
-    gravity, mimic, validate = model.gravity, model.mimic, model.validate
+    options: dict[str, Any] = {"gravity": model.gravity, "mimic": model.mimic, "validate": model.validate}
+    if model.pseudo_bases:
+        options["pseudo_bases"] = [base if isinstance(base, str) else base.model_dump() for base in model.pseudo_bases]
     if model.urdf is not None:
         urdf_path = Path(base_dir) / Path(model.urdf).expanduser()
         with prefixed(f"{where}.urdf"):
-            return Mechanism.from_urdf(urdf_path, gravity=gravity, mimic=mimic, validate=validate)
+            return Mechanism.from_urdf(urdf_path, **options)
     with prefixed(f"{where}.robot"):
-        return Mechanism.from_robot(model.robot, gravity=gravity, mimic=mimic, validate=validate)
+        return Mechanism.from_robot(model.robot, **options)
 
 
 def workspace_from_record(

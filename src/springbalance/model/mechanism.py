@@ -11,7 +11,7 @@ Units: joint coordinates in rad (revolute, continuous) or m (prismatic); gravity
 
 from __future__ import annotations
 
-import warnings
+from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
 
@@ -22,7 +22,8 @@ import pinocchio as pin
 from springbalance.errors import InputError
 from springbalance.model import robots, validation
 from springbalance.model.joints import Joint, degrees_of_freedom
-from springbalance.model.native import quiet_native_stderr
+from springbalance.model.pseudo_bases import PseudoBase, pseudo_bases_from
+from springbalance.model.urdf_build import build_model as _build
 
 GROUND = "universe"
 #: the largest magnitude of gravity [m/s²] taken (about 100 g): beyond it a number is a typo
@@ -75,49 +76,57 @@ class Mechanism:
     # ----------------------------------------------------------------- constructors
     @classmethod
     def from_urdf(
-        cls, path: str | Path, gravity: npt.ArrayLike | None = None, mimic: bool = False, validate: bool = True
+        cls,
+        path: str | Path,
+        gravity: npt.ArrayLike | None = None,
+        mimic: bool = False,
+        validate: bool = True,
+        pseudo_bases: Iterable[str | dict | PseudoBase] | None = None,
     ) -> Mechanism:
         """Load a URDF file. ``gravity``: magnitude g (then (0, 0, -g)) or a 3-vector [m/s²];
-        ``validate``: check the physics (see the class documentation)."""
+        ``validate``: check the physics (see the class documentation); ``pseudo_bases``: joints (names,
+        ``{joint, mass [kg], com [m]}`` records or :class:`~springbalance.model.pseudo_bases.PseudoBase`) that get
+        a pseudo-base ``pb_<joint>`` (:mod:`springbalance.model.pseudo_bases`; mimic joints are then coupled)."""
         path = Path(path)
         where = f"URDF file {str(path)!r}"
+        bases = pseudo_bases_from(pseudo_bases)
         text = validation.read_urdf(path)
         validation.check_urdf(text, where, physics=validate)
-        try:
-            with quiet_native_stderr():
-                model = pin.buildModelFromUrdf(str(path), mimic=mimic)
-        except Exception as exc:  # Pinocchio raises RuntimeError/ValueError with C++ text
-            raise InputError(f"{where} could not be parsed: {_one_line(exc)}") from None
-        if not mimic:
-            _warn_unused_mimic(text, str(path))
-        source = {"kind": "urdf", "path": str(path.resolve()), "mimic": mimic}
+        model = _build(text, where, mimic, bases, path, str(path))
+        source = {"kind": "urdf", "path": str(path.resolve()), "mimic": mimic or bool(bases), **_bases_record(bases)}
         return cls(model, source=source, gravity=gravity, validate=validate)
 
     @classmethod
     def from_urdf_string(
-        cls, text: str, gravity: npt.ArrayLike | None = None, mimic: bool = False, validate: bool = True
+        cls,
+        text: str,
+        gravity: npt.ArrayLike | None = None,
+        mimic: bool = False,
+        validate: bool = True,
+        pseudo_bases: Iterable[str | dict | PseudoBase] | None = None,
     ) -> Mechanism:
-        """Parse a URDF given as XML text (``validate``: as :meth:`from_urdf`)."""
+        """Parse a URDF given as XML text (``validate``, ``pseudo_bases``: as :meth:`from_urdf`)."""
         if not isinstance(text, str):
             raise InputError(f"a URDF string must be text, got {type(text).__name__}")
+        bases = pseudo_bases_from(pseudo_bases)
         validation.check_urdf(text, "URDF string", physics=validate)
-        try:
-            with quiet_native_stderr():
-                model = pin.buildModelFromXML(text, mimic=mimic)
-        except Exception as exc:
-            raise InputError(f"URDF string could not be parsed: {_one_line(exc)}") from None
-        if not mimic:
-            _warn_unused_mimic(text, "URDF string")
-        return cls(
-            model, source={"kind": "urdf_string", "text": text, "mimic": mimic}, gravity=gravity, validate=validate
-        )
+        model = _build(text, "URDF string", mimic, bases, None, "URDF string")
+        source = {"kind": "urdf_string", "text": text, "mimic": mimic or bool(bases), **_bases_record(bases)}
+        return cls(model, source=source, gravity=gravity, validate=validate)
 
     @classmethod
     def from_robot(
-        cls, name: str, gravity: npt.ArrayLike | None = None, mimic: bool = False, validate: bool = True
+        cls,
+        name: str,
+        gravity: npt.ArrayLike | None = None,
+        mimic: bool = False,
+        validate: bool = True,
+        pseudo_bases: Iterable[str | dict | PseudoBase] | None = None,
     ) -> Mechanism:
-        """Load a robot of example-robot-data by name (``"ur5"``, ``"panda"``, ...; ``validate``: as :meth:`from_urdf`)."""
-        mechanism = cls.from_urdf(robots.robot_urdf(name), gravity=gravity, mimic=mimic, validate=validate)
+        """Load a robot of example-robot-data by name (``"ur5"``, ``"panda"``, ...; ``validate``, ``pseudo_bases``:
+        as :meth:`from_urdf`)."""
+        path = robots.robot_urdf(name)
+        mechanism = cls.from_urdf(path, gravity=gravity, mimic=mimic, validate=validate, pseudo_bases=pseudo_bases)
         mechanism.source = {**mechanism.source, "kind": "robot", "robot": name}
         return mechanism
 
@@ -132,13 +141,14 @@ class Mechanism:
         kind = source.get("kind")
         gravity = source.get("gravity")
         mimic = bool(source.get("mimic", False))
-        validate = source.get("validate", True) is not False
+        options: dict[str, Any] = {"mimic": mimic, "validate": source.get("validate", True) is not False}
+        options["pseudo_bases"] = source.get("pseudo_bases")
         if kind == "robot":
-            return cls.from_robot(source["robot"], gravity=gravity, mimic=mimic, validate=validate)
+            return cls.from_robot(source["robot"], gravity=gravity, **options)
         if kind == "urdf":
-            return cls.from_urdf(source["path"], gravity=gravity, mimic=mimic, validate=validate)
+            return cls.from_urdf(source["path"], gravity=gravity, **options)
         if kind == "urdf_string":
-            return cls.from_urdf_string(source["text"], gravity=gravity, mimic=mimic, validate=validate)
+            return cls.from_urdf_string(source["text"], gravity=gravity, **options)
         raise InputError(f"cannot rebuild a mechanism from source kind {kind!r} (a bare Pinocchio model is not saved)")
 
     # ----------------------------------------------------------------- names
@@ -161,6 +171,11 @@ class Mechanism:
     def body_names(self) -> list[str]:
         """Bodies that can carry a spring end: ``universe`` and every URDF link."""
         return list(self._frame_ids)
+
+    @property
+    def pseudo_bases(self) -> list[PseudoBase]:
+        """The pseudo-bases added at load (:mod:`springbalance.model.pseudo_bases`), in the order given."""
+        return pseudo_bases_from(self.source.get("pseudo_bases"))
 
     @property
     def gravity(self) -> np.ndarray:
@@ -370,22 +385,9 @@ class Mechanism:
         return f"Mechanism({self.name!r}, joints={self.joint_names})"
 
 
-def _warn_unused_mimic(text: str, where: str) -> None:
-    """Warn when a URDF declares mimic joints but is loaded with ``mimic=False`` (they become independent)."""
-    import xml.etree.ElementTree as ElementTree
-
-    try:
-        root = ElementTree.fromstring(text)
-    except ElementTree.ParseError:
-        return
-    names = [joint.get("name", "?") for joint in root.iter("joint") if joint.find("mimic") is not None]
-    if names:
-        warnings.warn(
-            f"{where} declares mimic joints ({', '.join(names)}); they are loaded as independent joints. "
-            "Pass mimic=True (config: mechanism.mimic: true; `springbalance inspect --mimic`) to couple them "
-            "to their primary joints.",
-            stacklevel=3,
-        )
+def _bases_record(bases: list[PseudoBase]) -> dict[str, Any]:
+    """``{"pseudo_bases": [records]}`` for a source with pseudo-bases, else nothing (sources stay as they were)."""
+    return {"pseudo_bases": [base.to_dict() for base in bases]} if bases else {}
 
 
 def _gravity_vector(gravity: npt.ArrayLike) -> np.ndarray:
@@ -405,8 +407,3 @@ def _gravity_vector(gravity: npt.ArrayLike) -> np.ndarray:
 def _clean(value: float) -> float:
     """``value`` rounded to 1e-12, without a negative zero."""
     return float(round(float(value), 12)) + 0.0
-
-
-def _one_line(exc: Exception) -> str:
-    text = " ".join(str(exc).split())
-    return text[:300] if text else type(exc).__name__

@@ -68,9 +68,10 @@ def solve(
             re-optimise the rest (True); the result's ``wire_rounding`` says what it cost.
         workers: processes that run the starts (and polish runs) at once; the design does not depend on it.
             Default: ``$SPRINGBALANCE_WORKERS``, else ``os.cpu_count()`` (1 for a small problem).
-        stock: a parts catalogue (:func:`springbalance.io.catalogue.read_catalogue`): each extension and
-            compression spring is then replaced by its nearest part and the rest re-optimised; the
-            result's ``stock`` is the :class:`~springbalance.pipeline.stock.StockSelection`.
+        stock: stock parts (:func:`springbalance.load_stock`: ``sb.load_stock("ms24586")``, the standard
+            catalogues or a CSV file): each extension and compression spring is then replaced by its
+            nearest part and the rest re-optimised; the result's ``stock`` is the
+            :class:`~springbalance.design.stock.StockSelection`. Default: a Config's ``solve.stock``, else none.
         verify: the verification at 10× as many unseen poses (:mod:`springbalance.design.verification`):
             ``"resolve"`` (the default, :data:`~springbalance.pipeline.state.VERIFY_DEFAULT`) re-solves with the
             worst poses added where a rule fails there, ``"report"`` only reports, ``"off"`` skips it.
@@ -85,7 +86,8 @@ def solve(
         SolverError: no start gives a feasible design (or no stock part fits a spring).
         Interrupted: Ctrl-C; it carries the starts that had finished and the best design so far.
     """
-    problem, given = _problem_and_options(problem_or_config)
+    stock = getattr(problem_or_config, "stock", None) if stock is None else stock  # default: a Config's solve.stock
+    problem, given = _problem_and_options(problem_or_config, stock)
     options = SolveOptions.merged(
         given,
         {
@@ -137,21 +139,27 @@ def _verified(result: DesignResult, options: SolveOptions) -> VerificationRecord
     return verify_and_resolve(result.problem, solution, "report")[1]
 
 
-def _problem_and_options(source: DesignProblem | ConfiguredProblem) -> tuple[DesignProblem, dict]:
-    """The problem and the options its source gave (none for a bare problem)."""
-    if isinstance(source, DesignProblem):
-        return source, {}
-    problem = getattr(source, "problem", None)
+def _problem_and_options(
+    source: DesignProblem | ConfiguredProblem, stock: Sequence[StockPart] | None = None
+) -> tuple[DesignProblem, dict]:
+    """The problem and the options its source gave (none for a bare problem); InputError for stock parts
+    with a robust design (a part's law is fixed, so it has no corners to design for)."""
+    problem = source if isinstance(source, DesignProblem) else getattr(source, "problem", None)
     if not isinstance(problem, DesignProblem):
         raise InputError(f"springbalance.solve takes a DesignProblem or a Config, got {type(source).__name__}")
-    return problem, dict(getattr(source, "solve_options", None) or {})
+    if stock is not None and problem.corners is not None:
+        raise InputError(
+            "tolerance.robust: stock parts cannot be chosen for a robust design (a part's law is fixed); "
+            "solve without --stock, or without robust"
+        )
+    return problem, ({} if source is problem else dict(getattr(source, "solve_options", None) or {}))
 
 
 def _select_stock(
     problem: DesignProblem, result: DesignResult, parts: Sequence[StockPart], options: SolveOptions
 ) -> StockSelection:
     """Catalogue parts for the continuous design ``result``; each candidate part is solved from the warm
-    start at the continuous anchors plus one Sobol start."""
+    start at the continuous anchors plus one Sobol start; the chosen parts are checked under the design's tolerances."""
     return select_stock(
         problem,
         result,
@@ -162,4 +170,5 @@ def _select_stock(
         max_iterations=options.max_iterations,
         tolerance=options.tolerance,
         workers=options.workers,
+        tolerances=result.tolerance,
     )

@@ -21,9 +21,12 @@ from springbalance.design.stock import (
     stock_kind,
     warm_started,
 )
+from springbalance.design.stock_checks import fatigue_of, spring_duty, tolerance_of
+from springbalance.design.tolerance_spec import ToleranceSpec
 from springbalance.errors import InputError, SolverError
 from springbalance.pipeline.sequence import run_steps
 from springbalance.pipeline.state import SolveOptions
+from springbalance.springs.fatigue import Duty
 from springbalance.springs.laws import Spring
 from springbalance.springs.params import Free
 
@@ -40,6 +43,7 @@ def select_stock(
     max_iterations: int = 100,
     tolerance: float = 1e-8,
     workers: int | None = None,
+    tolerances: ToleranceSpec | None = None,
 ) -> StockSelection:
     """Replace each extension and compression spring of a continuous design by a catalogue part.
 
@@ -55,6 +59,7 @@ def select_stock(
         max_iterations: iteration budget of each start.
         tolerance: stopping tolerance of the least squares.
         workers: processes that run the starts of each solve at once (:meth:`DesignProblem.solve`).
+        tolerances: the spring tolerances the chosen parts are checked with (None: grade 2 for every coil).
 
     Returns a :class:`StockSelection`. Raises :class:`SolverError` naming the spring when none of
     its candidates (or no part of its type) gives a feasible design, :class:`InputError` when the
@@ -90,7 +95,7 @@ def select_stock(
         ranked = sorted(((part_distance(part, lengths, forces), part) for part in same_kind), key=lambda pair: pair[0])[
             : int(candidates)
         ]
-        trials, best = _try_parts(current, current_x, name, ranked, objective, options)
+        trials, best = _try_parts(current, current_x, name, ranked, objective, options, spring_duty(spring))
         if best is None:
             tried = "; ".join(f"{trial.part.part_number}: {trial.status}" for trial in trials)
             raise SolverError(
@@ -109,7 +114,7 @@ def select_stock(
             "max_force": float(np.max(forces)),
         }
         choices.append(StockChoice(name, kind, designed, part, value, trials))
-    return StockSelection(
+    selection = StockSelection(
         current_result,
         problem.objective.name,
         problem.objective.unit,
@@ -118,6 +123,24 @@ def select_stock(
         choices,
         notes,
     )
+    return _checked(selection, problem, tolerances)
+
+
+def _checked(selection: StockSelection, problem: DesignProblem, spec: ToleranceSpec | None) -> StockSelection:
+    """``selection`` with the fatigue of each chosen part (under the duty of the spring it replaced) and the
+    tolerance analysis of the stock design (:mod:`springbalance.design.stock_checks`)."""
+    result = selection.result
+    evaluation = result.evaluation
+    duties = {spring.name: spring_duty(spring) for spring in problem.springs}
+    analysis = tolerance_of(result.problem, result.x, evaluation.tau, evaluation.lengths, spec)
+    boxes = {box.name: box.to_dict() for box in analysis.boxes}
+    travel = {row["name"]: row["travel"] for row in analysis.travel}
+    for choice in selection.choices:
+        choice.fatigue = fatigue_of(result.problem, result.x, evaluation.tensions, choice.spring, duties[choice.spring])
+        if choice.spring in boxes:
+            choice.tolerance = {"box": boxes[choice.spring], "travel": travel[choice.spring]}
+    selection.tolerance = analysis
+    return selection
 
 
 def _stock_springs(problem: DesignProblem, x: np.ndarray, parts: list[StockPart], candidates: int) -> list[str]:
@@ -150,9 +173,12 @@ def _try_parts(
     ranked: list[tuple[float, StockPart]],
     objective: Objective,
     options: SolveOptions,
+    duty: Duty,
 ) -> tuple[list[StockTrial], tuple | None]:
     """Each ranked part in place of spring ``name``, solved warm from ``current_x``: the trials, and the best
-    feasible one as ``(objective value, part, problem, result, dropped per-scenario variables)`` (None if none)."""
+    feasible one as ``(objective value, part, problem, result, dropped per-scenario variables)`` (None if none).
+    A part that does not survive ``duty`` at its optimum (:func:`~springbalance.design.stock_checks.fatigue_of`)
+    is not feasible."""
     warm = warm_started(current, current_x)
     trials: list[StockTrial] = []
     best = None
@@ -165,6 +191,12 @@ def _try_parts(
             trials.append(StockTrial(part, distance, None, " ".join(str(error).split())))
             continue
         value = trial_problem.objective_value(result.evaluation)
+        fatigue = fatigue_of(trial_problem, result.x, result.evaluation.tensions, name, duty)
+        if not fatigue.holds:
+            trials.append(
+                StockTrial(part, distance, None, f"fails fatigue ({fatigue.failing()}) at objective {value:.6g}")
+            )
+            continue
         trials.append(StockTrial(part, distance, value, result.status))
         if best is None or value < best[0]:
             best = (value, part, trial_problem, result, dropped)

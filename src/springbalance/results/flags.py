@@ -56,9 +56,9 @@ from springbalance.design.problem import DesignProblem
 from springbalance.errors import InputError
 from springbalance.export.common import law_warnings, spring_name
 from springbalance.results.failure_flags import infeasible_flags, not_converged_flags, overlap_flags, partial_flags
+from springbalance.results.fatigue_flags import short_life_flags
 from springbalance.results.flag import FAILURE, WARNING, Flag, failures_first
 from springbalance.results.own_link import inside_own_link
-from springbalance.results.fatigue_flags import short_life_flags
 from springbalance.results.range_flags import beyond_joint_limits_flags, off_series_wire_flags
 from springbalance.results.rules import BOUND_TOLERANCE, at_bounds
 from springbalance.results.verification_report import margin_text, pose_text

@@ -8,7 +8,10 @@
   and after), the warnings (:mod:`springbalance.results.flags`), the plots and a link to the scene;
 - ``out/scene.html``: the self-contained Meshcat scene (:func:`springbalance.viz.scene.scene_html`);
 - ``out/torques.png`` / ``.svg``: torque along a sweep of each joint (:func:`springbalance.results.plots.plot_torques`);
-- ``out/histogram.png`` / ``.svg``: torque over the workspace samples (:func:`springbalance.results.plots.plot_histogram`).
+- ``out/histogram.png`` / ``.svg``: torque over the workspace samples (:func:`springbalance.results.plots.plot_histogram`);
+- ``out/spread``, ``coils`` and ``tolerance`` ``.png`` / ``.svg``: each joint's torque against its own angle over the
+  workspace with its spread, the coils' force against length, the residual's band over the tolerance box
+  (:mod:`springbalance.results.report_plots`; the last two only when they apply).
 
 Every number is read from the design (:class:`~springbalance.design.evaluated.EvaluatedDesign`); the page needs
 no network (the images are files next to it).
@@ -27,9 +30,10 @@ import numpy as np
 from springbalance._version import __version__
 from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.files import write_text_atomic
-from springbalance.results import plots
+from springbalance.results import plots, report_plots
 from springbalance.results.clearance import checked_clearance
 from springbalance.results.flags import Flag, flags
+from springbalance.results.own_link import inside_own_link
 from springbalance.results.report import balance_statement, spec_sheet_rows, spring_mass_statement
 from springbalance.results.tolerance_report import tolerance_html
 from springbalance.results.verification_report import verification_html
@@ -146,9 +150,11 @@ def report_html(
     histogram: str | None = "histogram.svg",
     legend: str = "",
     exports: Iterable[str] = (),
+    figures: Sequence[report_plots.Plot] = (),
 ) -> str:
     """The report page; ``scene``, ``torques`` and ``histogram`` are relative links (None: left out);
-    ``exports``: relative links to exported URDF/MJCF files (``springbalance export``).
+    ``exports``: relative links to exported URDF/MJCF files (``springbalance export``); ``figures``: the further
+    plots (:func:`springbalance.results.report_plots.write_plots`), shown after the torque plots.
 
     The sections, in order: the head (:func:`head_html`), the links (:func:`links_html`), the springs
     (:func:`springs_html`, :func:`spec_sheet_html`), the springs' mass, the torque and objective tables (:func:`torque_html`),
@@ -175,6 +181,7 @@ def report_html(
     parts.extend(tolerance_html(result))
     parts.extend(warnings_html(flags(result)))
     parts.extend(plots_html(torques, histogram))
+    parts.extend(report_plots.plots_html(figures))
     parts.append("</body></html>")
     return "\n".join(parts)
 
@@ -397,16 +404,25 @@ def write_report(result: EvaluatedDesign, folder: str | Path, scene: bool = True
     """Write ``report.html``, ``scene.html`` and the plots (PNG and SVG) into ``folder``.
 
     Returns the path of ``report.html``. ``scene=False`` leaves the scene out;
-    ``scene_options`` go to :class:`springbalance.viz.scene.DesignScene`.
+    ``scene_options`` go to :class:`springbalance.viz.scene.DesignScene`. A spring that runs inside its
+    own link beyond its anchor (:func:`~springbalance.results.own_link.inside_own_link`) is drawn red
+    in the scene and named in its legend.
     """
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     plots.plot_torques(result, path=folder / "torques.png")
     plots.plot_histogram(result, path=folder / "histogram.png")
+    figures = report_plots.write_plots(result, folder)
     legend = ""
     if scene:
-        design_scene = DesignScene(result, **scene_options)
+        inside = {
+            f.spring: f"runs inside {f.body} beyond its anchor ({1e3 * f.depth:.3g} mm)"
+            for f in inside_own_link(result)
+        }
+        design_scene = DesignScene(result, **{"flagged": inside, **scene_options})
         write_text_atomic(folder / "scene.html", design_scene.html())
         legend = design_scene.legend_html(position="absolute")
-    page = report_html(result, scene="scene.html" if scene else None, legend=legend, exports=exported_files(folder))
+    page = report_html(
+        result, scene="scene.html" if scene else None, legend=legend, exports=exported_files(folder), figures=figures
+    )
     return write_text_atomic(folder / "report.html", page)

@@ -7,7 +7,7 @@
   have none. The arm cannot take such poses, so the design is balanced for motion it will not make (and
   may be the worse where it will). :func:`beyond_joint_limits` checks a mechanism's joint values before
   a solve (the command line warns early).
-- ``off_series_wire``: a helical coil whose wire diameter is not one of the preferred sizes
+- ``off_series_wire``: a helical coil (not a stock part) whose wire diameter is not one of the preferred sizes
   (:data:`~springbalance.springs.sizing.PREFERRED_WIRE_DIAMETERS`, within a relative 1e-6): standard
   wire was turned off, or the rounding left it continuous (``wire_rounding.unrounded`` says why).
 """
@@ -88,6 +88,8 @@ def off_series_wire_flags(result: EvaluatedDesign) -> list[Flag]:
     found = []
     for record in result.springs:
         if not isinstance(record.get("helical"), dict) or "wire_diameter" not in record:
+            continue
+        if record.get("part_number") is not None:  # a bought part: its wire is the part's (MS parts: inch sizes)
             continue
         wire = float(record["wire_diameter"])  # [m]
         if any(math.isclose(wire, size, rel_tol=1e-6) for size in PREFERRED_WIRE_DIAMETERS):

@@ -14,6 +14,7 @@ from springbalance.design.spring_mass import SpringMass
 from springbalance.design.standard_wire import WireRounding
 from springbalance.results.clearance import checked_clearance
 from springbalance.results.flags import Flag, flags
+from springbalance.results.pseudo_base_report import pseudo_base_lines
 from springbalance.results.tolerance_report import tolerance_lines
 from springbalance.results.verification_report import verification_lines
 from springbalance.springs.laws import Spring
@@ -24,7 +25,8 @@ def result_table(result: EvaluatedDesign) -> str:
 
     The sections, in order: the header (:func:`header_lines`), the springs (:func:`spring_lines`), what
     rounding the wires and fitting to the arm cost (:func:`wire_rounding_lines`, :func:`fit_lines`), the
-    helical sizing (:func:`helical_sizing_lines`), the springs' mass (:func:`spring_mass_lines`), the torque and
+    helical sizing (:func:`helical_sizing_lines`), the springs' mass (:func:`spring_mass_lines`), the pseudo-bases'
+    mass and weight (:func:`~springbalance.results.pseudo_base_report.pseudo_base_lines`), the torque and
     objective tables (:func:`torque_lines`), the balance statement, the scenarios, the clearance table, the
     verification at unseen poses (:func:`~springbalance.results.verification_report.verification_lines`), the
     tolerances (:func:`~springbalance.results.tolerance_report.tolerance_lines`), the failures and the warnings (:func:`warning_lines`).
@@ -38,6 +40,7 @@ def result_table(result: EvaluatedDesign) -> str:
     lines.extend(fit_lines(result.fit))
     lines.extend(helical_sizing_lines(result))
     lines.extend(spring_mass_lines(result))
+    lines.extend(pseudo_base_lines(result))
     lines.append("")
     lines.extend(torque_lines(metrics))
     lines.append("\n  " + balance_statement(result))
@@ -100,7 +103,10 @@ def _spring_lines(spring: Spring, record: dict[str, Any], states: np.ndarray, fo
         )
     if "joint" in record:
         lines.append(f"    joint: {record['joint']}")
-    parameters = "  ".join(f"{key} {record[key]:.6g} {unit}" for key, unit in spring.parameter_units.items())
+    # a count or a ratio (unit "1", such as active_coils) is printed bare: no unit after its number
+    parameters = "  ".join(
+        f"{key} {record[key]:.6g}" + ("" if unit == "1" else f" {unit}") for key, unit in spring.parameter_units.items()
+    )
     lines.append(f"    {parameters}")
     if "helical" in record:
         lines.extend(f"    {line}" for line in spec_sheet_lines(record["helical"]))

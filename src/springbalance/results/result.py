@@ -35,6 +35,7 @@ from springbalance.results.design_file import FORMAT, check_design_mechanism, ch
 from springbalance.results.flags import Flag, flags
 from springbalance.results.html_report import write_report
 from springbalance.results.plots import plot_torques
+from springbalance.results.pseudo_base_report import pseudo_base_record
 from springbalance.results.report import result_table
 from springbalance.results.tolerance_report import tolerance_record
 from springbalance.springs.records import spring_from_dict
@@ -155,6 +156,7 @@ class DesignResult(EvaluatedDesign):
             **self.findings_record(),
             **problem.scenarios_record(),
             **tolerance_record(self),
+            **pseudo_base_record(self),
         }
 
     def findings_record(self) -> dict[str, Any]:

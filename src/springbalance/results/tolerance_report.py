@@ -76,7 +76,52 @@ def tolerance_lines(result: EvaluatedDesign) -> list[str]:
         "(t > 0 stretches an extension spring, compresses a compression spring); travel = the range of the "
         "least-squares t over the box"
     )
-    return lines + [""]
+    return lines + _corner_lines(analysis) + [""]
+
+
+def _corner_head(analysis: ToleranceAnalysis) -> list[str]:
+    adjusted = "adjusters" in analysis.corners[0]
+    names = list(analysis.corners[0].get("adjusters", {}))
+    return ["case", "peak [N·m]", "rms [N·m]", *(f"t {name} [mm]" for name in names), *(["travel"] if adjusted else [])]
+
+
+def _corner_rows(analysis: ToleranceAnalysis) -> list[list[str]]:
+    rows = []
+    for row in analysis.corners:
+        cells = [row["name"], f"{row['peak']:.4g}", f"{row['rms']:.4g}"]
+        if "adjusters" in row:
+            cells += [f"{1e3 * t:+.2f}" for t in row["adjusters"].values()]
+            cells.append("AT BOUND: " + ", ".join(row["at_bound"]) if row["at_bound"] else "within")
+        rows.append(cells)
+    return rows
+
+
+def _corner_lines(analysis: ToleranceAnalysis) -> list[str]:
+    """The robust design's cases: each corner's residual and adjuster settings (nothing for a nominal design)."""
+    if not analysis.corners:
+        return []
+    spec = analysis.spec
+    worst = max(row["rms"] for row in analysis.corners)
+    lines = [
+        f"  robust design over {len(analysis.corners) - 1} corners ({spec.corners}; k±: rate, F±: a stronger/weaker "
+        f"spring), worst case RMS {worst:.4g} N·m"
+        + (
+            ""
+            if spec.adjuster_travel is None
+            else f"; each corner re-balanced by its adjusters within ±{1e3 * spec.adjuster_travel:.2f} mm"
+        )
+    ]
+    table = [_corner_head(analysis), *_corner_rows(analysis)]
+    widths = [max(len(line[column]) for line in table) for column in range(len(table[0]))]
+    lines += ["  " + "  ".join(cell.ljust(w) for cell, w in zip(line, widths)).rstrip() for line in table]
+    if spec.adjuster_travel is not None:
+        short = sorted({name for row in analysis.corners for name in row["at_bound"]})
+        lines.append(
+            "  the travel suffices: no setting reaches it"
+            if not short
+            else f"  the travel limits the re-balancing of {', '.join(short)}: a longer travel lowers the worst case"
+        )
+    return lines
 
 
 def tolerance_html(result: EvaluatedDesign) -> list[str]:
@@ -103,4 +148,12 @@ def tolerance_html(result: EvaluatedDesign) -> list[str]:
     for line in _spring_rows(analysis):
         parts.append("<tr>" + "".join(f"<td class=l>{e(cell)}</td>" for cell in line) + "</tr>")
     parts.append("</table>")
+    if analysis.corners:
+        parts.append(f"<p>{e(_corner_lines(analysis)[0].strip())}</p>")
+        parts.append(
+            "<table><tr>" + "".join(f"<th class=l>{e(cell)}</th>" for cell in _corner_head(analysis)) + "</tr>"
+        )
+        for line in _corner_rows(analysis):
+            parts.append("<tr>" + "".join(f"<td class=l>{e(cell)}</td>" for cell in line) + "</tr>")
+        parts.append("</table>")
     return parts

@@ -241,6 +241,8 @@ class Margin:
     safety_factor: float
     required: float
     life: float
+    #: whether finite-life data exist for the location (Table 10-8: unpeened extension springs only)
+    finite_data: bool = True
 
     @property
     def holds(self) -> bool:
@@ -250,6 +252,8 @@ class Margin:
         """``"infinite (Zimmerli)"``, ``"≥ 1e+07 cycles"`` … ``"< 1e+05 cycles"``."""
         if math.isinf(self.life):
             return "infinite (Zimmerli)"
+        if not self.finite_data:
+            return "short of infinite life (Zimmerli); no finite-life data for this spring"
         return f"≥ {self.life:.0e} cycles" if self.life > 0 else f"< {min(CYCLE_TABLE):.0e} cycles"
 
     def to_dict(self) -> dict[str, Any]:
@@ -310,6 +314,7 @@ def fatigue_margins(
             n,
             duty.safety_factor,
             life,
+            finite_data=not (kind == "compression" or duty.peened),
         )
     return margins
 

@@ -106,9 +106,8 @@ def spring_from_dict(record: dict[str, Any], where: str = "spring", **routing: A
             if not isinstance(record["joint"], str):
                 raise InputError(f"joint: expected a joint name, got {record['joint']!r}")
             return make(record["joint"], name, **parameters, **extra)
-        a = anchor_from_dict(record["a"], f"{where}.a")
-        b = anchor_from_dict(record["b"], f"{where}.b")
-        return make(a, b, name, **parameters, **extra, **routing)
+        anchors = [anchor_from_dict(record[end], f"{where}.{end}") for end in ends]  # a, b (or a directed force's a)
+        return make(*anchors, name, **parameters, **extra, **routing)
     except InputError as error:
         if str(error).startswith(where):
             raise

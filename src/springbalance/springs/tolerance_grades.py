@@ -40,8 +40,11 @@ from __future__ import annotations
 
 import bisect
 import math
+import numbers
 from dataclasses import dataclass
-from typing import Literal
+from typing import Any, Literal
+
+import casadi as ca
 
 from springbalance.errors import InputError
 
@@ -99,18 +102,25 @@ def quality_factor(grade: int) -> float:
     return QUALITY_FACTORS[int(grade)]
 
 
-def alpha_f(wire_diameter: float, mean_diameter: float) -> float:
+def alpha_f(wire_diameter: Any, mean_diameter: Any) -> Any:
     r"""EN 15800 factor :math:`\alpha_F` [N] of wire ``d`` [m] and mean coil diameter ``D`` [m]
     (the formula in mm; the index is clamped to the standard's 4–20)."""
     d, D = wire_diameter / MM, mean_diameter / MM
-    x = min(max(D / d, 4.0), 20.0) / 10
+    x = _clamp(D / d, 4.0, 20.0) / 10
     return 65.92 * d**3.3 / D**1.6 * (-0.84 * x**3 + 3.781 * x**2 - 4.244 * x + 2.274)
 
 
-def k_f(active_coils: float) -> float:
+def k_f(active_coils: Any) -> Any:
     r"""EN 15800 factor :math:`k_F = 1/(3 n^2) + 8/(5 n) + 0.803` [1] of ``n`` active coils (n ≥ 2)."""
-    n = max(float(active_coils), 2.0)
+    n = _clamp(active_coils, 2.0, math.inf)
     return 1 / (3 * n * n) + 8 / (5 * n) + 0.803
+
+
+def _clamp(value: Any, low: float, high: float) -> Any:
+    """``value`` within ``[low, high]``: a number, or a CasADi expression (the robust design's symbols)."""
+    if isinstance(value, numbers.Real):
+        return min(max(float(value), low), high)
+    return ca.fmin(ca.fmax(value, low), high)
 
 
 def force_tolerance(

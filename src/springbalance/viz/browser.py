@@ -2,8 +2,16 @@
 
 This is how the tests (and ``make demo-check``) make sure that ``scene.html`` really
 renders — WebGL included — with no server and no network: Chromium loads the file, runs
-for a few seconds of virtual time, and saves a PNG; :func:`colour_census` then counts the
-pixels whose hue is that of the arm and of the springs.
+for a few seconds of virtual time, and saves a PNG; then what a person looks at is measured:
+
+- :func:`drawn_mask` / :func:`drawn_box`: the pixels where something solid is drawn (they differ
+  from the page's background gradient, and survive an opening by a 5×5 square that removes the
+  one-pixel grid lines and the strokes of text), and their bounding box;
+- :func:`colour_census`: the pixels whose hue is that of the springs' colours, and the drawn pixels
+  that are not (the arm, whatever its colours: the UR5's greys as well as the demo's blue), or of
+  given arm colours;
+- :func:`dump_dom` / :func:`label_boxes`: the page's DOM after its scripts ran, and where the name
+  labels were drawn (their ``data-box``, :mod:`springbalance.viz.overlay`).
 
 Run as ``python -m springbalance.viz.browser SCENE.html [--screenshot OUT.png]``: it prints what
 it found and exits 0 when the arm and the springs are both on the image, 1 when not, and
@@ -19,7 +27,9 @@ from __future__ import annotations
 import argparse
 import colorsys
 import dataclasses
+import html
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -38,6 +48,17 @@ WINDOW = (900, 700)
 LEGEND_BOX = (0, 0, 300, 90)
 #: Where meshcat puts its "Open Controls" bar; not counted.
 CONTROLS_BOX = (WINDOW[0] - 260, 0, WINDOW[0], 24)
+#: Where the scene page puts its pose slider and its numbers (bottom right, :mod:`springbalance.viz.pose_slider`:
+#: up to 13 joints and springs in all, such as a 7-joint arm with 6 springs); not counted.
+POSES_BOX = (WINDOW[0] - 400, WINDOW[1] - 240, WINDOW[0], WINDOW[1])
+#: Where the scene page puts its "anchor regions" checkbox; not counted.
+REGIONS_BOX = (0, WINDOW[1] - 40, 140, WINDOW[1])
+#: The scene's background gradient, top and bottom (RGB in [0, 1]; DesignScene.draw sets it).
+BACKGROUND = ((1.0, 1.0, 1.0), (0.8, 0.83, 0.88))
+#: A pixel is drawn when a channel differs from the background by more than this.
+DRAWN_THRESHOLD = 0.15
+#: Side [px] of the square that opens the drawn mask (removes grid lines and text strokes).
+OPENING = 5
 
 
 class BrowserError(RuntimeError):
@@ -57,9 +78,17 @@ def find_chromium() -> str | None:
 
 
 def chromium_command(
-    chromium: str, page: Path, image: Path, profile: Path, window: tuple[int, int] = WINDOW, budget_ms: int = 2500
+    chromium: str,
+    page: Path,
+    image: Path | None,
+    profile: Path,
+    window: tuple[int, int] = WINDOW,
+    budget_ms: int = 2500,
+    fragment: str = "",
 ) -> list[str]:
-    """The command line that renders ``page`` into ``image`` (software WebGL, nothing online)."""
+    """The command line that renders ``page`` into ``image`` (software WebGL, nothing online), or, with
+    ``image`` None, prints its DOM after the scripts ran. ``fragment`` is appended to the page's URL
+    (``#regions`` shows the anchor regions)."""
     return [
         chromium,
         "--headless",
@@ -77,17 +106,22 @@ def chromium_command(
         "--hide-scrollbars",
         "--mute-audio",
         f"--user-data-dir={profile}",
-        f"--screenshot={image}",
+        f"--screenshot={image}" if image is not None else "--dump-dom",
         f"--window-size={window[0]},{window[1]}",
         f"--virtual-time-budget={int(budget_ms)}",
-        Path(page).resolve().as_uri(),
+        Path(page).resolve().as_uri() + fragment,
     ]
 
 
 def screenshot(
-    page: str | Path, image: str | Path, window: tuple[int, int] = WINDOW, budget_ms: int = 2500, timeout: float = 120.0
+    page: str | Path,
+    image: str | Path,
+    window: tuple[int, int] = WINDOW,
+    budget_ms: int = 2500,
+    timeout: float = 120.0,
+    fragment: str = "",
 ) -> Path:
-    """Render ``page`` in headless Chromium and save a PNG screenshot to ``image``.
+    """Render ``page`` (its URL plus ``fragment``) in headless Chromium and save a PNG screenshot to ``image``.
 
     Raises:
         BrowserError: no Chromium, a timeout, or no image written.
@@ -100,7 +134,7 @@ def screenshot(
     if image.exists():
         image.unlink()
     with tempfile.TemporaryDirectory(prefix="springbalance-chromium-") as profile:
-        command = chromium_command(chromium, Path(page), image, Path(profile), window, budget_ms)
+        command = chromium_command(chromium, Path(page), image, Path(profile), window, budget_ms, fragment)
         try:
             completed = subprocess.run(command, stdin=subprocess.DEVNULL, capture_output=True, timeout=timeout)
         except subprocess.TimeoutExpired:
@@ -109,6 +143,76 @@ def screenshot(
         tail = completed.stderr.decode("utf-8", "replace").strip().splitlines()[-3:]
         raise BrowserError(f"Chromium wrote no screenshot (exit {completed.returncode}): {' | '.join(tail)}")
     return image
+
+
+def dump_dom(page: str | Path, window: tuple[int, int] = WINDOW, budget_ms: int = 2500, timeout: float = 120.0) -> str:
+    """The DOM (HTML) of ``page`` after headless Chromium ran its scripts for ``budget_ms`` of virtual time.
+
+    Raises:
+        BrowserError: no Chromium, a timeout, or no output.
+    """
+    chromium = find_chromium()
+    if chromium is None:
+        raise BrowserError("Chromium is not installed (looked for " + ", ".join(CANDIDATES) + ")")
+    with tempfile.TemporaryDirectory(prefix="springbalance-chromium-") as profile:
+        command = chromium_command(chromium, Path(page), None, Path(profile), window, budget_ms)
+        try:
+            completed = subprocess.run(command, stdin=subprocess.DEVNULL, capture_output=True, timeout=timeout)
+        except subprocess.TimeoutExpired:
+            raise BrowserError(f"Chromium took more than {timeout:g} s to render {page}") from None
+    dom = completed.stdout.decode("utf-8", "replace")
+    if "<html" not in dom.lower():
+        raise BrowserError(f"Chromium printed no DOM for {page} (exit {completed.returncode})")
+    return dom
+
+
+def label_boxes(dom: str) -> dict[str, tuple[str, tuple[float, float, float, float]]]:
+    """Where the scene page drew each spring's name label: ``name → (mode, (left, top, right, bottom))``
+    [px], mode ``"label"`` or ``"dot"`` (a label shrunk to a dot that shows its name on hover), read from
+    the ``data-box`` attributes that the page's script writes (:mod:`springbalance.viz.overlay`)."""
+    boxes = {}
+    for tag in re.findall(r"<div[^>]*class=\"sb-label[^>]*>", dom):
+        attributes = dict(re.findall(r'([\w-]+)="([^"]*)"', tag))
+        if "data-box" in attributes:
+            box = tuple(float(v) for v in attributes["data-box"].split(","))
+            boxes[html.unescape(attributes["data-name"])] = (attributes.get("data-mode", ""), box)
+    return boxes  # type: ignore[return-value]
+
+
+def _load_rgb(image: str | Path) -> np.ndarray:
+    from PIL import Image
+
+    with Image.open(image) as picture:
+        return np.asarray(picture.convert("RGB"), dtype=float) / 255.0
+
+
+def drawn_mask(
+    image: str | Path | np.ndarray,
+    exclude: Iterable[tuple[int, int, int, int]] = (LEGEND_BOX, CONTROLS_BOX, REGIONS_BOX, POSES_BOX),
+) -> np.ndarray:
+    """Pixels (H×W bool) where something solid is drawn: a channel differs from the background
+    gradient (:data:`BACKGROUND`, top to bottom) by more than :data:`DRAWN_THRESHOLD`, after an
+    opening by an :data:`OPENING` px square (thin grid lines and the strokes of text go); the boxes
+    of ``exclude`` (left, top, right, bottom) [px] are not counted."""
+    from scipy import ndimage
+
+    rgb = image if isinstance(image, np.ndarray) else _load_rgb(image)
+    height = rgb.shape[0]
+    top, bottom = np.array(BACKGROUND[0]), np.array(BACKGROUND[1])
+    expected = top + (bottom - top) * (np.arange(height) / max(height - 1, 1))[:, None]
+    mask = np.max(np.abs(rgb - expected[:, None, :]), axis=2) > DRAWN_THRESHOLD
+    for left, upper, right, lower in exclude:
+        mask[upper:lower, left:right] = False
+    return np.asarray(ndimage.binary_opening(mask, structure=np.ones((OPENING, OPENING))), dtype=bool)
+
+
+def drawn_box(image: str | Path | np.ndarray) -> tuple[int, int, int, int] | None:
+    """Bounding box (left, top, right, bottom) [px] of :func:`drawn_mask`, or None when nothing is drawn."""
+    mask = drawn_mask(image)
+    rows, columns = np.flatnonzero(mask.any(axis=1)), np.flatnonzero(mask.any(axis=0))
+    if rows.size == 0:
+        return None
+    return int(columns[0]), int(rows[0]), int(columns[-1]) + 1, int(rows[-1]) + 1
 
 
 @dataclasses.dataclass
@@ -149,20 +253,18 @@ def hue_mask(
 
 def colour_census(
     image: str | Path,
-    arm_colours: Iterable[Sequence[float]],
+    arm_colours: Iterable[Sequence[float]] | None,
     spring_colours: Iterable[Sequence[float]],
-    exclude: Iterable[tuple[int, int, int, int]] = (LEGEND_BOX, CONTROLS_BOX),
+    exclude: Iterable[tuple[int, int, int, int]] = (LEGEND_BOX, CONTROLS_BOX, REGIONS_BOX, POSES_BOX),
 ) -> Census:
     """Count pixels of the arm's and the springs' colours on ``image``.
 
     ``arm_colours`` and ``spring_colours`` are RGB triples in [0, 1] (several allowed:
-    a spring's colour changes with its tension). Boxes in ``exclude`` (left, top, right,
-    bottom) [px] are not counted.
+    a spring's colour changes with its tension); with ``arm_colours`` None the arm's pixels are the
+    drawn ones (:func:`drawn_mask`) that are not of a spring's colour, whatever the arm's colours.
+    Boxes in ``exclude`` (left, top, right, bottom) [px] are not counted.
     """
-    from PIL import Image
-
-    with Image.open(image) as picture:
-        rgb = np.asarray(picture.convert("RGB"), dtype=float) / 255.0
+    rgb = _load_rgb(image)
     keep = np.ones(rgb.shape[:2], dtype=bool)
     for left, top, right, bottom in exclude:
         keep[top:bottom, left:right] = False
@@ -173,7 +275,15 @@ def colour_census(
             mask |= hue_mask(rgb, colour)
         return int(np.count_nonzero(mask & keep))
 
-    return Census(arm=count(arm_colours), spring=count(spring_colours), total=int(np.count_nonzero(keep)))
+    spring_colours = list(spring_colours)
+    if arm_colours is None:
+        springs = np.zeros(rgb.shape[:2], dtype=bool)
+        for colour in spring_colours:
+            springs |= hue_mask(rgb, colour)
+        arm = int(np.count_nonzero(drawn_mask(rgb, exclude) & ~springs & keep))
+    else:
+        arm = count(arm_colours)
+    return Census(arm=arm, spring=count(spring_colours), total=int(np.count_nonzero(keep)))
 
 
 def scale_colours(count: int = 41) -> list[tuple[float, float, float]]:
@@ -191,8 +301,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--screenshot", default=None, help="where to save the PNG (default: next to the page)")
     parser.add_argument(
         "--arm-colour",
-        default="0.2,0.3,0.8",
-        help="RGB in [0, 1] of the arm's material (default: link1 of urdf/two_link_planar.urdf)",
+        default=None,
+        help="RGB in [0, 1] of the arm's material (default: any solid drawn pixel not of a spring's colour)",
     )
     args = parser.parse_args(argv)
     page = Path(args.page)
@@ -208,11 +318,17 @@ def main(argv: list[str] | None = None) -> int:
     except BrowserError as error:
         print(f"demo-check: FAILED: {error}")
         return 1
-    arm = [tuple(float(v) for v in args.arm_colour.split(","))]
+    arm = [tuple(float(v) for v in args.arm_colour.split(","))] if args.arm_colour else None
     springs = scale_colours()
     census = colour_census(image, arm, springs)
     verdict = "PASSED" if census.ok() else "FAILED"
-    print(f"demo-check: {verdict}: {page} rendered by {find_chromium()} into {image}: {census}")
+    box = drawn_box(image)
+    fill = (
+        "nothing drawn"
+        if box is None
+        else f"drawn box {box[2] - box[0]}×{box[3] - box[1]} px of {WINDOW[0]}×{WINDOW[1]}"
+    )
+    print(f"demo-check: {verdict}: {page} rendered by {find_chromium()} into {image}: {census}; {fill}")
     return 0 if census.ok() else 1
 
 

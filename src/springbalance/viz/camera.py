@@ -1,11 +1,16 @@
-"""Where meshcat's camera stands: far enough from the world origin that everything drawn over the whole
-animation is in view.
+"""Where meshcat's camera stands and what it looks at: the arm's bounding box over the whole animation,
+from a three-quarter view, close enough that the arm and its springs fill most of the view.
 
-The camera frames a sphere that holds, in every frame of the animation, the arm's links (the
-bounding sphere of each visual shape), every spring with its coils, and every anchor region.
-meshcat's orbit controls always look at the world origin (the arm's base, usually) and turn the
-view about it, so the camera looks at the origin from just far enough that all of it lies within
-90 % of the half-angle of meshcat's 75° field of view (:func:`camera_distance`). Lengths in m.
+The camera frames the box that holds, in every frame of the animation, the arm's links (the bounding
+sphere of each visual shape) and every spring with its coils (the anchor regions, hidden by default,
+are not framed). meshcat's orbit controls always look at the origin of the scene and turn the view
+about it, so the scene is moved (the ``/meshcat`` node) by minus the box's centre: the camera looks at
+the centre of the arm, and orbiting turns the arm about its own middle. It stands on a three-quarter
+line of sight (a planar arm: along the normal of its plane, turned a little; any other from an oblique
+corner above), just far enough that everything lies within 90 % of the half-angle of meshcat's 75°
+field of view vertically and of its width for a view :data:`CAMERA_ASPECT` wide
+(:func:`camera_distance`). The floor grid is moved under the arm (to the box's lowest
+point) and scaled to the arm's size. Lengths in m.
 """
 
 from __future__ import annotations
@@ -25,34 +30,55 @@ CAMERA_FOV = 75.0
 CAMERA_FILL = 0.9
 
 
+#: Width over height of the view the camera is placed for (a browser window; the tests' is 900×700).
+CAMERA_ASPECT = 1.3
+
+
 def camera_distance(
     centres: npt.ArrayLike,
     radii: npt.ArrayLike,
     direction: npt.ArrayLike,
     fov: float = CAMERA_FOV,
     fill: float = CAMERA_FILL,
+    aspect: float | None = None,
 ) -> float:
     """Distance [m] from the world origin along the unit vector ``direction`` of a camera that looks at
     the origin and sees every sphere (``centres`` K×3 [m], ``radii`` K [m]) within ``fill`` of the half
-    field of view ``fov`` [deg]: for each sphere, the angle between the line of sight and its centre
-    plus its angular radius is at most ``fill · fov / 2``. The smallest such distance, by bisection
-    (beyond every sphere both angles only shrink with the distance)."""
+    field of view ``fov`` [deg] (vertical). Without ``aspect``: for each sphere, the angle between the
+    line of sight and its centre plus its angular radius is at most ``fill · fov / 2`` (a cone). With
+    ``aspect`` (width over height of the view): the same separately in the camera's vertical plane
+    (half-angle ``fill · fov / 2``) and in its horizontal plane (half-angle ``fill · atan(aspect ·
+    tan(fov / 2))``), the view's rectangle with world z up. The smallest such distance, by bisection
+    (beyond every sphere the angles only shrink with the distance)."""
     centres = np.atleast_2d(np.asarray(centres, dtype=float))
     radii = np.asarray(radii, dtype=float)
     direction = np.asarray(direction, dtype=float)
     half = np.radians(fill * fov / 2)
+    forward = -direction
+    right = np.cross(forward, [0.0, 0.0, 1.0])
+    right = right / np.linalg.norm(right) if np.linalg.norm(right) > 1e-9 else np.array([1.0, 0.0, 0.0])
+    up = np.cross(right, forward)
+    wide = fill * np.arctan(aspect * np.tan(np.radians(fov / 2))) if aspect else half
 
-    def angle(distance: float) -> float:
+    def planar(depth: np.ndarray, side: np.ndarray) -> np.ndarray:
+        """Angle from the line of sight to each sphere's far edge in one plane of the camera."""
+        reach = np.hypot(depth, side)
+        return np.arctan2(np.abs(side), depth) + np.arcsin(np.minimum(radii / reach, 1.0))
+
+    def beyond(distance: float) -> bool:
         to_centres = centres - distance * direction
-        reach = np.linalg.norm(to_centres, axis=1)
-        sight = np.arccos(np.clip(-(to_centres @ direction) / reach, -1.0, 1.0))
-        return float(np.max(sight + np.arcsin(np.minimum(radii / reach, 1.0))))
+        if aspect is None:
+            reach = np.linalg.norm(to_centres, axis=1)
+            sight = np.arccos(np.clip(-(to_centres @ direction) / reach, -1.0, 1.0))
+            return bool(np.max(sight + np.arcsin(np.minimum(radii / reach, 1.0))) > half)
+        depth = to_centres @ forward
+        return bool(np.max(planar(depth, to_centres @ up)) > half or np.max(planar(depth, to_centres @ right)) > wide)
 
     low = float(np.max(np.linalg.norm(centres, axis=1) + radii))  # outside every sphere
     high = 2 * low / np.sin(half) + 1e-3
     for _ in range(60):
         middle = (low + high) / 2
-        low, high = (middle, high) if angle(middle) > half else (low, middle)
+        low, high = (middle, high) if beyond(middle) else (low, middle)
     return high
 
 
@@ -111,10 +137,11 @@ def _add_arm_spheres(
 
 
 def camera_view(centres: np.ndarray, radii: np.ndarray) -> tuple[np.ndarray, float, np.ndarray]:
-    """The sphere that holds every bounding sphere (``centres`` K×3 [m], ``radii`` K [m]): its centre
-    [m] and radius [m] (at least 0.15 m); and where the camera stands [m] (world) to see them all while
-    it looks at the world origin: a planar arm square-on (along the normal of its plane, turned a
-    little), any other from an oblique corner, at :func:`camera_distance`."""
+    """The box that holds every bounding sphere (``centres`` K×3 [m], ``radii`` K [m]): its centre [m]
+    (the camera's target), the radius [m] of the sphere about that centre that holds them all (at least
+    0.15 m); and where the camera stands [m] (world) to see them all while it looks at the centre: a
+    planar arm square-on (along the normal of its plane, turned a little), any other from an oblique
+    corner above, at :func:`camera_distance` from the centre."""
     lower, upper = (centres - radii[:, None]).min(axis=0), (centres + radii[:, None]).max(axis=0)
     center = (lower + upper) / 2
     radius = max(float(np.max(np.linalg.norm(centres - center, axis=1) + radii)), 0.15)  # [m]
@@ -126,13 +153,43 @@ def camera_view(centres: np.ndarray, radii: np.ndarray) -> tuple[np.ndarray, flo
     else:
         direction = np.array([1.0, -1.3, 0.8])
     direction /= np.linalg.norm(direction)
-    position = camera_distance(centres, radii, direction) * direction  # [m] world
+    position = center + camera_distance(centres - center, radii, direction, aspect=CAMERA_ASPECT) * direction
     return center, radius, position
 
 
-def place_camera(visualizer: Any, position: np.ndarray) -> None:
-    """Put meshcat's camera at ``position`` [m] (world), looking at the world origin (its orbit target)."""
-    # meshcat's orbit controls look at the world origin: the camera's parent frame must not move
+def floor_height(centres: np.ndarray, radii: np.ndarray) -> float:
+    """Height [m] (world z) of the lowest point of the spheres (``centres`` K×3 [m], ``radii`` K [m]):
+    where the floor grid goes, under the arm."""
+    return float(np.min(centres[:, 2] - radii))
+
+
+#: meshcat's floor grid: 20 m wide (40 cells of 0.5 m); it is scaled to this many times the framed radius
+GRID_SPAN = 4.0
+
+
+def place_camera(
+    visualizer: Any,
+    position: np.ndarray,
+    target: np.ndarray | None = None,
+    floor: float | None = None,
+    radius: float | None = None,
+) -> None:
+    """Put meshcat's camera at ``position`` [m] (world), looking at ``target`` [m] (world; default the
+    origin): the scene (``/meshcat``) is moved by ``-target``, since meshcat's orbit controls look at
+    the scene's origin. With ``floor`` [m] the grid goes to that height under the arm, and with
+    ``radius`` [m] (the framed sphere's) it spans :data:`GRID_SPAN` times it."""
+    target = np.zeros(3) if target is None else np.asarray(target, dtype=float)
+    shift = np.eye(4)
+    shift[:3, 3] = -target
+    visualizer["/meshcat"].set_transform(shift)
+    if floor is not None:
+        grid = np.eye(4)
+        if radius is not None:
+            grid[:3, :3] *= GRID_SPAN * radius / 20.0  # meshcat's grid is 20 m wide
+        grid[:3, 3] = [0.0, 0.0, floor - target[2]]
+        visualizer["/Grid"].set_transform(grid)
+    # meshcat's orbit controls look at the origin: the camera's parent frame must not move
     visualizer["/Cameras/default"].set_transform(np.eye(4))
+    local = np.asarray(position, dtype=float) - target
     # the camera node is rotated by +90° about x (meshcat's y-up convention): world (x, y, z) = rotated (x, z, -y)
-    visualizer["/Cameras/default/rotated/<object>"].set_property("position", [position[0], position[2], -position[1]])
+    visualizer["/Cameras/default/rotated/<object>"].set_property("position", [local[0], local[2], -local[1]])

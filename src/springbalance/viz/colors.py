@@ -1,26 +1,28 @@
 """The colour scale of spring forces: warm colours for tension [N], greens for compression, and the
-fixed magenta of a spring that comes closer to the arm than the clearance margin.
+fixed solid red of a spring that comes closer to the arm than the clearance margin.
 
-The tension scale runs from yellow through orange to a dark crimson (hues about 46° down to
-346°), so a plain red would read as "a lot of tension". A spring below the clearance margin is
-drawn in :data:`CLEARANCE_RGB`, a magenta (hue 300°) that is more than 40° of hue away from every
-colour of the scale (tension and compression) and from the arm's blue.
+The tension scale runs from yellow through orange to a dark raspberry (hues about 46° down to
+325°). A spring below the clearance margin is drawn in :data:`CLEARANCE_RGB`, a pure red (hue 0°,
+saturation and value 1) with a marker at its closest point: every colour of the scale within 14°
+of its hue is at most 80 % saturated (a pinkish orange-red), every one at least 90 % saturated is
+26° of hue or more away, so a census (and a reader) tells the red apart.
 """
 
 from __future__ import annotations
 
 import html
+from collections.abc import Sequence
 
 import numpy as np
 import numpy.typing as npt
 
 #: Tension colours, from no tension to the scale's limit (RGB in [0, 1]).
-TENSION_STOPS = ((0.0, (1.0, 0.85, 0.35)), (0.5, (0.96, 0.43, 0.16)), (1.0, (0.65, 0.0, 0.15)))
+TENSION_STOPS = ((0.0, (1.0, 0.85, 0.35)), (0.5, (0.96, 0.43, 0.16)), (1.0, (0.55, 0.0, 0.32)))
 #: Compression colours (a spring that pushes), from none to the scale's limit.
 COMPRESSION_STOPS = ((0.0, (0.75, 0.9, 0.7)), (1.0, (0.1, 0.47, 0.22)))
-#: Colour of a spring in a frame where it is below the clearance margin (0xRRGGBB): magenta, not a
-#: red, since the tension scale ends in crimson.
-CLEARANCE_COLOR = 0xE000E0
+#: Colour of a spring in a frame where it is below the clearance margin (0xRRGGBB): pure red, full value
+#: (the tension scale ends in a dark raspberry, 35° of hue away).
+CLEARANCE_COLOR = 0xFF0000
 #: :data:`CLEARANCE_COLOR` as RGB in [0, 1].
 _RED, _GREEN, _BLUE = (((CLEARANCE_COLOR >> shift) & 0xFF) / 255.0 for shift in (16, 8, 0))
 CLEARANCE_RGB = (_RED, _GREEN, _BLUE)
@@ -67,7 +69,7 @@ class ColorScale:
     def describe(self) -> str:
         """One line of text for a terminal."""
         return (
-            f"spring colour: tension 0 N (yellow) … {self.limit:.4g} N (dark red); "
+            f"spring colour: tension 0 N (yellow) … {self.limit:.4g} N (dark raspberry); "
             f"compression (pushing) in greens; scale limit {self.limit:.4g} N"
         )
 
@@ -77,11 +79,13 @@ class ColorScale:
         element_id: str = "springbalance-legend",
         position: str = "fixed",
         clearance_margin: float | None = None,
+        flagged: Sequence[str] = (),
     ) -> str:
         """A small HTML legend at the top left of the page (``position:fixed``) or of its container
         (``"absolute"``): the colour bar of the tension [N] with ticks, from 0 or, with ``compression``
         (some spring pushes), from ``-limit`` (negative: pushing); with ``clearance_margin`` [m] also a
-        magenta swatch "below clearance margin (X mm)"."""
+        red swatch "below clearance margin (X mm)"; each line of ``flagged`` (a spring drawn red, and
+        why) is listed under it."""
         low = -self.limit if compression else 0.0
         ticks = np.linspace(low, self.limit, 5 if compression else 3)
         stops = ", ".join(
@@ -95,12 +99,18 @@ class ColorScale:
         )
         note = " (negative: pushing)" if compression else ""
         clearance = ""
-        if clearance_margin is not None:
+        if clearance_margin is not None or flagged:
+            what = "red: a spring too close to the arm"
+            if clearance_margin is not None:
+                what = f"red: below clearance margin ({1e3 * float(clearance_margin):.3g} mm), ● closest point"
             clearance = (
                 f'<div class="springbalance-clearance" style="margin-top:8px;font-size:11px">'
                 f'<span style="display:inline-block;width:16px;height:10px;margin-right:5px;'
-                f'vertical-align:-1px;background:#{CLEARANCE_COLOR:06x}"></span>'
-                f"magenta: below clearance margin ({1e3 * float(clearance_margin):.3g} mm)</div>"
+                f'vertical-align:-1px;background:#{CLEARANCE_COLOR:06x}"></span>{html.escape(what)}</div>'
+            )
+            clearance += "".join(
+                f'<div class="springbalance-flagged" style="font-size:11px;color:#c00000">{html.escape(line)}</div>'
+                for line in flagged
             )
         bottom = 8 if clearance else 22
         return (

@@ -17,20 +17,30 @@ What is drawn (all lengths in m, forces in N):
   ``clearance.radius``, else 0.01 m; see :func:`springbalance.model.collision.capsule_radius`)
   comes closer than ``m`` (or touches: distance ≤ 0) to the collision geometry of any body
   but its own two anchor bodies (the rule of :mod:`springbalance.results.clearance`), the
-  spring is drawn in magenta (:data:`~springbalance.viz.colors.CLEARANCE_COLOR`) instead of
-  its tension colour, and the legend gets a "below clearance margin (m mm)" entry; the signed
+  spring is drawn solid red (:data:`~springbalance.viz.colors.CLEARANCE_COLOR`) instead of
+  its tension colour, a red marker sphere sits at its closest point to the arm in those frames,
+  and the legend names it ("below clearance margin (m mm)"); the signed
   distances [m] per frame are :attr:`SpringTrack.clearance`. Without collision geometry the
   springs keep their tension colours;
-- the **name of each spring** as a text label (a sprite that always faces the camera,
-  :mod:`springbalance.viz.meshcat_glue`) just above the middle of the spring, following it in the
-  animation;
+- springs named in ``flagged`` (the report passes the springs that run inside their own link
+  beyond their anchor, :mod:`springbalance.results.own_link`) solid red in every frame, named in
+  the legend with the reason;
+- the **name of each spring** as an HTML label that follows a point just above the middle of the
+  spring and is placed so that no two labels overlap (:mod:`springbalance.viz.overlay`);
 - a small sphere at each anchor, and the free region of each anchor of the original
   problem (box, segment or plane rectangle of :mod:`springbalance.springs.params`) as a
-  translucent shape fixed to its body (:mod:`springbalance.viz.regions`);
+  thin wireframe fixed to its body (:mod:`springbalance.viz.regions`), hidden until the page's
+  "anchor regions" checkbox shows it;
+- the arm's mesh files decimated, one part per colour (:mod:`springbalance.viz.arm_meshes`), sent
+  once and moved by the animation;
+- a force along a fixed direction (docs/model.md §3.11) as an arrow from its anchor along its push
+  (:mod:`springbalance.viz.arrows`);
+- the parallelograms that realise the mechanism's pseudo-bases, as rods (:mod:`springbalance.viz.parallelograms`);
 - an animation along an ordered path of poses (by default a sweep of each joint in turn,
-  :func:`springbalance.model.sweeps.animation_path`), with meshcat's play/pause/time controls.
+  :func:`springbalance.model.sweeps.animation_path`), meshcat's play/pause/time controls and a pose slider.
 
-The camera frames everything drawn over the whole animation (:mod:`springbalance.viz.camera`).
+The camera looks at the middle of the arm and its springs over the whole animation, from a
+three-quarter view, with the floor grid under the arm (:mod:`springbalance.viz.camera`).
 The end points come from the workspace kinematics (:mod:`springbalance.model.kinematics`), lengths
 and tensions from the design's own evaluation (``EvaluatedDesign.evaluate_on``).
 """
@@ -50,21 +60,29 @@ from springbalance.errors import InputError
 from springbalance.model import sweeps
 from springbalance.model.workspace import Workspace
 from springbalance.viz.arm import stick_figure, visual_geometry
-from springbalance.viz.camera import bounding_spheres, camera_view, place_camera
+from springbalance.viz.arm_meshes import draw_mesh_file, drawable
+from springbalance.viz.arrows import animate_arrow, draw_arrows, force_arrows
+from springbalance.viz.camera import bounding_spheres, camera_view, floor_height, place_camera
 from springbalance.viz.colors import CLEARANCE_COLOR, CLEARANCE_RGB, ColorScale
 from springbalance.viz.helix import HelixStyle, placement
 from springbalance.viz.meshcat_glue import ROOT, insert_before_body_end, meshcat_classes
 from springbalance.viz.meshcat_import import import_meshcat
+from springbalance.viz.overlay import overlay_html
+from springbalance.viz.parallelograms import draw_parallelograms, parallelogram_rods, place_parallelograms
+from springbalance.viz.pose_paths import scene_path
+from springbalance.viz.pose_slider import scene_slider_html
 from springbalance.viz.recorder import SceneRecorder
-from springbalance.viz.regions import REGION_COLOR, REGION_OPACITY, RegionShape, anchor_regions, region_geometry
+from springbalance.viz.regions import REGION_COLOR, RegionShape, anchor_regions, region_geometry
 from springbalance.viz.tracks import SpringTrack, add_clearances, spring_tracks
 
 ANCHOR_COLOR = 0x333333
 #: a routed spring's cable (docs/model.md §3.9): a thin dark line from the spring's end over its pulleys
 CABLE_COLOR = 0x222222
 CABLE_RADIUS = 0.0015  # [m]
-#: Side of a label's square sprite as a fraction of the camera's distance from what it frames.
+#: Side of a label's square sprite (live view) as a fraction of the camera's distance from what it frames.
 LABEL_SIZE = 0.22
+#: Radius [m] of the clearance marker beyond the spring's capsule radius.
+MARKER_RADIUS = 0.012
 #: the helix drawn when no style is given (frozen: one instance serves every scene)
 DEFAULT_HELIX = HelixStyle()
 
@@ -80,11 +98,14 @@ class DesignScene:
         frames_per_joint: frames of each joint's sweep in the default path.
         style: :class:`HelixStyle`.
         fps: frames per second of the animation.
-        margin: clearance margin [m] (≥ 0): a spring is drawn magenta in the frames where its
+        margin: clearance margin [m] (≥ 0): a spring is drawn red in the frames where its
             capsule is closer than this to the arm's collision geometry (see the module
             documentation). Default: ``design.problem.clearance.margin`` when the problem has a
             clearance, else no clearance is drawn. Ignored (no error) when the URDF has no
             ``<collision>`` elements; :attr:`clearance_note` then says why.
+        flagged: springs drawn red in every frame, by name, with why (one line for the legend), such
+            as the springs that run inside their own link (:mod:`springbalance.results.own_link`).
+        poses: instead of ``joint_values``: "sweep", "workspace" or "worst[:N]" (:mod:`springbalance.viz.pose_paths`).
 
     Attributes:
         design: the design drawn.
@@ -96,8 +117,9 @@ class DesignScene:
         margin: the clearance margin [m], or None.
         clearance_note: why no clearance is drawn although a margin is set (else None).
         camera_center, camera_radius: the sphere [m] the camera frames (:meth:`bounding_spheres`);
-        camera_target, camera_position: where the camera looks (the world origin, meshcat's orbit
-            target) and where it stands (world, [m]). The four are set by :meth:`draw`.
+        camera_target, camera_position: where the camera looks (the centre of the framed box, which
+            the scene is moved to: meshcat orbits about it) and where it stands (world, [m]). The four
+            are set by :meth:`draw`.
     """
 
     def __init__(
@@ -108,8 +130,11 @@ class DesignScene:
         style: HelixStyle = DEFAULT_HELIX,
         fps: int = 30,
         margin: float | None = None,
+        flagged: dict[str, str] | None = None,
+        poses: str | None = None,
     ) -> None:
         self.design = design
+        joint_values, self.path_title = scene_path(design, joint_values, poses, frames_per_joint)  # slider's caption
         mechanism = design.problem.mechanism
         self.mechanism = mechanism
         if joint_values is None:
@@ -125,14 +150,19 @@ class DesignScene:
         self.springs, self._records, columns = spring_tracks(
             design, self.evaluation.lengths, self.evaluation.tensions, kinematics, style
         )
+        #: forces along a fixed direction, drawn as arrows (:mod:`springbalance.viz.arrows`)
+        self.arrows, drawn = force_arrows(design, self.evaluation.tensions, kinematics)
         #: the springs left out of the drawing (torsional springs), by name
-        self.skipped = [record["name"] for column, record in enumerate(design.springs) if column not in columns]
+        self.skipped = [record["name"] for column, record in enumerate(design.springs) if column not in columns + drawn]
         path_tensions = self.evaluation.tensions[:, columns]
         design_tensions = design.evaluation.tensions[:, columns]
         self.color_scale = ColorScale.for_tensions(path_tensions, design_tensions)
         # the legend's compression half is for springs that push in the animation, not for laws that could
         self.compression = bool(np.any(self.color_scale.pushes(path_tensions)))
         self.regions: list[RegionShape] = anchor_regions(design.problem.springs, kinematics, self.size)
+        #: the rods of the parallelograms realising the pseudo-bases (:mod:`springbalance.viz.parallelograms`)
+        self.parallelograms = parallelogram_rods(mechanism, self.configurations)
+        self.flagged = dict(flagged or {})
         self.margin, self.clearance_note = self._margin(margin), None
         if self.margin is not None:
             radius = getattr(getattr(design.problem, "clearance", None), "radius", None)
@@ -167,28 +197,47 @@ class DesignScene:
 
     @property
     def clearance_violated(self) -> bool:
-        """True when some spring is below the clearance margin in some frame (it is drawn magenta)."""
+        """True when some spring is below the clearance margin in some frame (it is drawn red)."""
         return any(track.below_margin is not None and bool(np.any(track.below_margin)) for track in self.springs)
 
     def rgb(self, spring: SpringTrack, frame: int) -> tuple[float, float, float]:
-        """Colour (RGB in [0, 1]) of ``spring`` at pose ``frame``: magenta below the clearance margin,
-        else the colour of its tension."""
-        if spring.below_margin is not None and spring.below_margin[frame]:
+        """Colour (RGB in [0, 1]) of ``spring`` at pose ``frame``: red below the clearance margin (or
+        when flagged), else the colour of its tension."""
+        if self.red(spring, frame):
             return CLEARANCE_RGB
         return self.color_scale.rgb(spring.tensions[frame])
 
     def hex(self, spring: SpringTrack, frame: int) -> int:
         """:meth:`rgb` as the 0xRRGGBB integer that meshcat materials take."""
-        if spring.below_margin is not None and spring.below_margin[frame]:
+        if self.red(spring, frame):
             return CLEARANCE_COLOR
         return self.color_scale.hex(spring.tensions[frame])
+
+    def red(self, spring: SpringTrack, frame: int) -> bool:
+        """True when ``spring`` is drawn red at pose ``frame``: below the clearance margin there, or flagged."""
+        below = spring.below_margin is not None and bool(spring.below_margin[frame])
+        return below or spring.name in self.flagged
+
+    def problems(self) -> list[str]:
+        """One line per spring drawn red: the frames below the clearance margin, and why it is flagged."""
+        lines = []
+        for spring in self.springs:
+            if spring.below_margin is not None and np.any(spring.below_margin):
+                count = int(np.count_nonzero(spring.below_margin))
+                lines.append(f"{spring.name}: below the margin in {count} of {self.size} frames")
+            if spring.name in self.flagged:
+                lines.append(f"{spring.name}: {self.flagged[spring.name]}")
+        return lines
 
     def legend_html(self, position: str = "fixed") -> str:
         """The colour legend of the scene (see :meth:`ColorScale.legend_html`): the tension scale, its
         compression half only when some spring pushes, the clearance entry only when some spring is
-        below the margin."""
+        below the margin, and the name of every spring drawn red (:meth:`problems`)."""
         return self.color_scale.legend_html(
-            self.compression, position=position, clearance_margin=self.margin if self.clearance_violated else None
+            self.compression,
+            position=position,
+            clearance_margin=self.margin if self.clearance_violated else None,
+            flagged=self.problems(),
         )
 
     @property
@@ -197,8 +246,10 @@ class DesignScene:
         return self.workspace.size
 
     # ---------------------------------------------------------------- drawing
-    def draw(self, visualizer: Any, animate: bool = True, autoplay: bool = True) -> None:
-        """Draw the scene on a ``meshcat.Visualizer`` (live or recording)."""
+    def draw(self, visualizer: Any, animate: bool = True, autoplay: bool = True, sprites: bool = True) -> None:
+        """Draw the scene on a ``meshcat.Visualizer`` (live or recording). ``sprites``: the name labels
+        as text sprites in the scene (the live view); the static page draws them in HTML instead
+        (:mod:`springbalance.viz.overlay`)."""
         classes = meshcat_classes()
         arm = self._arm_visualizer(visualizer)
         arm.display(self.configurations[0])
@@ -208,8 +259,10 @@ class DesignScene:
         self._set_camera(visualizer, arm)
 
         root = visualizer[ROOT]
-        helix_objects = self._draw_springs(root)
+        helix_objects = self._draw_springs(root, sprites)
+        draw_arrows(root, self.arrows)
         self._draw_regions(root)
+        draw_parallelograms(root, self.parallelograms)
         if animate and self.size > 1:
             visualizer.window.send(
                 classes.SetAnimation(
@@ -217,14 +270,15 @@ class DesignScene:
                 )
             )
 
-    def _draw_springs(self, root: Any) -> dict[str, str]:
-        """Draw each spring at the first pose below ``root``: its helix, name label, anchor spheres and
-        cable. Returns the uuid of each spring's helix mesh by spring name."""
-        mg, sprite = import_meshcat().geometry, meshcat_classes().TextSprite
+    def _draw_springs(self, root: Any, sprites: bool = True) -> dict[str, str]:
+        """Draw each spring at the first pose below ``root``: its helix, the node its name label follows
+        (a text sprite there with ``sprites``), its clearance marker, anchor spheres and cable. Returns
+        the uuid of each spring's helix mesh by spring name."""
+        mg = import_meshcat().geometry
         if self.camera_position is None or self.camera_target is None:
             raise RuntimeError("the springs are drawn after the camera is placed (DesignScene.draw)")
-        helix_objects = {}
         label_size = LABEL_SIZE * float(np.linalg.norm(self.camera_position - self.camera_target))  # [m], a side
+        helix_objects = {}
         for spring in self.springs:
             vertices, faces = spring.mesh()
             node = root["springs"][spring.name]
@@ -235,9 +289,15 @@ class DesignScene:
             helix_objects[spring.name] = mesh.uuid
             node.set_object(mesh)
             node.set_transform(spring.transform(0))
-            label = root["labels"][spring.name]
-            label.set_object(sprite(spring.name, label_size))
+            label = root["labels"][spring.name]  # the HTML label follows this node (springbalance.viz.overlay)
+            if sprites:
+                label.set_object(meshcat_classes().TextSprite(spring.name, label_size))
             label.set_transform(placement(np.eye(3), self.label_positions(spring)[0]))
+            if spring.closest is not None and spring.below_margin is not None and np.any(spring.below_margin):
+                marker = root["markers"][spring.name]
+                radius = (spring.radius or spring.coil_radius) + MARKER_RADIUS
+                marker.set_object(mg.Sphere(radius), mg.MeshPhongMaterial(color=CLEARANCE_COLOR, opacity=0.55))
+                marker.set_transform(self._marker(spring, 0))
             for end, positions in spring.points_by_end().items():
                 sphere = root["anchors"][f"{spring.name}.{end}"]
                 sphere.set_object(mg.Sphere(1.6 * spring.wire_radius + 0.004), mg.MeshPhongMaterial(color=ANCHOR_COLOR))
@@ -250,19 +310,15 @@ class DesignScene:
         return helix_objects
 
     def _draw_regions(self, root: Any) -> None:
-        """Draw each anchor's free region at the first pose below ``root``: a translucent solid and its edges."""
+        """Draw each anchor's free region at the first pose below ``root`` as a thin wireframe (its
+        edges), hidden until the page's control (or meshcat's) shows ``regions``."""
         mg = import_meshcat().geometry
+        root["regions"].set_property("visible", False)
         for region in self.regions:
             node = root["regions"][f"{region.spring}.{region.end}"]
-            geometry, edges = region_geometry(region)
-            node["shape"].set_object(
-                geometry,
-                mg.MeshLambertMaterial(color=REGION_COLOR, opacity=REGION_OPACITY, transparent=True, depthWrite=False),
-            )
+            _, edges = region_geometry(region)
             node["edges"].set_object(
-                mg.LineSegments(
-                    mg.PointsGeometry(edges.T), mg.LineBasicMaterial(color=REGION_COLOR, opacity=0.7, transparent=True)
-                )
+                mg.LineSegments(mg.PointsGeometry(edges.T), mg.LineBasicMaterial(color=REGION_COLOR, linewidth=1))
             )
             node.set_transform(region.placements[0])
 
@@ -288,9 +344,22 @@ class DesignScene:
                 root = at[ROOT]
                 for spring in self.springs:
                     self._animate_spring(root, spring, frame, helix_objects[spring.name], labels[spring.name])
+                for arrow in self.arrows:
+                    animate_arrow(root, arrow, frame)
                 for region in self.regions:
                     root["regions"][f"{region.spring}.{region.end}"].set_transform(region.placements[frame])
+                place_parallelograms(root, self.parallelograms, frame)
         return animation
+
+    @staticmethod
+    def _marker(spring: SpringTrack, frame: int) -> np.ndarray:
+        """Placement of the clearance marker of ``spring`` at ``frame``: at its closest point to the arm
+        where it is below the margin, shrunk to nothing (at its middle) elsewhere."""
+        below = spring.below_margin is not None and bool(spring.below_margin[frame])
+        closest = spring.closest[frame] if spring.closest is not None else np.full(3, np.nan)
+        if below and np.all(np.isfinite(closest)):
+            return placement(np.eye(3), closest)
+        return placement(1e-6 * np.eye(3), (spring.starts[frame] + spring.ends[frame]) / 2)
 
     def _animate_spring(self, root: Any, spring: SpringTrack, frame: int, helix: str, labels: np.ndarray) -> None:
         """Key frame ``frame`` of ``spring`` below ``root`` (a frame of the animation): helix placement,
@@ -299,9 +368,14 @@ class DesignScene:
         node.set_transform(spring.rigid_transform(frame))
         node.set_property("scale", "vector3", [1.0, 1.0, spring.length(frame)])
         node.set_property(f"{helix}.material.color", "color", list(self.rgb(spring, frame)))
-        root["labels"][spring.name].set_transform(placement(np.eye(3), labels[frame]))
+        root["labels"][spring.name].set_property("position", "vector3", [float(v) for v in labels[frame]])
+        if spring.below_margin is not None and np.any(spring.below_margin) and spring.closest is not None:
+            marker = self._marker(spring, frame)
+            root["markers"][spring.name].set_property("position", "vector3", [float(v) for v in marker[:3, 3]])
+            root["markers"][spring.name].set_property("scale", "vector3", [float(marker[0, 0])] * 3)
         for end, positions in spring.points_by_end().items():
-            root["anchors"][f"{spring.name}.{end}"].set_transform(placement(np.eye(3), positions[frame]))
+            point = [float(v) for v in positions[frame]]
+            root["anchors"][f"{spring.name}.{end}"].set_property("position", "vector3", point)
         if spring.cable is not None:
             for segment in range(spring.cable.shape[1] - 1):
                 rigid, length = spring.cable_placement(segment, frame)
@@ -321,6 +395,16 @@ class DesignScene:
         from pinocchio.visualize import MeshcatVisualizer
 
         arm = MeshcatVisualizer(self.mechanism.model, None, self._visual_model())
+        load_default = arm.loadViewerGeometryObject
+
+        def load(geometry_object: Any, geometry_type: Any, color: Any = None) -> None:
+            """Mesh files as decimated parts (:mod:`springbalance.viz.arm_meshes`), the rest as Pinocchio does."""
+            if not drawable(geometry_object):
+                return load_default(geometry_object, geometry_type, color)
+            node = arm.viewer[arm.getViewerNodeName(geometry_object, geometry_type)]
+            return draw_mesh_file(node, geometry_object, import_meshcat().geometry)
+
+        arm.loadViewerGeometryObject = load
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # pinocchio warns about geometry it cannot show; the rest is drawn
             arm.initViewer(viewer=visualizer)
@@ -341,22 +425,25 @@ class DesignScene:
         return bounding_spheres(self.springs, self.regions, self.mechanism.model, visual_model, self.configurations)
 
     def _set_camera(self, visualizer: Any, arm: Any) -> None:
-        """Frame everything drawn over the whole animation (:meth:`bounding_spheres`): look at the world
-        origin (meshcat's orbit target) from the side that shows the motion best, far enough that
-        every bounding sphere is in view (:func:`~springbalance.viz.camera.camera_view`)."""
-        centres, radii = self.bounding_spheres(arm.visual_model)
+        """Frame the arm and its springs over the whole animation (:meth:`bounding_spheres` without the
+        hidden anchor regions): look at the centre of their box from a three-quarter view, far enough
+        that all of it is in view (:func:`~springbalance.viz.camera.camera_view`); the grid under the arm."""
+        centres, radii = bounding_spheres(self.springs, [], self.mechanism.model, arm.visual_model, self.configurations)
         center, radius, position = camera_view(centres, radii)
         self.camera_center, self.camera_radius = center, radius
-        self.camera_target, self.camera_position = np.zeros(3), position
-        place_camera(visualizer, position)
+        self.camera_target, self.camera_position = center, position
+        place_camera(visualizer, position, center, floor_height(centres, radii), radius)
 
     # ---------------------------------------------------------------- exports
     def html(self, animate: bool = True, autoplay: bool = True, legend: bool = True) -> str:
-        """Self-contained HTML page of the scene (meshcat's static page plus the colour legend)."""
+        """Self-contained HTML page of the scene: meshcat's static page, the name labels and the regions'
+        checkbox (:func:`~springbalance.viz.overlay.overlay_html`), the pose slider and the colour legend."""
         recorder = SceneRecorder()
         visualizer = import_meshcat().Visualizer(window=recorder)
-        self.draw(visualizer, animate=animate, autoplay=autoplay)
+        self.draw(visualizer, animate=animate, autoplay=autoplay, sprites=False)
         page = visualizer.static_html()
+        labels = [(spring.name, any(self.red(spring, f) for f in range(self.size))) for spring in self.springs]
+        page = insert_before_body_end(page, overlay_html(labels, bool(self.regions)) + scene_slider_html(self, animate))
         if legend:
             page = insert_before_body_end(page, self.legend_html())
         return page

@@ -1,4 +1,5 @@
-"""A live scene: a Meshcat server in a child process on 127.0.0.1 only (:mod:`springbalance.viz.server`)."""
+"""A live scene: a Meshcat server in a child process on 127.0.0.1 only (:mod:`springbalance.viz.server`), and the
+scene's own page on it (legend and pose slider, :func:`publish_scene`)."""
 
 from __future__ import annotations
 
@@ -17,6 +18,8 @@ from typing import Any
 from springbalance.errors import SpringBalanceError
 from springbalance.viz.design_scene import DesignScene
 from springbalance.viz.meshcat_import import import_meshcat
+from springbalance.viz.pose_data import scene_pose_data
+from springbalance.viz.pose_slider import live_page
 
 
 class MeshcatServer:
@@ -30,7 +33,9 @@ class MeshcatServer:
 
     def __init__(self, port: int | None = None, timeout: float = 30.0) -> None:
         # run the module as a script: it needs meshcat and tornado only, not the whole package
-        command = [sys.executable, "-u", str(Path(__file__).with_name("server.py"))]
+        #: the folder the server serves at /springbalance/ (:meth:`publish`), removed by :meth:`stop`
+        self.pages = tempfile.TemporaryDirectory(prefix="springbalance-pages-")
+        command = [sys.executable, "-u", str(Path(__file__).with_name("server.py")), "--pages", self.pages.name]
         if port is not None:
             command += ["--port", str(int(port))]
         self._stderr = tempfile.TemporaryFile()
@@ -67,6 +72,13 @@ class MeshcatServer:
         text = self._stderr.read().decode("utf-8", "replace").strip().splitlines()
         return text[-1] if text else "no message"
 
+    def publish(self, page: str, name: str = "index.html") -> str:
+        """Serve the HTML ``page`` at ``/springbalance/<name>`` on this server; returns its address."""
+        if "/" in name or "\\" in name or name.startswith("."):
+            raise SpringBalanceError(f"a page's name is a plain file name, got {name!r}")
+        (Path(self.pages.name) / name).write_text(page, encoding="utf-8")
+        return self.web_url.removesuffix("static/") + "springbalance/" + ("" if name == "index.html" else name)
+
     def visualizer(self) -> Any:
         """A ``meshcat.Visualizer`` connected to this server."""
         meshcat = import_meshcat()
@@ -90,6 +102,7 @@ class MeshcatServer:
         if self.process.stdout is not None and not self.process.stdout.closed:
             self.process.stdout.close()
         self._stderr.close()
+        self.pages.cleanup()
 
     def __repr__(self) -> str:
         return f"MeshcatServer({self.web_url!r}, running={self.running})"
@@ -106,21 +119,30 @@ def local_server(port: int | None = None) -> MeshcatServer:
     return _SERVER
 
 
-class LiveScene:
-    """A design drawn on a running meshcat server. In Jupyter it shows inline (an iframe)."""
+def publish_scene(server: MeshcatServer, scene: DesignScene) -> str:
+    """Serve the page of ``scene`` drawn on ``server`` (meshcat's viewer with the colour legend and the pose
+    slider, :func:`~springbalance.viz.pose_slider.live_page`) at ``/springbalance/``; returns its address."""
+    return server.publish(live_page(scene_pose_data(scene), scene.legend_html()))
 
-    def __init__(self, scene: DesignScene, server: MeshcatServer, visualizer: Any) -> None:
-        self.scene, self.server, self.visualizer = scene, server, visualizer
+
+class LiveScene:
+    """A design drawn on a running meshcat server. In Jupyter it shows inline (an iframe).
+
+    ``page_url``: the scene's own page on the server (:func:`publish_scene`: legend and pose slider), else
+    meshcat's viewer is shown."""
+
+    def __init__(self, scene: DesignScene, server: MeshcatServer, visualizer: Any, page_url: str | None = None) -> None:
+        self.scene, self.server, self.visualizer, self.page_url = scene, server, visualizer, page_url
 
     @property
     def url(self) -> str:
-        """The viewer's address on the server."""
-        return self.server.web_url
+        """The scene's address on the server: its page with the pose slider, else meshcat's viewer."""
+        return self.page_url or self.server.web_url
 
     def _repr_html_(self) -> str:
         return (
             f'<div style="position:relative;height:480px">'
-            f"{self.scene.legend_html(position='absolute')}"
+            f"{'' if self.page_url else self.scene.legend_html(position='absolute')}"
             f'<iframe src="{html.escape(self.url)}" style="width:100%;height:100%;border:none"></iframe></div>'
         )
 

@@ -12,6 +12,7 @@ from types import ModuleType
 from typing import Any, NamedTuple
 
 import numpy as np
+import umsgpack
 
 from springbalance.viz.meshcat_import import import_meshcat
 
@@ -143,6 +144,7 @@ def _animation(animation_module: ModuleType) -> type:
                 for track in item["clip"]["tracks"]:
                     if ".material." in track["name"]:
                         track["name"] = track["name"].lstrip(".")
+                    compact_track(track)
             return lowered
 
     return _Animation
@@ -167,6 +169,25 @@ def _set_animation(commands: ModuleType) -> type:
             return data
 
     return _SetAnimation
+
+
+#: msgpack extension code of a Float32Array in meshcat's viewer
+FLOAT32_ARRAY = 0x17
+
+
+def compact_track(track: dict[str, Any]) -> None:
+    """Turn a lowered meshcat track's ``keys`` (a ``{time, value}`` map per key frame) into the
+    ``times`` and flat ``values`` arrays that three.js's ``KeyframeTrack.parse`` also reads, each one
+    float32 array (a msgpack Float32Array, which meshcat's viewer decodes): a third of the bytes.
+    Float32 keeps 24 bits: 0.06 µm at 1 m. Tracks of booleans and strings are left as they are."""
+    keys = track.get("keys")
+    if not keys or track.get("type") not in ("vector3", "quaternion", "color", "number"):
+        return
+    times = np.asarray([key["time"] for key in keys], dtype=np.float32)
+    values = np.asarray([key["value"] for key in keys], dtype=np.float32).ravel()
+    del track["keys"]
+    track["times"] = umsgpack.Ext(FLOAT32_ARRAY, times.tobytes())
+    track["values"] = umsgpack.Ext(FLOAT32_ARRAY, values.tobytes())
 
 
 def insert_before_body_end(page: str, fragment: str) -> str:

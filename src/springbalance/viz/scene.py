@@ -35,7 +35,7 @@ from springbalance.viz.design_scene import ANCHOR_COLOR, CABLE_COLOR, CABLE_RADI
 from springbalance.viz.helix import HelixStyle, helix_centerline, helix_tube, placement, spring_rotation
 
 # the private names below are the old module's, kept importable from here for one release
-from springbalance.viz.live import LiveScene, local_server
+from springbalance.viz.live import LiveScene, local_server, publish_scene
 from springbalance.viz.meshcat_glue import LABEL_FONT_SIZE, ROOT, meshcat_classes
 from springbalance.viz.meshcat_glue import insert_before_body_end as _insert_before_body_end  # noqa: F401 (old name)
 from springbalance.viz.meshcat_import import import_meshcat
@@ -151,7 +151,8 @@ def show(
 
     ``static=True`` returns a :class:`StaticScene` (inline in Jupyter, no server). Otherwise
     the scene is drawn on the session's local server (:func:`local_server`, 127.0.0.1 only)
-    and a :class:`LiveScene` with its URL is returned. ``options`` go to :class:`DesignScene`
+    and a :class:`LiveScene` with its URL is returned (the scene's page there: meshcat's viewer with the legend
+    and the pose slider). ``options`` go to :class:`DesignScene`
     (``frames_per_joint``, ``style``, ``fps``, ``margin`` [m]).
     """
     scene = DesignScene(design, joint_values, **options)
@@ -161,8 +162,9 @@ def show(
     visualizer = server.visualizer()
     visualizer.delete()
     scene.draw(visualizer)
+    page_url = publish_scene(server, scene)
     if open_browser:
         import webbrowser
 
-        webbrowser.open(server.web_url, new=2)
-    return LiveScene(scene, server, visualizer)
+        webbrowser.open(page_url, new=2)
+    return LiveScene(scene, server, visualizer, page_url)

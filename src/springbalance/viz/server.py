@@ -4,7 +4,10 @@ meshcat's own server (``meshcat-server``, or ``meshcat.Visualizer()`` without a 
 its ZeroMQ socket to 127.0.0.1 but its web server to every interface. This one binds both
 to the loopback interface, so the scene is not reachable from other machines.
 
-Run as ``python -m springbalance.viz.server [--port PORT]``; it prints
+With ``--pages DIR`` it also serves the files of ``DIR`` at ``/springbalance/`` (the scene's page with
+its pose slider, :func:`springbalance.viz.pose_slider.live_page`), on the same loopback address.
+
+Run as ``python -m springbalance.viz.server [--port PORT] [--pages DIR]``; it prints
 ``zmq_url=...`` and ``web_url=...`` on two lines, then serves until it gets SIGTERM or
 SIGINT, or until the process that started it is gone.
 """
@@ -26,13 +29,16 @@ HOST = "127.0.0.1"
 
 def main(argv: list[str] | None = None) -> int:
     import tornado.ioloop
-    from meshcat.servers.zmqserver import ZMQWebSocketBridge
+    from meshcat.servers.zmqserver import StaticFileHandlerNoCache, ZMQWebSocketBridge
 
     class LoopbackBridge(ZMQWebSocketBridge):
         """meshcat's bridge whose web application listens on 127.0.0.1 only."""
 
         def make_app(self) -> Application:
             app = super().make_app()
+            if args.pages:  # springbalance's own pages (the scene with its pose slider), from that folder
+                pages = {"path": args.pages, "default_filename": "index.html"}
+                app.add_handlers(".*", [(r"/springbalance/(.*)", StaticFileHandlerNoCache, pages)])
             listen = app.listen
 
             def listen_on_loopback(port: int, address: str | None = None, **kwargs: Any) -> HTTPServer:
@@ -43,6 +49,7 @@ def main(argv: list[str] | None = None) -> int:
 
     parser = argparse.ArgumentParser(prog="python -m springbalance.viz.server", description=__doc__.split("\n")[0])
     parser.add_argument("--port", type=int, default=None, help="web port (default: the first free one from 7000)")
+    parser.add_argument("--pages", default=None, help="serve the files of this folder at /springbalance/")
     args = parser.parse_args(argv)
 
     parent = os.getppid()

@@ -40,7 +40,9 @@ class SpringTrack:
             collision objects of every body but its two anchor bodies (negative: overlap;
             ``inf`` when there is nothing to check), or None when no clearance is checked.
         below_margin: per pose, True where ``clearance`` is below the margin or ≤ 0 (the
-            spring is drawn magenta there), or None when no clearance is checked.
+            spring is drawn red there), or None when no clearance is checked.
+        closest: per pose, the world point [m] halfway between the spring's capsule and the nearest
+            collision object (N×3; NaN where nothing is checked), or None.
     """
 
     name: str
@@ -62,6 +64,7 @@ class SpringTrack:
     radius: float | None = None
     clearance: np.ndarray | None = None
     below_margin: np.ndarray | None = None
+    closest: np.ndarray | None = None
     #: a routed spring's cable per pose (N×K×3) [m]: the spring's moving end, the pulleys, the cable's end
     cable: np.ndarray | None = None
     #: world position per pose (N×3) [m] of every point of the spring's path by end name (a, via1 …, b)
@@ -223,6 +226,7 @@ def add_clearances(
     for track in tracks:
         track.radius = capsule_radius(records[track.name], radius)
         track.clearance = np.full(len(configurations), np.inf)
+        track.closest = np.full((len(configurations), 3), np.nan)
         radii.append(track.radius)
         clearances.append(track.clearance)
         checked[track.name] = collision.indices_except(track.bodies)
@@ -230,8 +234,10 @@ def add_clearances(
         collision.place(q)
         for track, capsule, clearance in zip(tracks, radii, clearances):
             for index in checked[track.name]:
-                distance = collision.capsule_distance(track.starts[frame], track.ends[frame], capsule, index).distance
-                clearance[frame] = min(clearance[frame], distance)
+                contact = collision.capsule_distance(track.starts[frame], track.ends[frame], capsule, index)
+                if contact.distance < clearance[frame]:
+                    clearance[frame] = contact.distance
+                    track.closest[frame] = (contact.on_capsule + contact.on_object) / 2  # type: ignore[index]
     for track, clearance in zip(tracks, clearances):
         finite = np.isfinite(clearance)
         track.below_margin = finite & ((clearance < margin) | (clearance <= 0))

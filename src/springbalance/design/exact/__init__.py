@@ -34,13 +34,21 @@ moment).
 
 Use :meth:`PlanarChain.from_mechanism`, :func:`residual_blocks` (how far a design is from
 exact, N·m), :func:`count_check` and :func:`synthesize` (anchors that balance exactly for a
-given topology and stiffnesses, or why none exist). Spatial arms are left to the general
-optimiser (:class:`~springbalance.design.problem.DesignProblem`); its result reports the residual
-relative to the unbalanced torque and says "exactly balanced" when it is zero to solver
-precision.
+given topology and stiffnesses, or why none exist).
+
+**Spatial chains and trees** (any revolute axes; docs/model.md §9.1): the potential is multilinear in
+``(1, cos θ_j, sin θ_j)``; :func:`spatial_coefficients` is the exact test (its coefficients from
+Pinocchio on the grid ``{0, 2π/3, 4π/3}^n``), :func:`fit_stiffnesses` the stiffnesses of fixed anchors
+(linear, NNLS), :func:`synthesize_spatial` builds an exactly balanced design pair by pair and
+:func:`spatial_reachability` proves that a topology cannot balance.
 
 The modules: :mod:`~springbalance.design.exact.chain` (:class:`PlanarChain`), :mod:`~springbalance.design.exact.blocks`
-(:func:`residual_blocks`, :func:`count_check`) and :mod:`~springbalance.design.exact.synthesis` (:func:`synthesize`).
+(:func:`residual_blocks`, :func:`count_check`), :mod:`~springbalance.design.exact.synthesis` (:func:`synthesize`),
+:mod:`~springbalance.design.exact.multilinear` (:func:`spatial_coefficients`),
+:mod:`~springbalance.design.exact.stiffness_fit` (:func:`fit_stiffnesses`),
+:mod:`~springbalance.design.exact.spatial_tree` (pair matrices), :mod:`~springbalance.design.exact.spatial_blocks`
+(one pair at a time) and :mod:`~springbalance.design.exact.spatial_synthesis` (:func:`synthesize_spatial`,
+:func:`spatial_reachability`).
 This package re-exports their public names.
 """
 
@@ -48,6 +56,15 @@ from __future__ import annotations
 
 from springbalance.design.exact.blocks import BalanceBlocks, CountCheck, count_check, residual_blocks
 from springbalance.design.exact.chain import PlanarChain
+from springbalance.design.exact.multilinear import SPATIAL_EXACT, SpatialCoefficients, spatial_coefficients
+from springbalance.design.exact.spatial_synthesis import (
+    SpatialReachability,
+    SpatialSynthesis,
+    SpatialVerdict,
+    spatial_reachability,
+    synthesize_spatial,
+)
+from springbalance.design.exact.stiffness_fit import StiffnessFit, fit_stiffnesses
 from springbalance.design.exact.synthesis import EXACT_TOLERANCE, ExactBalanceUnreachable, ExactSynthesis, synthesize
 
 __all__ = [
@@ -57,7 +74,17 @@ __all__ = [
     "ExactBalanceUnreachable",
     "ExactSynthesis",
     "PlanarChain",
+    "SPATIAL_EXACT",
+    "SpatialCoefficients",
+    "SpatialReachability",
+    "SpatialSynthesis",
+    "SpatialVerdict",
+    "StiffnessFit",
     "count_check",
+    "fit_stiffnesses",
     "residual_blocks",
+    "spatial_coefficients",
+    "spatial_reachability",
     "synthesize",
+    "synthesize_spatial",
 ]

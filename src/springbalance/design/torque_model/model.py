@@ -4,7 +4,7 @@ mechanism carrying springs (see :mod:`springbalance.design.torque_model`)."""
 from __future__ import annotations
 
 import functools
-from typing import Sequence, cast
+from typing import Any, Sequence, cast
 
 import casadi as ca
 import numpy as np
@@ -40,6 +40,7 @@ class TorqueModel:
         per_scenario: Sequence[str] = (),
         joint_limits: np.ndarray | None = None,
         max_spring_mass: float | None = None,
+        corners: Any = None,
     ) -> None:
         self.mechanism = mechanism
         self.springs = springs
@@ -54,7 +55,13 @@ class TorqueModel:
         self.base_variables = self.variables
         self.scenarios = list(scenarios)
         self._columns = self._scenario_variables(per_scenario)
+        #: the tolerance box's corner cases (a :class:`~springbalance.design.tolerance_corners.LawCorners`; their
+        #: names are the scenarios) or None: they add each case's law change and its adjuster variables
+        self.corners = corners
+        if corners is not None:
+            corners.declare(self.variables)
         x = ca.SX.sym("x", self.variables.size)
+        self._x = x
 
         # Sample data: g (nv), V_g (1), q_i of each spring joint (n_j), then per moving body
         # t (3), R (9, row-major), J (6·nv, row-major); with scenarios, one selector per
@@ -75,7 +82,6 @@ class TorqueModel:
         self.n_constraints = len(constraint_rows)
         outputs = [tau, potential, ca.vertcat(*states), ca.vertcat(*forces), ca.vertcat(*constraint_rows)]
         self.sample = ca.Function("sample", [x, data], outputs, ["x", "data"], ["tau", "V", "L", "F", "C"])
-        self._x = x
 
     def _declare_variables(self) -> list[tuple]:
         """Add the design variables: every free anchor coordinate [m] (or arc parameter [1]) and every
@@ -153,6 +159,11 @@ class TorqueModel:
             # Contribution declares its fields as object (springs package); they are CasADi expressions
             tau = tau + cast(ca.SX, share.torque)
             potential = potential + cast(ca.SX, share.potential)
+            if self.corners is not None:  # the law of the sample's corner case (the rules keep the nominal one)
+                selectors = data[self.data_size - len(self.scenarios) :]
+                change = self.corners.deviation(spring, context, parameters, own_points, selectors, self._x)
+                if change is not None:
+                    tau, potential = tau + change[0], potential + change[1]
             states.append(share.state)
             forces.append(share.force)
             self._add_constraint_rows(spring, share, parameters, data, constraint_rows)

@@ -36,7 +36,8 @@ TOLERANCE_FIELD: tuple[Any, Any] = (
         None,
         description="the springs' tolerances (docs/guides/tolerances.md): {grade: 1|2|3} (EN 15800 / "
         "DIN 2097; grade 2 by default) or explicit ± {rate [fraction], initial_tension [N], free_length [m]}; "
-        "adjuster_travel [m]: the preload screws' travel, checked in the report",
+        "adjuster_travel [m]: the preload screws' travel, checked in the report; robust: true designs for the "
+        "box's corners (corners: exact|strong_weak|uniform), each re-balanced within adjuster_travel",
     ),
 )
 

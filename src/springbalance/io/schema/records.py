@@ -172,6 +172,22 @@ class ClearanceRecord(Record, title="Clearance"):
     )
 
 
+class PseudoBaseRecord(Record, title="PseudoBase"):
+    """A pseudo-base ``pb_<joint>`` at a joint's origin, keeping the world's orientation (docs/model.md §1.1)."""
+
+    joint: Text = Field(description="the joint at whose origin the pseudo-base sits")
+    mass: NonNegative = Field(0.0, description="mass [kg] of the pseudo-base and the parallelograms realising it")
+    com: Vector3 = Field(
+        [0.0, 0.0, 0.0], description="its centre of mass [m], world-aligned axes at the joint's origin"
+    )
+
+
+if TYPE_CHECKING:
+    _PseudoBase = Union[str, PseudoBaseRecord]
+else:
+    _PseudoBase = by_shape(scalar=Text, mapping=PseudoBaseRecord)
+
+
 # ---------------------------------------------------------------------- sections
 # the key `validate` shadows the deprecated classmethod BaseModel.validate, which nothing here calls
 with warnings.catch_warnings():
@@ -191,6 +207,9 @@ with warnings.catch_warnings():
             "magnitude g [m/s²], meaning (0, 0, -g), or the gravity vector [m/s²] in the world frame", shown=9.81
         )
         mimic: bool = Field(False, description="parse URDF mimic joints as coupled joints (closed chains)")
+        pseudo_bases: list[_PseudoBase] = optional(
+            "joints that get a pseudo-base pb_<joint> (a joint name or {joint, mass, com}); see docs/model.md §1.1"
+        )
         # pydantic lets a field shadow the deprecated classmethod BaseModel.validate; mypy sees a clash
         validate: bool = Field(  # type: ignore[assignment]
             True,
@@ -267,6 +286,12 @@ class WorkspaceRecord(Record, title="Workspace"):
     )
 
 
+if TYPE_CHECKING:  # what by_shape builds at run time (a tagged union), as mypy can read it
+    _StockSpec = Union[str, list[str]]
+else:
+    _StockSpec = by_shape(list=Annotated[list[Text], annotated_types.MinLen(1)], scalar=Text)
+
+
 class SolveRecord(Record, title="Solve"):
     """Options of the multi-start solve (the command line's --starts, --seed, --method, --workers override them)."""
 
@@ -292,6 +317,12 @@ class SolveRecord(Record, title="Solve"):
         "the check of the design at 10x as many unseen poses (docs/model.md §12): resolve (re-solve with the "
         "worst poses added where a rule fails there), report (only report) or off",
         shown="resolve",
+    )
+    stock: _StockSpec = optional(
+        "then replace each extension and compression spring by a stock part and re-optimise the anchors: "
+        "ms24585 (compression), ms24586 (extension), the standard catalogues, or a CSV catalogue (relative "
+        "to the config file); a list, or one string separated by commas (the command line's --stock "
+        "overrides it; docs/guides/coils-and-stock.md)"
     )
 
 

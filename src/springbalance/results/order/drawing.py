@@ -149,9 +149,7 @@ def _dimensions(canvas: Canvas, at: ToSheet, order: SpringOrder, scale: float) -
     g, tolerances = order.geometry, order.tolerances
     d, D, free = g["wire_diameter"] * 1e3, g["mean_diameter"] * 1e3, g["free_length"] * 1e3
     top = (D + d) / 2
-    canvas.dimension(
-        at(0, 0), at(free, 0), top * scale + 10, f"L0 = {_mm(g['free_length'])}{_plus_minus(tolerances.free_length)}"
-    )
+    canvas.dimension(at(0, 0), at(free, 0), top * scale + 10, f"L0 ({_mm(g['free_length'])})")
     if order.kind == "extension":
         start = (free - g["body_length"] * 1e3) / 2
         canvas.dimension(at(start + g["body_length"] * 1e3, -top), at(start, -top), 7, f"LK ({_mm(g['body_length'])})")

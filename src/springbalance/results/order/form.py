@@ -246,9 +246,9 @@ def _length_load_fields(
             "Free length L0",
             float(sheet["free_length"]),
             "m",
-            tolerances.free_length,
-            note=f"unloaded, {where}",
-            tolerance_note=tolerances.source if tolerances.free_length is not None else missing,
+            reference=True,
+            note=f"unloaded, {where}; for reference: with the two loads F1 at L1 and F2 at L2 specified, the "
+            "maker adjusts L0 and n to meet them (DIN 2099-1/-2)",
         ),
     ]
     if kind == "extension":

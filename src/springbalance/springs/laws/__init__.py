@@ -20,12 +20,15 @@ from springbalance.springs.laws.zero_free_length import ZeroFreeLengthSpring
 
 # the other laws register themselves when their module is imported (after the ones above: the registry's order)
 from springbalance.springs.laws import coil, helical_compression, helical_extension, tabulated  # noqa: F401
+from springbalance.springs.laws.directed import DirectedForce, DirectedGas
 
 __all__ = [
     "SPRING_TYPES",
     "CompressionSpring",
     "ConstantForceSpring",
     "Contribution",
+    "DirectedForce",
+    "DirectedGas",
     "ExtensionSpring",
     "GasSpring",
     "Spring",
