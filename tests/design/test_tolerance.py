@@ -157,3 +157,26 @@ def test_config_section_reaches_the_report(tmp_path):
     assert design.to_dict()["tolerance"]["spec"]["rate"] == 0.1
     with pytest.raises(InputError, match=r"tolerance\.grade must be 1, 2 or 3, got 5|tolerance.grade"):
         config_from_dict({**record, "tolerance": {"grade": 5}}, tmp_path)
+
+
+def test_two_coils_side_by_side_share_the_turn_of_one():
+    """Two springs of rate k/2 with anchors 1 mm apart act almost like one spring of rate k: turned together
+    by t, they change the force by k t like its screw. Each one's travel is then about the single spring's,
+    not a pair of huge opposite turns that cancel (what a plain pseudo-inverse of the nearly collinear
+    columns gives)."""
+    mechanism = sb.Mechanism.from_urdf(URDF / "two_link_planar.urdf")
+    workspace = sb.Workspace.from_array(mechanism, np.random.default_rng(3).uniform(-1.2, 1.2, size=(40, 2)))
+
+    def spring(name, z, stiffness, tension):
+        return sb.ExtensionSpring(
+            sb.Anchor("universe", (0.0, 0.0, z)), sb.Anchor("link1", (0.3, 0.0, 0.0)), name,
+            stiffness=stiffness, free_length=0.12, initial_tension=tension, keep_tension=False,
+        )  # fmt: skip
+
+    spec = ToleranceSpec.from_record({"rate": 0.1, "initial_tension": 3.0, "free_length": 0.004})
+    single = sb.EvaluatedDesign(sb.DesignProblem(mechanism, workspace, [spring("one", 0.25, 900.0, 10.0)]), np.zeros(0))
+    pair = [spring("a", 0.25, 450.0, 5.0), spring("b", 0.251, 450.0, 5.0)]
+    double = sb.EvaluatedDesign(sb.DesignProblem(mechanism, workspace, pair), np.zeros(0))
+    one = analyse_tolerance(single, spec).travel[0]["travel"]
+    for row in analyse_tolerance(double, spec).travel:
+        assert 0.5 * one < row["travel"] < 2.0 * one, (row, one)

@@ -27,7 +27,8 @@ shortens the spring's effective free length by ``t`` [m] (positive: more deflect
 pose: :math:`\delta F = \sigma k t` (σ = +1 extension, −1 compression), so
 :math:`\partial r/\partial t_s = \sigma_s k_s m_s` (nominal ``k``: the :math:`\delta k\,t` term is second
 order). At a corner the least-squares adjustment is :math:`t = -A^+ W r` (``A`` the columns
-:math:`W \sigma_s k_s m_s`, ``W`` the joint weights); it is linear in ``r``, so its extremes over the box
+:math:`W \sigma_s k_s m_s`, ``W`` the joint weights; :math:`A^+` leaves out singular values below
+:data:`ADJUSTER_RCOND` of the largest, so screws that act alike share the turn); it is linear in ``r``, so its extremes over the box
 are separable like the residual's. A spring's travel is the range :math:`\max t_s - \min t_s` over the box.
 """
 
@@ -49,6 +50,10 @@ from springbalance.springs.tolerance_grades import grade_box
 
 #: the 8 corners of a spring's box: signs of (rate, initial tension or preload, free length)
 CORNERS = np.array(list(itertools.product((-1.0, 1.0), repeat=3)))
+#: the adjusters' least squares leave out the directions of the screws whose singular value is below this
+#: fraction of the largest: screws that act (almost) alike, as two coils side by side, share a turn instead of
+#: cancelling each other by huge opposite turns that change the residual by nothing
+ADJUSTER_RCOND = 1e-3
 
 
 @dataclass(frozen=True)
@@ -211,7 +216,7 @@ def analyse(
     lower = tau + sum(np.min(deltas, axis=0) for deltas, _ in parts)
     weights = np.asarray(problem.weights, dtype=float)
     columns = np.stack([column.reshape(-1) for _, column in parts], axis=1)  # (N·nv)×n, unweighted
-    pinv = np.linalg.pinv(columns * np.tile(weights, tau.shape[0])[:, None])
+    pinv = np.linalg.pinv(columns * np.tile(weights, tau.shape[0])[:, None], rcond=ADJUSTER_RCOND)
 
     def adjustment(r: np.ndarray) -> np.ndarray:  # t = −A⁺ W r for residual changes (..., N, nv)
         return -np.einsum("sk,...k->...s", pinv, (r * weights).reshape(*r.shape[:-2], -1))
