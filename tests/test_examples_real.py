@@ -54,9 +54,12 @@ import pytest
 
 from springbalance.loaders import load_yaml
 from springbalance.results.result import DesignResult
+from springbalance.viz.browser import find_chromium
 
 ROOT = Path(__file__).resolve().parents[1]
 TIMEOUT = 1200  # [s] one design on a loaded 2-core machine with an empty compile cache
+#: where the examples' reports and the screenshots of their scenes are kept (a build artefact to look at)
+PICTURES = ROOT / "out" / "examples"
 
 #: the RMS cut [%] each example must at least reach on its gravity-loaded joints (see the module docstring)
 FLOORS = {
@@ -147,3 +150,20 @@ def test_example_designs_and_stays_clear(name: str, tmp_path: Path) -> None:
         assert float(row[2]) >= 1e3 * settings["margin"], f"{config}: {' '.join(row[:5])} at {poses} poses"
         assert row[4] == "ok", check.stdout
     assert f"over {poses} poses" in check.stdout
+    _keep_pictures(config, out)
+
+
+def _keep_pictures(config: Path, design: Path) -> None:
+    """Write the example's report to ``out/examples/<name>/`` and a screenshot of its scene next to it, as a
+    person would open them; the scene must show the arm and the springs (``python -m springbalance.viz.browser``)."""
+    folder = PICTURES / config.stem
+    report = springbalance("report", str(design), "--out", str(folder))
+    assert report.returncode == 0, report.stderr[-3000:]
+    if find_chromium() is None:
+        return  # the browser's own tests say why they skip; the report is kept all the same
+    check = subprocess.run(
+        [sys.executable, "-m", "springbalance.viz.browser", str(folder / "scene.html"), "--screenshot",
+         str(PICTURES / f"{config.stem}.png")],
+        capture_output=True, text=True, timeout=300,
+    )  # fmt: skip
+    assert check.returncode == 0 and "PASSED" in check.stdout, check.stdout + check.stderr
