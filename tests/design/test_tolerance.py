@@ -6,7 +6,6 @@ with the adjuster's torque column taken by finite differences of the free length
 
 from __future__ import annotations
 
-import itertools
 from pathlib import Path
 
 import numpy as np
@@ -16,25 +15,9 @@ import springbalance as sb
 from springbalance.design.tolerance import analyse_tolerance
 from springbalance.design.tolerance_spec import ToleranceSpec
 from springbalance.errors import InputError
+from tolerance_helpers import LAWS, SPEC, corner_laws, two_springs
 
 URDF = Path(__file__).resolve().parents[2] / "urdf"
-SPEC = ToleranceSpec.from_record({"rate": 0.1, "initial_tension": 3.0, "free_length": 0.004})
-#: two ideal extension springs on the two-link arm (k [N/m], l0 [m], F0 [N])
-LAWS = {"shoulder": (900.0, 0.12, 10.0), "forearm": (300.0, 0.15, 4.0)}
-
-
-def _springs(laws):
-    (k1, l1, f1), (k2, l2, f2) = laws
-    return [
-        sb.ExtensionSpring(
-            sb.Anchor("universe", (0.0, 0.0, 0.25)), sb.Anchor("link1", (0.3, 0.0, 0.0)), "shoulder",
-            stiffness=k1, free_length=l1, initial_tension=f1, keep_tension=False,
-        ),
-        sb.ExtensionSpring(
-            sb.Anchor("link1", (0.2, 0.0, 0.05)), sb.Anchor("link2", (0.25, 0.0, 0.0)), "forearm",
-            stiffness=k2, free_length=l2, initial_tension=f2, keep_tension=False,
-        ),
-    ]  # fmt: skip
 
 
 @pytest.fixture(scope="module")
@@ -42,18 +25,13 @@ def case():
     mechanism = sb.Mechanism.from_urdf(URDF / "two_link_planar.urdf")
     rng = np.random.default_rng(3)
     workspace = sb.Workspace.from_array(mechanism, rng.uniform(-1.2, 1.2, size=(40, 2)))
-    problem = sb.DesignProblem(mechanism, workspace, _springs(LAWS.values()))
+    problem = sb.DesignProblem(mechanism, workspace, two_springs(LAWS))
     design = sb.EvaluatedDesign(problem, np.zeros(0))
 
     def tau(laws):
-        return sb.DesignProblem(mechanism, workspace, _springs(laws)).evaluate(np.zeros(0)).tau
+        return sb.DesignProblem(mechanism, workspace, two_springs(laws)).evaluate(np.zeros(0)).tau
 
-    corners = {}
-    for c1, c2 in itertools.product(itertools.product((-1, 1), repeat=3), repeat=2):
-        laws = [
-            (k * (1 + a * 0.1), l0 + c * 0.004, f0 + b * 3.0) for (k, l0, f0), (a, b, c) in zip(LAWS.values(), (c1, c2))
-        ]
-        corners[(c1, c2)] = (laws, tau(laws))
+    corners = {corner: (laws, tau(laws)) for corner, laws in corner_laws()}
     return design, tau, corners
 
 
@@ -76,7 +54,7 @@ def test_adjuster_travel_against_least_squares_per_corner(case):
     design, tau, corners = case
     analysis = analyse_tolerance(design, SPEC)
     step = 1e-6  # [m] the preload screw's turn in the finite difference
-    nominal = list(LAWS.values())
+    nominal = list(LAWS)
     columns = []
     for s in range(2):  # ∂τ/∂t: shorten spring s's free length by t
         shifted = [(k, l0 - step if i == s else l0, f0) for i, (k, l0, f0) in enumerate(nominal)]

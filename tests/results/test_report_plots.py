@@ -23,12 +23,12 @@ import pytest
 
 import springbalance as sb
 from scene_helpers import URDF, two_link_design
-from springbalance.design.tolerance_spec import ToleranceSpec
 from springbalance.results.coil_plots import plot_coils
 from springbalance.results.html_report import write_report
 from springbalance.results.spread_plots import plot_residual_spread, plot_tolerance_band
 from springbalance.springs.laws.helical_compression import HelicalCompressionSpring
 from springbalance.springs.laws.helical_extension import HelicalExtensionSpring
+from tolerance_helpers import LAWS, SPEC, corner_laws, two_springs
 
 G_MUSIC = 81.0e9  # [Pa] Shigley Table 10-5, music wire 1.62–3.18 mm
 
@@ -160,33 +160,14 @@ def test_coil_plot_working_range_law_and_allowable_force():
         np.testing.assert_allclose(points[:, 1], expected, rtol=1e-6)
 
 
-SPEC = ToleranceSpec.from_record({"rate": 0.1, "initial_tension": 3.0, "free_length": 0.004})
-LAWS = [(900.0, 0.12, 10.0), (300.0, 0.15, 4.0)]
-
-
-def _ideal(laws):
-    (k1, l1, f1), (k2, l2, f2) = laws
-    return [
-        sb.ExtensionSpring(
-            sb.Anchor("universe", (0.0, 0.0, 0.25)), sb.Anchor("link1", (0.3, 0.0, 0.0)), "shoulder",
-            stiffness=k1, free_length=l1, initial_tension=f1, keep_tension=False,
-        ),
-        sb.ExtensionSpring(
-            sb.Anchor("link1", (0.2, 0.0, 0.05)), sb.Anchor("link2", (0.25, 0.0, 0.0)), "forearm",
-            stiffness=k2, free_length=l2, initial_tension=f2, keep_tension=False,
-        ),
-    ]  # fmt: skip
-
-
 def test_tolerance_band_is_the_brute_force_envelope_of_every_build():
     mechanism = sb.Mechanism.from_urdf(URDF / "two_link_planar.urdf")
     rng = np.random.default_rng(5)
     workspace = sb.Workspace.from_array(mechanism, rng.uniform(-1.2, 1.2, size=(60, 2)))
-    design = sb.DesignResult(sb.DesignProblem(mechanism, workspace, _ideal(LAWS)), np.zeros(0), tolerance=SPEC)
-    builds = []
-    for c1, c2 in itertools.product(itertools.product((-1, 1), repeat=3), repeat=2):
-        laws = [(k * (1 + a * 0.1), l0 + c * 0.004, f0 + b * 3.0) for (k, l0, f0), (a, b, c) in zip(LAWS, (c1, c2))]
-        builds.append(sb.DesignProblem(mechanism, workspace, _ideal(laws)).evaluate(np.zeros(0)).tau)
+    design = sb.DesignResult(sb.DesignProblem(mechanism, workspace, two_springs(LAWS)), np.zeros(0), tolerance=SPEC)
+    builds = [
+        sb.DesignProblem(mechanism, workspace, two_springs(laws)).evaluate(np.zeros(0)).tau for _, laws in corner_laws()
+    ]
     stack = np.stack(builds)
     figure = plot_tolerance_band(design, bins=6)
     panels = [axes for axes in figure.axes if axes.collections]
