@@ -20,9 +20,11 @@ import numpy as np
 import pytest
 
 import springbalance as sb
-from springbalance.design.spring_mass import check_mass_bound
+from springbalance.design.spring_mass import check_mass_bound, fatigue_energy_fraction
 from springbalance.errors import InputError
 from springbalance.io.config import config_from_dict, load_config
+from springbalance.springs.fatigue import Duty
+from springbalance.springs.materials import material_named
 
 ROOT = Path(__file__).resolve().parents[2]
 URDF = ROOT / "urdf"
@@ -204,3 +206,29 @@ def test_a_tight_bound_holds_after_a_solve_and_costs_balance():
     assert bounded.evaluation.max_violation <= 1e-6
     objective = config.problem.objective_value
     assert objective(bounded.evaluation) > objective(free.evaluation)
+
+
+@pytest.mark.parametrize(
+    ("cycles", "amplitude_point"),
+    [
+        # Zimmerli's infinite-life point (Shigley Eq. 10-28): S_sa = 241 MPa, S_sm = 379 MPa, unpeened
+        (math.inf, (241e6, 379e6)),
+        # 10⁶ cycles: Table 10-8's body torsion 33 % of S_ut at a stress ratio of 0: S_a = S_m = 0.165 S_ut
+        (1e6, None),
+    ],
+)
+def test_a_coil_with_a_duty_exchanges_the_goodman_optimum_share_of_its_energy(cycles, amplitude_point):
+    """Goodman: τ_a/S_e + τ_m/S_su = 1/n with S_e = S_a/(1 − S_m/S_su). The energy a coil exchanges between its
+    force extremes is ∝ F_max² − F_min² ∝ (τ_m + τ_a)² − (τ_m − τ_a)² = 4 τ_m τ_a, largest at τ_a = S_e/(2n),
+    τ_m = S_su/(2n); against the static energy ∝ τ_allow² (from zero to the allowable) that is
+    S_e S_su/(n² τ_allow²). Music wire, d = 3 mm: S_ut = 2211 MPa·mm^0.145 / 3^0.145 (Table 10-4),
+    S_su = 0.67 S_ut (Eq. 10-30), τ_allow = 0.45 S_ut for a compression spring (Table 10-6), n = 1.2."""
+    strength = 2211e6 / 3**0.145  # [Pa]
+    ultimate, allowable, n = 0.67 * strength, 0.45 * strength, 1.2
+    amplitude, mean = amplitude_point or (0.165 * strength, 0.165 * strength)
+    endurance = amplitude / (1 - mean / ultimate)
+    assert (endurance + ultimate) / (2 * n) < allowable  # the optimum is inside the static rule
+    expected = endurance * ultimate / (n**2 * allowable**2)
+    duty = Duty(cycles=cycles, criterion="goodman", safety_factor=n)
+    found = fatigue_energy_fraction(material_named("music_wire"), "compression", 0.003, 8.0, duty)
+    assert found == pytest.approx(expected, rel=1e-6)

@@ -241,7 +241,7 @@ class Margin:
     safety_factor: float
     required: float
     life: float
-    #: whether finite-life data exist for the location (Table 10-8: unpeened extension springs only)
+    #: whether finite-life data exist for the location (Table 10-8: unpeened springs only)
     finite_data: bool = True
 
     @property
@@ -295,7 +295,9 @@ def fatigue_margins(
         amplitude, mean = 0.5 * c * (high - low), 0.5 * c * (high + low)
         point = fatigue_point(material, wire_diameter, location, duty.cycles, duty.peened)
         n = safety_factor(amplitude, mean, point, duty.criterion, factor)
-        lives = [INFINITE] if kind == "compression" or duty.peened else [INFINITE, *sorted(CYCLE_TABLE, reverse=True)]
+        # finite lives from Table 10-8's columns (its body column serves a compression body too, as the data
+        # at the duty's cycles do); a peened spring has Zimmerli's infinite-life point only
+        lives = [INFINITE] if duty.peened else [INFINITE, *sorted(CYCLE_TABLE, reverse=True)]
         if location != "body":
             lives = lives[1:]
         life = 0.0
@@ -314,7 +316,7 @@ def fatigue_margins(
             n,
             duty.safety_factor,
             life,
-            finite_data=not (kind == "compression" or duty.peened),
+            finite_data=not duty.peened,
         )
     return margins
 
