@@ -28,6 +28,7 @@ directed_gas``, a gas spring along the guide). Options: ``direction`` (required,
 
 from __future__ import annotations
 
+import abc
 from typing import TYPE_CHECKING, Annotated, Any, ClassVar
 
 import annotated_types
@@ -88,17 +89,17 @@ class DirectedSpring(Spring):
         self.max_force = _positive_option(self, "max_force", max_force)
 
     # ---------------------------------------------------------------- the law
+    @abc.abstractmethod
     def potential(self, stroke: ValueT, parameters: Parameters) -> ValueT:
         """Stored energy ``V(s)`` [J]."""
-        raise NotImplementedError
 
+    @abc.abstractmethod
     def force(self, stroke: ValueT, parameters: Parameters) -> ValueT:
         """Force on the anchor along the direction, ``f = -dV/ds`` [N]."""
-        raise NotImplementedError
 
+    @abc.abstractmethod
     def actuator_bias(self, values: dict) -> tuple[float, float]:
         """The law as ``f = f0 + f1 s`` ([N], [N/m]): exact for the affine laws of this module (MuJoCo's affine bias)."""
-        raise NotImplementedError
 
     # ---------------------------------------------------------------- element
     @property
