@@ -28,43 +28,44 @@ class Plot(NamedTuple):
     alt: str
 
 
+#: the report's plots: (file stem, the function that draws it or returns None when it does not apply, caption,
+#: alt text)
+PLOTS = (
+    (
+        "spread",
+        plot_residual_spread,
+        "Torque of each joint at every workspace sample against that joint's own angle, gravity only and "
+        "with the springs; the bands span the least to the largest torque of the samples in each bin of the "
+        "angle (the spread the other joints add).",
+        "torque of each joint over the workspace against its angle, before and after",
+    ),
+    (
+        "coils",
+        plot_coils,
+        "Each coil's force against its length (its spec sheet's law), the working range over the "
+        "workspace (shortest to longest length) with the force at each sample, and the forces at which "
+        "the body's (and the hooks') stress reaches the allowable.",
+        "force against length of each coil, with its working range and allowable force",
+    ),
+    (
+        "tolerance",
+        plot_tolerance_band,
+        "The nominal residual of each joint at every sample, and the band that every build within the "
+        "springs' tolerance box stays in (exact over the box's corners), binned by the joint's angle.",
+        "band of the residual over the tolerance box around the nominal",
+    ),
+)
+
+
 def write_plots(result: EvaluatedDesign, folder: str | Path) -> list[Plot]:
-    """Write the plots of the module that apply to ``result`` into ``folder`` (PNG and SVG); returns them."""
+    """Write the plots of :data:`PLOTS` that apply to ``result`` into ``folder`` (PNG and SVG); returns them."""
     folder = Path(folder)
     plots = []
-    save_figure(plot_residual_spread(result), folder / "spread.png")
-    plots.append(
-        Plot(
-            "spread.svg",
-            "Torque of each joint at every workspace sample against that joint's own angle, gravity only and "
-            "with the springs; the bands span the least to the largest torque of the samples in each bin of the "
-            "angle (the spread the other joints add).",
-            "torque of each joint over the workspace against its angle, before and after",
-        )
-    )
-    coils = plot_coils(result)
-    if coils is not None:
-        save_figure(coils, folder / "coils.png")
-        plots.append(
-            Plot(
-                "coils.svg",
-                "Each coil's force against its length (its spec sheet's law), the working range over the "
-                "workspace (shortest to longest length) with the force at each sample, and the forces at which "
-                "the body's (and the hooks') stress reaches the allowable.",
-                "force against length of each coil, with its working range and allowable force",
-            )
-        )
-    tolerance = plot_tolerance_band(result)
-    if tolerance is not None:
-        save_figure(tolerance, folder / "tolerance.png")
-        plots.append(
-            Plot(
-                "tolerance.svg",
-                "The nominal residual of each joint at every sample, and the band that every build within the "
-                "springs' tolerance box stays in (exact over the box's corners), binned by the joint's angle.",
-                "band of the residual over the tolerance box around the nominal",
-            )
-        )
+    for stem, draw, caption, alt in PLOTS:
+        figure = draw(result)
+        if figure is not None:
+            save_figure(figure, folder / f"{stem}.png")
+            plots.append(Plot(f"{stem}.svg", caption, alt))
     return plots
 
 
