@@ -6,7 +6,7 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 DOCS_STAMP := $(VENV)/.docs-installed
 
-.PHONY: bytecode demo lint test test-fast bench bench-buildable bench-clearance bench-explore bench-startup bench-workers bench-memory bench-cli-memory bench-evaluation bench-ipopt bench-real clean chromium demo-check docs test-drake
+.PHONY: bytecode demo lint test test-fast bench bench-buildable bench-clearance bench-explore bench-startup bench-workers bench-memory bench-cli-memory bench-evaluation bench-ipopt bench-real clean chromium demo-check docs test-drake bench-demo
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -130,6 +130,10 @@ bench-evaluation: $(STAMP)
 # The IPOPT path: one peak start at 4,096 UR5 samples and one coil-constrained two-link solve, structured vs plain NLP
 bench-ipopt: $(STAMP)
 	$(BIN)/python benchmarks/bench_ipopt.py
+
+# the demo's solve with its coils' fatigue duty against the same demo without it (ratio in one run)
+bench-demo: $(STAMP)
+	$(BIN)/python benchmarks/bench_demo.py
 
 # Real designs on real arms (UR5 and Panda; ideal springs and coils; with and without clearance): each case at
 # its default settings against a 4× search and 5 seeds, every design checked densely. Hours on 2 cores;
