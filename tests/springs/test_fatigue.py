@@ -156,7 +156,7 @@ def test_a_coil_record_with_a_bad_duty_is_one_line_naming_the_spring_and_key(dut
     assert culprit in message and "\n" not in message
 
 
-def test_a_coil_with_a_duty_has_fatigue_rows_and_a_floor_variable() -> None:
+def test_a_coil_with_a_duty_has_fatigue_rows_and_force_bound_variables() -> None:
     from springbalance.springs.laws.helical_extension import HelicalExtensionSpring
     from springbalance.springs.params import Anchor, Free
 
@@ -164,11 +164,13 @@ def test_a_coil_with_a_duty_has_fatigue_rows_and_a_floor_variable() -> None:
     rules = [c for c in coil.constraints() if c.name == "fatigue"]
     assert len(rules) == 1 and [p[0] for p in rules[0].parts] == [
         "fatigue_floor",
+        "fatigue_ceiling",
         "fatigue_body",
         "fatigue_hook_bending",
         "fatigue_hook_torsion",
     ]
-    assert rules[0].auxiliary[0][0] == "fatigue_min_force" and rules[0].auxiliary[0][3] > 0
+    assert [entry[0] for entry in rules[0].auxiliary] == ["fatigue_min_force", "fatigue_max_force"]
+    assert all(entry[3] > 0 for entry in rules[0].auxiliary)
     # without a duty, or fixed in place, nothing is added
     plain = HelicalExtensionSpring(Anchor("universe"), Anchor("link1", Free([0.1, 0, 0], [0.3, 0, 0])), "s")
     assert not [c for c in plain.constraints() if c.name == "fatigue"]

@@ -28,7 +28,7 @@ from springbalance.design.solvers import FEASIBILITY_TOLERANCE, Solution, solve_
 from springbalance.design.twin import TwinRecord, twin_record
 from springbalance.errors import SolverError
 from springbalance.model.collision import DEFAULT_RADIUS
-from springbalance.springs.fatigue import FLOOR, force_range
+from springbalance.springs.fatigue import CEILING, FLOOR, force_range
 from springbalance.springs.laws import Spring
 from springbalance.springs.laws.coil import HelicalCoilSpring
 from springbalance.springs.laws.compression import CompressionSpring
@@ -187,9 +187,9 @@ def _wound(problem: DesignProblem, twin: DesignProblem, coils: list[HelicalCoilS
         law = twin.model.spring_values(spring, x)
         lengths, forces = evaluation.lengths[:, column], evaluation.tensions[:, column]
         start.update({f"{coil.name}.{key}": value for key, value in _wind(coil, law, lengths, forces).items()})
-        floor = f"{coil.name}.{FLOOR}"  # a coil with a duty: its fatigue floor at the twin's smallest force
+        floor = f"{coil.name}.{FLOOR}"  # a coil with a duty: its fatigue bounds at the twin's force range
         if floor in start and forces.size:
-            start[floor] = force_range(forces, coil.helical_kind)[0]
+            start[floor], start[f"{coil.name}.{CEILING}"] = force_range(forces, coil.helical_kind)
     design = np.array([start[name] for name in problem.variables.names], dtype=float)
     lower, upper = problem.variables.bounds()
     return np.clip(design, lower, upper)

@@ -16,7 +16,9 @@ seen (:func:`verification_poses`):
 Per rule it reports the smallest margin ``c_i(x) + ρ`` over the poses, where ``c_i`` is the row and ``ρ``
 the reserve the optimisation keeps (a coil's :data:`~springbalance.springs.laws.coil.STRESS_RESERVE` of each
 allowable stress): the rule itself is checked, the reserve being there for exactly these poses. Rows that
-do not depend on the pose (a coil's index, its initial tension) are left out. It reports the residual
+do not depend on the pose (a coil's index, its initial tension) are left out, but for a coil's fatigue damage
+rows, which are judged over the coil's force range at the poses (:mod:`~springbalance.design.verification_fatigue`).
+It reports the residual
 torque's peak and RMS per joint over the poses beside those over the samples; with a peak objective
 (``peak``, ``joint_peaks``, ``peak_then_joints``) the residual fails when the objective over the poses
 exceeds its value over the samples by more than :data:`PEAK_EXCESS` (an RMS or a potential objective
@@ -43,9 +45,9 @@ from springbalance.design.scenarios import ScenarioWorkspace
 from springbalance.design.solvers import FEASIBILITY_TOLERANCE
 from springbalance.design.torque_model import BlockEvaluator, compiled
 from springbalance.design.torque_model.variables import ConstraintBlock
+from springbalance.design.verification_fatigue import damage_rule, is_damage_block, widened_bounds
 from springbalance.design.verification_record import JointResidual, RuleMargin, VerificationRecord
 from springbalance.model.workspace import Coupling, Workspace
-from springbalance.springs.fatigue import FLOOR
 
 #: the poses verified per sample optimised on
 VERIFY_FACTOR = 10
@@ -171,20 +173,6 @@ class _Dense:
         return rule, failing[:WORST_PER_RULE]
 
 
-def _floors_at_unseen_minimum(problem: DesignProblem, dense: _Dense, x: np.ndarray) -> np.ndarray | None:
-    """``x`` with each coil's fatigue floor ``F_lo`` [N] lowered to its smallest force at the poses verified
-    where that is below it, or None when every floor holds. The floor is an auxiliary bound of the force
-    range, not a rule (:mod:`springbalance.springs.fatigue_rows`): what must hold is fatigue over the real
-    range, which the fatigue rows then check with the lowered floor, at the samples and the poses."""
-    lowered, names = x.copy(), problem.variables.names
-    for block in dense.blocks:
-        margin = min(dense.candidates[block.offset])[0]
-        name = f"{block.spring}.{FLOOR}"
-        if block.name == "fatigue_floor" and margin < -FEASIBILITY_TOLERANCE and name in names:
-            lowered[names.index(name)] += margin
-    return None if np.array_equal(lowered, x) else lowered
-
-
 def check_design(
     problem: DesignProblem, x: np.ndarray, round_: int = 0, checker: _Checker | None = None, mode: str = "resolve"
 ) -> Check:
@@ -196,13 +184,18 @@ def check_design(
     values, sampling = verification_poses(problem.base_workspace, round_)
     x = np.asarray(x, dtype=float)
     dense = _Dense(problem, x, values)
-    lowered = _floors_at_unseen_minimum(problem, dense, x)
-    if lowered is not None:
-        x, dense = lowered, _Dense(problem, lowered, values)
+    widened = widened_bounds(problem, dense, x)  # a coil's fatigue bounds at its force range there
+    if widened is not None:
+        x, dense = widened, _Dense(problem, widened, values)
     sampled = problem.evaluate(x)
     rules, poses = [], []
-    for block in dense.blocks:
-        rule, failing = dense.rule(block, sampled.constraint_rows)
+    for block in problem.model.constraint_blocks:
+        if block.per_sample:
+            rule, failing = dense.rule(block, sampled.constraint_rows)
+        elif is_damage_block(block):
+            rule, failing = damage_rule(problem, dense, block, x, sampled.constraint_rows, WORST_PER_RULE)
+        else:
+            continue
         rules.append(rule)
         poses += failing
     residual, objective, peak_poses = _residual(problem, dense, sampled.tau, sampled.potential)

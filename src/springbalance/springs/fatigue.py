@@ -61,6 +61,8 @@ CRITERIA = ("gerber", "goodman", "sines")
 SHEAR_ULTIMATE = 0.67
 #: the name of a coil's auxiliary variable: a lower bound [N] on its force over every sample (docs/model.md §3.8.2)
 FLOOR = "fatigue_min_force"
+#: the name of a coil's auxiliary variable: an upper bound [N] on its force over every sample (docs/model.md §3.8.2)
+CEILING = "fatigue_max_force"
 #: the locations of each kind of coil
 LOCATIONS = {"extension": ("body", "hook_bending", "hook_torsion"), "compression": ("body",)}
 INFINITE = math.inf

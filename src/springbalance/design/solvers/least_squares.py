@@ -16,6 +16,12 @@ from threadpoolctl import threadpool_limits
 from springbalance.design.solvers.records import FEASIBILITY_TOLERANCE, Problem
 from springbalance.design.solvers.residuals import _LeastSquaresResiduals
 
+#: augmented-Lagrangian rounds of a start, and of a problem with auxiliary variables (a coil's fatigue bounds
+#: ``F_lo ≤ P_i ≤ F_hi``, docs/model.md §3.8.2): rows that tie every sample's force to one variable, which
+#: Gauss–Newton on penalty rows closes only slowly (on the demo every round ended on the iteration limit, 2 to 4 of
+#: them per start, and IPOPT finished each start anyway). Such a start hands over to IPOPT after its first round.
+AL_ROUNDS, AUXILIARY_AL_ROUNDS = 12, 1
+
 _STATUS = {
     -1: "improper input",
     0: "iteration limit reached",
@@ -53,7 +59,8 @@ class LeastSquaresStarts:
         multipliers = np.zeros(ls.n_constraint_rows) if multipliers is None else np.asarray(multipliers, dtype=float)
         penalty, iterations, status = 10.0, 0, "least_squares: not run"
         previous_violation = np.inf
-        for _ in range(12 if ls.n_constraint_rows else 1):
+        rounds = AUXILIARY_AL_ROUNDS if self.problem.model.auxiliary_names else AL_ROUNDS
+        for _ in range(rounds if ls.n_constraint_rows else 1):
             if ls.n_constraint_rows:
                 ls.set_penalty(multipliers, penalty)
             z, used, status = self._trust_region(ls, z, budget)

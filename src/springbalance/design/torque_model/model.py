@@ -88,6 +88,8 @@ class TorqueModel:
         :class:`~springbalance.springs.params.Free` parameter. Returns the anchors' slots
         ``(spring, end, region, indices of its coordinates)``."""
         variable_slots = []  # (spring, end, region, index list)
+        #: the names of the constraints' own variables (a coil's fatigue bounds), in the base vector
+        self.auxiliary_names: list[str] = []
         for spring in self.springs:
             for end, anchor in spring.anchors.items():
                 region = anchor.region()
@@ -114,6 +116,7 @@ class TorqueModel:
             for constraint in spring.constraints():  # a constraint's own variables (a coil's fatigue floor)
                 for key, unit, lower, upper, start in getattr(constraint, "auxiliary", ()):
                     self.variables.add(f"{spring.name}.{key}", unit, lower, upper, start)
+                    self.auxiliary_names.append(f"{spring.name}.{key}")
         return variable_slots
 
     def _sample_context(self, data: ca.SX) -> SampleContext:
