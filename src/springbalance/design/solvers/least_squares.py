@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 from threadpoolctl import threadpool_limits
 
+from springbalance.design.solvers.auxiliary import tight_bounds
 from springbalance.design.solvers.records import FEASIBILITY_TOLERANCE, Problem
 from springbalance.design.solvers.residuals import _LeastSquaresResiduals
 
@@ -56,6 +57,7 @@ class LeastSquaresStarts:
         z = np.clip(z0, 0.0, 1.0)
         if prepare:
             z = self._fit_linear_variables(z)
+        z = tight_bounds(self.problem, z)  # a coil's fatigue bounds at the start's force range
         multipliers = np.zeros(ls.n_constraint_rows) if multipliers is None else np.asarray(multipliers, dtype=float)
         penalty, iterations, status = 10.0, 0, "least_squares: not run"
         previous_violation = np.inf
