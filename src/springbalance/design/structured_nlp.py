@@ -125,6 +125,7 @@ class StructuredNlp:
         z, data, (tau, potential, _, _, rows) = problem.scaled_sample()
         weights = ca.SX.sym("ybar", m)
         y = ca.vertcat(tau, potential, rows)
+        y = self._split_once(model.constraint_blocks, nv, z, y)
         hessian, _ = ca.hessian(ca.dot(weights, y), z)
         curved = self._curved_list
         curvature = ca.SX.sym("d", len(curved))
@@ -140,14 +141,53 @@ class StructuredNlp:
         x = ca.MX.sym("x", nlp.size)
         self._all_rows = ca.Function("all_rows", [x], [self._oracle(x, np.arange(self.n_samples), nlp.rows)[1]])
 
+    def _split_once(self, blocks: list, nv: int, z: ca.SX, y: ca.SX) -> ca.SX:
+        """``y`` with the rows evaluated once (:attr:`ConstraintBlock.once`: rows of no sample, a coil's fatigue
+        damage rows) set to 0; those rows, their Jacobian and their Hessian become functions of ``z`` alone,
+        which :meth:`_once` adds to sample 0's outputs (the only sample the NLP reads a row of no sample from)."""
+        once = [
+            nv + 1 + block.offset for block in blocks if block.once and nv + 1 + block.offset not in self._curved_list
+        ]
+        self._once_rows = np.array(once, dtype=int)
+        if not once:
+            return y
+        values = y[once]
+        weights = ca.SX.sym("w", len(once))
+        self._once_jacobian = compiled(ca.Function("once_jacobian", [z], [values, ca.jacobian(values, z).T]))
+        self._once_hessian = compiled(
+            ca.Function("once_hessian", [z, weights], [ca.triu(ca.hessian(ca.dot(weights, values), z)[0])])
+        )
+        kept = ca.SX(y)
+        for row in once:
+            kept[row] = 0
+        return kept
+
+    def _once(self, samples: np.ndarray, z: ca.MX) -> tuple[ca.DM, ca.MX, ca.MX] | None:
+        """``(S, c, J_cᵀ)``: the rows evaluated once at ``z``, their Jacobian transposed, and the 0/1 matrix ``S``
+        that places them in sample 0's outputs within vec(Y) of ``samples``; None without such rows (or without
+        sample 0)."""
+        if not self._once_rows.size or samples.size == 0 or samples[0] != 0:
+            return None
+        count = self._once_rows.size
+        place = ca.DM(
+            ca.Sparsity.triplet(self.n_outputs * samples.size, count, self._once_rows.tolist(), list(range(count))), 1.0
+        )
+        values, transposed = self._once_jacobian(z)
+        return place, values, transposed
+
     def _oracle(self, x: ca.MX, samples: np.ndarray, rows: ca.MX) -> tuple[ca.MX, ca.MX]:
         """``(f, g)`` at ``x`` with the per-sample outputs of ``samples`` only (the others are not needed)."""
-        outputs = self._sample_outputs.map("outputs", "serial", samples.size, [0], [])(
-            x[: self.n_design], ca.MX(ca.DM(self._data[:, samples]))
+        outputs = ca.vec(
+            self._sample_outputs.map("outputs", "serial", samples.size, [0], [])(
+                x[: self.n_design], ca.MX(ca.DM(self._data[:, samples]))
+            )
         )
+        once = self._once(samples, x[: self.n_design])
+        if once is not None:
+            outputs = outputs + once[0] @ once[1]
         phi = ca.Function("phi", [self._outputs, self.nlp.z], [self.nlp.cost, rows])
         # casadi's stubs type a call as one MX; a function of two outputs returns the tuple of both
-        return phi(self._scatter(samples) @ ca.vec(outputs), x)  # type: ignore[return-value]
+        return phi(self._scatter(samples) @ outputs, x)  # type: ignore[return-value]
 
     def _scatter(self, samples: np.ndarray) -> ca.DM:
         """The sparse 0/1 matrix that places the outputs of ``samples`` in vec(Y) (zeros elsewhere)."""
@@ -226,9 +266,14 @@ class StructuredNlp:
         x, p = ca.MX.sym("x", nlp.size), ca.MX.sym("p", 0)
         zx, columns, n_extra = x[:n_x], ca.MX(ca.DM(self._data[:, samples])), nlp.size - n_x
         values = ca.vec(self._sample_outputs.map("outputs", "serial", count, [0], [])(zx, columns))
-        cost, constraints = phi(values, x)
         values_j, transposed = self._sample_jacobian.map("jacobian", "serial", count, [0], [])(zx, columns)
         values_j = ca.vec(values_j)
+        once = self._once(samples, zx)
+        if once is not None:  # the rows evaluated once, in sample 0's outputs
+            place, once_values, once_transposed = once
+            values, values_j = values + place @ once_values, values_j + place @ once_values
+            transposed = transposed + ca.mtimes(once_transposed, place.T)
+        cost, constraints = phi(values, x)
         cost_j, cost_y, cost_w = phi_gradient(values_j, x)
         grad_f = ca.Function(
             "nlp_grad_f",
@@ -255,6 +300,8 @@ class StructuredNlp:
         summed = self._sample_hessian.map("hessian", "serial", count, [0], [0])(
             zx, columns, ca.reshape(ybar_value, m, count), diagonal_value
         )
+        if once is not None:
+            summed = summed + self._once_hessian(zx, ca.mtimes(place.T, ybar_value))
         hessian = ca.diagcat(summed + ca.triu(gauss_newton), ca.MX(n_extra, n_extra))
         hess_lag = ca.Function(
             "nlp_hess_l",

@@ -69,6 +69,8 @@ class FatigueRules:
         )
         #: the damage rows keep ``stress_reserve`` in reserve [1]
         self.reserves = {damage_part(location): spring.stress_reserve for location in LOCATIONS[self.kind]}
+        #: the damage rows depend on no sample: the solver evaluates them once, not in every sample's function
+        self.once = frozenset(self.reserves)
         #: the auxiliary variables ``F_lo``, ``F_hi`` [N]: (name, unit, lower, upper, start)
         self.auxiliary = ((FLOOR, "N", 0.0, largest, 0.0), (CEILING, "N", 0.0, largest, largest))
 
@@ -84,10 +86,11 @@ class FatigueRules:
 
     def rows(self, length: ValueT, force: ValueT, parameters: Parameters) -> list[ValueT]:
         load = force if self.kind == "extension" else -force  # P [N]
-        floor, ceiling = parameters[FLOOR], parameters[CEILING]  # F_lo, F_hi [N]
+        floor: Any = parameters[FLOOR]  # F_lo [N]
+        ceiling: Any = parameters[CEILING]  # F_hi [N]
         return [load - floor, ceiling - load, *self.damage_rows(parameters, floor, ceiling)]
 
-    def damage_rows(self, parameters: Parameters, floor: ValueT, ceiling: ValueT) -> list[ValueT]:
+    def damage_rows(self, parameters: Parameters, floor: Any, ceiling: Any) -> list[Any]:
         """The damage row of every location [1] (numbers or CasADi) of a force that cycles between ``floor`` and
         ``ceiling`` [N], less the stress reserve: ``≥ 0`` iff ``n_f`` keeps the required factor with the reserve."""
         spring, duty = self.spring, self.duty

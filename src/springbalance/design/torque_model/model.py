@@ -186,8 +186,10 @@ class TorqueModel:
             if parts is None:
                 parts, rows = ((constraint.name, constraint.unit, constraint.scale),), [rows]
             reserves = getattr(constraint, "reserves", {})  # part name → reserve [unit] the rows keep
+            once = getattr(constraint, "once", ())  # parts of no sample the solver evaluates once
             for (name, unit, scale), row in zip(parts, rows):
                 row = ca.SX(row)
+                per_sample = bool(ca.depends_on(row, data))
                 self.constraint_blocks.append(
                     ConstraintBlock(
                         spring.name,
@@ -195,8 +197,9 @@ class TorqueModel:
                         unit,
                         len(constraint_rows),
                         float(scale),
-                        bool(ca.depends_on(row, data)),
+                        per_sample,
                         float(reserves.get(name, 0.0)),
+                        not per_sample and name in once,
                     )
                 )
                 constraint_rows.append(row)

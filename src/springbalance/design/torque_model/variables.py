@@ -50,3 +50,6 @@ class ConstraintBlock:
     #: the part of the row the optimisation keeps in reserve [unit]: the rule itself holds where
     #: ``row + reserve ≥ 0`` (a coil's stress reserve, :data:`~springbalance.springs.laws.coil.STRESS_RESERVE`)
     reserve: float = 0.0
+    #: True for a row of no sample that the solver evaluates once from the design, not in every sample's
+    #: function (the constraint says so: a coil's fatigue damage rows, costly and of four variables)
+    once: bool = False
