@@ -153,9 +153,10 @@ class StructuredNlp:
             return y
         values = y[once]
         weights = ca.SX.sym("w", len(once))
-        self._once_jacobian = compiled(ca.Function("once_jacobian", [z], [values, ca.jacobian(values, z).T]))
-        self._once_hessian = compiled(
-            ca.Function("once_hessian", [z, weights], [ca.triu(ca.hessian(ca.dot(weights, values), z)[0])])
+        # a few rows of a few variables, evaluated once per call: CasADi's virtual machine, not worth a compiler run
+        self._once_jacobian = ca.Function("once_jacobian", [z], [values, ca.jacobian(values, z).T])
+        self._once_hessian = ca.Function(
+            "once_hessian", [z, weights], [ca.triu(ca.hessian(ca.dot(weights, values), z)[0])]
         )
         kept = ca.SX(y)
         for row in once:
