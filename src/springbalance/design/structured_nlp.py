@@ -41,7 +41,14 @@ the rows that are violated or among the :data:`WORKING_ROWS` closest to binding 
 adds the rows found violated (and the next closest), and solves again from there, until no row
 outside the set is violated: the answer then satisfies the full NLP's KKT conditions, as if all rows
 had been there. The maps over the samples run only over the samples that the cost and the rows in
-the set depend on (all of them for ``rms``, a few hundred for ``peak``).
+the set depend on (all of them for ``rms``, a few hundred for ``peak``). A bound over the samples (a coil's
+fatigue floor ``P_i - F_lo ≥ 0`` or ceiling) starts with the rows of its :data:`EXTREME_SAMPLES` smallest
+samples instead of those of the spread samples.
+
+**Rows evaluated once.** A row of no sample enters the NLP once (from sample 0's outputs), but the
+per-sample functions compute it at every sample. The rows a constraint marks ``once`` (a coil's fatigue
+damage rows: costly, of four variables) are left out of the per-sample functions and evaluated, with their
+Jacobian and Hessian, once per call (:meth:`StructuredNlp._once`).
 """
 
 from __future__ import annotations
@@ -64,6 +71,9 @@ WORKING_ROWS = 64
 ROWS_PER_VARIABLE = 6
 #: ... and every row of this many samples, the first ones (Sobol and grid prefixes spread over the workspace)
 SPREAD_SAMPLES = 64
+#: ... but of a bound over the samples (:attr:`ConstraintBlock.extreme`), the rows of this many samples where it is
+#: smallest instead
+EXTREME_SAMPLES = 4
 #: how far a warm-started round pushes its start point and multipliers into the interior (IPOPT's
 #: adaptive barrier strategy then picks the barrier parameter itself: its ``mu_init`` counts only for
 #: the monotone one, which took 1.5-2× the iterations here)
@@ -138,6 +148,9 @@ class StructuredNlp:
             ca.Function("sample_hessian", [z, data, weights, curvature], [ca.triu(hessian)])
         )
         self._data = np.asarray(problem.data)
+        # the varying rows come sample by sample (problem.assemble): block b of sample s is row s·n_varying + b
+        varying = [block for block in model.constraint_blocks if block.per_sample]
+        self._extreme = [(b, len(varying)) for b, block in enumerate(varying) if block.extreme]
         x = ca.MX.sym("x", nlp.size)
         self._all_rows = ca.Function("all_rows", [x], [self._oracle(x, np.arange(self.n_samples), nlp.rows)[1]])
 
@@ -334,6 +347,10 @@ class StructuredNlp:
         # the rows of the first samples (a workspace's samples are space-filling in any prefix), the rows
         # of no sample, the violated rows and the closest to binding
         active = (self._row_sample < min(SPREAD_SAMPLES, self.n_samples // 8)) | (self._row_sample == self.n_samples)
+        for block, n_varying in self._extreme:  # a bound's rows: those of its extreme samples, not the spread ones
+            rows_of = block + n_varying * np.arange(self.n_samples)
+            active[rows_of] = False
+            active[rows_of[np.argsort(values[rows_of], kind="stable")[:EXTREME_SAMPLES]]] = True
         violated = np.flatnonzero(
             values < ROW_TOLERANCE
         )  # at most `keep` of them, the worst: later rounds add the rest

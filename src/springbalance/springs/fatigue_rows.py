@@ -71,6 +71,8 @@ class FatigueRules:
         self.reserves = {damage_part(location): spring.stress_reserve for location in LOCATIONS[self.kind]}
         #: the damage rows depend on no sample: the solver evaluates them once, not in every sample's function
         self.once = frozenset(self.reserves)
+        #: the bound rows bind at the samples of the smallest and the largest force only
+        self.extreme = frozenset((FLOOR_ROW, CEILING_ROW))
         #: the auxiliary variables ``F_lo``, ``F_hi`` [N]: (name, unit, lower, upper, start)
         self.auxiliary = ((FLOOR, "N", 0.0, largest, 0.0), (CEILING, "N", 0.0, largest, largest))
 

@@ -187,6 +187,7 @@ class TorqueModel:
                 parts, rows = ((constraint.name, constraint.unit, constraint.scale),), [rows]
             reserves = getattr(constraint, "reserves", {})  # part name → reserve [unit] the rows keep
             once = getattr(constraint, "once", ())  # parts of no sample the solver evaluates once
+            extreme = getattr(constraint, "extreme", ())  # parts that bind at their extreme samples only
             for (name, unit, scale), row in zip(parts, rows):
                 row = ca.SX(row)
                 per_sample = bool(ca.depends_on(row, data))
@@ -200,6 +201,7 @@ class TorqueModel:
                         per_sample,
                         float(reserves.get(name, 0.0)),
                         not per_sample and name in once,
+                        per_sample and name in extreme,
                     )
                 )
                 constraint_rows.append(row)

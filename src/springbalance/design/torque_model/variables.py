@@ -53,3 +53,6 @@ class ConstraintBlock:
     #: True for a row of no sample that the solver evaluates once from the design, not in every sample's
     #: function (the constraint says so: a coil's fatigue damage rows, costly and of four variables)
     once: bool = False
+    #: True for a bound over the samples (a coil's fatigue floor or ceiling, ``P_i - F_lo ≥ 0``): only the rows
+    #: of its extreme samples bind, so the solver's working set starts with those, not with the spread samples'
+    extreme: bool = False
