@@ -186,7 +186,7 @@ def check_design(
     dense = _Dense(problem, x, values)
     widened = widened_bounds(problem, dense, x)  # a coil's fatigue bounds at its force range there
     if widened is not None:
-        x, dense = widened, _Dense(problem, widened, values)
+        x = widened
     sampled = problem.evaluate(x)
     rules, poses = [], []
     for block in problem.model.constraint_blocks:

@@ -34,7 +34,9 @@ _BOUNDS = {FLOOR_ROW: (FLOOR, 1.0), CEILING_ROW: (CEILING, -1.0)}
 def widened_bounds(problem: DesignProblem, dense: Any, x: np.ndarray) -> np.ndarray | None:
     """``x`` with each coil's fatigue floor ``F_lo`` [N] lowered to its smallest force at the poses verified where
     that is below it, and its ceiling ``F_hi`` raised to its largest force there where that is above it; None
-    when every bound holds. ``dense``: the design's rows at the poses (``verification._Dense``)."""
+    when every bound holds. ``dense``: the design's rows at the poses (``verification._Dense``); the candidates
+    of a bound it moves are moved with it (its rows ``P_j - F_lo``, ``F_hi - P_j`` shift by the change, the only
+    rows of the poses that depend on the bounds: the damage rows are judged by :func:`damage_rule`)."""
     widened, names = x.copy(), problem.variables.names
     for block in dense.blocks:
         if block.name not in _BOUNDS:
@@ -44,6 +46,9 @@ def widened_bounds(problem: DesignProblem, dense: Any, x: np.ndarray) -> np.ndar
         name = f"{block.spring}.{key}"
         if margin < -FEASIBILITY_TOLERANCE and name in names:
             widened[names.index(name)] += sign * margin
+            dense.candidates[block.offset] = [
+                (value - margin, *rest) for value, *rest in dense.candidates[block.offset]
+            ]
     return None if np.array_equal(widened, x) else widened
 
 
