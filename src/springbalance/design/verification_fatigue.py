@@ -70,19 +70,19 @@ def damage_rule(
     rules = next(c for c in spring.constraints() if isinstance(c, FatigueRules))
     location = [name for name, _, _ in rules.parts if name not in _BOUNDS].index(block.name)
 
-    def margin(force: float, scenario: int) -> float:
+    def margin(ceiling_row: float, scenario: int) -> float:
+        """The damage row + reserve [1] at the force ``P_j = F_hi - ceiling_row`` [N] of a pose of ``scenario``."""
         base = problem.model.scenario_vector(x, scenario)
         parameters = {**problem.model.parameter_values(spring, base), **problem.model.auxiliary_values(spring, base)}
+        force = float(parameters[CEILING]) - ceiling_row
         return float(rules.damage_rows(parameters, float(parameters[FLOOR]), force)[location]) + block.reserve
 
-    top = float(problem.model.scenario_vector(x)[problem.variables.names.index(f"{block.spring}.{CEILING}")])
-    # the ceiling row's worst candidates are the largest forces P_j = F_hi - (F_hi - P_j), the largest first
+    # the ceiling row's worst candidates are those of the largest forces, the largest first
     judged = [
-        (margin(top - value, scenario), pose, scenario)
-        for value, pose, scenario in sorted(dense.candidates[ceiling.offset])
+        (margin(value, scenario), pose, scenario) for value, pose, scenario in sorted(dense.candidates[ceiling.offset])
     ]
+    sampled = margin(float(np.min(sampled_rows[:, ceiling.offset])), 0)
     value, pose, scenario = judged[0]
-    sampled = margin(top - float(np.min(sampled_rows[:, ceiling.offset])), 0)
     rule = RuleMargin(
         block.spring or "",
         block.name,
