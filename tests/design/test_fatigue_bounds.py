@@ -12,6 +12,7 @@ fatigue functions.
 
 from __future__ import annotations
 
+import json
 import math
 from pathlib import Path
 
@@ -83,3 +84,33 @@ def test_the_optimum_meets_fatigue_over_every_sample_when_the_extreme_samples_mo
     # and the duty shapes the design: its weakest location is close to the required factor (the rows keep 2 %
     # of the row in reserve, a few % of n_f), not far above it
     assert min(factors.values()) < 1.3, factors
+
+
+def test_a_design_saved_without_the_fatigue_ceiling_loads_with_its_largest_force(tmp_path):
+    """A design file written before a coil had its ceiling variable (``<name>.fatigue_max_force``) still loads:
+    the ceiling is the design's largest force over the samples, every saved value is kept."""
+    arm = sb.Mechanism.from_urdf(URDF / "two_link_planar.urdf")
+    coil = sb.HelicalExtensionSpring(
+        sb.Anchor("universe", sb.Free([-0.3, 0, -0.1], [0.3, 0, 0.6])),
+        sb.Anchor("link2", sb.Free([0.02, 0, 0], [0.4, 0, 0])),
+        "forearm",
+        max_outer_diameter=0.04,
+        duty={"cycles": 1e6},
+    )
+    problem = sb.DesignProblem(arm, sb.Workspace.sobol(arm, n=8, ranges=RANGES, seed=0), [coil])
+    names = problem.variables.names
+    x = np.array([START.get(name, value) for name, value in zip(names, problem.variables.start)])
+    x[names.index("forearm.fatigue_min_force")] = 123.0
+    path = sb.DesignResult(problem, x).save(tmp_path / "design.json")
+    record = json.loads(path.read_text(encoding="utf-8"))
+    del record["variables"]["forearm.fatigue_max_force"]
+    path.write_text(json.dumps(record), encoding="utf-8")
+
+    loaded = sb.DesignResult.load(path)
+    values = dict(zip(loaded.problem.variables.names, loaded.x))
+    tension = problem.evaluate(x).tensions[:, 0]  # an extension spring's force [N], all positive here
+    assert np.all(tension > 0)
+    assert values["forearm.fatigue_max_force"] == pytest.approx(float(np.max(tension)), rel=1e-12)
+    for name in names:
+        if name != "forearm.fatigue_max_force":
+            assert values[name] == pytest.approx(x[names.index(name)], rel=1e-12, abs=1e-15), name

@@ -12,7 +12,6 @@ from __future__ import annotations
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-import numpy as np
 import numpy.typing as npt
 
 from springbalance.design.bounds import check_magnitudes
@@ -20,6 +19,7 @@ from springbalance.design.clearance import FitRecord
 from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.design.objectives import OBJECTIVES
 from springbalance.design.problem import DesignProblem
+from springbalance.design.solvers.auxiliary import design_from_values
 from springbalance.design.tolerance_spec import ToleranceSpec
 from springbalance.design.twin import TwinRecord
 from springbalance.design.verification_record import VerificationRecord
@@ -214,10 +214,11 @@ class DesignResult(EvaluatedDesign):
                 **DesignProblem.scenario_options(record),
             )
             values = record["variables"]
-            missing = [name for name in problem.variables.names if name not in values]
+            auxiliary = problem.model.auxiliary_names  # (a design saved before a coil's fatigue ceiling: filled in)
+            missing = [name for name in problem.variables.names if name not in values and name not in auxiliary]
             if missing:
                 raise InputError(f"design file {str(path)!r} lacks values of {', '.join(missing)}")
-            x = np.array([values[name] for name in problem.variables.names], dtype=float)
+            x = design_from_values(problem, values)
         except KeyError as error:
             raise InputError(f"design file {str(path)!r} lacks key {error}") from None
         except InputError:

@@ -9,6 +9,8 @@ rounded to a standard size) starts from these instead of from stale bounds that 
 
 from __future__ import annotations
 
+from typing import Mapping
+
 import numpy as np
 
 from springbalance.design.solvers.records import Problem
@@ -34,3 +36,16 @@ def tight_bounds(problem: Problem, z: np.ndarray) -> np.ndarray:
             if upper[i] > lower[i]:
                 tight[i] = float(np.clip((value - lower[i]) / (upper[i] - lower[i]), 0.0, 1.0))
     return tight
+
+
+def design_from_values(problem: Problem, values: Mapping[str, float]) -> np.ndarray:
+    """The physical design vector of ``problem`` from ``values`` (variable name → value), each auxiliary variable
+    that ``values`` lacks (a design saved before the coil's fatigue ceiling existed) at the design's force range
+    (:func:`tight_bounds`); KeyError for any other variable it lacks."""
+    auxiliary = set(problem.model.auxiliary_names)
+    names = problem.variables.names
+    x = np.array([values[name] if name in values or name not in auxiliary else 0.0 for name in names], dtype=float)
+    if all(name in values for name in names):
+        return x
+    tight = problem.scale(tight_bounds(problem, problem.unscale(x)))
+    return np.array([x[i] if name in values else tight[i] for i, name in enumerate(names)], dtype=float)
