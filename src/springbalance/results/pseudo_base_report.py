@@ -50,7 +50,10 @@ def pseudo_base_lines(result: EvaluatedDesign) -> list[str]:
     lines = ["", f"Pseudo-bases (world-oriented anchors, docs/model.md §1.1): {record['total_mass']:.4g} kg in all"]
     for base in record["bases"]:
         com = ", ".join(f"{v:.4g}" for v in base["com"])
-        lines.append(f"  {base['body']:<16} at joint {base['joint']}: {base['mass']:.4g} kg, centre of mass ({com}) m")
+        keeps = ", keeps only the vertical" if base.get("keep") == "vertical" else ""
+        lines.append(
+            f"  {base['body']:<16} at joint {base['joint']}: {base['mass']:.4g} kg, centre of mass ({com}) m{keeps}"
+        )
     units = {joint.name: joint.torque_unit for joint in result.problem.mechanism.joints}
     largest = max(record["peak_torque"].values(), default=0.0)
     added = ", ".join(
