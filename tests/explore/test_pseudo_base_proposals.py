@@ -25,7 +25,7 @@ import pytest
 import springbalance as sb
 from config_helpers import config_file
 from springbalance.cli import main
-from springbalance.explore.pseudo_base_proposals import propose_pseudo_bases
+from springbalance.explore.pseudo_base_proposals import _exact, propose_pseudo_bases
 
 ROOT = Path(__file__).resolve().parents[2]
 KR = ROOT / "urdf" / "kr_like_6r.urdf"
@@ -102,3 +102,16 @@ def test_joints_beyond_a_slider_get_no_pseudo_base_and_say_why():
     assert [p["joint"] for p in proposals[-4:]] == ["a3", "a4", "a5", "a6"]
     assert all(p["mass"] is None and "lies beyond the prismatic joint 'a2'" in p["note"] for p in proposals[-4:])
     assert all(p["exact"] is None and "prismatic" in p["note"] for p in proposals[:2])
+
+
+def test_the_exact_verdict_needs_the_pseudo_bases_beyond():
+    """pb_a3 alone cannot balance links 3…6: the weights of links 4…6 make terms in a4…a6 that no spring from pb_a3
+    to link3 reaches; with pseudo-bases at a4…a6 too, every term of a3's subtree goes (seed 004)."""
+    bare = sb.Mechanism.from_urdf(KR)
+    source = {**bare.source, "gravity": [0.0, 0.0, -G]}
+    links = {f"a{i}": f"link{i}" for i in range(1, 7)}
+    alone, residual, _ = _exact(source, bare, [{"joint": "a3", "keep": "vertical"}], links, "a3")
+    assert alone is False and residual > 1e-3
+    beyond = [{"joint": f"a{i}", "keep": "vertical"} for i in range(3, 7)]
+    together, residual, _ = _exact(source, bare, beyond, links, "a3")
+    assert together is True and residual <= 1e-9
