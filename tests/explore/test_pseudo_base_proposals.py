@@ -89,7 +89,7 @@ def test_a_study_without_an_exact_design_lists_the_proposals(tmp_path, capsys):
     )
     assert elbow["peak_torque"]["elbow"] == pytest.approx(0.0, abs=1e-12)
     assert "No exact design with springs alone." in printed
-    assert "pb_elbow at elbow (keeps orientation): 0.18 kg (estimate)" in printed
+    assert "pb_elbow at elbow (keeps orientation): 0.18 kg (estimate), weight adds shoulder 0.88" in printed
     page = (out / "report.html").read_text()
     assert '<h2 id="pseudo-bases">Pseudo-bases</h2>' in page and "pb_elbow → link2: exact" in page
 

@@ -92,7 +92,7 @@ def proposals_for(result: _Study) -> list[dict[str, Any]]:
 def propose_pseudo_bases(mechanism: Mechanism, density: float = DENSITY) -> list[dict[str, Any]]:
     """Per joint that gravity loads, a pseudo-base proposal (module documentation), lightest first: ``joint``,
     ``body``, ``link``, ``keep``, ``mass`` [kg], ``mass_from`` (``"config"`` or ``"estimate"``), ``peak_torque``
-    (per joint [N·m or N]), ``exact`` (bool, or None when the test does not apply), ``residual`` (the largest
+    (per joint, in ``units``: N·m or N), ``exact`` (bool, or None when the test does not apply), ``residual`` (the largest
     coefficient left on the subtree, relative to gravity's largest), ``with`` (the further pseudo-bases the test
     used) and ``note``; ``density`` [kg/m] of the estimate. A joint that cannot have a pseudo-base (beyond a
     prismatic joint) comes last, with ``mass`` None and why in ``note``. Empty for a mechanism that cannot be
@@ -144,6 +144,7 @@ def _weight(
         "mass": float(mass),
         "mass_from": "config" if base else "estimate",
         "peak_torque": dict(zip(bare.joint_names, map(float, peaks))),
+        "units": {item.name: item.torque_unit for item in bare.joints},
         "record": record,
     }
 
@@ -272,7 +273,12 @@ def _sentence(item: Mapping[str, Any]) -> str:
         return f"{item['body']} at {item['joint']}: {item['note']}"
     peaks = item["peak_torque"]
     largest = max(peaks.values(), default=0.0)
-    added = ", ".join(f"{joint} {peak:.3g}" for joint, peak in peaks.items() if peak > 1e-12 * max(largest, 1e-300))
+    units = item.get("units", {})
+    added = ", ".join(
+        f"{joint} {peak:.3g} {units.get(joint, '')}".rstrip()
+        for joint, peak in peaks.items()
+        if peak > 1e-12 * max(largest, 1e-300)
+    )
     beyond = f" (with pb at {', '.join(item['with'])})" if item["with"] else ""
     verdict = {True: "exact", False: f"not exact ({item['residual']:.2g} left)", None: f"not tested: {item['note']}"}
     return (
