@@ -4,11 +4,13 @@ report where springs should go."""
 from __future__ import annotations
 
 import argparse
+import json
 from pathlib import Path
 
 from springbalance.cli.arguments import positive_int
 from springbalance.errors import InputError
 from springbalance.explore.execution import make_client
+from springbalance.explore.pseudo_base_proposals import proposal_lines
 from springbalance.explore.study import Study, StudyResult, load_study
 
 
@@ -114,4 +116,8 @@ def _print_summary(study: Study, result: StudyResult, out: Path) -> None:
             f"{'  FAILS: ' + ', '.join(record['failures']) if record.get('ok') is False else ''}"
             f"  -> {out / f'best_{count}_springs.json'}"
         )
+    for line in proposal_lines(
+        json.loads((out / "study.json").read_text(encoding="utf-8")).get("pseudo_base_proposals", [])
+    ):
+        print(line)
     print(f"report: {out / 'report.html'}")

@@ -23,6 +23,7 @@ from springbalance.deprecation import warn_deprecated
 from springbalance.explore.approximate import DEFAULT as DEFAULT_APPROXIMATE
 from springbalance.explore.approximate import why_not
 from springbalance.explore.pareto import pareto_svg
+from springbalance.explore.pseudo_base_proposals import proposals_html
 from springbalance.files import write_text_atomic
 
 __all__ = ["checks", "pareto_svg", "write_report", "write_study_report"]
@@ -176,6 +177,7 @@ def write_study_report(
         ),
         "<h2>Not solved</h2>",
         _rows(_not_solved(summary, dominated, failed, solved), [*_TOPOLOGY, ("why", lambda r: r["why"])]),
+        proposals_html(summary.get("pseudo_base_proposals", [])),
         "</body></html>",
     ]
     write_text_atomic(Path(folder) / "report.html", "\n".join(parts))

@@ -63,6 +63,7 @@ from springbalance.explore.candidates import (
 )
 from springbalance.explore.designs import write_designs
 from springbalance.explore.execution import execute, make_client, progress_bar  # noqa: F401  (make_client: see _MOVED)
+from springbalance.explore.pseudo_base_proposals import proposals_for
 from springbalance.explore.report import write_study_report
 from springbalance.explore.table import COLUMNS, results_csv  # noqa: F401  (COLUMNS: importable from here)
 from springbalance.explore.task import Task
@@ -426,12 +427,12 @@ class StudyResult:
         links = write_designs(self.folder, self.results, self.study.reports)
         marker = self.folder / "study.json"
         summary = json.loads(marker.read_text(encoding="utf-8"))
-        summary["dominated"] = self.dominated
+        summary.update(dominated=self.dominated, pseudo_base_proposals=proposals_for(self))
         write_json_atomic(marker, summary)
         write_study_report(
             self.folder,
             self.study.mechanism.name,
-            self.study.summary(),
+            {**self.study.summary(), "pseudo_base_proposals": summary["pseudo_base_proposals"]},
             self.study.max_springs,
             self.results,
             self.dominated,
