@@ -18,13 +18,15 @@ What is drawn (all lengths in m, forces in N):
   comes closer than ``m`` (or touches: distance ≤ 0) to the collision geometry of any body
   but its own two anchor bodies (the rule of :mod:`springbalance.results.clearance`), the
   spring is drawn solid red (:data:`~springbalance.viz.colors.CLEARANCE_COLOR`) instead of
-  its tension colour, a red marker sphere sits at its closest point to the arm in those frames,
+  its tension colour, a red marker sphere sits at its closest point to the arm in those frames
+  (:mod:`springbalance.viz.markers`),
   and the legend names it ("below clearance margin (m mm)"); the signed
   distances [m] per frame are :attr:`SpringTrack.clearance`. Without collision geometry the
   springs keep their tension colours;
 - springs named in ``flagged`` (the report passes the springs that run inside their own link
   beyond their anchor, :mod:`springbalance.results.own_link`) solid red in every frame, named in
-  the legend with the reason;
+  the legend with the reason, with a red marker where the spring runs inside its own link in a frame
+  (:mod:`springbalance.viz.own_link_marks`);
 - the **name of each spring** as an HTML label that follows a point just above the middle of the
   spring and is placed so that no two labels overlap (:mod:`springbalance.viz.overlay`);
 - a small sphere at each anchor, and the free region of each anchor of the original
@@ -65,9 +67,11 @@ from springbalance.viz.arrows import animate_arrow, draw_arrows, force_arrows
 from springbalance.viz.camera import bounding_spheres, camera_view, floor_height, place_camera
 from springbalance.viz.colors import CLEARANCE_COLOR, CLEARANCE_RGB, ColorScale
 from springbalance.viz.helix import HelixStyle, placement
+from springbalance.viz.markers import MARKER_RADIUS, animate_marker, draw_marker  # noqa: F401 (MARKER_RADIUS: old home)
 from springbalance.viz.meshcat_glue import ROOT, insert_before_body_end, meshcat_classes
 from springbalance.viz.meshcat_import import import_meshcat
 from springbalance.viz.overlay import overlay_html
+from springbalance.viz.own_link_marks import add_own_link
 from springbalance.viz.parallelograms import draw_parallelograms, parallelogram_rods, place_parallelograms
 from springbalance.viz.pose_paths import scene_path
 from springbalance.viz.pose_slider import scene_slider_html
@@ -81,8 +85,6 @@ CABLE_COLOR = 0x222222
 CABLE_RADIUS = 0.0015  # [m]
 #: Side of a label's square sprite (live view) as a fraction of the camera's distance from what it frames.
 LABEL_SIZE = 0.22
-#: Radius [m] of the clearance marker beyond the spring's capsule radius.
-MARKER_RADIUS = 0.012
 #: the helix drawn when no style is given (frozen: one instance serves every scene)
 DEFAULT_HELIX = HelixStyle()
 
@@ -169,6 +171,7 @@ class DesignScene:
             self.clearance_note = add_clearances(
                 self.springs, self._records, mechanism, self.configurations, self.margin, radius
             )
+        add_own_link(self.springs, self._records, mechanism, self.configurations, self.flagged)  # their markers
         self.camera_center: np.ndarray | None = None
         self.camera_radius: float | None = None
         self.camera_target: np.ndarray | None = None
@@ -293,11 +296,7 @@ class DesignScene:
             if sprites:
                 label.set_object(meshcat_classes().TextSprite(spring.name, label_size))
             label.set_transform(placement(np.eye(3), self.label_positions(spring)[0]))
-            if spring.closest is not None and spring.below_margin is not None and np.any(spring.below_margin):
-                marker = root["markers"][spring.name]
-                radius = (spring.radius or spring.coil_radius) + MARKER_RADIUS
-                marker.set_object(mg.Sphere(radius), mg.MeshPhongMaterial(color=CLEARANCE_COLOR, opacity=0.55))
-                marker.set_transform(self._marker(spring, 0))
+            draw_marker(root, spring, mg)
             for end, positions in spring.points_by_end().items():
                 sphere = root["anchors"][f"{spring.name}.{end}"]
                 sphere.set_object(mg.Sphere(1.6 * spring.wire_radius + 0.004), mg.MeshPhongMaterial(color=ANCHOR_COLOR))
@@ -351,16 +350,6 @@ class DesignScene:
                 place_parallelograms(root, self.parallelograms, frame)
         return animation
 
-    @staticmethod
-    def _marker(spring: SpringTrack, frame: int) -> np.ndarray:
-        """Placement of the clearance marker of ``spring`` at ``frame``: at its closest point to the arm
-        where it is below the margin, shrunk to nothing (at its middle) elsewhere."""
-        below = spring.below_margin is not None and bool(spring.below_margin[frame])
-        closest = spring.closest[frame] if spring.closest is not None else np.full(3, np.nan)
-        if below and np.all(np.isfinite(closest)):
-            return placement(np.eye(3), closest)
-        return placement(1e-6 * np.eye(3), (spring.starts[frame] + spring.ends[frame]) / 2)
-
     def _animate_spring(self, root: Any, spring: SpringTrack, frame: int, helix: str, labels: np.ndarray) -> None:
         """Key frame ``frame`` of ``spring`` below ``root`` (a frame of the animation): helix placement,
         length and colour (object ``helix``), name label (at ``labels[frame]``), anchors and cable."""
@@ -369,10 +358,7 @@ class DesignScene:
         node.set_property("scale", "vector3", [1.0, 1.0, spring.length(frame)])
         node.set_property(f"{helix}.material.color", "color", list(self.rgb(spring, frame)))
         root["labels"][spring.name].set_property("position", "vector3", [float(v) for v in labels[frame]])
-        if spring.below_margin is not None and np.any(spring.below_margin) and spring.closest is not None:
-            marker = self._marker(spring, frame)
-            root["markers"][spring.name].set_property("position", "vector3", [float(v) for v in marker[:3, 3]])
-            root["markers"][spring.name].set_property("scale", "vector3", [float(marker[0, 0])] * 3)
+        animate_marker(root, spring, frame)
         for end, positions in spring.points_by_end().items():
             point = [float(v) for v in positions[frame]]
             root["anchors"][f"{spring.name}.{end}"].set_property("position", "vector3", point)
