@@ -41,8 +41,9 @@ What is drawn (all lengths in m, forces in N):
 - an animation along an ordered path of poses (by default a sweep of each joint in turn,
   :func:`springbalance.model.sweeps.animation_path`), meshcat's play/pause/time controls and a pose slider.
 
-The camera looks at the middle of the arm and its springs over the whole animation, from a
-three-quarter view, with the floor grid under the arm (:mod:`springbalance.viz.camera`).
+The camera shows the arm and its springs at the first pose as large as the view allows while every pose
+of the path stays in view, from a three-quarter view, with the floor grid under the arm
+(:mod:`springbalance.viz.framing`, :mod:`springbalance.viz.camera`).
 The end points come from the workspace kinematics (:mod:`springbalance.model.kinematics`), lengths
 and tensions from the design's own evaluation (``EvaluatedDesign.evaluate_on``).
 """
@@ -64,8 +65,9 @@ from springbalance.model.workspace import Workspace
 from springbalance.viz.arm import stick_figure, visual_geometry
 from springbalance.viz.arm_meshes import draw_mesh_file, drawable
 from springbalance.viz.arrows import animate_arrow, draw_arrows, force_arrows
-from springbalance.viz.camera import bounding_spheres, camera_view, floor_height, place_camera
+from springbalance.viz.camera import bounding_spheres, place_camera
 from springbalance.viz.colors import CLEARANCE_COLOR, CLEARANCE_RGB, ColorScale
+from springbalance.viz.framing import best_view, view_points
 from springbalance.viz.helix import HelixStyle, placement
 from springbalance.viz.markers import MARKER_RADIUS, animate_marker, draw_marker  # noqa: F401 (MARKER_RADIUS: old home)
 from springbalance.viz.meshcat_glue import ROOT, insert_before_body_end, meshcat_classes
@@ -118,10 +120,12 @@ class DesignScene:
         compression: True when some drawn spring pushes (negative tension) in some frame.
         margin: the clearance margin [m], or None.
         clearance_note: why no clearance is drawn although a margin is set (else None).
-        camera_center, camera_radius: the sphere [m] the camera frames (:meth:`bounding_spheres`);
-        camera_target, camera_position: where the camera looks (the centre of the framed box, which
-            the scene is moved to: meshcat orbits about it) and where it stands (world, [m]). The four
-            are set by :meth:`draw`.
+        camera_center, camera_radius: a sphere [m] about the camera's target that holds the arm and its
+            springs over the whole path;
+        camera_target, camera_position: where the camera looks (the middle of the framed view, which
+            the scene is moved to: meshcat orbits about it) and where it stands (world, [m]);
+        camera_share: the share of the view's width and height the first pose covers. The five are set
+            by :meth:`draw` (:func:`~springbalance.viz.framing.best_view`).
     """
 
     def __init__(
@@ -176,6 +180,7 @@ class DesignScene:
         self.camera_radius: float | None = None
         self.camera_target: np.ndarray | None = None
         self.camera_position: np.ndarray | None = None
+        self.camera_share: tuple[float, float] | None = None
 
     @property
     def result(self) -> EvaluatedDesign:
@@ -411,14 +416,16 @@ class DesignScene:
         return bounding_spheres(self.springs, self.regions, self.mechanism.model, visual_model, self.configurations)
 
     def _set_camera(self, visualizer: Any, arm: Any) -> None:
-        """Frame the arm and its springs over the whole animation (:meth:`bounding_spheres` without the
-        hidden anchor regions): look at the centre of their box from a three-quarter view, far enough
-        that all of it is in view (:func:`~springbalance.viz.camera.camera_view`); the grid under the arm."""
-        centres, radii = bounding_spheres(self.springs, [], self.mechanism.model, arm.visual_model, self.configurations)
-        center, radius, position = camera_view(centres, radii)
-        self.camera_center, self.camera_radius = center, radius
-        self.camera_target, self.camera_position = center, position
-        place_camera(visualizer, position, center, floor_height(centres, radii), radius)
+        """Frame the arm and its springs (not the hidden anchor regions): the first pose as large as the view
+        allows with every pose of the path in view, from a three-quarter view (:func:`~springbalance.viz.framing.best_view`);
+        the grid under the arm."""
+        model = self.mechanism.model
+        motion = view_points(self.springs, model, arm.visual_model, self.configurations)
+        view = best_view(motion, view_points(self.springs, model, arm.visual_model, self.configurations, slice(0, 1)))
+        self.camera_target, self.camera_position, self.camera_share = view
+        self.camera_center = view.target
+        self.camera_radius = float(np.max(np.linalg.norm(motion - view.target, axis=1)))
+        place_camera(visualizer, view.position, view.target, float(motion[:, 2].min()), self.camera_radius)
 
     # ---------------------------------------------------------------- exports
     def html(self, animate: bool = True, autoplay: bool = True, legend: bool = True) -> str:
