@@ -254,10 +254,10 @@ class DesignScene:
         return self.workspace.size
 
     # ---------------------------------------------------------------- drawing
-    def draw(self, visualizer: Any, animate: bool = True, autoplay: bool = True, sprites: bool = True) -> None:
-        """Draw the scene on a ``meshcat.Visualizer`` (live or recording). ``sprites``: the name labels
-        as text sprites in the scene (the live view); the static page draws them in HTML instead
-        (:mod:`springbalance.viz.overlay`)."""
+    def draw(self, visualizer: Any, animate: bool = True, autoplay: bool = True, sprites: bool = False) -> None:
+        """Draw the scene on a ``meshcat.Visualizer`` (live or recording). ``sprites``: also the name labels as
+        text sprites in the scene, for meshcat's own viewer (they may overlap); the scene's pages, static and
+        live, draw them in HTML, apart (:meth:`labels`, :mod:`springbalance.viz.overlay`)."""
         classes = meshcat_classes()
         arm = self._arm_visualizer(visualizer)
         arm.display(self.configurations[0])
@@ -428,6 +428,12 @@ class DesignScene:
         place_camera(visualizer, view.position, view.target, float(motion[:, 2].min()), self.camera_radius)
 
     # ---------------------------------------------------------------- exports
+    def labels(self) -> str:
+        """The pages' name labels, placed apart, and the anchor regions' checkbox (:func:`~springbalance.viz.overlay.overlay_html`;
+        a spring drawn red in some frame has a red label)."""
+        red = [(spring.name, any(self.red(spring, f) for f in range(self.size))) for spring in self.springs]
+        return overlay_html(red, bool(self.regions))
+
     def html(self, animate: bool = True, autoplay: bool = True, legend: bool = True) -> str:
         """Self-contained HTML page of the scene: meshcat's static page, the name labels and the regions'
         checkbox (:func:`~springbalance.viz.overlay.overlay_html`), the pose slider and the colour legend."""
@@ -435,8 +441,7 @@ class DesignScene:
         visualizer = import_meshcat().Visualizer(window=recorder)
         self.draw(visualizer, animate=animate, autoplay=autoplay, sprites=False)
         page = visualizer.static_html()
-        labels = [(spring.name, any(self.red(spring, f) for f in range(self.size))) for spring in self.springs]
-        page = insert_before_body_end(page, overlay_html(labels, bool(self.regions)) + scene_slider_html(self, animate))
+        page = insert_before_body_end(page, self.labels() + scene_slider_html(self, animate))
         if legend:
             page = insert_before_body_end(page, self.legend_html())
         return page
