@@ -64,7 +64,7 @@ from springbalance.model import sweeps
 from springbalance.model.workspace import Workspace
 from springbalance.viz.arm import stick_figure, visual_geometry
 from springbalance.viz.arm_meshes import draw_mesh_file, drawable
-from springbalance.viz.arrows import animate_arrow, draw_arrows, force_arrows
+from springbalance.viz.arrows import animate_arrow, arrows_legend_html, draw_arrows, force_arrows
 from springbalance.viz.camera import bounding_spheres, place_camera
 from springbalance.viz.colors import CLEARANCE_COLOR, CLEARANCE_RGB, ColorScale
 from springbalance.viz.framing import best_view, view_points
@@ -241,6 +241,8 @@ class DesignScene:
         """The colour legend of the scene (see :meth:`ColorScale.legend_html`): the tension scale, its
         compression half only when some spring pushes, the clearance entry only when some spring is
         below the margin, and the name of every spring drawn red (:meth:`problems`)."""
+        if not self.springs:  # nothing on the tension scale: what is drawn instead
+            return arrows_legend_html([arrow.name for arrow in self.arrows], self.skipped, position)
         return self.color_scale.legend_html(
             self.compression,
             position=position,
