@@ -54,7 +54,7 @@ def _example(name: str) -> sb.DesignResult:
 @pytest.mark.parametrize("name", ["two_link.yaml", "ur5.yaml"])
 def test_the_first_pose_fills_half_the_view_and_every_pose_stays_in_it(name, tmp_path):
     require_chromium()
-    scene = viz.DesignScene(_example(name), frames_per_joint=16)
+    scene = viz.DesignScene(_example(name), frames_per_joint=8)
     page_file = tmp_path / "scene.html"
     page_file.write_text(scene.html(autoplay=False))
     width, height = browser.WINDOW
