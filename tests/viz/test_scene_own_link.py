@@ -77,3 +77,12 @@ def test_a_spring_that_is_not_flagged_gets_no_own_link_marker():
     scene = viz.DesignScene(fixed_design(COLLISION_URDF, [spring], path), path)
     assert scene.springs[0].inside is None
     assert "markers" not in record_scene(scene).tree["meshcat"][viz.ROOT].keys()
+
+
+def test_the_legend_says_where_the_marker_is():
+    path = np.array([[0.0, 0.0]])
+    spring = sb.ExtensionSpring(sb.Anchor("link1", tuple(ANCHOR)), sb.Anchor("universe", tuple(GROUND)), "sloped",
+                                stiffness=100.0, free_length=0.05)  # fmt: skip
+    flagged = {"sloped": "runs inside link1 beyond its anchor"}
+    legend = viz.DesignScene(fixed_design(COLLISION_URDF, [spring], path), path, flagged=flagged).legend_html()
+    assert "red: the springs named below, ● where each runs into a link" in legend and "too close" not in legend

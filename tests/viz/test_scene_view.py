@@ -60,8 +60,10 @@ def test_camera_looks_at_the_middle_of_the_arm_and_the_grid_is_under_it():
     elevation = np.degrees(np.arcsin(-sight[2]))
     assert 15 < elevation <= 45 + 1e-9
     assert np.max(np.abs(sight[:2])) < 0.99 * np.linalg.norm(sight[:2])
-    # the arm's bounding box over the animation spans most of the view (900×700 px), and at the first pose half
-    for poses, least in ((path, 0.85), (path[:1], 0.5)):
+    # the arm's bounding box over the animation spans most of the view (900×700 px), and at the first pose nearly
+    # half: these are the frames' origins and the springs' ends, without the links' thickness and the coils that
+    # make the drawn first pose cover half the view (measured on the page: test_scene_framing_browser.py)
+    for poses, least in ((path, 0.85), (path[:1], 0.45)):
         pixels = project(scene, arm_points(design, poses))
         spread = (pixels.max(axis=0) - pixels.min(axis=0)) / browser.WINDOW
         assert spread.max() >= least, (len(poses), spread)

@@ -13,7 +13,9 @@ depth ``z = (p − c)·(−d)`` lands at ``X = (p − c)·right / (z h a)``, ``Y
 −1…1). :func:`fit_view` takes the
 smallest ``D`` (bisection) for which every point of every pose lies within :data:`VIEW_FILL` of the view's half
 width and half height, then moves ``t`` across the line of sight so that their projected box is centred, and
-fits ``D`` again (:data:`FIT_ROUNDS` times). Last, the target slides along the line of sight (the view
+fits ``D`` again (:data:`FIT_ROUNDS` times). Where the points leave room across the view, the view moves so
+that they keep to its left, away from the pose slider's panel at the bottom right (as far as every point stays
+in view: nearer points move further). Last, the target slides along the line of sight (the view
 does not change) to the point nearest the middle of the points' box: meshcat's orbit controls turn the view
 about it.
 
@@ -143,7 +145,16 @@ def fit_view(points: np.ndarray, direction: np.ndarray, fill: float = VIEW_FILL)
         # the box's middle, moved to the view's centre at the target's depth
         shift = (box[0] + box[1]) / 2 * CAMERA_ASPECT * right + (box[2] + box[3]) / 2 * up
         target = target + distance * half * shift
-    position = target + _distance(points, target, direction, fill) * direction
+    distance = _distance(points, target, direction, fill)
+    # room left and right: move the view so that the points keep to the left, away from the pose slider's panel
+    # at the bottom right (nearer points move further across the view: the largest part of the room that fits)
+    room = (projected_box(points, target + distance * direction, direction)[0] + fill) * distance * half * CAMERA_ASPECT
+    for part in (1.0, 0.75, 0.5, 0.25, 0.0):
+        moved = target + part * room * right
+        if np.max(np.abs(projected_box(points, moved + distance * direction, direction))) <= fill:
+            target = moved
+            break
+    position = target + distance * direction
     # the same view looks at every point of its line of sight: meshcat orbits about the one nearest the middle
     middle = (points.min(axis=0) + points.max(axis=0)) / 2
     return target + ((middle - target) @ direction) * direction, position
