@@ -35,9 +35,8 @@ its floor of 0.354 kg and 8.2 % of 17.0 kg); the test checks both on the design'
 counts the energy per kilogram of the thinnest wire, while music wire that lives 10⁶ cycles exchanges 205 J/kg
 at 0.1 mm but 80.7 J/kg at 2.5 mm and 70.4 J/kg at 4 mm (index 10; spring_mass.coil_energy_per_kg times
 fatigue_energy_fraction), and an extension coil's hooks bind before its body, so the Panda's 1.2 kg weighs
-more than the 4× of the floor at which ``heavy_springs`` warns; its bound is at most a tenth of the arm's moving mass, which the test checks, so that
-the warning can only be the floor's.
-``UNCHANGED`` lists
+more than the 4× of the floor at which ``heavy_springs`` warns; its bound is at most a tenth of the arm's
+moving mass, which the test checks, so that the warning can only be the floor's. ``UNCHANGED`` lists
 joints that must carry the same torque as without springs: the Panda's joints 3, 5, 6 and 7, which no spring
 spans; the coils' own weight hangs on links 1-4, but the elbow coil lies in the arm's plane, where it has no
 moment about joint 3 (held at 0).
