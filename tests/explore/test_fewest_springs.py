@@ -1,0 +1,151 @@
+"""The fewest-springs search of a spatial study (springbalance.explore.screening, design.exact.anchor_fit).
+
+The arm is tests/spatial_helpers.py's yaw–pitch–roll arm with link 3's centre of mass 5 cm off the roll
+axis; its gravity potential, derived by hand there, is
+
+    V_g = const − g (M2 C2 + M3 (L2 + C3)) sin θ₂ + g M3 offset cos θ₂ sin θ₃.
+
+A zero-free-length spring's potential depends only on the joints between its two bodies, so the
+cos θ₂ sin θ₃ term needs a spring that crosses the pitch *and* the roll. Of the six ``auto`` candidates
+(the ground to each link, each link to the next two) only ground→link3 and link1→link3 do: 4 of the
+C(6,1) = 6 one-spring topologies, and the C(4,2) = 6 two-spring topologies built from the other four,
+are proven unreachable; the rest are screened.
+
+Every design the search reports exact is checked independently of the code: the holding torque is the
+central difference of the potential computed by Pinocchio alone (``computePotentialEnergy`` plus
+``k L²/2`` per spring, physics_helpers.ReferencePotential) at random poses, against Pinocchio's gravity
+torque.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import springbalance as sb
+from physics_helpers import ReferencePotential, RefSpring
+from spatial_helpers import WEIGHT_MOMENT, G, H, yaw_pitch_roll, yaw_pitch_roll_urdf
+from springbalance.design.exact.anchor_fit import CoefficientSystem, SpringEnds, fit_anchors
+from springbalance.errors import InputError
+from springbalance.explore.study import Study
+
+
+def _worst_torque_ratio(mechanism: sb.Mechanism, springs: list[dict], poses: int = 10, seed: int = 3) -> float:
+    """Largest |τ| of gravity plus ``springs`` (design-file records) at random poses, relative to the largest
+    gravity torque there (finite differences of Pinocchio's potential)."""
+    model = mechanism.model
+    reference = ReferencePotential(
+        model,
+        [
+            RefSpring(
+                s["a"]["body"],
+                tuple(s["a"]["point"]),
+                s["b"]["body"],
+                tuple(s["b"]["point"]),
+                s["k"],
+                zero_free_length=True,
+            )
+            for s in springs
+        ],
+    )
+    rng, data, h = np.random.default_rng(seed), model.createData(), 1e-5
+    worst = scale = 0.0
+    for _ in range(poses):
+        angles = rng.uniform(-np.pi, np.pi, mechanism.nv)
+        tau = [
+            (
+                reference(mechanism.configurations(angles + h * e)[0])
+                - reference(mechanism.configurations(angles - h * e)[0])
+            )
+            / (2 * h)
+            for e in np.eye(mechanism.nv)
+        ]
+        worst = max(worst, float(np.max(np.abs(tau))))
+        gravity = pin.computeGeneralizedGravity(model, data, mechanism.configurations(angles)[0])
+        scale = max(scale, float(np.max(np.abs(gravity))))
+    return worst / scale
+
+
+def _springs(design: dict) -> list[dict]:
+    """The design file's springs at the optimum (its ``design`` section: fixed points and stiffness)."""
+    return [{"a": spring["a"], "b": spring["b"], "k": float(spring["stiffness"])} for spring in design["design"]]
+
+
+@pytest.fixture(scope="module")
+def study(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("fewest")
+    (folder / "arm.urdf").write_text(yaw_pitch_roll_urdf(0.05))
+    record = {
+        "mechanism": {"urdf": "arm.urdf"},
+        "workspace": {"kind": "sobol", "n": 32, "seed": 0},
+        "explore": {
+            "candidates": "auto",
+            "default_box": 0.3,
+            "max_springs": 3,
+            "spring": {"type": "zero_free_length", "stiffness": {"lower": 0, "upper": 20000}},
+            "reports": False,
+        },
+    }
+    study = Study(record, folder, "arm.yaml")
+    return study, study.run(folder / "out", progress=False), folder / "out"
+
+
+def test_one_spring_is_proven_or_not_found_and_two_balance_exactly(study):
+    study, result, out = study
+    counts = study.search.counts
+    assert sorted(counts) == [1, 2]  # the search stops at the first count with an exact design
+    one, two = counts[1], counts[2]
+    assert (one.topologies, one.unreachable, one.screened, one.not_found, one.exact) == (6, 4, 2, 2, [])
+    assert (two.topologies, two.unreachable) == (15, 6) and two.exact
+    assert {"universe→link3", "link1→link3"} & set(two.exact)  # a spring across the pitch and the roll
+    best = result.best()
+    assert best[2]["exact"] and best[2]["springs"] == two.exact and not best[2]["pruned"]
+    assert not best[1]["exact"] and best[1]["pruned"].startswith("screened")
+    assert 3 not in best  # nothing of three springs was solved
+    summary = json.loads((out / "study.json").read_text())["screening"]
+    assert summary["1"]["not_found"] == 2 and summary["2"]["exact"] == two.exact
+
+
+def test_the_exact_design_balances_at_random_poses_with_anchors_in_their_boxes(study):
+    _, result, _ = study
+    design = result.best()[2]["design"]
+    springs = _springs(design)
+    for spring in springs:
+        for end in ("a", "b"):
+            assert np.all(np.abs(spring[end]["point"]) <= 0.3 + 1e-9)  # the default boxes: ±0.3 m cubes
+        assert 0 <= spring["k"] <= 20000
+    assert _worst_torque_ratio(yaw_pitch_roll(0.05), springs) < 1e-7  # finite differences: round-off ~1e-9
+
+
+def test_the_anchor_fit_finds_the_hand_derived_spring():
+    # offset 0: one spring from a ground point a above the pitch joint on the yaw axis to a link-2 point b
+    # along the link balances exactly when k a b = g WM (tests/spatial_helpers.py); any exact spring between
+    # these boxes has its ground end on the yaw axis and its link-2 end on the link's x-y plane
+    system = CoefficientSystem(yaw_pitch_roll())
+    ends = [
+        SpringEnds(
+            "ground", ((-0.1, -0.1, H + 0.05), (0.1, 0.1, H + 0.3)), "link2", ((0.05, -0.1, -0.1), (0.4, 0.1, 0.1))
+        )
+    ]
+    fit = fit_anchors(system, ends, (0.0, 5000.0), draws=4, seed=1)
+    assert fit.relative < 1e-9
+    (z_a, z_b), k = fit.anchors[0], fit.stiffness[0]
+    assert abs(z_a[0]) < 1e-6 and abs(z_a[1]) < 1e-6 and abs(z_b[2]) < 1e-6
+    assert k * (z_a[2] - H) * z_b[0] == pytest.approx(G * WEIGHT_MOMENT, rel=1e-6)
+
+
+def test_the_screen_key_is_checked_and_zero_solves_every_topology(tmp_path: Path):
+    (tmp_path / "arm.urdf").write_text(yaw_pitch_roll_urdf(0.05))
+    record = {
+        "mechanism": {"urdf": "arm.urdf"},
+        "workspace": {"kind": "sobol", "n": 16, "seed": 0},
+        "explore": {"candidates": "auto", "max_springs": 1, "screen": -1},
+    }
+    with pytest.raises(InputError, match=r"arm.yaml: explore.screen must be an integer ≥ 0"):
+        Study(record, tmp_path, "arm.yaml")
+    plain = Study({**record, "explore": {**record["explore"], "screen": 0}}, tmp_path, "arm.yaml")
+    assert plain.search is None and len(plain.tasks) == 6 - 4  # every topology not proven unreachable
