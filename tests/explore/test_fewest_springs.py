@@ -19,19 +19,27 @@ torque.
 
 from __future__ import annotations
 
+import contextlib
+import csv
+import io
 import json
 from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
 import pytest
+import yaml
 
 import springbalance as sb
 from physics_helpers import ReferencePotential, RefSpring
 from spatial_helpers import WEIGHT_MOMENT, G, H, yaw_pitch_roll, yaw_pitch_roll_urdf
+from springbalance.cli import main
 from springbalance.design.exact.anchor_fit import CoefficientSystem, SpringEnds, fit_anchors
 from springbalance.errors import InputError
+from springbalance.explore.candidates import auto_candidates
+from springbalance.explore.screening import Search
 from springbalance.explore.study import Study
+from springbalance.explore.topology import SpatialTest, enumerate_topologies
 
 
 def _worst_torque_ratio(mechanism: sb.Mechanism, springs: list[dict], poses: int = 10, seed: int = 3) -> float:
@@ -77,43 +85,57 @@ def _springs(design: dict) -> list[dict]:
 
 @pytest.fixture(scope="module")
 def study(tmp_path_factory):
+    """The study run by the command (``springbalance explore --sequential``): its printout and its folder."""
     folder = tmp_path_factory.mktemp("fewest")
     (folder / "arm.urdf").write_text(yaw_pitch_roll_urdf(0.05))
     record = {
         "mechanism": {"urdf": "arm.urdf"},
-        "workspace": {"kind": "sobol", "n": 32, "seed": 0},
+        "workspace": {"kind": "sobol", "n": 16, "seed": 0},
         "explore": {
             "candidates": "auto",
             "default_box": 0.3,
             "max_springs": 3,
             "spring": {"type": "zero_free_length", "stiffness": {"lower": 0, "upper": 20000}},
+            "approximate": 1,  # one approximate design for the count without an exact one
             "reports": False,
         },
     }
-    study = Study(record, folder, "arm.yaml")
-    return study, study.run(folder / "out", progress=False), folder / "out"
+    (folder / "arm.yaml").write_text(yaml.safe_dump(record))
+    printed = io.StringIO()
+    with contextlib.redirect_stdout(printed):
+        assert main(["explore", str(folder / "arm.yaml"), "--out", str(folder / "out"), "--sequential"]) == 0
+    return printed.getvalue(), folder / "out"
+
+
+def test_the_command_prints_the_topologies_it_faces_per_count(study):
+    printed, _ = study
+    # C(6, k) topologies of k springs; proven: the 4 springs (and the C(4, 2), C(4, 3) sets of them) that miss
+    # the pitch or the roll
+    for line in ("1 spring(s): 6 topologies, 4 proven unreachable, 2 left", "2 spring(s): 15 topologies, 6 proven"):
+        assert line in printed
+    assert "3 spring(s): 20 topologies, 4 proven unreachable, 16 left" in printed
+    assert "screened 1 spring(s): 6 topologies, 4 proven unreachable, 2 screened without exact balance" in printed
+    assert "screened 2 spring(s): 15 topologies, 6 proven unreachable, exact after screening" in printed
 
 
 def test_one_spring_is_proven_or_not_found_and_two_balance_exactly(study):
-    study, result, out = study
-    counts = study.search.counts
-    assert sorted(counts) == [1, 2]  # the search stops at the first count with an exact design
-    one, two = counts[1], counts[2]
-    assert (one.topologies, one.unreachable, one.screened, one.not_found, one.exact) == (6, 4, 2, 2, [])
-    assert (two.topologies, two.unreachable) == (15, 6) and two.exact
-    assert {"universe→link3", "link1→link3"} & set(two.exact)  # a spring across the pitch and the roll
-    best = result.best()
-    assert best[2]["exact"] and best[2]["springs"] == two.exact and not best[2]["pruned"]
-    assert not best[1]["exact"] and best[1]["pruned"].startswith("screened")
-    assert 3 not in best  # nothing of three springs was solved
-    summary = json.loads((out / "study.json").read_text())["screening"]
-    assert summary["1"]["not_found"] == 2 and summary["2"]["exact"] == two.exact
+    _, out = study
+    screening = json.loads((out / "study.json").read_text())["screening"]
+    assert sorted(screening) == ["1", "2"]  # the search stops at the first count with an exact design
+    one, two = screening["1"], screening["2"]
+    assert (one["unreachable"], one["screened"], one["not_found"], one["exact"]) == (4, 2, 2, [])
+    assert (two["topologies"], two["unreachable"]) == (15, 6) and len(two["exact"]) == 2
+    assert {"universe→link3", "link1→link3"} & set(two["exact"])  # a spring across the pitch and the roll
+    rows = {row["springs"]: row for row in csv.DictReader(io.StringIO((out / "results.csv").read_text()))}
+    exact = [row for row in rows.values() if row["exact"] == "True"]
+    assert len(exact) == 1 and exact[0]["springs"] == " + ".join(two["exact"]) and not exact[0]["pruned"]
+    assert all(row["pruned"].startswith("screened") for row in rows.values() if row is not exact[0])
+    assert not (out / "best_3_springs.json").exists()  # nothing of three springs was solved
 
 
 def test_the_exact_design_balances_at_random_poses_with_anchors_in_their_boxes(study):
-    _, result, _ = study
-    design = result.best()[2]["design"]
-    springs = _springs(design)
+    _, out = study
+    springs = _springs(json.loads((out / "best_2_springs.json").read_text()))
     for spring in springs:
         for end in ("a", "b"):
             assert np.all(np.abs(spring[end]["point"]) <= 0.3 + 1e-9)  # the default boxes: ±0.3 m cubes
@@ -149,3 +171,32 @@ def test_the_screen_key_is_checked_and_zero_solves_every_topology(tmp_path: Path
         Study(record, tmp_path, "arm.yaml")
     plain = Study({**record, "explore": {**record["explore"], "screen": 0}}, tmp_path, "arm.yaml")
     assert plain.search is None and len(plain.tasks) == 6 - 4  # every topology not proven unreachable
+
+
+@pytest.mark.slow
+def test_the_ur5_screen_finds_three_springs_that_balance_exactly():
+    # the UR5 of example-robot-data, candidates auto (span 2, collision boxes grown by 5 cm; ±0.3 m at the
+    # ground): C(15, 3) = 455 topologies of three springs (combinatorics)
+    ur5 = sb.Mechanism.from_robot("ur5")
+    candidates = auto_candidates(ur5)
+    test = SpatialTest(ur5, candidates)
+    topologies = enumerate_topologies(len(candidates), 3)
+    verdicts = {topology: found for topology in topologies if (found := test.verdict(topology))}
+    search = Search(ur5, candidates, verdicts, (0.0, 5000.0), 4, 0)
+    three = search.screen(3, [], topologies, False)  # the search's count 3 (1 and 2: see docs/guides/explore.md)
+    assert (three.topologies, len(three.exact)) == (455, 3) and three.screened <= three.topologies - three.unreachable
+    fit, ends = search.fits[search.found[3]], search.ends(search.found[3])
+    springs = [
+        {
+            "a": {"body": s.anchors["a"].body, "point": list(s.anchors["a"].point)},
+            "b": {"body": s.anchors["b"].body, "point": list(s.anchors["b"].point)},
+            "k": float(s.parameters["stiffness"]),
+        }
+        for s in fit.springs(ends)
+    ]
+    for spring, end in zip(springs, ends):
+        for point, (lower, upper) in ((spring["a"]["point"], end.box_a), (spring["b"]["point"], end.box_b)):
+            assert np.all(np.array(point) >= np.array(lower) - 1e-12) and np.all(
+                np.array(point) <= np.array(upper) + 1e-12
+            )
+    assert _worst_torque_ratio(ur5, springs) < 1e-7
