@@ -176,14 +176,16 @@ def test_the_screen_key_is_checked_and_zero_solves_every_topology(tmp_path: Path
 @pytest.mark.slow
 def test_the_ur5_screen_finds_three_springs_that_balance_exactly():
     # the UR5 of example-robot-data, candidates auto (span 2, collision boxes grown by 5 cm; ±0.3 m at the
-    # ground): C(15, 3) = 455 topologies of three springs (combinatorics)
+    # ground): C(15, 2) = 105 and C(15, 3) = 455 topologies of two and three springs (combinatorics)
     ur5 = sb.Mechanism.from_robot("ur5")
     candidates = auto_candidates(ur5)
     test = SpatialTest(ur5, candidates)
     topologies = enumerate_topologies(len(candidates), 3)
     verdicts = {topology: found for topology in topologies if (found := test.verdict(topology))}
     search = Search(ur5, candidates, verdicts, (0.0, 5000.0), 4, 0)
-    three = search.screen(3, [], topologies, False)  # the search's count 3 (1 and 2: see docs/guides/explore.md)
+    two = search.screen(2, [], topologies, False)  # count 1 left out (3 topologies, none exact: the guide)
+    three = search.screen(3, [], topologies, False)  # those that complete the best pairs first
+    assert (two.topologies, two.exact, two.not_found) == (105, [], 105 - two.unreachable)
     assert (three.topologies, len(three.exact)) == (455, 3) and three.screened <= three.topologies - three.unreachable
     fit, ends = search.fits[search.found[3]], search.ends(search.found[3])
     springs = [

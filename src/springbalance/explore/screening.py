@@ -6,7 +6,8 @@ On an arm of revolute joints with zero-free-length springs (the spatial reachabi
 balance exactly with their anchors inside the candidates' boxes. Spring counts go up from 1; per count:
 
 1. **Proofs.** The topologies the reachability test proves unreachable are counted (never screened).
-2. **Screen.** Every other topology is screened by :func:`~springbalance.design.exact.anchor_fit.fit_anchors`:
+2. **Screen.** Every other topology is screened, those that add one spring to the best screened topologies of
+   the count below first (:meth:`Search.prior`), by :func:`~springbalance.design.exact.anchor_fit.fit_anchors`:
    ``screen`` anchor sets drawn in the boxes (seed: the study's ``seed`` and the topology), ``k ≥ 0`` fitted by
    non-negative least squares, then anchors and stiffnesses refined together on the exact multilinear
    coefficients (3ⁿ grid values projected on the few coefficients springs can reach), anchors kept in their
@@ -31,6 +32,8 @@ import hashlib
 import json
 import time
 from typing import Any, Sequence
+
+from threadpoolctl import threadpool_limits
 
 from springbalance.design.exact.anchor_fit import MAX_JOINTS, AnchorFit, CoefficientSystem, SpringEnds, fit_anchors
 from springbalance.errors import InputError
@@ -161,24 +164,31 @@ class Search:
         topology is proven unreachable: the pruned ones among ``tasks``, for an approximate design)."""
         clock = time.perf_counter()
         level = [topology for topology in topologies if len(topology) == count]
-        open_ = [topology for topology in level if topology not in self.verdicts]
+        open_ = sorted((topology for topology in level if topology not in self.verdicts), key=self.prior)
         result = CountScreen(count, len(level), len(level) - len(open_))
         queue = open_ or list(dict.fromkeys(task.topology for task in tasks if task.count == count))
         progress = progress_bar(len(queue), show, f"screening {count} spring(s)")
         self.found[count] = None
-        for topology in queue:
-            fit = self.fit(topology)
-            result.screened += 1
-            progress.update(1)
-            if not result.best or fit.relative < result.best_relative:
-                result.best, result.best_relative = self.labels(topology), fit.relative
-            if fit.relative <= SCREEN_EXACT and open_:
-                result.exact, self.found[count] = self.labels(topology), topology
-                break
+        with threadpool_limits(limits=1):  # BLAS threads only contend on the fit's small matrices
+            for topology in queue:
+                fit = self.fit(topology)
+                result.screened += 1
+                progress.update(1)
+                if not result.best or fit.relative < result.best_relative:
+                    result.best, result.best_relative = self.labels(topology), fit.relative
+                if fit.relative <= SCREEN_EXACT and open_:
+                    result.exact, self.found[count] = self.labels(topology), topology
+                    break
         progress.close()
         result.seconds = time.perf_counter() - clock
         self.counts[count] = result
         return result
+
+    def prior(self, topology: tuple[int, ...]) -> float:
+        """The screening order: the best residual of the topology's screened subsets of one spring fewer (a
+        topology that completes a nearly exact one comes first); ties keep the enumeration's order."""
+        subsets = (topology[:i] + topology[i + 1 :] for i in range(len(topology)))
+        return min((self.fits[subset].relative for subset in subsets if subset in self.fits), default=float("inf"))
 
     def labels(self, topology: Sequence[int]) -> list[str]:
         return [self.candidates[index].label for index in topology]

@@ -16,7 +16,8 @@ anchors :math:`z_a`, :math:`z_b` (link frames [m]) has :math:`d = p_b + R_b z_b 
 :class:`CoefficientSystem` holds the grid kinematics of an arm, projected on the (small) space of
 coefficients that gravity and springs can reach at all (an orthonormal basis of the span of
 :math:`T'` applied to every product of body positions and rotation columns), so one residual costs a few
-hundred numbers however large :math:`3^n`. :func:`fit_anchors` draws anchor sets uniformly in the boxes
+hundred numbers however large :math:`3^n`. (Run many fits under ``threadpoolctl.threadpool_limits(1)``, as
+the study's screen does: on matrices this small BLAS threads only contend.) :func:`fit_anchors` draws anchor sets uniformly in the boxes
 (deterministic seed), fits :math:`k \ge 0` by non-negative least squares, then refines anchors and
 stiffnesses together by bounded least squares (``scipy.optimize.least_squares``, trust-region reflective),
 the anchors kept in their boxes and :math:`k` in its bounds. It returns the best draw: its relative residual
@@ -80,6 +81,15 @@ class AnchorFit:
         ]
 
 
+def _one_body_per_joint(mechanism: Mechanism) -> list[str]:
+    """A link per joint (the ground first): links welded to one joint move as one body."""
+    chosen: dict[int, str] = {}
+    for name in mechanism.body_names:
+        joint = 0 if mechanism.is_ground(name) else int(mechanism.model.frames[mechanism.frame_id(name)].parentJoint)
+        chosen.setdefault(joint, name)
+    return [chosen[joint] for joint in sorted(chosen)]
+
+
 def _coefficient_map(joints: int) -> np.ndarray:
     """``T'``: grid values (C order) → the non-constant coefficients (rows), exact (module documentation)."""
     transform = np.ones((1, 1))
@@ -105,14 +115,16 @@ class CoefficientSystem:
         self.scale = float(np.max(np.abs(gravity))) if gravity.size else 0.0
         if not self.scale > 0:
             raise InputError(f"gravity does not load mechanism {mechanism.name!r}: nothing to balance")
-        features = [gravity[:, None]]
-        bodies = [self._placement(name) for name in mechanism.body_names]
+        features = [np.asarray(kinematics.potential, dtype=float)[:, None]]
+        bodies = [self._placement(name) for name in _one_body_per_joint(mechanism)]  # welded links span the same
         for i, (p_u, r_u) in enumerate(bodies):
             for p_w, r_w in bodies[i:]:
-                columns = [np.sum(p_u * p_w, axis=1)[:, None], np.einsum("ni,nij->nj", p_u, r_w)]
-                columns += [np.einsum("nij,ni->nj", r_u, p_w), np.einsum("nki,nkj->nij", r_u, r_w).reshape(-1, 9)]
-                features.append(transform @ np.hstack(columns))
-        basis, singular, _ = np.linalg.svd(np.hstack(features), full_matrices=False)
+                features += [np.sum(p_u * p_w, axis=1)[:, None], np.einsum("ni,nij->nj", p_u, r_w)]
+                features += [np.einsum("nij,ni->nj", r_u, p_w), np.einsum("nki,nkj->nij", r_u, r_w).reshape(-1, 9)]
+        from threadpoolctl import threadpool_limits  # BLAS threads only slow these small matrices down
+
+        with threadpool_limits(limits=1):
+            basis, singular, _ = np.linalg.svd(transform @ np.hstack(features), full_matrices=False)
         rank = int(np.sum(singular > RANK_TOLERANCE * singular[0]))
         #: the projection on the reachable coefficients, and with it the full map for the final check
         self.projection = basis[:, :rank].T @ transform
