@@ -158,6 +158,12 @@ def test_the_anchor_fit_finds_the_hand_derived_spring():
     (z_a, z_b), k = fit.anchors[0], fit.stiffness[0]
     assert abs(z_a[0]) < 1e-6 and abs(z_a[1]) < 1e-6 and abs(z_b[2]) < 1e-6
     assert k * (z_a[2] - H) * z_b[0] == pytest.approx(G * WEIGHT_MOMENT, rel=1e-6)
+    again = fit_anchors(system, ends, (0.0, 5000.0), draws=4, seed=2, start=fit)  # warm: the first draw is `fit`
+    assert again.draws == 1 and again.relative < 1e-9
+    below = [SpringEnds("ground", ((-0.1, -0.1, H - 0.2), (0.1, 0.1, H - 0.05)), ends[0].b, ends[0].box_b)]
+    # a ground end below the pitch joint (a < 0) and b > 0: the spring's sin θ₂ coefficient k a b ≤ 0 adds to
+    # gravity's −g WM (its only coefficient), so the best is k = 0 and all of gravity's coefficient is left
+    assert fit_anchors(system, below, (0.0, 5000.0), draws=2, seed=1).relative > 0.99
 
 
 def test_the_screen_key_is_checked_and_zero_solves_every_topology(tmp_path: Path):

@@ -207,9 +207,10 @@ def _refine(
     box: tuple[np.ndarray, np.ndarray],
     stiffness: tuple[float, float],
     max_evaluations: int,
+    k_start: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Anchors ``(m, 2, 3)`` [m] and stiffnesses [N/m] refined from ``anchors`` (k from NNLS) by bounded least
-    squares on the projected coefficients."""
+    """Anchors ``(m, 2, 3)`` [m] and stiffnesses [N/m] refined from ``anchors`` (and ``k_start``, or k from NNLS)
+    by bounded least squares on the projected coefficients."""
     from scipy.optimize import least_squares  # scipy.optimize stays out of start-up
 
     m = len(ends)
@@ -220,7 +221,7 @@ def _refine(
         for e in ends
     ]
     typical = np.array([system.scale / max(h, 1e-6) for h in half])
-    k = _nnls_stiffness(system, ends, anchors)
+    k = _nnls_stiffness(system, ends, anchors) if k_start is None else np.asarray(k_start, dtype=float)
     k = np.clip(np.where(k > 0, k, typical), *stiffness)
     k_scale = max(float(np.max(k)), 1.0)
     start = np.hstack([anchors.reshape(m, 6), (k / k_scale)[:, None]]).ravel()
@@ -261,10 +262,12 @@ def fit_anchors(
     seed: int | Sequence[int] = 0,
     target: float = 1e-12,
     max_evaluations: int = 100,
+    start: AnchorFit | None = None,
 ) -> AnchorFit:
     """The best of ``draws`` local fits of anchors (in their boxes) and stiffnesses (in ``stiffness`` [N/m]) to
     exact balance (module documentation); it stops at the first draw whose relative residual is below ``target``.
-    ``max_evaluations`` bounds the residual evaluations of one draw."""
+    ``max_evaluations`` bounds the residual evaluations of one draw; ``start`` (a fit of the same springs) is
+    the first draw instead of a random one."""
     ends = list(ends)
     if not ends:
         raise InputError("fit_anchors: give at least one spring")
@@ -282,8 +285,11 @@ def fit_anchors(
     rng = np.random.default_rng(seed)
     best: AnchorFit | None = None
     for draw in range(draws):
-        drawn = rng.uniform(*box).reshape(len(ends), 2, 3)
-        anchors, k = _refine(system, ends, drawn, box, bounds, max_evaluations)
+        if draw == 0 and start is not None:  # a warm start: the first draw is the given design
+            drawn, k_start = np.array([np.stack(pair) for pair in start.anchors]), start.stiffness
+        else:
+            drawn, k_start = rng.uniform(*box).reshape(len(ends), 2, 3), None
+        anchors, k = _refine(system, ends, drawn, box, bounds, max_evaluations, k_start)
         relative = system.relative(ends, anchors, k)
         if best is None or relative < best.relative:
             best = AnchorFit(relative, [(za.copy(), zb.copy()) for za, zb in anchors], k, draw + 1)
