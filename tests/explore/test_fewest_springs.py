@@ -37,6 +37,7 @@ from springbalance.cli import main
 from springbalance.design.exact.anchor_fit import CoefficientSystem, SpringEnds, fit_anchors
 from springbalance.errors import InputError
 from springbalance.explore.candidates import auto_candidates
+from springbalance.explore.elimination import eliminate
 from springbalance.explore.screening import Search
 from springbalance.explore.study import Study
 from springbalance.explore.topology import SpatialTest, enumerate_topologies
@@ -208,3 +209,26 @@ def test_the_ur5_screen_finds_three_springs_that_balance_exactly():
                 np.array(point) <= np.array(upper) + 1e-12
             )
     assert _worst_torque_ratio(ur5, springs) < 1e-7
+
+
+def test_elimination_from_every_candidate_ends_exact():
+    # one spring per auto candidate (6), fitted at once, then dropped one at a time while the rest stays exact
+    arm = yaw_pitch_roll(0.05)
+    candidates = auto_candidates(arm, default=0.3)
+    ends = [SpringEnds(c.a, c.box_a, c.b, c.box_b) for c in candidates]
+    test = SpatialTest(arm, candidates)
+    found = eliminate(
+        CoefficientSystem(arm), ends, lambda t: test.verdict(t) is not None, ((0.0, 20000.0), 4, 0), 1e-9, False
+    )
+    assert found is not None
+    topology, fit = found
+    assert 2 <= len(topology) < len(candidates) and fit.relative < 1e-9  # 1 spring: see the first tests
+    springs = [
+        {
+            "a": {"body": s.anchors["a"].body, "point": list(s.anchors["a"].point)},
+            "b": {"body": s.anchors["b"].body, "point": list(s.anchors["b"].point)},
+            "k": float(s.parameters["stiffness"]),
+        }
+        for s in fit.springs([ends[i] for i in topology])
+    ]
+    assert _worst_torque_ratio(arm, springs) < 1e-7

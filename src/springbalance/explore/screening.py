@@ -31,13 +31,14 @@ import dataclasses
 import hashlib
 import json
 import time
-from typing import Any, Sequence
+from typing import Any, Iterable, Sequence
 
 from threadpoolctl import threadpool_limits
 
 from springbalance.design.exact.anchor_fit import MAX_JOINTS, AnchorFit, CoefficientSystem, SpringEnds, fit_anchors
 from springbalance.errors import InputError
 from springbalance.explore.candidates import Candidate
+from springbalance.explore.elimination import ELIMINATE_ABOVE, eliminate
 from springbalance.explore.execution import progress_bar
 from springbalance.explore.task import EXACT, Task
 from springbalance.explore.topology import SpatialTest, Verdict
@@ -63,15 +64,22 @@ class CountScreen:
     best: list[str] = dataclasses.field(default_factory=list)
     best_relative: float = float("nan")
     seconds: float = 0.0
+    #: the exact design came from elimination (an upper bound: this count and the ones up to it not screened)
+    eliminated: bool = False
 
     @property
     def not_found(self) -> int:
         """Screened without reaching exact balance (not proven impossible)."""
-        return self.screened - (1 if self.exact else 0)
+        return self.screened - (1 if self.exact and not self.eliminated else 0)
 
     def describe(self) -> str:
         """One line: proven, screened, found."""
         head = f"{self.count} spring(s): {self.topologies} topologies, {self.unreachable} proven unreachable, "
+        if self.eliminated:
+            return head + (
+                f"not screened: exact with {len(self.exact)} springs by elimination from every candidate (an upper "
+                f"bound): {' + '.join(self.exact)}"
+            )
         if self.exact:
             return head + f"exact after screening {self.screened}: {' + '.join(self.exact)}"
         found = f"; best coefficient residual {self.best_relative:.3g} of gravity's" if self.best else ""
@@ -105,14 +113,18 @@ class Search:
         bounds: tuple[float, float],
         draws: int,
         seed: int,
+        test: SpatialTest | None = None,
     ):
-        self.mechanism, self.candidates, self.verdicts = mechanism, list(candidates), verdicts
+        self.mechanism, self.candidates, self.verdicts, self.test = mechanism, list(candidates), verdicts, test
         self._system: CoefficientSystem | None = None
         self.bounds, self.draws, self.seed = bounds, draws, seed
         self.fits: dict[tuple[int, ...], AnchorFit] = {}
         self.counts: dict[int, CountScreen] = {}
-        #: per count screened, its exact topology (None: not found)
+        #: per count screened, its exact topology (None: not found; of another count when found by elimination)
         self.found: dict[int, tuple[int, ...] | None] = {}
+        #: what elimination gave (None: nothing exact, or not tried: ``_tried``)
+        self.eliminated: tuple[tuple[int, ...], AnchorFit] | None = None
+        self._tried = False
 
     @property
     def system(self) -> CoefficientSystem:
@@ -143,9 +155,9 @@ class Search:
             or layout.mechanism.nv > MAX_JOINTS
         ):
             return None
-        return cls(layout.mechanism, layout.candidates, layout.verdicts, bounds, draws, seed)
+        return cls(layout.mechanism, layout.candidates, layout.verdicts, bounds, draws, seed, layout.test)
 
-    def ends(self, topology: Sequence[int]) -> list[SpringEnds]:
+    def ends(self, topology: Iterable[int]) -> list[SpringEnds]:
         """The candidates of a topology as springs to fit."""
         return [SpringEnds(c.a, c.box_a, c.b, c.box_b) for c in (self.candidates[i] for i in topology)]
 
@@ -170,9 +182,13 @@ class Search:
         progress = progress_bar(len(queue), show, f"screening {count} spring(s)")
         self.found[count] = None
         with threadpool_limits(limits=1):  # BLAS threads only contend on the fit's small matrices
+            eliminated = self._eliminate(show) if len(open_) > ELIMINATE_ABOVE else None
+            if eliminated is not None:  # exact by elimination: this count and those up to it are not screened
+                self.fits[eliminated[0]], self.found[count] = eliminated[1], eliminated[0]
+                result.exact, result.eliminated, queue = self.labels(eliminated[0]), True, []
             for topology in queue:
                 fit = self.fit(topology)
-                result.screened += 1
+                result.screened += 1 if open_ else 0  # a proven topology fitted for a design is not "not found"
                 progress.update(1)
                 if not result.best or fit.relative < result.best_relative:
                     result.best, result.best_relative = self.labels(topology), fit.relative
@@ -183,6 +199,20 @@ class Search:
         result.seconds = time.perf_counter() - clock
         self.counts[count] = result
         return result
+
+    def _eliminate(self, show: bool) -> tuple[tuple[int, ...], AnchorFit] | None:
+        """Elimination, tried once (:mod:`springbalance.explore.elimination`): its exact design, or None."""
+        if not self._tried:
+            self._tried, test = True, self.test
+
+            def proven(topology: tuple[int, ...]) -> bool:
+                return topology in self.verdicts or (test is not None and test.verdict(topology) is not None)
+
+            options = (self.bounds, self.draws, self.seed)
+            self.eliminated = eliminate(
+                self.system, self.ends(range(len(self.candidates))), proven, options, SCREEN_EXACT, show
+            )
+        return self.eliminated
 
     def prior(self, topology: tuple[int, ...]) -> float:
         """The screening order: the best residual of the topology's screened subsets of one spring fewer (a
@@ -202,12 +232,24 @@ class Search:
         else:
             screened = [topology for topology in self.fits if len(topology) == count]
             chosen = sorted(screened, key=lambda topology: self.fits[topology].relative)[:approximate]
+        if exact is not None and len(exact) != count:  # by elimination: a topology of another count
+            return [self._started(self._task(template, exact), self.fits[exact], False) for template in tasks[:1]]
         return [
             self._started(task, self.fits[task.topology], exact is None)
             for topology in chosen
             for task in tasks
             if task.topology == topology
         ]
+
+    def _task(self, template: Task, topology: tuple[int, ...]) -> Task:
+        """A task of ``topology`` like ``template`` (its config and grid point, the same law for every spring)."""
+        record = copy.deepcopy(template.record)
+        law = {key: value for key, value in record["springs"][0].items() if key not in ("name", "a", "b")}
+        record["springs"] = [
+            {**copy.deepcopy(law), "name": f"s{number + 1}", "a": a, "b": b}
+            for number, (a, b) in enumerate(self.candidates[index].anchors() for index in topology)
+        ]
+        return Task("", topology, tuple(self.labels(topology)), template.grid, record, "")
 
     def _started(self, task: Task, fit: AnchorFit, approximate: bool) -> Task:
         """``task`` with its springs starting at the screened design (``init`` of each box and stiffness)."""
@@ -216,7 +258,8 @@ class Search:
             spring["a"]["box"]["init"] = [float(v) for v in z_a]
             spring["b"]["box"]["init"] = [float(v) for v in z_b]
             spring["stiffness"] = {**spring["stiffness"], "init": float(k)}
-        pruned = f"screened: best coefficient residual {fit.relative:.3g} of gravity's" if approximate else ""
+        screened = f"screened: best coefficient residual {fit.relative:.3g} of gravity's"
+        pruned = (task.pruned or screened) if approximate else ""  # a proven topology keeps its verdict
         digest = hashlib.sha256(json.dumps({"record": record, "screened": True}, sort_keys=True).encode())
         return Task(digest.hexdigest()[:16], task.topology, task.labels, task.grid, record, pruned)
 
