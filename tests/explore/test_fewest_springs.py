@@ -232,3 +232,12 @@ def test_elimination_from_every_candidate_ends_exact():
         for s in fit.springs([ends[i] for i in topology])
     ]
     assert _worst_torque_ratio(arm, springs) < 1e-7
+
+
+def test_running_the_search_again_solves_nothing_twice(study):
+    _, out = study
+    rows = list(csv.DictReader(io.StringIO((out / "results.csv").read_text())))
+    printed = io.StringIO()
+    with contextlib.redirect_stdout(printed):  # the same config into the same folder: the search resumes
+        assert main(["explore", str(out.parent / "arm.yaml"), "--out", str(out), "--sequential"]) == 0
+    assert f"solved 0 now, {len(rows)} from an earlier run" in printed.getvalue()

@@ -322,7 +322,7 @@ class Study:
         results_dir = folder / "results"
         self._claim(folder, force)
         done = finished_results(results_dir)
-        resumed = sum(1 for task in self.tasks if task.id in done)
+        resumed, total = sum(1 for task in self.tasks if task.id in done), len(self.tasks)
         solved: list[str] = []
         dominated: list[dict] = []
         bar = progress_bar(0 if self.search else len(self.tasks) - resumed, progress)
@@ -345,6 +345,7 @@ class Study:
             if self.search is not None and self.search.found.get(count) is not None:
                 break  # the fewest springs that balance exactly
         bar.close()
+        resumed += sum(1 for task in self.tasks[total:] if task.id in done and task.id not in solved)  # screened ones
         result = StudyResult(
             self, folder, {task.id: done[task.id] for task in self.tasks if task.id in done}, dominated, solved, resumed
         )
