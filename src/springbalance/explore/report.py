@@ -133,7 +133,12 @@ def _screening(counts: Mapping[str, dict] | None) -> str:
             str(item["topologies"]),
             str(item["unreachable"]),
             str(item["not_found"]),
-            " + ".join(item["exact"]) or "none found",
+            (
+                f"{len(item['exact'])} springs by elimination (an upper bound; not screened): "
+                if item.get("eliminated")
+                else ""
+            )
+            + (" + ".join(item["exact"]) or "none found"),
             f"{item['best_relative']:.3g}",
             f"{item['seconds']:.1f}",
         ]

@@ -186,6 +186,7 @@ class Search:
             if eliminated is not None:  # exact by elimination: this count and those up to it are not screened
                 self.fits[eliminated[0]], self.found[count] = eliminated[1], eliminated[0]
                 result.exact, result.eliminated, queue = self.labels(eliminated[0]), True, []
+                result.best, result.best_relative = result.exact, eliminated[1].relative
             for topology in queue:
                 fit = self.fit(topology)
                 result.screened += 1 if open_ else 0  # a proven topology fitted for a design is not "not found"
