@@ -165,7 +165,7 @@ def _drake_holding(path, result, poses):
 def test_drake_holding_torque_of_a_pseudo_base_arm_matches(design, tmp_path):
     pytest.importorskip(
         "pydrake",
-        reason="Drake is not installed: `make test-drake` installs it and runs this check; the MuJoCo check runs",
+        reason="Drake is not installed (a test extra; no wheel for this platform?): the MuJoCo check runs",
     )
     result, poses = design
     path = tmp_path / "kr.urdf"
