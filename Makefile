@@ -34,8 +34,8 @@ test: lint chromium
 test-fast: lint
 	$(BIN)/python -m pytest -q -m "not slow"
 
-# Drake's check of an exported pseudo-base arm (tests/io/test_export_pseudo_bases.py skips it without
-# Drake): Drake's wheel is large, so `make test` does not install it; this target does, then runs it.
+# Drake's check of an exported pseudo-base arm alone (tests/io/test_export_pseudo_bases.py). `make test`
+# installs Drake with the test extras and runs it too; the test skips, saying why, where no wheel exists.
 test-drake: $(STAMP)
 	$(BIN)/python -m pip install --quiet drake
 	$(BIN)/python -m pytest -q tests/io/test_export_pseudo_bases.py

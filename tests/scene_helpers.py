@@ -26,6 +26,7 @@ import umsgpack
 import springbalance as sb
 from springbalance.viz import browser
 from springbalance.viz import scene as viz
+from springbalance.viz.camera import SCENE_FOV
 from springbalance.viz.meshcat_import import import_meshcat
 from springbalance.viz.recorder import SceneRecorder
 
@@ -188,8 +189,8 @@ def elbow_path(degrees):
 
 def project(scene, points, window=browser.WINDOW):
     """Pixel coordinates (K×2: right, down) [px] of world ``points`` (K×3) [m] in a ``window`` (width,
-    height) view of the scene: meshcat's perspective camera (75° vertical field of view, the window's
-    aspect, world z up) at ``scene.camera_position`` looking at ``scene.camera_target``."""
+    height) view of the scene: meshcat's perspective camera (the vertical field of view the scene gives it,
+    45°, the window's aspect, world z up) at ``scene.camera_position`` looking at ``scene.camera_target``."""
     width, height = window
     camera, target = np.asarray(scene.camera_position), np.asarray(scene.camera_target)
     forward = (target - camera) / np.linalg.norm(target - camera)
@@ -199,7 +200,7 @@ def project(scene, points, window=browser.WINDOW):
     relative = np.asarray(points, dtype=float) - camera
     depth = relative @ forward
     assert np.all(depth > 0), "a point behind the camera"
-    half = np.tan(np.radians(75 / 2))
+    half = np.tan(np.radians(SCENE_FOV / 2))
     x = (relative @ right) / depth / (half * width / height)
     y = (relative @ up) / depth / half
     return np.column_stack([(x + 1) / 2 * width, (1 - y) / 2 * height])

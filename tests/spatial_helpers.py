@@ -45,7 +45,11 @@ _URDF = """<?xml version="1.0"?>
 """
 
 
+def yaw_pitch_roll_urdf(offset: float = 0.0) -> str:
+    """The URDF text of :func:`yaw_pitch_roll` (for configs that name a file)."""
+    return _URDF.format(m1=M1, m2=M2, m3=M3, c2=C2, c3=C3, offset=offset, h=H, l2=L2)
+
+
 def yaw_pitch_roll(offset: float = 0.0) -> sb.Mechanism:
     """The arm of the module documentation (link 3's centre of mass ``offset`` [m] off the roll axis)."""
-    text = _URDF.format(m1=M1, m2=M2, m3=M3, c2=C2, c3=C3, offset=offset, h=H, l2=L2)
-    return sb.Mechanism.from_urdf_string(text, gravity=G)
+    return sb.Mechanism.from_urdf_string(yaw_pitch_roll_urdf(offset), gravity=G)

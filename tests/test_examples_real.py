@@ -8,12 +8,13 @@ at least the floors below, and ``springbalance clearance d.json --samples N`` (N
 The floors are not this test's own output. They come from other runs of the same problems
 (docs/developer/performance.md#real-arms), less an allowance:
 
-- UR5 (examples/ur5.yaml, 512 poses, 8 starts, four coils with a 10⁶-cycle duty, 1.6 kg; 2026-11-26, after
-  issue 28's fatigue rule): solve seeds 0 and 1 cut the shoulder lift by 77.0 % and the elbow by 44.3 %;
-  at 256 poses seed 0 cuts 77.3 / 44.5 % with 8 or 16 starts, 1.2 kg of coils 75.1 / 38.2 %. The floors,
-  74 % and 40 %, sit below these, so a platform whose rounding lands on another of these optima still
-  passes, while a broken pipeline does not. The ceiling, from physics: ideal springs (no coil limits) in
-  the same boxes reach 99.6 % and 98.9 %; coils that last take a third of the energy per kilogram (below).
+- UR5 (examples/ur5.yaml, 256 poses, 4 starts, four coils with a 10⁶-cycle duty, at most 1.4 kg; 2026-11-26):
+  solve seeds 0-4 cut the shoulder lift by 76.2 / 76.1 / 72.2 / 75.9 / 76.2 % and the elbow by 41.7 / 41.7 /
+  37.5 / 41.9 / 41.7 % (seed 0 with 8 starts: the same design); at 512 poses 1.2 kg of coils cut 75.1 / 38.2 % and 1.6 kg
+  77.0 / 44.3 %. The floors, 70 % and 35 %, sit about 2 points below the worst seed, so a platform whose
+  rounding lands on another of these optima still passes, while a broken pipeline does not. The ceiling,
+  from physics: ideal springs (no coil limits) in the same boxes reach 99.6 % and 98.9 %, and no coil design
+  can beat its ideal twin, a relaxation of the same problem (checked on the objective the solve minimises).
 - Panda (examples/panda.yaml, 256 poses, 8 starts, three coils with a 10⁶-cycle duty, 1.2 kg): solve seeds
   0 / 1 / 2 cut joint 2 by 81.9 / 81.7 / 81.9 % and joint 4 by 68.4 / 68.3 / 68.4 % (2026-11-26, after issue
   28's fatigue rule; seed 1 ended 7 µN outside its fatigue floor row, see docs/developer/performance.md);
@@ -27,14 +28,15 @@ The floors are not this test's own output. They come from other runs of the same
 A clean example (``CLEAN``) must also report none of the findings of issue 27 part 5 (a weak design, heavy
 springs, a range beyond the joint limits, a spring inside its own link, a wire off the series, a joint made
 worse, a rule broken at unseen poses) nor a coil short of its fatigue life (``short_life``, issue 28), and
-pass its own verification at unseen poses. One exception, ``HEAVY``: coils that live 10⁶ cycles (every
-example's coils state that duty) exchange at most a third of the energy per kilogram that the floor of
-docs/model.md §5.1 counts (its static allowable at the thinnest wire; measured with
-springbalance.springs.fatigue.fatigue_margins: 60-105 J/kg for music wire of 6.5-1 mm at F_min/F_max 0.56,
-against 185-320 J/kg static), so a design that takes most of the gravity swing weighs more than the 4× the
-floor at which ``heavy_springs`` warns. The example then bounds its coils' mass (``max_spring_mass``, at most a
-tenth of the arm's moving mass), and the test checks that bound, so that the warning can only be the floor's.
-``UNCHANGED`` lists
+pass its own verification at unseen poses. ``BOUNDED`` examples bound their coils' mass (``max_spring_mass``)
+to at most 4× the floor of docs/model.md §5.1 and a tenth of the arm's moving mass (the UR5's 1.4 kg is 3.95×
+its floor of 0.354 kg and 8.2 % of 17.0 kg); the test checks both on the design's own mass record, so that no
+``heavy_springs`` is not an accident of rounding. One exception remains, ``HEAVY`` (the Panda): the floor
+counts the energy per kilogram of the thinnest wire, while music wire that lives 10⁶ cycles exchanges 205 J/kg
+at 0.1 mm but 80.7 J/kg at 2.5 mm and 70.4 J/kg at 4 mm (index 10; spring_mass.coil_energy_per_kg times
+fatigue_energy_fraction), and an extension coil's hooks bind before its body, so the Panda's 1.2 kg weighs
+more than the 4× of the floor at which ``heavy_springs`` warns; its bound is at most a tenth of the arm's
+moving mass, which the test checks, so that the warning can only be the floor's. ``UNCHANGED`` lists
 joints that must carry the same torque as without springs: the Panda's joints 3, 5, 6 and 7, which no spring
 spans; the coils' own weight hangs on links 1-4, but the elbow coil lies in the arm's plane, where it has no
 moment about joint 3 (held at 0).
@@ -63,13 +65,15 @@ PICTURES = ROOT / "out" / "examples"
 
 #: the RMS cut [%] each example must at least reach on its gravity-loaded joints (see the module docstring)
 FLOORS = {
-    "ur5.yaml": {"shoulder_lift_joint": 74.0, "elbow_joint": 40.0},
+    "ur5.yaml": {"shoulder_lift_joint": 70.0, "elbow_joint": 35.0},
     "panda.yaml": {"panda_joint2": 78.0, "panda_joint4": 64.0},
 }
 #: examples that must report no finding of issue 27 part 5 and pass their verification at unseen poses
 CLEAN = {"panda.yaml", "ur5.yaml"}
-#: examples whose coils outweigh 4× the static floor because they are rated for 10⁶ cycles (module docstring)
-HEAVY = {"panda.yaml", "ur5.yaml"}
+#: examples whose ``max_spring_mass`` keeps their coils within 4× the floor and a tenth of the arm (module docstring)
+BOUNDED = {"ur5.yaml"}
+#: examples whose coils outweigh 4× the floor, bounded to a tenth of the arm's moving mass (module docstring)
+HEAVY = {"panda.yaml"}
 #: the findings of issue 27 part 5 a clean example must not report (failures or warnings)
 PART5 = {
     "infeasible",
@@ -133,11 +137,18 @@ def test_example_designs_and_stays_clear(name: str, tmp_path: Path) -> None:
         assert verification["passed"], verification
         pairs = {rule["spring"] for rule in verification["rules"] if rule["rule"] == "clearance"}
         assert pairs == {spring["name"] for spring in settings["springs"]}, verification["rules"]
-    if name in HEAVY:
-        # the bound holds and is at most a tenth of the arm: heavy_springs can only be the floor's 4×
+    if name in HEAVY:  # the bound holds and is at most a tenth of the arm: heavy_springs can only be the floor's 4×
         mass = DesignResult.load(out).spring_mass()
         assert mass.total <= settings["max_spring_mass"] * (1 + 1e-6), mass
         assert settings["max_spring_mass"] <= 0.1 * mass.arm_moving_mass, mass
+    if name in BOUNDED:
+        # the bound holds, and the coils weigh at most 4× the floor and a tenth of the arm (no heavy_springs)
+        mass = DesignResult.load(out).spring_mass()
+        assert mass.total <= settings["max_spring_mass"] * (1 + 1e-6), mass
+        assert mass.total <= 4 * mass.floor and mass.total <= 0.1 * mass.arm_moving_mass, mass
+        # a relaxation cannot be beaten: the coils' objective is no better than their ideal twin's
+        twin = record["solver"]["twin"]
+        assert record["metrics"]["objectives"][record["objective"]]["after"] >= twin["objective"], twin
 
     settings = settings["clearance"]
     poses = 10 * settings["check_samples"]

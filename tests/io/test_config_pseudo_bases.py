@@ -34,6 +34,7 @@ def test_free_anchors_reach_exact_balance():
         ("a9", "pseudo_bases[0].joint: unknown joint 'a9'"),
         ({"joint": "a2", "mass": -0.5}, "mechanism.pseudo_bases[0].mass"),
         ({"joint": "a2", "colour": 1}, "mechanism.pseudo_bases[0]: unknown key 'colour'"),
+        ({"joint": "a2", "keep": "level"}, "mechanism.pseudo_bases[0].keep: unknown keep 'level'"),
     ],
 )
 def test_bad_pseudo_base_entries_are_named(entry, message):

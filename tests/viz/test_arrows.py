@@ -51,3 +51,11 @@ def test_each_directed_force_is_an_arrow_from_its_anchor_along_its_push():
         assert arrows[name]["shaft"].object is not None and arrows[name]["head"].object is not None
     clips = animation_clips(recorder)
     assert any(key.endswith("arrows/f2") for key in clips)  # the arrows move with the arm
+
+
+def test_a_scene_of_arrows_only_has_no_tension_scale_in_its_legend():
+    """Structure II's two forces are arrows, no helix: the legend names them instead of a tension scale."""
+    design = _design()
+    legend = viz.DesignScene(design, design.problem.workspace.joint_values[:3]).legend_html()
+    assert "spring tension" not in legend and "force along a fixed direction: f1, f2" in legend
+    assert 'id="springbalance-legend"' in legend  # the overlay's labels and the censuses keep off it

@@ -11,7 +11,7 @@ import springbalance as sb
 from scene_helpers import animation_clips, recorded_scene
 from springbalance.design.problem import DesignProblem
 from springbalance.results.result import DesignResult
-from springbalance.viz.parallelograms import CRANK
+from springbalance.viz.parallelograms import CRANK, parallelogram_rods
 
 ROOT = Path(__file__).resolve().parents[2]
 TWO_LINK = ROOT / "urdf" / "two_link_planar.urdf"
@@ -42,3 +42,16 @@ def test_rods_form_a_parallelogram_on_link1_with_vertical_cranks():
     clips = animation_clips(recorder)
     animated = [name for name in clips if "parallelograms/pb_elbow/rod" in name]
     assert len(animated) == 3
+
+
+def test_a_vertical_pseudo_base_needs_no_parallelogram_across_the_vertical_yaw():
+    """KR-like arm: a1 turns about the vertical, so pb_a3 keeping only the vertical needs one parallelogram (over
+    link2, a2 → a3: three rods), where keeping the orientation it needs two (a1 → a2 and a2 → a3: six rods)."""
+    kr = ROOT / "urdf" / "kr_like_6r.urdf"
+    q = np.zeros((1, 6))
+    for keep, rods in (("orientation", 6), ("vertical", 3)):
+        mechanism = sb.Mechanism.from_urdf(kr, pseudo_bases=[{"joint": "a3", "keep": keep}])
+        track = parallelogram_rods(mechanism, mechanism.configurations(q))["pb_a3"]
+        assert track.shape == (1, rods, 2, 3)
+    # at zero pose a2's origin is 0.15 m out and 0.6 m up (0.4 + 0.2), a3's 0.6 m further out along link2 (x)
+    np.testing.assert_allclose(track[0, 0], [[0.15, 0, 0.6 + CRANK], [0.75, 0, 0.6 + CRANK]], atol=1e-12)

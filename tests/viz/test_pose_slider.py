@@ -12,7 +12,7 @@ import pinocchio as pin
 import pytest
 
 import springbalance as sb
-from scene_helpers import model_end_points
+from scene_helpers import URDF, model_end_points
 from springbalance.cli import main
 from springbalance.errors import InputError
 from springbalance.viz import scene as viz
@@ -175,3 +175,17 @@ def test_report_and_view_take_poses(design_file, tmp_path, capsys):
         assert main([*command, "--poses", "worst:0"]) == 2
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1 and err[0].startswith("springbalance: error: poses 'worst:0'"), err
+
+
+def test_a_directed_force_shows_its_stroke_in_mm_and_its_force_in_n():
+    """A constant 50 N upward on link1 at (0.1, 0, 0): its stroke is the anchor's height s = u·p = 0.1 sin θ [m]
+    (shoulder θ, lifting link1 from +x towards +z; docs/model.md §3.11), shown in mm, its force 50 N."""
+    mechanism = sb.Mechanism.from_urdf(URDF / "two_link_planar.urdf")
+    force = sb.DirectedForce(sb.Anchor("link1", (0.1, 0.0, 0.0)), "lift", direction=(0, 0, 1), force=50.0)
+    angles = np.radians([-30.0, 0.0, 45.0])
+    path = np.column_stack([angles, np.zeros(3)])
+    design = sb.DesignResult(sb.DesignProblem(mechanism, sb.Workspace.from_array(mechanism, path), [force]), [])
+    data = scene_pose_data(viz.DesignScene(design, path)).to_dict()
+    assert data["springs"] == [{"name": "lift", "type": "directed_force", "force_unit": "N", "length_unit": "mm"}]
+    np.testing.assert_allclose(np.array(data["length"])[:, 0], 1e3 * 0.1 * np.sin(angles), atol=1e-3)
+    np.testing.assert_allclose(np.array(data["force"])[:, 0], 50.0)

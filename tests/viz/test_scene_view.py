@@ -36,27 +36,37 @@ def _transform(node) -> np.ndarray:
 
 
 def test_camera_looks_at_the_middle_of_the_arm_and_the_grid_is_under_it():
+    """(Adapted for issue 30's tight framing: the camera used to look at the exact middle of the arm's box; it now
+    centres the box's projection, so it looks along a line that passes near the middle, and orbits about the point
+    of that line nearest the middle; the view may look down up to 45°; the first pose, not only the whole
+    animation, spans half the view.)"""
     design = two_link_design()
     path = sweeps.animation_path(design, frames_per_joint=12)
     scene = viz.DesignScene(design, path)
     recorder = record_scene(scene)
     points = arm_points(design, path)  # the arm's frames and the springs' ends, from Pinocchio
     lower, upper = points.min(axis=0), points.max(axis=0)
-    # the scene is moved so that meshcat's orbit target (its origin) is the middle of the arm's box; the
-    # links' own thickness (boxes 4 cm wide) and the coils may move it by a few cm from the frames' box
+    middle, diagonal = (lower + upper) / 2, float(np.linalg.norm(upper - lower))
+    # the scene is moved so that meshcat's orbit target (its origin) is the camera's target: the point of the
+    # line of sight nearest the middle of the arm's box, within a fifth of the box's diagonal of it
     np.testing.assert_allclose(_transform(recorder.tree["meshcat"])[:3, 3], -scene.camera_target)
-    assert np.all(np.abs(scene.camera_target - (lower + upper) / 2) <= 0.05 * np.linalg.norm(upper - lower))
+    sight = (scene.camera_target - scene.camera_position) / np.linalg.norm(scene.camera_target - scene.camera_position)
+    assert abs((middle - scene.camera_target) @ sight) <= 0.03 * diagonal  # the links' thickness and coils
+    assert np.linalg.norm(scene.camera_target - middle) <= 0.2 * diagonal
     # the grid lies under the arm: at most 5 cm below its lowest point over the animation, never above it
     floor = _transform(recorder.tree["Grid"])[2, 3] + scene.camera_target[2]
     assert lower[2] - 0.05 <= floor <= lower[2]
-    # three-quarter view: the line of sight is neither along an axis nor level nor vertical
-    sight = (scene.camera_target - scene.camera_position) / np.linalg.norm(scene.camera_target - scene.camera_position)
+    # three-quarter view from above: the line of sight is neither along an axis nor level nor vertical
     elevation = np.degrees(np.arcsin(-sight[2]))
-    assert 15 < elevation < 45
-    # the arm's bounding box over the animation spans at least half the view (900×700 px)
-    pixels = project(scene, points)
-    spread = (pixels.max(axis=0) - pixels.min(axis=0)) / browser.WINDOW
-    assert spread.max() >= 0.5, spread
+    assert 15 < elevation <= 45 + 1e-9
+    assert np.max(np.abs(sight[:2])) < 0.99 * np.linalg.norm(sight[:2])
+    # the arm's bounding box over the animation spans most of the view (900×700 px), and at the first pose nearly
+    # half: these are the frames' origins and the springs' ends, without the links' thickness and the coils that
+    # make the drawn first pose cover half the view (measured on the page: test_scene_framing_browser.py)
+    for poses, least in ((path, 0.85), (path[:1], 0.45)):
+        pixels = project(scene, arm_points(design, poses))
+        spread = (pixels.max(axis=0) - pixels.min(axis=0)) / browser.WINDOW
+        assert spread.max() >= least, (len(poses), spread)
 
 
 def test_anchor_regions_are_hidden_wireframes():
@@ -131,7 +141,9 @@ def test_what_a_person_sees_in_chromium(make, tmp_path):
     purple = [tuple(((regions.REGION_COLOR >> s) & 0xFF) / 255 for s in (16, 8, 0))]
     hidden = browser.colour_census(shot, purple, [])
     shown = browser.colour_census(browser.screenshot(page, tmp_path / "regions.png", fragment="#regions"), purple, [])
-    assert hidden.arm < 5 and shown.arm > 30, (hidden, shown)
+    # (adapted: where the raspberry spring crosses the blue link, their blended edges take the regions' purple
+    # hue on a few pixels; the regions' edges add many more)
+    assert hidden.arm < 25 and shown.arm > hidden.arm + 40, (hidden, shown)
     # the name labels, from the DOM once the page's script placed them: one per spring, in view, apart
     boxes = browser.label_boxes(browser.dump_dom(page))
     assert set(boxes) == {spring.name for spring in scene.springs}

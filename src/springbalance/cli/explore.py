@@ -4,11 +4,14 @@ report where springs should go."""
 from __future__ import annotations
 
 import argparse
+import json
 from pathlib import Path
 
 from springbalance.cli.arguments import positive_int
 from springbalance.errors import InputError
 from springbalance.explore.execution import make_client
+from springbalance.explore.pseudo_base_proposals import proposal_lines
+from springbalance.explore.screening import faced
 from springbalance.explore.study import Study, StudyResult, load_study
 
 
@@ -17,12 +20,15 @@ def add_parser(commands: argparse._SubParsersAction, common: argparse.ArgumentPa
     explore = commands.add_parser(
         "explore",
         parents=[common],
-        help="find where springs should go: solve every spring topology on Dask",
+        help="find where springs should go: solve every spring topology on Dask (spatial arms: the fewest springs)",
         description="Enumerate the spring topologies of a study config (a design config with an 'explore' "
         "section instead of 'springs'), prune those that cannot balance exactly, solve the rest as "
         "tasks on a Dask cluster (a local one with a worker process per core by default), and write "
         "each result as it finishes into OUT/results/, then OUT/results.csv, OUT/report.html and "
-        "the best design per spring count (OUT/best_<k>_springs.json). Running it again resumes.",
+        "the best design per spring count (OUT/best_<k>_springs.json). Running it again resumes. On an arm of "
+        "revolute joints with zero-free-length springs it searches for the fewest springs instead: each count's "
+        "unproven topologies are screened on the exact coefficients (explore.screen draws each), and only what the "
+        "screen finds is solved.",
     )
     explore.add_argument("config", metavar="CONFIG", help="study config file (.yaml, .yml or .json)")
     explore.add_argument("--out", "-o", required=True, metavar="FOLDER", help="the study folder")
@@ -70,11 +76,19 @@ def handle(args: argparse.Namespace) -> int:
     if args.sequential and (args.scheduler or args.workers):
         raise InputError("--sequential runs without Dask: it takes no --scheduler or --workers")
     study = load_study(args.config, max_springs=args.max_springs)
-    if not args.quiet:  # the size of the study before anything is solved
+    if not args.quiet:  # the size of the study before anything is solved, per spring count
         summary = study.summary()
+        then = (
+            "fewest-springs search: each count screened on the exact coefficients, from 1 spring up to the first "
+            "exact design"
+            if study.search is not None
+            else f"{study.pending(args.out)} task(s) to solve"
+        )
         print(
             f"{len(study.candidates)} candidates, {summary['topologies']} topologies × {summary['grid_points']} grid "
-            f"point(s), {len(summary['unreachable'])} proven unreachable: {study.pending(args.out)} task(s) to solve",
+            f"point(s), {len(summary['unreachable'])} proven unreachable: {then}",
+            *faced(study.topologies, study.verdicts),
+            sep="\n",
             flush=True,
         )
     # nothing left to solve (a finished study run again): no cluster to start
@@ -106,12 +120,28 @@ def _print_summary(study: Study, result: StudyResult, out: Path) -> None:
         f"{len(summary['degenerate'])} degenerate; {len(result.dominated)} dominated; solved "
         f"{len(result.solved)} now, {result.resumed} from an earlier run"
     )
+    for line in study.search.counts.values() if study.search is not None else []:
+        print(f"  screened {line.describe()} ({line.seconds:.1f} s)")
     for count, record in result.best().items():
         print(
             f"  best with {count} spring(s): {' + '.join(record['springs'])}  residual "
             f"{record['relative_residual']:.3g} of the unbalanced peak{'  (exact)' if record['exact'] else ''}"
-            f"{'  (approximate: every topology of this count was pruned)' if record.get('pruned') else ''}"
+            f"{_how(record)}"
             f"{'  FAILS: ' + ', '.join(record['failures']) if record.get('ok') is False else ''}"
             f"  -> {out / f'best_{count}_springs.json'}"
         )
+    for line in proposal_lines(
+        json.loads((out / "study.json").read_text(encoding="utf-8")).get("pseudo_base_proposals", [])
+    ):
+        print(line)
     print(f"report: {out / 'report.html'}")
+
+
+def _how(record: dict) -> str:
+    """How a count's best design was found, when not solved for exact balance: the best screened topology (the
+    fewest-springs search found none exact), or the best of the pruned few."""
+    if not record.get("pruned"):
+        return ""
+    if record["pruned"].startswith("screened"):
+        return "  (approximate: the best screened topology; none of this count found exact)"
+    return "  (approximate: every topology of this count was pruned)"

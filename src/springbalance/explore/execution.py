@@ -38,13 +38,14 @@ class _NoBar:
         pass
 
 
-def progress_bar(total: int, show: bool) -> ProgressBar:
-    """A ``tqdm`` bar of ``total`` tasks when ``show`` (and there is something to show), else a silent one."""
+def progress_bar(total: int, show: bool, desc: str = "topologies") -> ProgressBar:
+    """A ``tqdm`` bar of ``total`` tasks (labelled ``desc``) when ``show`` (and there is something to show), else a
+    silent one."""
     if not show or total <= 0:
         return _NoBar()
     from tqdm import tqdm
 
-    return tqdm(total=total, desc="topologies", unit="task", leave=False)
+    return tqdm(total=total, desc=desc, unit="task", leave=False)
 
 
 def execute(

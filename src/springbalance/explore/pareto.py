@@ -85,7 +85,7 @@ def pareto_figure(records: Sequence[Mapping], links: Mapping[str, str] | None = 
     axes = figure.add_subplot()
     for gid, buildable, label in (
         ("buildable", True, "buildable (every spring a coil that passes its spec sheet)"),
-        ("other", False, "not shown buildable (ideal laws, or a spec sheet fails)"),
+        ("other", False, "not known to be buildable (ideal springs, or a coil fails its spec sheet)"),
     ):
         chosen = [i for i, record in enumerate(records) if bool(record.get("buildable")) == buildable]
         if not chosen:
@@ -119,7 +119,7 @@ def pareto_figure(records: Sequence[Mapping], links: Mapping[str, str] | None = 
         axes.set_xticks(counts)
         axes.set_xlim(min(counts) - 0.4, max(counts) + 0.8)
         axes.set_xlabel("number of springs")
-    axes.set_ylabel("peak residual / unbalanced peak [1]")
+    axes.set_ylabel("peak residual / unbalanced peak (a ratio)")
     axes.grid(True, which="both", alpha=0.3)
     axes.legend(loc="best", fontsize=8)
     return figure

@@ -23,6 +23,7 @@ from springbalance.deprecation import warn_deprecated
 from springbalance.explore.approximate import DEFAULT as DEFAULT_APPROXIMATE
 from springbalance.explore.approximate import why_not
 from springbalance.explore.pareto import pareto_svg
+from springbalance.explore.pseudo_base_proposals import proposals_html
 from springbalance.files import write_text_atomic
 
 __all__ = ["checks", "pareto_svg", "write_report", "write_study_report"]
@@ -104,7 +105,9 @@ def _best_rows(
             rows.append(f"<tr><td>{count} spring(s)</td><td colspan={len(head) - 1}>{html.escape(why)}</td></tr>")
             continue
         found = (
-            f"approximate: the best of the pruned topologies solved ({record['pruned'].split(':')[0]})"
+            "approximate: the best screened topology (none of this count found exact)"
+            if record.get("pruned", "").startswith("screened")
+            else f"approximate: the best of the pruned topologies solved ({record['pruned'].split(':')[0]})"
             if record.get("pruned")
             else "solved"
         )
@@ -118,6 +121,40 @@ def _best_rows(
         ]
         rows.append("<tr>" + "".join(f"<td>{cell}</td>" for cell in cells) + "</tr>")
     return "<table><tr>" + "".join(f"<th>{h}</th>" for h in head) + "</tr>" + "".join(rows) + "</table>"
+
+
+def _screening(counts: Mapping[str, dict] | None) -> str:
+    """The fewest-springs search per count (:mod:`springbalance.explore.screening`): proven, not found, exact."""
+    if not counts:
+        return ""
+    head = ["springs", "topologies", "proven unreachable", "screened, not found", "exact", "best residual", "time [s]"]
+    rows = [
+        [
+            str(item["count"]),
+            str(item["topologies"]),
+            str(item["unreachable"]),
+            str(item["not_found"]),
+            (
+                f"{len(item['exact'])} springs by elimination (an upper bound; not screened): "
+                if item.get("eliminated")
+                else ""
+            )
+            + (" + ".join(item["exact"]) or "none found"),
+            f"{item['best_relative']:.3g}",
+            f"{item['seconds']:.1f}",
+        ]
+        for item in counts.values()
+    ]
+    return (
+        "<h2>Fewest springs</h2><p>Spring counts from 1 up to the first with an exact design; each unproven topology "
+        "screened on the exact coefficients (anchors in their boxes). <em>Screened, not found</em> is not a proof: "
+        "the proven ones are counted apart. Best residual: the largest coefficient left over gravity's.</p>"
+        + "<table><tr>"
+        + "".join(f"<th>{h}</th>" for h in head)
+        + "</tr>"
+        + "".join("<tr>" + "".join(f"<td>{html.escape(cell)}</td>" for cell in row) + "</tr>" for row in rows)
+        + "</table>"
+    )
 
 
 def write_study_report(
@@ -161,6 +198,7 @@ def write_study_report(
         if solved
         else "",
         pareto_svg(solved, links) if solved else "<p>No topology was solved.</p>",
+        _screening(summary.get("screening")),
         "<h2>Best design per spring count</h2>",
         _best_rows(best, max_springs, summary, links, approximate),
         "<h2>Solved topologies</h2>",
@@ -176,6 +214,7 @@ def write_study_report(
         ),
         "<h2>Not solved</h2>",
         _rows(_not_solved(summary, dominated, failed, solved), [*_TOPOLOGY, ("why", lambda r: r["why"])]),
+        proposals_html(summary.get("pseudo_base_proposals", [])),
         "</body></html>",
     ]
     write_text_atomic(Path(folder) / "report.html", "\n".join(parts))

@@ -19,6 +19,8 @@ whose ``springs`` section is replaced by ``explore``::
                                    # of its pruned ones for its best approximate design (0: none)
       reports: true                # write each solved design's report (designs/<id>/report.html)
       max_topologies: 20000        # a larger study is refused before it is enumerated
+      screen: 4                    # spatial arms: anchor draws per topology of the fewest-springs search
+                                   # (explore.screening; 0: solve every topology that is not pruned)
 
 Each task is one topology at one grid point: a pure function of its record
 (:func:`~springbalance.explore.task.solve_task`), so the same task gives the same result on any
@@ -44,7 +46,6 @@ import hashlib
 import itertools
 import json
 import math
-import shutil
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Callable
 
@@ -62,8 +63,16 @@ from springbalance.explore.candidates import (
     candidates_from_records,
 )
 from springbalance.explore.designs import write_designs
-from springbalance.explore.execution import execute, make_client, progress_bar  # noqa: F401  (make_client: see _MOVED)
+from springbalance.explore.execution import (  # noqa: F401  (make_client: see _MOVED)
+    ProgressBar,
+    execute,
+    make_client,
+    progress_bar,
+)
+from springbalance.explore.folder import claim_folder, finished_results
+from springbalance.explore.pseudo_base_proposals import proposals_for
 from springbalance.explore.report import write_study_report
+from springbalance.explore.screening import Search
 from springbalance.explore.table import COLUMNS, results_csv  # noqa: F401  (COLUMNS: importable from here)
 from springbalance.explore.task import Task
 from springbalance.explore.topology import (
@@ -96,6 +105,7 @@ EXPLORE_KEYS = (
     "approximate",
     "reports",
     "max_topologies",
+    "screen",
 )
 #: names that moved out of this module: where they live now (each still importable from here, with a
 #: DeprecationWarning, for one release). ``make_client`` (now :mod:`springbalance.explore.execution`) is
@@ -197,6 +207,7 @@ class Study:
         layout = self._layout(self.base["mechanism"])  # the base mechanism's (a grid may sweep others)
         self.mechanism, self.candidates, self.reachability_note = layout.mechanism, layout.candidates, layout.note
         self.topologies, self.verdicts = layout.topologies, layout.verdicts
+        self.search = Search.of(layout, self.law, self.explore, self.seed, self.prune, label)
         self.grid = self._grid(self.explore.get("grid") or {})
         self.fingerprint = _fingerprint(
             {**self.base, "explore": {k: v for k, v in self.explore.items() if k != "max_springs"}}
@@ -289,6 +300,7 @@ class Study:
             "unreachable": by_kind.get("unreachable", []),
             "degenerate": by_kind.get("degenerate", []),
             "tasks": len(self.tasks),
+            **({"screening": self.search.summary()} if self.search is not None else {}),
         }
 
     # ---------------------------------------------------------------- running
@@ -310,43 +322,20 @@ class Study:
         folder = Path(folder)
         results_dir = folder / "results"
         self._claim(folder, force)
-        done = {}
-        for path in sorted(results_dir.glob("*.json")):
-            try:
-                record = json.loads(path.read_text(encoding="utf-8"))
-            except (OSError, ValueError):
-                continue  # a damaged file: the task is solved again
-            if isinstance(record, dict) and record.get("id") == path.stem:
-                done[path.stem] = record
-        resumed = sum(1 for task in self.tasks if task.id in done)
-        solved, dominated = [], []
-        bar = progress_bar(len(self.tasks) - resumed, progress)
+        done = finished_results(results_dir)
+        resumed, total = sum(1 for task in self.tasks if task.id in done), len(self.tasks)
+        solved: list[str] = []
+        dominated: list[dict] = []
+        bar = progress_bar(0 if self.search else len(self.tasks) - resumed, progress)
         for count in range(1, self.max_springs + 1):
-            level = []
-            for task in self.tasks:
-                if task.count != count or task.id in done:
-                    continue
-                exact = [
-                    other
-                    for other in self.tasks
-                    if other.count < count
-                    and other.grid == task.grid
-                    and set(other.topology) < set(task.topology)
-                    and done.get(other.id, {}).get("exact")
-                ]
-                if exact:
-                    dominated.append(
-                        {
-                            "id": task.id,
-                            "springs": list(task.labels),
-                            "grid": task.grid,
-                            "because": list(exact[0].labels),
-                        }
-                    )
-                    bar.update(1)
-                    continue
-                level.append(task)
-            for record in execute(level, client, self.base_dir, self.starts, self.seed):
+            level = self._level(count, done, dominated, bar)
+            if self.search is not None:  # the fewest-springs search: screen, then solve what it found
+                level = [task for task in self.tasks if task.count == count]
+                self.search.screen(count, level, self.topologies, progress)
+                level = self.search.tasks(count, level, self.approximate)
+                self.tasks.extend(level)
+                level = [task for task in level if task.id not in done]
+            for record in execute(level, client, self.base_dir, 1 if self.search else self.starts, self.seed):
                 write_json_atomic(results_dir / f"{record['id']}.json", record)
                 done[record["id"]] = record
                 solved.append(record["id"])
@@ -354,37 +343,44 @@ class Study:
                 bar.update(1)
                 if on_result is not None:
                     on_result(record)
+            if self.search is not None and self.search.found.get(count) is not None:
+                break  # the fewest springs that balance exactly
         bar.close()
+        resumed += sum(1 for task in self.tasks[total:] if task.id in done and task.id not in solved)  # screened ones
         result = StudyResult(
             self, folder, {task.id: done[task.id] for task in self.tasks if task.id in done}, dominated, solved, resumed
         )
         result.write()
         return result
 
+    def _level(self, count: int, done: dict, dominated: list[dict], bar: ProgressBar) -> list[Task]:
+        """The tasks of ``count`` springs to solve: not done, and no subset balances exactly (those are added to
+        ``dominated``)."""
+        level = []
+        for task in self.tasks:
+            if task.count != count or task.id in done:
+                continue
+            exact = [
+                other
+                for other in self.tasks
+                if other.count < count
+                and other.grid == task.grid
+                and set(other.topology) < set(task.topology)
+                and done.get(other.id, {}).get("exact")
+            ]
+            if exact:
+                dominated.append(
+                    {"id": task.id, "springs": list(task.labels), "grid": task.grid, "because": list(exact[0].labels)}
+                )
+                bar.update(1)
+                continue
+            level.append(task)
+        return level
+
     def _claim(self, folder: Path, force: bool) -> None:
-        """Make ``folder`` this study's: refuse another study's folder unless ``force`` (then start afresh)."""
-        marker = folder / "study.json"
-        if marker.exists():
-            try:
-                previous = json.loads(marker.read_text(encoding="utf-8")).get("fingerprint")
-            except (OSError, ValueError, AttributeError):
-                previous = None
-            if previous != self.fingerprint:
-                if not force:
-                    raise InputError(
-                        f"study folder {str(folder)!r} holds the results of a different config "
-                        f"(fingerprint {previous} ≠ {self.fingerprint}); use another --out, or --force "
-                        "to discard them"
-                    )
-                for stale in ("results", "designs"):
-                    shutil.rmtree(folder / stale, ignore_errors=True)
-        elif folder.exists() and any(folder.iterdir()) and not force:
-            raise InputError(
-                f"study folder {str(folder)!r} is not empty and holds no study; use another --out, or --force"
-            )
-        write_json_atomic(
-            marker,
-            {"fingerprint": self.fingerprint, "config": {**self.base, "explore": self.explore}, **self.summary()},
+        """Make ``folder`` this study's (:func:`~springbalance.explore.folder.claim_folder`)."""
+        claim_folder(
+            folder, self.fingerprint, {"config": {**self.base, "explore": self.explore}, **self.summary()}, force
         )
 
     def _write_table(self, folder: Path, done: dict) -> None:
@@ -426,12 +422,13 @@ class StudyResult:
         links = write_designs(self.folder, self.results, self.study.reports)
         marker = self.folder / "study.json"
         summary = json.loads(marker.read_text(encoding="utf-8"))
-        summary["dominated"] = self.dominated
+        summary.update(dominated=self.dominated, pseudo_base_proposals=proposals_for(self))
+        summary.update({"screening": self.study.search.summary()} if self.study.search is not None else {})
         write_json_atomic(marker, summary)
         write_study_report(
             self.folder,
             self.study.mechanism.name,
-            self.study.summary(),
+            {**self.study.summary(), "pseudo_base_proposals": summary["pseudo_base_proposals"]},
             self.study.max_springs,
             self.results,
             self.dominated,

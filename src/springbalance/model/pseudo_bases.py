@@ -20,6 +20,15 @@ its frame (world-aligned axes, origin at :math:`J`'s origin): that of the parall
 the user gives (default 0 kg: the arm is balanced as if they were weightless), with the rotational inertia
 of a solid sphere of radius :data:`SPHERE_RADIUS`.
 
+**Vertical only** (``keep="vertical"``): where only gravity's direction matters, the pseudo-base need only keep
+the world's vertical :math:`\hat z`. Walking from the root, let :math:`G` be the product of the origin rotations
+so far; while every moving joint's axis :math:`a_k` has :math:`G a_k = \pm\hat z` (a vertical axis, such as a
+KR-like arm's first yaw), :math:`\mathrm{Rot}(a_k, q) = G^T \mathrm{Rot}(\hat z, \pm q) G` and the prefix
+product is :math:`R_{p} = \mathrm{Rot}(\hat z, \psi) G_p`. Those leading vertical joints get no mimic joint;
+their origin rotations are still undone, so the chain ends at :math:`\mathrm{Rot}(\hat z, \psi) G_p G_p^T =
+\mathrm{Rot}(\hat z, \psi)`: the body turns about the vertical with them and its :math:`z` axis stays
+:math:`\hat z` (docs/model.md §1.1 says when that suffices for exact balance).
+
 Names: the pseudo-base link ``pb_<J>``; the mimic joints ``pb_<J>__undo_<j_k>``, the fixed joints
 ``pb_<J>__unrotate_<j_k>_<r|p|y>`` (one per non-zero origin angle) and ``pb_<J>__fix``, each with its child link
 ``<joint name>_link``; none may clash with a name of the URDF. Prismatic joints between the root and
@@ -34,6 +43,7 @@ import xml.etree.ElementTree as ElementTree
 from collections.abc import Iterable, Mapping
 from typing import Any
 
+import numpy as np
 import pinocchio as pin
 
 from springbalance.errors import InputError
@@ -43,16 +53,22 @@ __all__ = [
     "PseudoBase",
     "add_pseudo_bases",
     "is_chain_link",
+    "KEEPS",
     "pseudo_base_body",
     "pseudo_base_model",
     "pseudo_bases_from",
+    "vertical_prefix",
 ]
 
 #: the radius [m] of the solid sphere whose rotational inertia the pseudo-base gets (static torques do not depend
 #: on it; MuJoCo refuses a positive mass with a zero inertia)
 SPHERE_RADIUS = 0.02
 #: the keys of a pseudo-base record (config ``mechanism.pseudo_bases[i]``)
-KEYS = ("joint", "mass", "com")
+KEYS = ("joint", "mass", "com", "keep")
+#: what a pseudo-base keeps of the world's orientation: all of it, or only the vertical (module docstring)
+KEEPS = ("orientation", "vertical")
+#: how far [-] from ±ẑ a joint axis (a unit vector, world-aligned at zero pose) may be and still count as vertical
+VERTICAL_TOLERANCE = 1e-12
 
 
 def pseudo_base_body(joint: str) -> str:
@@ -62,17 +78,21 @@ def pseudo_base_body(joint: str) -> str:
 
 @dataclasses.dataclass(frozen=True)
 class PseudoBase:
-    """A pseudo-base at the origin of joint ``joint``, keeping the world's orientation.
+    """A pseudo-base at the origin of joint ``joint``, keeping the world's orientation (or only its vertical).
 
     Attributes:
         joint: the URDF joint at whose origin it sits (the body is ``pb_<joint>``).
         mass: the mass [kg] of the pseudo-base and the parallelograms that realise it (≥ 0).
-        com: its centre of mass [m] in the pseudo-base frame (world-aligned axes, origin at the joint's origin).
+        com: its centre of mass [m] in the pseudo-base frame (world-aligned axes, origin at the joint's origin;
+            with ``keep="vertical"`` the frame turns about the vertical with the arm's leading vertical joints).
+        keep: ``"orientation"`` (the world's orientation) or ``"vertical"`` (only the world's z axis: the leading
+            vertical-axis joints are not undone; module docstring).
     """
 
     joint: str
     mass: float = 0.0
     com: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    keep: str = "orientation"
 
     @property
     def body(self) -> str:
@@ -80,8 +100,10 @@ class PseudoBase:
         return pseudo_base_body(self.joint)
 
     def to_dict(self) -> dict[str, Any]:
-        """The record ``{joint, mass [kg], com [m]}`` (as a config or a design file holds it)."""
-        return {"joint": self.joint, "mass": self.mass, "com": list(self.com)}
+        """The record ``{joint, mass [kg], com [m]}`` (as a config or a design file holds it), with
+        ``keep: vertical`` when it keeps only the vertical."""
+        record: dict[str, Any] = {"joint": self.joint, "mass": self.mass, "com": list(self.com)}
+        return {**record, "keep": self.keep} if self.keep != "orientation" else record
 
 
 def pseudo_bases_from(items: Iterable[Any] | None, where: str = "pseudo_bases") -> list[PseudoBase]:
@@ -125,7 +147,10 @@ def _pseudo_base(item: Any, where: str) -> PseudoBase:
         isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in com
     ):
         raise InputError(f"{where}.com: expected three finite numbers [m], got {item.get('com')!r}")
-    return PseudoBase(joint, float(mass), (float(com[0]), float(com[1]), float(com[2])))
+    keep = item.get("keep", "orientation")
+    if keep not in KEEPS:
+        raise InputError(f"{where}.keep: expected 'orientation' or 'vertical', got {keep!r}")
+    return PseudoBase(joint, float(mass), (float(com[0]), float(com[1]), float(com[2])), keep)
 
 
 def add_pseudo_bases(text: str, bases: Iterable[PseudoBase], where: str = "pseudo_bases") -> str:
@@ -220,11 +245,12 @@ def _chain_elements(base: PseudoBase, joint: ElementTree.Element, chain: list) -
     last), a mimic joint undoing its motion, then fixed joints undoing its origin rotation one angle at a time
     (``Rz(y) Ry(p) Rx(r)`` is undone by ``Rx(-r) Ry(-p) Rz(-y)``: exact, no conversion back to rpy)."""
     body = base.body
+    vertical = vertical_prefix(chain) if base.keep == "vertical" else set()
     steps: list[tuple[str, str, str]] = []  # (joint name, rpy text, what follows the origin)
     for element in reversed(chain):
         primary = element.get("name")
         kind = element.get("type")
-        if kind in ("revolute", "continuous"):
+        if kind in ("revolute", "continuous") and primary not in vertical:
             axis_element = element.find("axis")
             axis = "1 0 0" if axis_element is None else axis_element.get("xyz", "1 0 0")
             limit = '<limit effort="0" velocity="0" lower="-1e9" upper="1e9"/>' if kind == "revolute" else ""
@@ -257,6 +283,27 @@ def _chain_elements(base: PseudoBase, joint: ElementTree.Element, chain: list) -
         f'<inertia ixx="{moment}" ixy="0" ixz="0" iyy="{moment}" iyz="0" izz="{moment}"/></inertial></link>'
     )
     return elements
+
+
+def vertical_prefix(chain: list) -> set[str]:
+    """The names of the leading moving joints of ``chain`` (root first) whose axes stay world-vertical at every
+    pose: with ``G`` the product of the origin rotations so far, ``G a = ±ẑ`` (module docstring)."""
+    names: set[str] = set()
+    turn = np.eye(3)
+    for element in chain:
+        roll, pitch, yaw = _rpy(element)
+        turn = turn @ pin.rpy.rpyToMatrix(roll, pitch, yaw)
+        if element.get("type") not in ("revolute", "continuous"):
+            continue
+        axis_element = element.find("axis")
+        axis = np.array(
+            [float(v) for v in ("1 0 0" if axis_element is None else axis_element.get("xyz", "1 0 0")).split()]
+        )
+        direction = turn @ (axis / np.linalg.norm(axis))
+        if np.max(np.abs(direction[:2])) > VERTICAL_TOLERANCE:
+            break
+        names.add(str(element.get("name")))
+    return names
 
 
 def _rpy(joint: ElementTree.Element) -> tuple[float, float, float]:

@@ -34,6 +34,7 @@ from springbalance.results import plots, report_plots
 from springbalance.results.clearance import checked_clearance
 from springbalance.results.flags import Flag, flags
 from springbalance.results.own_link import inside_own_link
+from springbalance.results.pseudo_base_report import pseudo_base_html
 from springbalance.results.report import balance_statement, spec_sheet_rows, spring_mass_statement
 from springbalance.results.tolerance_report import tolerance_html
 from springbalance.results.verification_report import verification_html
@@ -157,7 +158,8 @@ def report_html(
     plots (:func:`springbalance.results.report_plots.write_plots`), shown after the torque plots.
 
     The sections, in order: the head (:func:`head_html`), the links (:func:`links_html`), the springs
-    (:func:`springs_html`, :func:`spec_sheet_html`), the springs' mass, the torque and objective tables (:func:`torque_html`),
+    (:func:`springs_html`, :func:`spec_sheet_html`), the springs' mass, the pseudo-bases
+    (:func:`~springbalance.results.pseudo_base_report.pseudo_base_html`, when the design has any), the torque and objective tables (:func:`torque_html`),
     the balance statement, the scenarios (:func:`scenarios_html`), the infeasibility, the clearance
     (:func:`clearance_html`), the verification (:func:`~springbalance.results.verification_report.verification_html`),
     the failures and warnings (:func:`warnings_html`) and the plots (:func:`plots_html`).
@@ -170,6 +172,7 @@ def report_html(
     parts.extend(spec_sheet_html(result))
     first, second = spring_mass_statement(result.spring_mass())
     parts.append(f'<p id="spring-mass">{e(first[0].upper() + first[1:])}: {e(second)}.</p>')
+    parts.extend(pseudo_base_html(result))
     parts.extend(torque_html(metrics))
     parts.append(f"<p>{e(balance_statement(result))}.</p>")
     if getattr(result.problem, "scenarios", None):

@@ -33,13 +33,9 @@ import numpy as np
 from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.errors import InputError
 from springbalance.model.collision import CollisionScene, capsule_radius, collision_geometry, surface_distance
+from springbalance.model.inside_link import DEPTH_TOLERANCE, OWN_STRETCH, centre_line_inside
 
-#: the stretch [m] beyond the anchor's way out of its link and the coil's radius that counts as the anchor's
-OWN_STRETCH = 0.003
-#: depths [m] below this are the round-off of the distance computation
-DEPTH_TOLERANCE = 1e-4
-#: the segment radius [m] of the centre line (coal measures a capsule)
-_LINE = 1e-9
+__all__ = ["DEPTH_TOLERANCE", "OWN_STRETCH", "OwnLinkFinding", "inside_own_link"]
 _CACHE: weakref.WeakKeyDictionary[EvaluatedDesign, list[OwnLinkFinding]] = weakref.WeakKeyDictionary()
 
 
@@ -150,18 +146,6 @@ def _ends(result: EvaluatedDesign, scene: CollisionScene, geometry: Any) -> list
 
 def _depth(scene: CollisionScene, end: dict[str, Any]) -> float:
     """How deep [m] the spring's centre line, less the stretches at both ends, lies inside the end's body at
-    the placed pose (0 when it does not enter it)."""
+    the placed pose (0 when it does not enter it; :func:`~springbalance.model.inside_link.centre_line_inside`)."""
     own, other = (scene.frame(frame).act(point) for frame, point in zip(end["frames"], end["points"]))
-    length = float(np.linalg.norm(other - own))
-    if length <= 0:
-        return 0.0
-    axis = (other - own) / length
-    objects = end["objects"]
-    # the other anchor's depth in this body: its own way out, exempt like this end's
-    other_inside = max(0.0, -min(scene.capsule_distance(other, other, _LINE, i).distance for i in objects))
-    start = end["inside"] + end["radius"] + OWN_STRETCH
-    stop = length - (other_inside + end["radius"] + OWN_STRETCH)
-    if stop <= start:
-        return 0.0
-    distance = min(scene.capsule_distance(own + start * axis, own + stop * axis, _LINE, i).distance for i in objects)
-    return max(0.0, -distance)
+    return centre_line_inside(scene, own, other, end["objects"], end["inside"], end["radius"])[0]

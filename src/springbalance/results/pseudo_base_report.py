@@ -1,5 +1,5 @@
-"""The pseudo-base section of the reports (text and ``design.json``): each pseudo-base's mass and the gravity
-torque that mass adds before balancing (:mod:`springbalance.model.pseudo_base_weight`, docs/model.md §1.1).
+"""The pseudo-base section of the reports (text, ``report.html`` and ``design.json``): each pseudo-base's mass and
+the gravity torque that mass adds before balancing (:mod:`springbalance.model.pseudo_base_weight`, docs/model.md §1.1).
 
 Per joint, the peak over the workspace of the pseudo-bases' combined torque [N·m or N], and that peak as a share
 of the peak of the whole arm's gravity torque (pseudo-bases included) on that joint.
@@ -7,6 +7,7 @@ of the peak of the whole arm's gravity torque (pseudo-bases included) on that jo
 
 from __future__ import annotations
 
+import html
 from typing import Any
 
 import numpy as np
@@ -50,7 +51,10 @@ def pseudo_base_lines(result: EvaluatedDesign) -> list[str]:
     lines = ["", f"Pseudo-bases (world-oriented anchors, docs/model.md §1.1): {record['total_mass']:.4g} kg in all"]
     for base in record["bases"]:
         com = ", ".join(f"{v:.4g}" for v in base["com"])
-        lines.append(f"  {base['body']:<16} at joint {base['joint']}: {base['mass']:.4g} kg, centre of mass ({com}) m")
+        keeps = ", keeps only the vertical" if base.get("keep") == "vertical" else ""
+        lines.append(
+            f"  {base['body']:<16} at joint {base['joint']}: {base['mass']:.4g} kg, centre of mass ({com}) m{keeps}"
+        )
     units = {joint.name: joint.torque_unit for joint in result.problem.mechanism.joints}
     largest = max(record["peak_torque"].values(), default=0.0)
     added = ", ".join(
@@ -60,3 +64,42 @@ def pseudo_base_lines(result: EvaluatedDesign) -> list[str]:
     )
     lines.append(f"  their weight adds, before balancing (peak; share of the gravity peak): {added or 'nothing'}")
     return lines
+
+
+def pseudo_base_html(result: EvaluatedDesign) -> list[str]:
+    """The "Pseudo-bases" section of ``report.html`` (nothing without pseudo-bases): per pseudo-base its body, joint,
+    what it keeps, mass [kg], centre of mass [m] and the peak torque its weight adds per joint before balancing;
+    then all of them together, with each peak's share of the arm's gravity peak (the text report's facts)."""
+    record = pseudo_base_record(result).get("pseudo_bases")
+    if record is None:
+        return []
+    e = html.escape
+    units = {joint.name: joint.torque_unit for joint in result.problem.mechanism.joints}
+    largest = max(record["peak_torque"].values(), default=0.0)
+
+    def added(peaks: dict[str, float], shares: dict[str, float] | None = None) -> str:
+        cells = [
+            f"{joint} {peak:.4g} {units[joint]}" + (f" ({100 * shares[joint]:.3g} %)" if shares else "")
+            for joint, peak in peaks.items()
+            if peak > 1e-12 * largest  # round-off on joints the pseudo-bases do not load
+        ]
+        return e(", ".join(cells) or "nothing")
+
+    parts = [
+        '<h2 id="pseudo-bases">Pseudo-bases</h2>',
+        f"<p>Auxiliary bodies at joint origins that keep the world's orientation (or only its vertical), realised by "
+        f"parallelograms (docs/model.md §1.1): {record['total_mass']:.4g} kg in all. Their weight adds, before "
+        f"balancing (peak; share of the gravity peak): {added(record['peak_torque'], record['share_of_gravity_peak'])}"
+        ".</p>",
+        "<table><tr><th class=l>pseudo-base</th><th class=l>joint</th><th class=l>keeps</th><th>mass [kg]</th>"
+        "<th>centre of mass [m]</th><th class=l>its weight adds (peak)</th></tr>",
+    ]
+    for base in record["bases"]:
+        com = ", ".join(f"{v:.4g}" for v in base["com"])
+        parts.append(
+            f"<tr><td class=l>{e(base['body'])}</td><td class=l>{e(base['joint'])}</td>"
+            f"<td class=l>{e(base.get('keep', 'orientation'))}</td><td>{base['mass']:.4g}</td><td>({e(com)})</td>"
+            f"<td class=l>{added(base['peak_torque'])}</td></tr>"
+        )
+    parts.append("</table>")
+    return parts

@@ -165,7 +165,7 @@ class FatiguePoint:
 
 def fatigue_point(material: Material, wire_diameter: Any, location: str, life: float, peened: bool) -> FatiguePoint:
     """The fatigue data of ``location`` for a life of ``life`` cycles: Zimmerli's point for the body at
-    infinite life (and for a compression spring's body at any life), else Table 10-8's column of the
+    infinite life (and for a peened body at any life), else Table 10-8's column of the
     smallest listed life ≥ ``life`` (its last, 10⁷, beyond). ``wire_diameter`` [m] may be a CasADi expression."""
     strength = material.tensile_strength(wire_diameter)  # S_ut [Pa]
     ultimate = strength if location == "hook_bending" else SHEAR_ULTIMATE * strength

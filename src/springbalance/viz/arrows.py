@@ -10,6 +10,7 @@ in :data:`ARROW_COLOR`.
 from __future__ import annotations
 
 import dataclasses
+import html
 from typing import Any
 
 import numpy as np
@@ -101,3 +102,20 @@ def _y_along(direction: np.ndarray) -> np.ndarray:
     x = np.cross(y, helper)
     x /= np.linalg.norm(x)
     return np.column_stack([x, y, np.cross(x, y)])
+
+
+def arrows_legend_html(arrows: list[str], skipped: list[str], position: str = "fixed") -> str:
+    """The legend of a scene whose springs are all directed (arrows) or in joints (not drawn): no tension scale,
+    what the arrows are and which springs are not drawn, by name (``position`` as in
+    :meth:`~springbalance.viz.colors.ColorScale.legend_html`)."""
+    lines = []
+    if arrows:
+        swatch = f'<span style="color:#{ARROW_COLOR:06x};font-weight:bold">&#8593;</span>'
+        lines.append(f"{swatch} force along a fixed direction: {html.escape(', '.join(arrows))}")
+    if skipped:
+        lines.append(f"not drawn (they act in a joint): {html.escape(', '.join(skipped))}")
+    body = "".join(f"<div>{line}</div>" for line in lines) or "<div>no springs drawn</div>"
+    return (
+        f'<div id="springbalance-legend" style="position:{position};left:8px;top:8px;max-width:260px;padding:6px 14px;'
+        f'background:rgba(255,255,255,0.85);border-radius:4px;font:12px sans-serif;color:#222;z-index:10">{body}</div>'
+    )

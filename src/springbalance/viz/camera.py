@@ -26,6 +26,9 @@ from springbalance.viz.tracks import SpringTrack
 
 #: Field of view (vertical) of meshcat's default camera [deg].
 CAMERA_FOV = 75.0
+#: Field of view (vertical) [deg] the scene gives meshcat's camera (:func:`place_camera`): narrower than meshcat's
+#: default, from farther away, so that what is near the camera is not drawn much larger than what is far.
+SCENE_FOV = 45.0
 #: Fraction of the half field of view that the framed sphere may fill.
 CAMERA_FILL = 0.9
 
@@ -175,7 +178,7 @@ def place_camera(
     radius: float | None = None,
 ) -> None:
     """Put meshcat's camera at ``position`` [m] (world), looking at ``target`` [m] (world; default the
-    origin): the scene (``/meshcat``) is moved by ``-target``, since meshcat's orbit controls look at
+    origin), with a field of view of :data:`SCENE_FOV`: the scene (``/meshcat``) is moved by ``-target``, since meshcat's orbit controls look at
     the scene's origin. With ``floor`` [m] the grid goes to that height under the arm, and with
     ``radius`` [m] (the framed sphere's) it spans :data:`GRID_SPAN` times it."""
     target = np.zeros(3) if target is None else np.asarray(target, dtype=float)
@@ -193,3 +196,4 @@ def place_camera(
     local = np.asarray(position, dtype=float) - target
     # the camera node is rotated by +90° about x (meshcat's y-up convention): world (x, y, z) = rotated (x, z, -y)
     visualizer["/Cameras/default/rotated/<object>"].set_property("position", [local[0], local[2], -local[1]])
+    visualizer["/Cameras/default/rotated/<object>"].set_property("fov", SCENE_FOV)  # three.js applies it per render

@@ -100,7 +100,7 @@ class ColorScale:
         note = " (negative: pushing)" if compression else ""
         clearance = ""
         if clearance_margin is not None or flagged:
-            what = "red: a spring too close to the arm"
+            what = "red: the springs named below, ● where each runs into a link"
             if clearance_margin is not None:
                 what = f"red: below clearance margin ({1e3 * float(clearance_margin):.3g} mm), ● closest point"
             clearance = (

@@ -18,13 +18,15 @@ What is drawn (all lengths in m, forces in N):
   comes closer than ``m`` (or touches: distance ≤ 0) to the collision geometry of any body
   but its own two anchor bodies (the rule of :mod:`springbalance.results.clearance`), the
   spring is drawn solid red (:data:`~springbalance.viz.colors.CLEARANCE_COLOR`) instead of
-  its tension colour, a red marker sphere sits at its closest point to the arm in those frames,
+  its tension colour, a red marker sphere sits at its closest point to the arm in those frames
+  (:mod:`springbalance.viz.markers`),
   and the legend names it ("below clearance margin (m mm)"); the signed
   distances [m] per frame are :attr:`SpringTrack.clearance`. Without collision geometry the
   springs keep their tension colours;
 - springs named in ``flagged`` (the report passes the springs that run inside their own link
   beyond their anchor, :mod:`springbalance.results.own_link`) solid red in every frame, named in
-  the legend with the reason;
+  the legend with the reason, with a red marker where the spring runs inside its own link in a frame
+  (:mod:`springbalance.viz.own_link_marks`);
 - the **name of each spring** as an HTML label that follows a point just above the middle of the
   spring and is placed so that no two labels overlap (:mod:`springbalance.viz.overlay`);
 - a small sphere at each anchor, and the free region of each anchor of the original
@@ -39,8 +41,9 @@ What is drawn (all lengths in m, forces in N):
 - an animation along an ordered path of poses (by default a sweep of each joint in turn,
   :func:`springbalance.model.sweeps.animation_path`), meshcat's play/pause/time controls and a pose slider.
 
-The camera looks at the middle of the arm and its springs over the whole animation, from a
-three-quarter view, with the floor grid under the arm (:mod:`springbalance.viz.camera`).
+The camera shows the arm and its springs at the first pose as large as the view allows while every pose
+of the path stays in view, from a three-quarter view, with the floor grid under the arm
+(:mod:`springbalance.viz.framing`, :mod:`springbalance.viz.camera`).
 The end points come from the workspace kinematics (:mod:`springbalance.model.kinematics`), lengths
 and tensions from the design's own evaluation (``EvaluatedDesign.evaluate_on``).
 """
@@ -61,13 +64,16 @@ from springbalance.model import sweeps
 from springbalance.model.workspace import Workspace
 from springbalance.viz.arm import stick_figure, visual_geometry
 from springbalance.viz.arm_meshes import draw_mesh_file, drawable
-from springbalance.viz.arrows import animate_arrow, draw_arrows, force_arrows
-from springbalance.viz.camera import bounding_spheres, camera_view, floor_height, place_camera
+from springbalance.viz.arrows import animate_arrow, arrows_legend_html, draw_arrows, force_arrows
+from springbalance.viz.camera import bounding_spheres, place_camera
 from springbalance.viz.colors import CLEARANCE_COLOR, CLEARANCE_RGB, ColorScale
+from springbalance.viz.framing import best_view, view_points
 from springbalance.viz.helix import HelixStyle, placement
+from springbalance.viz.markers import MARKER_RADIUS, animate_marker, draw_marker  # noqa: F401 (MARKER_RADIUS: old home)
 from springbalance.viz.meshcat_glue import ROOT, insert_before_body_end, meshcat_classes
 from springbalance.viz.meshcat_import import import_meshcat
 from springbalance.viz.overlay import overlay_html
+from springbalance.viz.own_link_marks import add_own_link
 from springbalance.viz.parallelograms import draw_parallelograms, parallelogram_rods, place_parallelograms
 from springbalance.viz.pose_paths import scene_path
 from springbalance.viz.pose_slider import scene_slider_html
@@ -81,8 +87,6 @@ CABLE_COLOR = 0x222222
 CABLE_RADIUS = 0.0015  # [m]
 #: Side of a label's square sprite (live view) as a fraction of the camera's distance from what it frames.
 LABEL_SIZE = 0.22
-#: Radius [m] of the clearance marker beyond the spring's capsule radius.
-MARKER_RADIUS = 0.012
 #: the helix drawn when no style is given (frozen: one instance serves every scene)
 DEFAULT_HELIX = HelixStyle()
 
@@ -116,10 +120,12 @@ class DesignScene:
         compression: True when some drawn spring pushes (negative tension) in some frame.
         margin: the clearance margin [m], or None.
         clearance_note: why no clearance is drawn although a margin is set (else None).
-        camera_center, camera_radius: the sphere [m] the camera frames (:meth:`bounding_spheres`);
-        camera_target, camera_position: where the camera looks (the centre of the framed box, which
-            the scene is moved to: meshcat orbits about it) and where it stands (world, [m]). The four
-            are set by :meth:`draw`.
+        camera_center, camera_radius: a sphere [m] about the camera's target that holds the arm and its
+            springs over the whole path;
+        camera_target, camera_position: where the camera looks (the middle of the framed view, which
+            the scene is moved to: meshcat orbits about it) and where it stands (world, [m]);
+        camera_share: the share of the view's width and height the first pose covers. The five are set
+            by :meth:`draw` (:func:`~springbalance.viz.framing.best_view`).
     """
 
     def __init__(
@@ -169,10 +175,12 @@ class DesignScene:
             self.clearance_note = add_clearances(
                 self.springs, self._records, mechanism, self.configurations, self.margin, radius
             )
+        add_own_link(self.springs, self._records, mechanism, self.configurations, self.flagged)  # their markers
         self.camera_center: np.ndarray | None = None
         self.camera_radius: float | None = None
         self.camera_target: np.ndarray | None = None
         self.camera_position: np.ndarray | None = None
+        self.camera_share: tuple[float, float] | None = None
 
     @property
     def result(self) -> EvaluatedDesign:
@@ -233,6 +241,8 @@ class DesignScene:
         """The colour legend of the scene (see :meth:`ColorScale.legend_html`): the tension scale, its
         compression half only when some spring pushes, the clearance entry only when some spring is
         below the margin, and the name of every spring drawn red (:meth:`problems`)."""
+        if not self.springs:  # nothing on the tension scale: what is drawn instead
+            return arrows_legend_html([arrow.name for arrow in self.arrows], self.skipped, position)
         return self.color_scale.legend_html(
             self.compression,
             position=position,
@@ -246,10 +256,10 @@ class DesignScene:
         return self.workspace.size
 
     # ---------------------------------------------------------------- drawing
-    def draw(self, visualizer: Any, animate: bool = True, autoplay: bool = True, sprites: bool = True) -> None:
-        """Draw the scene on a ``meshcat.Visualizer`` (live or recording). ``sprites``: the name labels
-        as text sprites in the scene (the live view); the static page draws them in HTML instead
-        (:mod:`springbalance.viz.overlay`)."""
+    def draw(self, visualizer: Any, animate: bool = True, autoplay: bool = True, sprites: bool = False) -> None:
+        """Draw the scene on a ``meshcat.Visualizer`` (live or recording). ``sprites``: also the name labels as
+        text sprites in the scene, for meshcat's own viewer (they may overlap); the scene's pages, static and
+        live, draw them in HTML, apart (:meth:`labels`, :mod:`springbalance.viz.overlay`)."""
         classes = meshcat_classes()
         arm = self._arm_visualizer(visualizer)
         arm.display(self.configurations[0])
@@ -293,11 +303,7 @@ class DesignScene:
             if sprites:
                 label.set_object(meshcat_classes().TextSprite(spring.name, label_size))
             label.set_transform(placement(np.eye(3), self.label_positions(spring)[0]))
-            if spring.closest is not None and spring.below_margin is not None and np.any(spring.below_margin):
-                marker = root["markers"][spring.name]
-                radius = (spring.radius or spring.coil_radius) + MARKER_RADIUS
-                marker.set_object(mg.Sphere(radius), mg.MeshPhongMaterial(color=CLEARANCE_COLOR, opacity=0.55))
-                marker.set_transform(self._marker(spring, 0))
+            draw_marker(root, spring, mg)
             for end, positions in spring.points_by_end().items():
                 sphere = root["anchors"][f"{spring.name}.{end}"]
                 sphere.set_object(mg.Sphere(1.6 * spring.wire_radius + 0.004), mg.MeshPhongMaterial(color=ANCHOR_COLOR))
@@ -351,16 +357,6 @@ class DesignScene:
                 place_parallelograms(root, self.parallelograms, frame)
         return animation
 
-    @staticmethod
-    def _marker(spring: SpringTrack, frame: int) -> np.ndarray:
-        """Placement of the clearance marker of ``spring`` at ``frame``: at its closest point to the arm
-        where it is below the margin, shrunk to nothing (at its middle) elsewhere."""
-        below = spring.below_margin is not None and bool(spring.below_margin[frame])
-        closest = spring.closest[frame] if spring.closest is not None else np.full(3, np.nan)
-        if below and np.all(np.isfinite(closest)):
-            return placement(np.eye(3), closest)
-        return placement(1e-6 * np.eye(3), (spring.starts[frame] + spring.ends[frame]) / 2)
-
     def _animate_spring(self, root: Any, spring: SpringTrack, frame: int, helix: str, labels: np.ndarray) -> None:
         """Key frame ``frame`` of ``spring`` below ``root`` (a frame of the animation): helix placement,
         length and colour (object ``helix``), name label (at ``labels[frame]``), anchors and cable."""
@@ -369,10 +365,7 @@ class DesignScene:
         node.set_property("scale", "vector3", [1.0, 1.0, spring.length(frame)])
         node.set_property(f"{helix}.material.color", "color", list(self.rgb(spring, frame)))
         root["labels"][spring.name].set_property("position", "vector3", [float(v) for v in labels[frame]])
-        if spring.below_margin is not None and np.any(spring.below_margin) and spring.closest is not None:
-            marker = self._marker(spring, frame)
-            root["markers"][spring.name].set_property("position", "vector3", [float(v) for v in marker[:3, 3]])
-            root["markers"][spring.name].set_property("scale", "vector3", [float(marker[0, 0])] * 3)
+        animate_marker(root, spring, frame)
         for end, positions in spring.points_by_end().items():
             point = [float(v) for v in positions[frame]]
             root["anchors"][f"{spring.name}.{end}"].set_property("position", "vector3", point)
@@ -425,16 +418,24 @@ class DesignScene:
         return bounding_spheres(self.springs, self.regions, self.mechanism.model, visual_model, self.configurations)
 
     def _set_camera(self, visualizer: Any, arm: Any) -> None:
-        """Frame the arm and its springs over the whole animation (:meth:`bounding_spheres` without the
-        hidden anchor regions): look at the centre of their box from a three-quarter view, far enough
-        that all of it is in view (:func:`~springbalance.viz.camera.camera_view`); the grid under the arm."""
-        centres, radii = bounding_spheres(self.springs, [], self.mechanism.model, arm.visual_model, self.configurations)
-        center, radius, position = camera_view(centres, radii)
-        self.camera_center, self.camera_radius = center, radius
-        self.camera_target, self.camera_position = center, position
-        place_camera(visualizer, position, center, floor_height(centres, radii), radius)
+        """Frame the arm and its springs (not the hidden anchor regions): the first pose as large as the view
+        allows with every pose of the path in view, from a three-quarter view (:func:`~springbalance.viz.framing.best_view`);
+        the grid under the arm."""
+        model = self.mechanism.model
+        motion = view_points(self.springs, model, arm.visual_model, self.configurations)
+        view = best_view(motion, view_points(self.springs, model, arm.visual_model, self.configurations, slice(0, 1)))
+        self.camera_target, self.camera_position, self.camera_share = view
+        self.camera_center = view.target
+        self.camera_radius = float(np.max(np.linalg.norm(motion - view.target, axis=1)))
+        place_camera(visualizer, view.position, view.target, float(motion[:, 2].min()), self.camera_radius)
 
     # ---------------------------------------------------------------- exports
+    def labels(self) -> str:
+        """The pages' name labels, placed apart, and the anchor regions' checkbox (:func:`~springbalance.viz.overlay.overlay_html`;
+        a spring drawn red in some frame has a red label)."""
+        red = [(spring.name, any(self.red(spring, f) for f in range(self.size))) for spring in self.springs]
+        return overlay_html(red, bool(self.regions))
+
     def html(self, animate: bool = True, autoplay: bool = True, legend: bool = True) -> str:
         """Self-contained HTML page of the scene: meshcat's static page, the name labels and the regions'
         checkbox (:func:`~springbalance.viz.overlay.overlay_html`), the pose slider and the colour legend."""
@@ -442,8 +443,7 @@ class DesignScene:
         visualizer = import_meshcat().Visualizer(window=recorder)
         self.draw(visualizer, animate=animate, autoplay=autoplay, sprites=False)
         page = visualizer.static_html()
-        labels = [(spring.name, any(self.red(spring, f) for f in range(self.size))) for spring in self.springs]
-        page = insert_before_body_end(page, overlay_html(labels, bool(self.regions)) + scene_slider_html(self, animate))
+        page = insert_before_body_end(page, self.labels() + scene_slider_html(self, animate))
         if legend:
             page = insert_before_body_end(page, self.legend_html())
         return page

@@ -1,5 +1,5 @@
 """A live scene: a Meshcat server in a child process on 127.0.0.1 only (:mod:`springbalance.viz.server`), and the
-scene's own page on it (legend and pose slider, :func:`publish_scene`)."""
+scene's own page on it (legend, name labels placed apart, anchor regions' checkbox and pose slider, :func:`publish_scene`)."""
 
 from __future__ import annotations
 
@@ -120,9 +120,10 @@ def local_server(port: int | None = None) -> MeshcatServer:
 
 
 def publish_scene(server: MeshcatServer, scene: DesignScene) -> str:
-    """Serve the page of ``scene`` drawn on ``server`` (meshcat's viewer with the colour legend and the pose
-    slider, :func:`~springbalance.viz.pose_slider.live_page`) at ``/springbalance/``; returns its address."""
-    return server.publish(live_page(scene_pose_data(scene), scene.legend_html()))
+    """Serve the page of ``scene`` drawn on ``server`` (meshcat's viewer with the colour legend, the name labels
+    placed apart as on the static page, the anchor regions' checkbox and the pose slider,
+    :func:`~springbalance.viz.pose_slider.live_page`) at ``/springbalance/``; returns its address."""
+    return server.publish(live_page(scene_pose_data(scene), scene.legend_html() + scene.labels()))
 
 
 class LiveScene:

@@ -1,13 +1,17 @@
-"""What the static scene page shows over meshcat's canvas: the springs' name labels, placed so that
-they do not overlap, and the control that shows the anchor regions.
+"""What the scene's pages (the static ``scene.html`` and the live page of ``view``) show over meshcat's
+canvas: the springs' name labels, placed so that they do not overlap, and the control that shows the
+anchor regions.
 
 **Labels.** Each spring's name is an HTML element that follows a point of the scene (the node
 ``/meshcat/springbalance/labels/<name>``, which the animation moves with the spring's middle). On
 every drawn frame a small script projects each point with meshcat's camera and places the labels
 greedily, from the top of the view down: a label takes the first spot, beside its point, on rings
-of :data:`RINGS` px, that overlaps neither a label already placed nor the colour legend; a label
+of :data:`RINGS` px, that overlaps neither a label already placed nor the page's panels (colour legend,
+anchor regions' checkbox, pose slider); a label
 moved off its ring-0 spot gets a leader line to its point. Where no spot is free (a crowded view)
-the label shrinks to a dot at its point and shows its name while the pointer is over it. Each label
+the label shrinks to a dot at its point, or at the nearest free spot on rings 11 px apart (with a leader
+line; where the panels leave no free spot, the nearest spot off the other labels), and shows its name
+while the pointer is over it. Each label
 records where it is drawn (``data-box="left,top,right,bottom"`` [px], ``data-mode="label"|"dot"``),
 so a test can read the layout from the DOM.
 
@@ -67,9 +71,9 @@ _SCRIPT = """<script>
     }
     return true;
   }
-  function spots(x, y, w, h) {
+  function spots(x, y, w, h, rings) {
     var out = [];
-    RINGS.forEach(function (d) {
+    (rings || RINGS).forEach(function (d) {
       DIRS.forEach(function (o) {
         var cx = x + (o[0] ? o[0] * (d + w / 2) : 0), cy = y + (o[1] ? o[1] * (d + h / 2) : 0);
         out.push([cx - w / 2, cy - h / 2, cx + w / 2, cy + h / 2]);
@@ -88,8 +92,8 @@ _SCRIPT = """<script>
   function place() {
     var camera = viewer.camera, W = layer.clientWidth, H = layer.clientHeight;
     camera.updateMatrixWorld();
-    var taken = [];
-    ["springbalance-legend", "springbalance-controls"].forEach(function (id) {
+    var taken = [], placed = [];  // panels and labels; labels only
+    ["springbalance-legend", "springbalance-controls", "springbalance-poses"].forEach(function (id) {
       var e = document.getElementById(id);
       if (e) { var r = e.getBoundingClientRect(); taken.push([r.left, r.top, r.right, r.bottom]); }
     });
@@ -108,18 +112,25 @@ _SCRIPT = """<script>
         el.setAttribute("data-mode", "label");
       } else {
         el.classList.add("sb-dot");
-        var dots = spots(p.x, p.y, 9, 9);
+        var far = [];
+        for (var d = 6; d < W + H; d += 11) { far.push(d); }
+        var dots = spots(p.x, p.y, 9, 9, far);
         box = [p.x - 4.5, p.y - 4.5, p.x + 4.5, p.y + 4.5];
-        for (var m = 0; m < dots.length && !free(box, taken, W, H); m++) { box = dots[m]; }
+        var m = 0, fallback = null;
+        for (; m < dots.length && !free(box, taken, W, H); m++) {
+          if (fallback === null && free(box, placed, W, H)) { fallback = box; }  // off the labels, on a panel
+          box = dots[m];
+        }
+        if (!free(box, taken, W, H) && fallback !== null) { box = fallback; }
         el.setAttribute("data-mode", "dot");
       }
       el.style.left = box[0] + "px"; el.style.top = box[1] + "px";
-      taken.push(box);
+      taken.push(box); placed.push(box);
       el.setAttribute("data-box", box.map(Math.round).join(","));
-      var far = chosen >= DIRS.length || el.classList.contains("sb-dot");
+      var moved = chosen >= DIRS.length || el.classList.contains("sb-dot");
       var lx = Math.min(Math.max(p.x, box[0]), box[2]), ly = Math.min(Math.max(p.y, box[1]), box[3]);
       item.line.setAttribute("x1", p.x); item.line.setAttribute("y1", p.y);
-      item.line.setAttribute("x2", far ? lx : p.x); item.line.setAttribute("y2", far ? ly : p.y);
+      item.line.setAttribute("x2", moved ? lx : p.x); item.line.setAttribute("y2", moved ? ly : p.y);
     });
   }
   function regions() {

@@ -6,6 +6,8 @@ origin ``p_a`` to the next one's ``p_b`` (a side that the arm's link provides), 
 opposite bar ``p_a + u → p_b + u`` and the two cranks ``p_a → p_a + u`` and ``p_b → p_b + u``, with ``u`` a
 vector fixed in the world (:data:`CRANK` [m] up, longer for each further pseudo-base so that they do not overlap):
 the cranks are world-oriented, as the pseudo-bases are. Each rod is a thin cylinder placed per animation frame.
+A pseudo-base that keeps only the vertical (``keep: vertical``) needs no parallelogram across the arm's leading
+vertical-axis joints (its chain does not undo them): its path starts at the first joint its chain undoes.
 """
 
 from __future__ import annotations
@@ -32,7 +34,7 @@ def parallelogram_rods(mechanism: Mechanism, configurations: np.ndarray) -> dict
     """Per pseudo-base body, its rods over the poses: F×R×2×3 (start and end [m], world) for R rods."""
     model = mechanism.model
     data = model.createData()
-    ids = {base.body: _joint_path(model, base.joint) for base in mechanism.pseudo_bases}
+    ids = {base.body: _joint_path(model, base.joint, base.body) for base in mechanism.pseudo_bases}
     rods = {body: np.zeros((len(configurations), 3 * (len(path) - 1), 2, 3)) for body, path in ids.items()}
     for frame, q in enumerate(configurations):
         pin.forwardKinematics(model, data, q)
@@ -48,12 +50,14 @@ def parallelogram_rods(mechanism: Mechanism, configurations: np.ndarray) -> dict
     return rods
 
 
-def _joint_path(model: pin.Model, joint: str) -> list[int]:
-    """The moving joints from the root to ``joint`` (its ancestors, then itself), as Pinocchio joint ids."""
+def _joint_path(model: pin.Model, joint: str, body: str) -> list[int]:
+    """The moving joints from the root to ``joint`` that the chain of pseudo-base ``body`` undoes (its ancestors
+    with a mimic joint ``<body>__undo_<name>``), then ``joint`` itself, as Pinocchio joint ids."""
     path = [model.getJointId(joint)]
     while model.parents[path[0]] > 0:
         path.insert(0, model.parents[path[0]])
-    return path
+    names = set(model.names)
+    return [index for index in path[:-1] if f"{body}__undo_{model.names[index]}" in names] + path[-1:]
 
 
 def _transform(rod: np.ndarray) -> np.ndarray:

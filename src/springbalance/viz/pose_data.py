@@ -8,8 +8,10 @@ come from):
 - ``q[i][j]``: joint ``j``'s coordinate, in degrees for a revolute or continuous joint, in mm for a
   prismatic one (the units people read);
 - ``force[i][s]``: spring ``s``'s generalised force, its tension ``F(L)`` [N] (negative when it pushes)
-  for a two-point spring, its torque [N·m] for a torsional one;
-- ``length[i][s]``: a two-point spring's length ``L`` [mm] (a torsional spring's joint angle [deg]);
+  for a two-point spring, its force along its direction [N] for a directed one, its torque [N·m] for a
+  torsional one;
+- ``length[i][s]``: a two-point spring's length ``L`` [mm] (a directed spring's stroke ``s`` [mm], a
+  torsional spring's joint angle [deg]);
 - ``tau[i][j]``: the residual actuator torque ``τ_j(q_i) = g_j(q_i) − Σ_s τ_{s,j}(q_i)`` [N·m or N]
   that the actuator still has to give (gravity less the springs' torques, docs/model.md §2);
 - ``gravity[i][j]``: the unbalanced gravity torque ``g_j(q_i)`` [N·m or N], for comparison.
@@ -31,6 +33,7 @@ from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.design.problem import Evaluation
 from springbalance.model.workspace import Workspace
 from springbalance.springs.laws import TwoPointSpring
+from springbalance.springs.laws.directed import DirectedSpring
 
 #: significant digits of the embedded numbers
 DIGITS = 6
@@ -93,16 +96,17 @@ def pose_data(
         scales.append(1e3 if prismatic else 180.0 / math.pi)
     springs, length_scales = [], []
     for spring, record in zip(design.problem.springs, design.springs):
-        two_point = isinstance(spring, TwoPointSpring)  # a tension along a length; else a torque at a joint angle
+        # a tension along a length, or a force along a stroke; else a torque at a joint angle
+        linear = isinstance(spring, (TwoPointSpring, DirectedSpring))
         springs.append(
             {
                 "name": str(record["name"]),
                 "type": str(record["type"]),
-                "force_unit": "N" if two_point else "N·m",
-                "length_unit": "mm" if two_point else "deg",
+                "force_unit": "N" if linear else "N·m",
+                "length_unit": "mm" if linear else "deg",
             }
         )
-        length_scales.append(1e3 if two_point else 180.0 / math.pi)
+        length_scales.append(1e3 if linear else 180.0 / math.pi)
     kinematics = workspace.kinematics()
     return PoseData(
         fps=float(fps),

@@ -43,6 +43,10 @@ class SpringTrack:
             spring is drawn red there), or None when no clearance is checked.
         closest: per pose, the world point [m] halfway between the spring's capsule and the nearest
             collision object (N×3; NaN where nothing is checked), or None.
+        inside: per pose, how deep [m] the spring's centre line runs inside its own anchor bodies beyond its
+            anchors (0 where it does not), or None when that is not checked (:mod:`springbalance.viz.own_link_marks`).
+        inside_point: per pose, the world point [m] halfway between the deepest point of that centre line and
+            the body's surface nearest it (N×3; NaN where it does not run inside), or None.
     """
 
     name: str
@@ -65,6 +69,8 @@ class SpringTrack:
     clearance: np.ndarray | None = None
     below_margin: np.ndarray | None = None
     closest: np.ndarray | None = None
+    inside: np.ndarray | None = None
+    inside_point: np.ndarray | None = None
     #: a routed spring's cable per pose (N×K×3) [m]: the spring's moving end, the pulleys, the cable's end
     cable: np.ndarray | None = None
     #: world position per pose (N×3) [m] of every point of the spring's path by end name (a, via1 …, b)

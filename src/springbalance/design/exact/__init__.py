@@ -46,6 +46,8 @@ The modules: :mod:`~springbalance.design.exact.chain` (:class:`PlanarChain`), :m
 (:func:`residual_blocks`, :func:`count_check`), :mod:`~springbalance.design.exact.synthesis` (:func:`synthesize`),
 :mod:`~springbalance.design.exact.multilinear` (:func:`spatial_coefficients`),
 :mod:`~springbalance.design.exact.stiffness_fit` (:func:`fit_stiffnesses`),
+:mod:`~springbalance.design.exact.anchor_fit` (anchors in boxes and stiffnesses fitted to exact balance: the screen
+of ``explore``'s fewest-springs search; import it from there),
 :mod:`~springbalance.design.exact.spatial_tree` (pair matrices), :mod:`~springbalance.design.exact.spatial_blocks`
 (one pair at a time) and :mod:`~springbalance.design.exact.spatial_synthesis` (:func:`synthesize_spatial`,
 :func:`spatial_reachability`).

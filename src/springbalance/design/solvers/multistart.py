@@ -15,6 +15,7 @@ import numpy as np
 from threadpoolctl import threadpool_limits
 
 from springbalance.design.evaluation import Evaluation
+from springbalance.design.solvers.floors import lowered_floors
 from springbalance.design.solvers.ipopt import IpoptStarts
 from springbalance.design.solvers.least_squares import LeastSquaresStarts
 from springbalance.design.solvers.pool import _pool_workers, _StartRunner, check_workers
@@ -347,6 +348,7 @@ class _MultiStartSolver(LeastSquaresStarts, IpoptStarts):
             )
         if evaluation is None:
             evaluation = problem.evaluate(problem.scale(z))
+        evaluation = self._floors_lowered(evaluation)
         tiebreak = problem.objective.tiebreak(
             evaluation.tau * problem.weights, evaluation.potential, problem.path_steps
         )
@@ -409,6 +411,18 @@ class _MultiStartSolver(LeastSquaresStarts, IpoptStarts):
             return z, status, iterations, None, evaluation
         z, status, more, nlp_lam_g = self._ipopt_solve(z, evaluation, multipliers=multipliers)
         return z, status, iterations + more, nlp_lam_g, None
+
+    def _floors_lowered(self, evaluation: Evaluation) -> Evaluation:
+        """``evaluation``, or the design with its coils' fatigue floors lowered to their least forces
+        (:func:`~springbalance.design.solvers.floors.lowered_floors`) when that is less violated: only a start
+        that ends outside the rows is touched."""
+        if self._violation(evaluation) <= FEASIBILITY_TOLERANCE:
+            return evaluation
+        lowered = lowered_floors(self.problem, evaluation)
+        if lowered is None:
+            return evaluation
+        trial = self.problem.evaluate(lowered)
+        return trial if self._violation(trial) < self._violation(evaluation) else evaluation
 
     def _violation(self, evaluation: Evaluation) -> float:
         """The largest violation of a constraint row or a linear row [m or N] of an evaluated design."""

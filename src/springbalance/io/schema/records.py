@@ -34,6 +34,7 @@ from springbalance.io.schema.fields import (
     WorkspaceKind,
     at_most_one,
     by_shape,
+    choice,
     exactly_one,
     expect,
     optional,
@@ -172,6 +173,13 @@ class ClearanceRecord(Record, title="Clearance"):
     )
 
 
+#: what a pseudo-base keeps of the world's orientation (springbalance.model.pseudo_bases.KEEPS)
+if TYPE_CHECKING:
+    Keep = Literal["orientation", "vertical"]
+else:
+    Keep = choice(("orientation", "vertical"), "keep")
+
+
 class PseudoBaseRecord(Record, title="PseudoBase"):
     """A pseudo-base ``pb_<joint>`` at a joint's origin, keeping the world's orientation (docs/model.md §1.1)."""
 
@@ -179,6 +187,11 @@ class PseudoBaseRecord(Record, title="PseudoBase"):
     mass: NonNegative = Field(0.0, description="mass [kg] of the pseudo-base and the parallelograms realising it")
     com: Vector3 = Field(
         [0.0, 0.0, 0.0], description="its centre of mass [m], world-aligned axes at the joint's origin"
+    )
+    keep: Keep = Field(
+        "orientation",
+        description="orientation: keep the world's orientation; vertical: keep only the world's z axis (turning "
+        "with the arm's leading vertical-axis joints, fewer mimic joints)",
     )
 
 
