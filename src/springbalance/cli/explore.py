@@ -120,8 +120,8 @@ def _print_summary(study: Study, result: StudyResult, out: Path) -> None:
         f"{len(summary['degenerate'])} degenerate; {len(result.dominated)} dominated; solved "
         f"{len(result.solved)} now, {result.resumed} from an earlier run"
     )
-    for line in study.search.counts.values() if study.search is not None else []:
-        print(f"  screened {line.describe()} ({line.seconds:.1f} s)")
+    for screened in study.search.counts.values() if study.search is not None else []:
+        print(f"  screened {screened.describe()} ({screened.seconds:.1f} s)")
     for count, record in result.best().items():
         print(
             f"  best with {count} spring(s): {' + '.join(record['springs'])}  residual "
@@ -130,10 +130,10 @@ def _print_summary(study: Study, result: StudyResult, out: Path) -> None:
             f"{'  FAILS: ' + ', '.join(record['failures']) if record.get('ok') is False else ''}"
             f"  -> {out / f'best_{count}_springs.json'}"
         )
-    for line in proposal_lines(
+    for proposal in proposal_lines(
         json.loads((out / "study.json").read_text(encoding="utf-8")).get("pseudo_base_proposals", [])
     ):
-        print(line)
+        print(proposal)
     print(f"report: {out / 'report.html'}")
 
 
