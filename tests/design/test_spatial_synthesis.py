@@ -145,3 +145,21 @@ def test_the_ur5_wrist_needs_a_spring_across_wrist_1():
     verdict = test.verdict([("shoulder_link", "forearm_link"), ("upper_arm_link", "forearm_link")])
     assert verdict.unreachable and "wrist_1_joint" in verdict.reason
     assert not test.verdict([("shoulder_link", "wrist_1_link")]).unreachable
+
+
+def test_three_ground_springs_with_anchors_in_boxes_balance_the_ur5():
+    # the topology explore's fewest-springs search finds on the UR5: the ground to the forearm, wrist 1 and
+    # wrist 2, every anchor free in a ±0.3 m box of its link's frame; checked by Pinocchio's potential alone
+    ur5 = sb.Mechanism.from_robot("ur5")
+    box = ((-0.3, -0.3, -0.3), (0.3, 0.3, 0.3))
+    links = ("forearm_link", "wrist_1_link", "wrist_2_link")
+    ends = [exact.SpringEnds("universe", box, link, box) for link in links]
+    fit, springs = exact.synthesize_in_boxes(ur5, ends, stiffness=(0.0, 5000.0), names=list(links))
+    assert fit.relative < exact.SPATIAL_EXACT
+    assert [s.name for s in springs] == list(links)
+    for spring in springs:
+        for end in ("a", "b"):
+            assert np.all(np.abs(spring.anchors[end].point) <= 0.3 + 1e-12)
+        assert 0.0 <= float(spring.parameters["stiffness"]) <= 5000.0
+    assert _worst_torque_ratio(ur5, springs) < 1e-7
+

@@ -46,8 +46,8 @@ The modules: :mod:`~springbalance.design.exact.chain` (:class:`PlanarChain`), :m
 (:func:`residual_blocks`, :func:`count_check`), :mod:`~springbalance.design.exact.synthesis` (:func:`synthesize`),
 :mod:`~springbalance.design.exact.multilinear` (:func:`spatial_coefficients`),
 :mod:`~springbalance.design.exact.stiffness_fit` (:func:`fit_stiffnesses`),
-:mod:`~springbalance.design.exact.anchor_fit` (anchors in boxes and stiffnesses fitted to exact balance: the screen
-of ``explore``'s fewest-springs search; import it from there),
+:mod:`~springbalance.design.exact.anchor_fit` (:func:`synthesize_in_boxes`: a given topology's anchors in their boxes and
+stiffnesses fitted to exact balance, the screen of ``explore``'s fewest-springs search),
 :mod:`~springbalance.design.exact.spatial_tree` (pair matrices), :mod:`~springbalance.design.exact.spatial_blocks`
 (one pair at a time) and :mod:`~springbalance.design.exact.spatial_synthesis` (:func:`synthesize_spatial`,
 :func:`spatial_reachability`).
@@ -56,6 +56,7 @@ This package re-exports their public names.
 
 from __future__ import annotations
 
+from springbalance.design.exact.anchor_fit import AnchorFit, SpringEnds, synthesize_in_boxes
 from springbalance.design.exact.blocks import BalanceBlocks, CountCheck, count_check, residual_blocks
 from springbalance.design.exact.chain import PlanarChain
 from springbalance.design.exact.multilinear import SPATIAL_EXACT, SpatialCoefficients, spatial_coefficients
@@ -70,6 +71,9 @@ from springbalance.design.exact.stiffness_fit import StiffnessFit, fit_stiffness
 from springbalance.design.exact.synthesis import EXACT_TOLERANCE, ExactBalanceUnreachable, ExactSynthesis, synthesize
 
 __all__ = [
+    "AnchorFit",
+    "SpringEnds",
+    "synthesize_in_boxes",
     "EXACT_TOLERANCE",
     "BalanceBlocks",
     "CountCheck",

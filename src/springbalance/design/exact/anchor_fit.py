@@ -298,3 +298,25 @@ def fit_anchors(
             break
     assert best is not None
     return best
+
+
+def synthesize_in_boxes(
+    mechanism: Mechanism,
+    ends: Sequence[SpringEnds],
+    stiffness: tuple[float, float] = (0.0, np.inf),
+    draws: int = 4,
+    seed: int = 0,
+    names: Sequence[str] | None = None,
+) -> tuple[AnchorFit, list[ZeroFreeLengthSpring]]:
+    """Zero-free-length springs of a given topology with their anchors in their boxes, fitted to exact balance.
+
+    ``ends`` names each spring's two bodies and the box [m] (lower, upper corner, link frame) its anchor
+    may take on each; ``stiffness`` bounds every rate [N/m]. This is :func:`fit_anchors` on the arm's
+    exact coefficients (:class:`CoefficientSystem`): ``fit.relative`` is the largest non-constant
+    coefficient left over gravity's largest, so the design is exact when it is at most
+    :data:`~springbalance.design.exact.multilinear.SPATIAL_EXACT`; a larger one is a design *not found*,
+    not a proof (:func:`~springbalance.design.exact.spatial_reachability` proves). Returns the fit and the
+    springs (named ``names``, default ``zfl1`` …)."""
+    ends = list(ends)
+    fit = fit_anchors(CoefficientSystem(mechanism), ends, stiffness=stiffness, draws=draws, seed=seed)
+    return fit, fit.springs(ends, names)
