@@ -162,4 +162,3 @@ def test_three_ground_springs_with_anchors_in_boxes_balance_the_ur5():
             assert np.all(np.abs(spring.anchors[end].point) <= 0.3 + 1e-12)
         assert 0.0 <= float(spring.parameters["stiffness"]) <= 5000.0
     assert _worst_torque_ratio(ur5, springs) < 1e-7
-
