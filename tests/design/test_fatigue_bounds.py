@@ -14,16 +14,14 @@ from __future__ import annotations
 
 import json
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 import springbalance as sb
+from duty_helpers import duty_coil_problem
 from springbalance.design.solvers import solve_problem
 
-URDF = Path(__file__).resolve().parents[2] / "urdf"
-RANGES = {"shoulder": [-np.pi / 2, np.pi / 2], "elbow": [-2.0, 2.0]}
 #: the start: a stiff, long coil anchored far from where the optimum puts it (physical units)
 START = {"forearm.a.x": 0.0, "forearm.a.z": 0.25, "forearm.b.x": 0.21, "forearm.initial_tension": 1000.0}
 
@@ -58,15 +56,7 @@ def shigley_factors(d: float, D: float, low: float, high: float) -> dict[str, fl
 
 @pytest.mark.slow
 def test_the_optimum_meets_fatigue_over_every_sample_when_the_extreme_samples_moved():
-    arm = sb.Mechanism.from_urdf(URDF / "two_link_planar.urdf")
-    coil = sb.HelicalExtensionSpring(
-        sb.Anchor("universe", sb.Free([-0.3, 0, -0.1], [0.3, 0, 0.6])),
-        sb.Anchor("link2", sb.Free([0.02, 0, 0], [0.4, 0, 0])),
-        "forearm",
-        max_outer_diameter=0.04,
-        duty={"cycles": 1e6},
-    )
-    problem = sb.DesignProblem(arm, sb.Workspace.sobol(arm, n=16, ranges=RANGES, seed=0), [coil])
+    problem = duty_coil_problem(16)
     names = problem.variables.names
     start = np.array([START.get(name, value) for name, value in zip(names, problem.variables.start)])
     solution = solve_problem(problem, starts=1, initial=start, progress=False)
@@ -89,15 +79,7 @@ def test_the_optimum_meets_fatigue_over_every_sample_when_the_extreme_samples_mo
 def test_a_design_saved_without_the_fatigue_ceiling_loads_with_its_largest_force(tmp_path):
     """A design file written before a coil had its ceiling variable (``<name>.fatigue_max_force``) still loads:
     the ceiling is the design's largest force over the samples, every saved value is kept."""
-    arm = sb.Mechanism.from_urdf(URDF / "two_link_planar.urdf")
-    coil = sb.HelicalExtensionSpring(
-        sb.Anchor("universe", sb.Free([-0.3, 0, -0.1], [0.3, 0, 0.6])),
-        sb.Anchor("link2", sb.Free([0.02, 0, 0], [0.4, 0, 0])),
-        "forearm",
-        max_outer_diameter=0.04,
-        duty={"cycles": 1e6},
-    )
-    problem = sb.DesignProblem(arm, sb.Workspace.sobol(arm, n=8, ranges=RANGES, seed=0), [coil])
+    problem = duty_coil_problem(8)
     names = problem.variables.names
     x = np.array([START.get(name, value) for name, value in zip(names, problem.variables.start)])
     x[names.index("forearm.fatigue_min_force")] = 123.0

@@ -3,30 +3,18 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 
 import springbalance as sb
+from duty_helpers import duty_coil_problem
 from springbalance.design.solvers.floors import lowered_floors
 from springbalance.design.solvers.records import FEASIBILITY_TOLERANCE
-
-URDF = Path(__file__).resolve().parents[2] / "urdf"
-RANGES = {"shoulder": [-np.pi / 2, np.pi / 2], "elbow": [-2.0, 2.0]}
 
 
 @pytest.fixture(scope="module")
 def solved():
-    arm = sb.Mechanism.from_urdf(URDF / "two_link_planar.urdf")
-    coil = sb.HelicalExtensionSpring(
-        sb.Anchor("universe", sb.Free([-0.3, 0, -0.1], [0.3, 0, 0.6])),
-        sb.Anchor("link2", sb.Free([0.02, 0, 0], [0.4, 0, 0])),
-        "forearm",
-        max_outer_diameter=0.04,
-        duty={"cycles": 1e6},
-    )
-    problem = sb.DesignProblem(arm, sb.Workspace.sobol(arm, n=8, ranges=RANGES, seed=0), [coil])
+    problem = duty_coil_problem(8)
     return problem, sb.solve(problem, starts=1, verify="off", progress=False)
 
 
