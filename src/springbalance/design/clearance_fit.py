@@ -13,11 +13,11 @@ from typing import Any, Iterable, Iterator, TypeAlias
 import numpy as np
 
 from springbalance.design.clearance import Clearance, FitRecord, LinearRows, stacked_rows
+from springbalance.design.clearance_round import INFEASIBLE_ROUNDS, fall_back, fell_back, solve_round
 from springbalance.design.clearance_rows import _ends_of, _mount_errors, _radius, _rows, mount_planes
 from springbalance.design.mounts import MOUNT_ACCEPT
 from springbalance.design.problem import DesignProblem
-from springbalance.design.solvers import Solution, solve_problem
-from springbalance.errors import SolverError
+from springbalance.design.solvers import Solution
 from springbalance.model.collision import (
     DEFAULT_RADIUS,
     CollisionScene,
@@ -330,12 +330,16 @@ def fit_from_starts(
 ) -> tuple[Solution, FitRecord, DesignProblem]:
     """:func:`fit_to_arm` from the :attr:`Clearance.starts` best feasible designs of the multi-start
     (``solution.starts``, distinct, best first); keeps the converged fit of lowest objective (else the
-    first). Returns it with the problem that carries its rows."""
+    first). When none converged and a fitting round stopped infeasible, the next ranked designs are fitted
+    too, up to :data:`~springbalance.design.clearance_round.FALLBACK_STARTS` more, until one converges. Returns the fit kept with the problem
+    that carries its rows."""
     count = problem.clearance.starts if problem.clearance is not None else 1
     records = sorted((record for record in solution.starts if record.feasible), key=lambda record: record.objective)
-    others = [record for record in records if not np.array_equal(record.x, solution.x)][: count - 1]
-    fits = []  # each from the problem as given (with the mounting rows of the multi-start, if any)
-    for x in [solution.x] + [record.x for record in others]:
+    others = [record for record in records if not np.array_equal(record.x, solution.x)]
+    fits: list[tuple[Solution, FitRecord, DesignProblem]] = []  # each from the problem as given
+    for index, x in enumerate([solution.x] + [record.x for record in others]):
+        if index >= count and not fall_back(fits, index - count):
+            break
         start = Solution(np.array(x, dtype=float), solution.starts, solution.method, solution.seed, solution.status)
         fits.append(fit_to_arm(problem, start, kept, **solve_options))
     converged = [fit for fit in fits if fit[1].converged] or fits[:1]
@@ -345,25 +349,6 @@ def fit_from_starts(
         record.rounds = sum(fit[1].rounds for fit in fits)
         record.seconds = sum(fit[1].seconds for fit in fits)
     return fitted, record, fitted_problem
-
-
-def _round(problem: DesignProblem, x: np.ndarray, solution: Solution, solve_options: dict[str, Any]) -> Solution | None:
-    """One warm start of ``problem`` (with this round's rows) from ``x``. When the linearised rows cannot all be
-    met from there, the least violating iterate (the next round rebuilds the rows there; the record says if it
-    never clears); None when the solver returned no iterate at all."""
-    try:
-        return solve_problem(problem, starts=1, initial=x, progress=False, **solve_options)
-    except SolverError as error:
-        if not error.starts:
-            return None
-        least = min(error.starts, key=lambda record: record.max_violation)
-        return Solution(
-            least.x,
-            solution.starts,
-            solution.method,
-            solution.seed,
-            f"{solution.status}; a fitting round stopped infeasible ({least.status})",
-        )
 
 
 def fit_to_arm(
@@ -384,7 +369,7 @@ def fit_to_arm(
     geometry = collision_geometry(problem.mechanism) if problem.mounts else None
     watched: set[Key] = set()
     planes = mount_planes(problem, np.asarray(problem.variables.start, dtype=float)) if problem.mounts else {}
-    rounds, converged = 0, False
+    rounds, converged, stopped = 0, False, 0  # stopped: rounds in a row that stopped infeasible
     closest: dict[str, float] = {}
     mounts: dict[str, float] = {}
     limit = clearance.rounds if clearance is not None else 12
@@ -397,25 +382,47 @@ def fit_to_arm(
             converged = not below and mounted
         else:
             new, converged = [], mounted
-        if converged or rounds >= limit:
+        if not stopped:  # x met its rows: the design to fall back to
+            met = (x, solution, problem, closest, mounts, rounds)
+        converged = converged and not stopped  # a design that broke its rows is no fit
+        if converged or rounds >= limit or stopped >= INFEASIBLE_ROUNDS:
             break
         watched.update(new)
         object_cuts, spring_cuts = checker.cuts(x, watched) if checker is not None else ([], [])
         planes = mount_planes(problem, x, planes)
         problem = problem.with_linear_rows(stacked_rows(kept, _rows(problem, x, object_cuts, spring_cuts, planes)))
-        resolved = _round(problem, x, solution, solve_options)
+        resolved, note = solve_round(problem, x, solution, solve_options)
         if resolved is None:
             break
+        stopped = stopped + 1 if note else 0
         solution = resolved
         x = np.array(solution.x, dtype=float)
         rounds += 1
+    if stopped:  # the last round broke its rows: back to the last design that met them (it is not clear)
+        x, solution, problem, closest, mounts = fell_back(*met, note)
+    return _finished(problem, solution, x, rounds, bool(converged), float(before), closest, mounts, checker, clock)
+
+
+def _finished(
+    problem: DesignProblem,
+    solution: Solution,
+    x: np.ndarray,
+    rounds: int,
+    converged: bool,
+    before: float,
+    closest: dict[str, float],
+    mounts: dict[str, float],
+    checker: _Checker | None,
+    clock: float,
+) -> tuple[Solution, FitRecord, DesignProblem]:
+    """The fit's solution at ``x``, its :class:`FitRecord` (``clock``: when the loop started) and ``problem``."""
     objective = problem.objective_value(problem.evaluate(x))
     poses = sum(len(poses) for poses in checker.pose_sets) if checker is not None else 0
     record = FitRecord(
         rounds,
         len(problem.linear_rows) if problem.linear_rows is not None else 0,
-        bool(converged),
-        float(before),
+        converged,
+        before,
         float(objective),
         {k: float(v) for k, v in closest.items()},
         {k: float(v) for k, v in mounts.items()},

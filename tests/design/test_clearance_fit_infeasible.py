@@ -1,0 +1,152 @@
+"""A fitting round of the clearance loop that stops infeasible is never the fit's design (issue 27).
+
+The arm and springs are those of tests/design/test_clearance_constraint.py (two-link planar arm with
+collision boxes, a ground→link1 and a link1→link2 zero-free-length spring whose anchors may leave the
+arm's plane by 0.1 m). The fit starts from the in-plane optimum, whose first spring passes through link2.
+
+IPOPT stopping a round infeasible is made deterministic here: the solver of the rounds is wrapped so that
+its first rounds raise the :class:`SolverError` IPOPT's infeasible stop raises, carrying as least
+violating iterate a design that is clear of the arm (every anchor 0.1 m out of the arm's plane, where the
+0.04 m thick links cannot reach a 0.01 m capsule) but breaks a bound: the first spring's stiffness is
+-50 N/m, below its bound 0. Before the fix, the loop found that design clear and returned it as
+converged.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import springbalance as sb
+from springbalance.design import clearance_round
+from springbalance.design.clearance_fit import fit_from_starts, fit_to_arm
+from springbalance.design.solvers import Solution
+from springbalance.design.solvers.records import StartRecord
+from springbalance.errors import SolverError
+
+URDF = Path(__file__).resolve().parents[2] / "urdf"
+OPTIONS = {"method": "auto", "max_iterations": 100, "tolerance": 1e-8, "polish_iterations": None}
+MARGIN = 0.005
+
+
+def springs(width: float) -> list[sb.ZeroFreeLengthSpring]:
+    """A ground→link1 spring and a link1→link2 spring; the anchors may leave the arm's plane by ``width`` [m]."""
+    return [
+        sb.ZeroFreeLengthSpring(
+            sb.Anchor("universe", sb.Free([-0.1, -width, 0.2], [0.1, width, 0.4], init=[0, 0, 0.3])),
+            sb.Anchor("link1", sb.Free([0.3, -width, -0.05], [0.5, width, 0.05], init=[0.4, 0, 0])),
+            stiffness=sb.Free(0, 5000),
+            name="s1",
+        ),
+        sb.ZeroFreeLengthSpring(
+            sb.Anchor("link1", sb.Free([-0.1, -width, -0.1], [0.45, width, 0.1], init=[0.2, 0, 0])),
+            sb.Anchor("link2", sb.Free([0.02, -width, -0.05], [0.4, width, 0.05], init=[0.2, 0, 0])),
+            stiffness=sb.Free(0, 5000),
+            name="s2",
+        ),
+    ]
+
+
+@pytest.fixture(scope="module")
+def problem():
+    arm = sb.Mechanism.from_urdf(URDF / "two_link_planar_collision.urdf")
+    workspace = sb.Workspace.sobol(arm, n=128, seed=0)
+    in_plane = sb.solve(sb.DesignProblem(arm, workspace, springs(0.0)), starts=4)
+    clearance = sb.Clearance(margin=MARGIN, check_samples=64)
+    fitted = sb.DesignProblem(arm, workspace, springs(0.1), clearance=clearance)
+    start = np.array([in_plane.variables.get(name, 0.0) for name in fitted.variables.names])
+    return fitted, start
+
+
+def broken(problem: sb.DesignProblem, x: np.ndarray) -> np.ndarray:
+    """``x`` with every anchor 0.1 m out of the arm's plane (clear of it) and s1's stiffness -50 N/m."""
+    names = problem.variables.names
+    out = np.array(x, dtype=float)
+    for index, name in enumerate(names):
+        if name.endswith(".y"):
+            out[index] = 0.1
+    out[names.index("s1.stiffness")] = -50.0
+    return out
+
+
+def stopping(monkeypatch: pytest.MonkeyPatch, rounds: int) -> list[np.ndarray]:
+    """Make the first ``rounds`` fitting rounds stop infeasible; returns the iterates they reported."""
+    real = clearance_round.solve_problem
+    reported: list[np.ndarray] = []
+
+    def solve(problem: sb.DesignProblem, **options):
+        if len(reported) >= rounds:
+            return real(problem, **options)
+        x = broken(problem, options["initial"])
+        reported.append(x)
+        objective = float(problem.objective_value(problem.evaluate(x)))
+        record = StartRecord(0, x, x, objective, 50.0, "ipopt: Infeasible_Problem_Detected", 12, 0.0)
+        raise SolverError("no start met the rows", problem, [record])
+
+    monkeypatch.setattr(clearance_round, "solve_problem", solve)
+    return reported
+
+
+def within_bounds(problem: sb.DesignProblem, x: np.ndarray) -> bool:
+    lower, upper = np.array(problem.variables.lower), np.array(problem.variables.upper)
+    return bool(np.all(x >= lower - 1e-9) and np.all(x <= upper + 1e-9))
+
+
+def test_the_broken_design_is_clear_and_out_of_bounds(problem):
+    """The premise: the reported iterate would pass the clearance check, yet it is no design."""
+    fitted, start = problem
+    x = broken(fitted, start)
+    assert not within_bounds(fitted, x)
+    for row in sb.DesignResult(fitted, x).clearance(samples=256).rows:
+        assert row.distance >= MARGIN
+
+
+def test_a_round_that_stops_infeasible_is_not_returned(problem, monkeypatch):
+    """One round stops infeasible; the loop goes on from its iterate and returns a design within bounds."""
+    fitted, start = problem
+    reported = stopping(monkeypatch, 1)
+    solution, fit, rows = fit_to_arm(fitted, Solution(start, [], "auto", 0, "given"), **OPTIONS)
+    assert len(reported) == 1
+    assert not np.allclose(solution.x, reported[0])
+    assert within_bounds(fitted, solution.x)
+    assert rows.evaluate(solution.x).max_violation <= 1e-6
+    if fit.converged:
+        for row in sb.DesignResult(fitted, solution.x, fit=fit).clearance(samples=256).rows:
+            assert row.distance >= MARGIN
+
+
+def test_rounds_that_keep_stopping_fall_back_and_say_not_converged(problem, monkeypatch):
+    """Every round stops infeasible: the fit falls back to the start (round 0, through link2) and is not
+    converged, and says so."""
+    fitted, start = problem
+    reported = stopping(monkeypatch, 10**6)
+    solution, fit, rows = fit_to_arm(fitted, Solution(start, [], "auto", 0, "given"), **OPTIONS)
+    assert len(reported) == clearance_round.INFEASIBLE_ROUNDS
+    assert not fit.converged
+    np.testing.assert_array_equal(solution.x, start)
+    assert rows.linear_rows is None  # the start's problem: no rows yet
+    assert "fell back to the design of round 0" in solution.status and "NOT converged" in solution.status
+
+
+def test_the_fit_moves_on_to_the_next_start_when_the_first_one_fails(problem, monkeypatch):
+    """clearance.starts = 1, the best start's rounds stop infeasible: the next ranked design of the
+    multi-start is fitted (with the real solver) and its converged fit is the answer."""
+    fitted, start = problem
+    second = np.array(start)
+    names = fitted.variables.names
+    for index, name in enumerate(names):
+        if name.endswith(".y"):
+            second[index] = 0.05 if name.startswith("s1") else -0.05  # out of the plane, each on its side
+    records = [
+        StartRecord(i, x, x, float(fitted.objective_value(fitted.evaluate(x))) + i, 0.0, "ipopt: Solve_Succeeded", 9, 0.0)
+        for i, x in enumerate([start, second])
+    ]
+    stopping(monkeypatch, clearance_round.INFEASIBLE_ROUNDS)
+    solution, fit, rows = fit_from_starts(fitted, Solution(start, records, "auto", 0, "given"), **OPTIONS)
+    assert fit.starts == 2 and fit.converged
+    assert within_bounds(fitted, solution.x)
+    assert rows.evaluate(solution.x).max_violation <= 1e-6
+    for row in sb.DesignResult(fitted, solution.x, fit=fit).clearance(samples=256).rows:
+        assert row.distance >= MARGIN
