@@ -140,7 +140,9 @@ def test_the_fit_moves_on_to_the_next_start_when_the_first_one_fails(problem, mo
         if name.endswith(".y"):
             second[index] = 0.05 if name.startswith("s1") else -0.05  # out of the plane, each on its side
     records = [
-        StartRecord(i, x, x, float(fitted.objective_value(fitted.evaluate(x))) + i, 0.0, "ipopt: Solve_Succeeded", 9, 0.0)
+        StartRecord(
+            i, x, x, float(fitted.objective_value(fitted.evaluate(x))) + i, 0.0, "ipopt: Solve_Succeeded", 9, 0.0
+        )
         for i, x in enumerate([start, second])
     ]
     stopping(monkeypatch, clearance_round.INFEASIBLE_ROUNDS)
