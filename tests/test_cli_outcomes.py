@@ -66,12 +66,14 @@ def test_partial_saves_a_marked_file_and_evaluate_exits_3(tmp_path, capsys):
 
 
 def test_an_unconverged_fit_is_a_failure_of_the_command(tmp_path, capsys):
-    # asked to keep 5 mm from the arm in one round, with fixed anchors: the fit cannot move the spring
+    # asked to keep 5 mm from the arm in one round, with fixed anchors: the fit cannot move the spring, its
+    # round stops infeasible, and the fit falls back to the last design that met its rows (issue 27): the
+    # multi-start's, through the arm but within its rows (the round's iterate broke them)
     record = {**THROUGH, "clearance": {"margin": 0.005, "rounds": 1, "check_samples": 64}}
     out = tmp_path / "design.json"
     assert main(["design", str(config_file(tmp_path, record)), "--out", str(out), "--quiet"]) == 3
     kinds = set(failure_kinds(capsys.readouterr().err))
-    assert {"not_converged", "overlap", "infeasible"} <= kinds
+    assert {"not_converged", "overlap"} <= kinds and "infeasible" not in kinds
     assert not out.exists()
 
 
