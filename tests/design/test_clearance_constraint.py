@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 import springbalance as sb
+from clearance_helpers import crossing_springs
 from springbalance.cli import main
 from springbalance.design.clearance_fit import fit_to_arm
 from springbalance.design.solvers import Solution
@@ -37,29 +38,10 @@ def workspace(arm):
     return sb.Workspace.sobol(arm, n=128, seed=0)
 
 
-def springs(width):
-    """A ground→link1 spring whose in-plane optimum crosses the folded-back link2, and a link1→link2
-    spring; the anchors may leave the arm's plane by ``width`` [m] (0: in the plane)."""
-    return [
-        sb.ZeroFreeLengthSpring(
-            sb.Anchor("universe", sb.Free([-0.1, -width, 0.2], [0.1, width, 0.4], init=[0, 0, 0.3])),
-            sb.Anchor("link1", sb.Free([0.3, -width, -0.05], [0.5, width, 0.05], init=[0.4, 0, 0])),
-            stiffness=sb.Free(0, 5000),
-            name="s1",
-        ),
-        sb.ZeroFreeLengthSpring(
-            sb.Anchor("link1", sb.Free([-0.1, -width, -0.1], [0.45, width, 0.1], init=[0.2, 0, 0])),
-            sb.Anchor("link2", sb.Free([0.02, -width, -0.05], [0.4, width, 0.05], init=[0.2, 0, 0])),
-            stiffness=sb.Free(0, 5000),
-            name="s2",
-        ),
-    ]
-
-
 @pytest.fixture(scope="module")
 def in_plane(arm, workspace):
     """The optimum with every anchor in the arm's plane, no clearance asked for."""
-    return sb.solve(sb.DesignProblem(arm, workspace, springs(0.0)), starts=4)
+    return sb.solve(sb.DesignProblem(arm, workspace, crossing_springs(0.0)), starts=4)
 
 
 def test_the_optimum_without_clearance_passes_through_link2(in_plane):
@@ -71,7 +53,9 @@ def test_the_optimum_without_clearance_passes_through_link2(in_plane):
 
 def test_clearance_fitted_from_a_design_through_link2_keeps_the_margin_at_10x_the_poses(arm, workspace, in_plane):
     margin = 0.005
-    problem = sb.DesignProblem(arm, workspace, springs(0.1), clearance=sb.Clearance(margin=margin, check_samples=CHECK))
+    problem = sb.DesignProblem(
+        arm, workspace, crossing_springs(0.1), clearance=sb.Clearance(margin=margin, check_samples=CHECK)
+    )
     start = np.array([in_plane.variables.get(name, 0.0) for name in problem.variables.names])
     assert (
         sb.DesignResult(problem, start).clearance(samples=DENSE).row("s1").distance < 0
@@ -102,7 +86,9 @@ def test_the_search_between_samples_clears_a_design_fitted_on_16_poses(arm, work
     2,560: the descent from the closest sampled poses finds the closest approaches between them
     (without it, this design passes through the tool)."""
     margin = 0.005
-    problem = sb.DesignProblem(arm, workspace, springs(0.1), clearance=sb.Clearance(margin=margin, check_samples=16))
+    problem = sb.DesignProblem(
+        arm, workspace, crossing_springs(0.1), clearance=sb.Clearance(margin=margin, check_samples=16)
+    )
     start = np.array([in_plane.variables.get(name, 0.0) for name in problem.variables.names])
     solution, fit, _ = fit_to_arm(
         problem,
@@ -126,7 +112,7 @@ def test_fitting_more_starts_keeps_the_best_fit(arm, workspace):
     for starts in (1, 3):
         clearance = sb.Clearance(margin=margin, check_samples=64, starts=starts)
         results[starts] = sb.solve(
-            sb.DesignProblem(arm, workspace, springs(0.1), clearance=clearance), starts=4, seed=1
+            sb.DesignProblem(arm, workspace, crossing_springs(0.1), clearance=clearance), starts=4, seed=1
         )
     assert results[1].fit.starts == 1 and results[3].fit.starts == 3
     assert results[3].fit.converged and results[3].fit.rounds >= results[1].fit.rounds
@@ -272,7 +258,7 @@ def test_the_checkers_batched_distances_equal_each_contacts_distance(arm, worksp
     from springbalance.design.clearance_fit import _Checker
 
     problem = sb.DesignProblem(
-        arm, workspace, springs(0.02), clearance=sb.Clearance(margin=0.005, between_springs=True)
+        arm, workspace, crossing_springs(0.02), clearance=sb.Clearance(margin=0.005, between_springs=True)
     )
     checker = _Checker(problem, problem.clearance)
     x = np.asarray(problem.variables.start, dtype=float)

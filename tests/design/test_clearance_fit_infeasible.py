@@ -20,6 +20,7 @@ import numpy as np
 import pytest
 
 import springbalance as sb
+from clearance_helpers import crossing_springs
 from springbalance.design import clearance_round
 from springbalance.design.clearance_fit import fit_from_starts, fit_to_arm
 from springbalance.design.solvers import Solution
@@ -31,31 +32,13 @@ OPTIONS = {"method": "auto", "max_iterations": 100, "tolerance": 1e-8, "polish_i
 MARGIN = 0.005
 
 
-def springs(width: float) -> list[sb.ZeroFreeLengthSpring]:
-    """A ground→link1 spring and a link1→link2 spring; the anchors may leave the arm's plane by ``width`` [m]."""
-    return [
-        sb.ZeroFreeLengthSpring(
-            sb.Anchor("universe", sb.Free([-0.1, -width, 0.2], [0.1, width, 0.4], init=[0, 0, 0.3])),
-            sb.Anchor("link1", sb.Free([0.3, -width, -0.05], [0.5, width, 0.05], init=[0.4, 0, 0])),
-            stiffness=sb.Free(0, 5000),
-            name="s1",
-        ),
-        sb.ZeroFreeLengthSpring(
-            sb.Anchor("link1", sb.Free([-0.1, -width, -0.1], [0.45, width, 0.1], init=[0.2, 0, 0])),
-            sb.Anchor("link2", sb.Free([0.02, -width, -0.05], [0.4, width, 0.05], init=[0.2, 0, 0])),
-            stiffness=sb.Free(0, 5000),
-            name="s2",
-        ),
-    ]
-
-
 @pytest.fixture(scope="module")
 def problem():
     arm = sb.Mechanism.from_urdf(URDF / "two_link_planar_collision.urdf")
     workspace = sb.Workspace.sobol(arm, n=128, seed=0)
-    in_plane = sb.solve(sb.DesignProblem(arm, workspace, springs(0.0)), starts=4)
+    in_plane = sb.solve(sb.DesignProblem(arm, workspace, crossing_springs(0.0)), starts=4)
     clearance = sb.Clearance(margin=MARGIN, check_samples=64)
-    fitted = sb.DesignProblem(arm, workspace, springs(0.1), clearance=clearance)
+    fitted = sb.DesignProblem(arm, workspace, crossing_springs(0.1), clearance=clearance)
     start = np.array([in_plane.variables.get(name, 0.0) for name in fitted.variables.names])
     return fitted, start
 
