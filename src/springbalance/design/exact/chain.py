@@ -137,19 +137,24 @@ class PlanarChain:
         return f"PlanarChain({self.mechanism.name!r}, bodies={list(self.bodies)})"
 
 
+def require_independent_revolute(
+    mechanism: Mechanism, analysis: str, mimic_needs: str, prismatic_why: str = ""
+) -> None:
+    """InputError naming the culprit unless every joint is an independent revolute (or continuous) joint:
+    no mimic joint (``the {analysis} needs {mimic_needs}``), no prismatic joint."""
+    if mechanism.model.njoints - 1 != mechanism.nv:
+        raise InputError(f"mechanism {mechanism.name!r} has mimic joints; the {analysis} needs {mimic_needs}")
+    for joint in mechanism.joints:
+        if joint.kind == "prismatic":
+            raise InputError(f"joint {joint.name!r} is prismatic; the {analysis} needs revolute joints{prismatic_why}")
+
+
 def _check_serial_chain(mechanism: Mechanism) -> None:
     """InputError naming the culprit unless the mechanism is a serial chain of independent revolute joints."""
     model = mechanism.model
-    if model.njoints - 1 != mechanism.nv:
-        raise InputError(
-            f"mechanism {mechanism.name!r} has mimic joints; the planar exact-balance analysis "
-            "needs a serial chain of independent joints (use the optimiser)"
-        )
-    for joint in mechanism.joints:
-        if joint.kind == "prismatic":
-            raise InputError(
-                f"joint {joint.name!r} is prismatic; the planar exact-balance analysis needs revolute joints"
-            )
+    require_independent_revolute(
+        mechanism, "planar exact-balance analysis", "a serial chain of independent joints (use the optimiser)"
+    )
     for joint_id in range(1, model.njoints):
         if model.parents[joint_id] != joint_id - 1:
             raise InputError(

@@ -32,6 +32,7 @@ import numpy as np
 
 from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.design.exact.blocks import _FixedDesign
+from springbalance.design.exact.chain import require_independent_revolute
 from springbalance.design.problem import DesignProblem
 from springbalance.errors import InputError
 from springbalance.model.kinematics import WorkspaceKinematics
@@ -118,18 +119,12 @@ class SpatialCoefficients:
 
 def check_revolute(mechanism: Mechanism) -> None:
     """InputError naming the culprit unless every joint is an independent revolute or continuous joint."""
-    model = mechanism.model
-    if model.njoints - 1 != mechanism.nv:
-        raise InputError(
-            f"mechanism {mechanism.name!r} has mimic joints; the spatial exact test needs independent "
-            "revolute joints (its potential is then multilinear in cos and sin of each)"
-        )
-    for joint in mechanism.joints:
-        if joint.kind == "prismatic":
-            raise InputError(
-                f"joint {joint.name!r} is prismatic; the spatial exact test needs revolute joints "
-                "(a spring's potential is quadratic in a slider's travel)"
-            )
+    require_independent_revolute(
+        mechanism,
+        "spatial exact test",
+        "independent revolute joints (its potential is then multilinear in cos and sin of each)",
+        " (a spring's potential is quadratic in a slider's travel)",
+    )
     if mechanism.nv > 10:
         raise InputError(f"mechanism {mechanism.name!r} has {mechanism.nv} joints: 3^{mechanism.nv} poses is too many")
 
