@@ -47,6 +47,7 @@ from springbalance.design.torque_model import BlockEvaluator, compiled
 from springbalance.design.torque_model.variables import ConstraintBlock
 from springbalance.design.verification_fatigue import damage_rule, is_damage_block, widened_bounds
 from springbalance.design.verification_record import JointResidual, RuleMargin, VerificationRecord
+from springbalance.design.verification_refine import refined_poses, search_box, search_starts
 from springbalance.model.workspace import Coupling, Workspace
 
 #: the poses verified per sample optimised on
@@ -173,6 +174,15 @@ class _Dense:
         return rule, failing[:WORST_PER_RULE]
 
 
+def _searched(problem: DesignProblem, dense: _Dense, x: np.ndarray) -> np.ndarray:
+    """The worst poses of each length rule, searched to its least margin within the workspace's box
+    (:mod:`~springbalance.design.verification_refine`); none for another workspace."""
+    box = search_box(problem.base_workspace)
+    if box is None:
+        return np.empty((0, problem.mechanism.nv))
+    return refined_poses(problem, x, search_starts(problem, x, dense.values, box), box)
+
+
 def check_design(
     problem: DesignProblem, x: np.ndarray, round_: int = 0, checker: _Checker | None = None, mode: str = "resolve"
 ) -> Check:
@@ -184,6 +194,10 @@ def check_design(
     values, sampling = verification_poses(problem.base_workspace, round_)
     x = np.asarray(x, dtype=float)
     dense = _Dense(problem, x, values)
+    searched = _searched(problem, dense, x)
+    if searched.size:  # the length rules' worst poses, searched to the box's boundary
+        dense = _Dense(problem, x, np.vstack([values, searched]))
+        sampling += f", and {searched.shape[0]} of them searched to a length rule's least margin"
     widened = widened_bounds(problem, dense, x)  # a coil's fatigue bounds at its force range there
     if widened is not None:
         x = widened
@@ -220,7 +234,7 @@ def check_design(
         mode=mode,
         seconds=time.perf_counter() - clock,
     )
-    added = values[list(dict.fromkeys(poses))] if poses else np.empty((0, values.shape[1]))
+    added = dense.values[list(dict.fromkeys(poses))] if poses else np.empty((0, values.shape[1]))
     return Check(record, added, contacts)
 
 
