@@ -144,7 +144,28 @@ def fatigue_energy_fraction(material: Material, kind: str, wire_diameter: float,
     :func:`~springbalance.springs.fatigue.fatigue_margins` reaches the duty's safety factor, where
     :math:`F_s = \pi d^3 \tau_a/(8 K_B D)` [N] is the force at the body's static allowable stress; wire
     ``d`` [m], index ``C = D/d``. For each ``F_min`` the largest ``F_max`` is found by bisection (the damage grows
-    with it), and ``F_min`` by a bounded scalar search."""
+    with it), and ``F_min`` by a bounded scalar search. The share depends on these arguments only, so each one is
+    searched once per process (a design's report, flags and table ask for it several times)."""
+    key = (_material_key(material), kind, float(wire_diameter), float(index), duty)
+    if key not in _FRACTIONS:
+        _FRACTIONS[key] = _search_fatigue_energy_fraction(material, kind, float(wire_diameter), float(index), duty)
+    return _FRACTIONS[key]
+
+
+#: :func:`fatigue_energy_fraction` of the arguments already searched
+_FRACTIONS: dict[tuple, float] = {}
+
+
+def _material_key(material: Material) -> tuple:
+    """The material's values as a hashable key (its fraction tables are dicts)."""
+    fields = dataclasses.astuple(material)
+    return tuple(tuple(sorted(value.items())) if isinstance(value, dict) else value for value in fields)
+
+
+def _search_fatigue_energy_fraction(
+    material: Material, kind: str, wire_diameter: float, index: float, duty: Duty
+) -> float:
+    """The search of :func:`fatigue_energy_fraction`."""
     from scipy.optimize import minimize_scalar  # SciPy's optimiser is loaded when a duty's floor is asked for
 
     mean = index * wire_diameter  # D [m]

@@ -26,6 +26,12 @@ is an average, which a denser sampling estimates, not a bound: reported only). W
 :class:`~springbalance.design.clearance.Clearance`, every spring's distance to the arm is checked at the
 same poses (the fit's own check sets use other seeds).
 
+A coil's length rule ``L ≥ l0`` binds, for most layouts, on the boundary of the joint box (a joint at its
+limit), which Sobol points approach but never reach. For a box workspace, each length rule's worst poses are
+therefore searched to its least margin inside the box (:mod:`~springbalance.design.verification_refine`), and
+the rules are judged at those poses too; the residual torque is judged at the Sobol poses only (the searched
+poses are chosen for a rule and would bias its statistics).
+
 The check names the poses to add as samples when a rule fails (the :data:`WORST_PER_RULE` worst per rule,
 and for a failed peak the worst per joint), and the clearance contacts below the margin;
 :mod:`springbalance.design.verification_loop` re-solves with them.
@@ -33,6 +39,7 @@ and for a failed peak the worst per joint), and the clearance contacts below the
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import time
 
@@ -47,6 +54,8 @@ from springbalance.design.torque_model import BlockEvaluator, compiled
 from springbalance.design.torque_model.variables import ConstraintBlock
 from springbalance.design.verification_fatigue import damage_rule, is_damage_block, widened_bounds
 from springbalance.design.verification_record import JointResidual, RuleMargin, VerificationRecord
+from springbalance.design.verification_refine import RULES as SEARCHED_RULES
+from springbalance.design.verification_refine import refined_poses, search_box, search_starts
 from springbalance.model.workspace import Coupling, Workspace
 
 #: the poses verified per sample optimised on
@@ -120,20 +129,34 @@ class _Dense:
     """The rows and torques of design ``x`` at poses, chunk by chunk: per rule its worst candidates."""
 
     def __init__(self, problem: DesignProblem, x: np.ndarray, values: np.ndarray) -> None:
-        self.problem, self.values = problem, values
+        self.problem, self.x, self.values = problem, x, values
         self.blocks = [block for block in problem.model.constraint_blocks if block.per_sample]
         #: per block, its :data:`WORST_PER_RULE` smallest margins per chunk: (margin, pose, scenario)
         self.candidates: dict[int, list[tuple[float, int, int]]] = {block.offset: [] for block in self.blocks}
-        scenarios = problem.model.n_scenarios
+        #: the blocks of the length rules searched to the box's boundary, and their margins at every pose (M × k)
+        self.searched_blocks = [block for block in self.blocks if block.name in SEARCHED_RULES]
+        taus, potentials, self.searched_margins = self._evaluate(values, 0)
+        #: the residual torque (M·S × nv) and potential (M·S), in scenario blocks as the problem's samples
+        self.tau = np.vstack([np.vstack(parts) for parts in taus])
+        self.potential = np.concatenate([np.concatenate(parts) for parts in potentials])
+
+    def _evaluate(
+        self, values: np.ndarray, first: int
+    ) -> tuple[list[list[np.ndarray]], list[list[np.ndarray]], np.ndarray]:
+        """Evaluate the design at ``values`` (poses numbered from ``first``): add each block's worst candidates;
+        return the torques and potentials per scenario (lists of chunks) and the searched rules' margins."""
+        problem, model = self.problem, self.problem.model
+        scenarios = model.n_scenarios
         taus: list[list[np.ndarray]] = [[] for _ in range(scenarios)]
         potentials: list[list[np.ndarray]] = [[] for _ in range(scenarios)]
-        model = problem.model
+        searched = []
         sample = compiled(model.sample) if problem.workspace.size >= KERNEL_MIN_SAMPLES else model.sample
         for start in range(0, values.shape[0], CHUNK):
             part = values[start : start + CHUNK]
             workspace = Workspace(problem.mechanism, part, description={"kind": "verification"})
             stacked = ScenarioWorkspace(workspace, problem.scenarios) if problem.scenarios else workspace
-            tau, potential, _, _, rows = BlockEvaluator(sample, model.data_matrix(stacked.kinematics())).evaluate(x)
+            evaluator = BlockEvaluator(sample, model.data_matrix(stacked.kinematics()))
+            tau, potential, _, _, rows = evaluator.evaluate(self.x)
             m, n = part.shape[0], stacked.size
             tau, rows, potential = tau.reshape(n, -1), rows.reshape(n, -1), potential.reshape(n)
             for scenario in range(scenarios):
@@ -142,10 +165,19 @@ class _Dense:
             for block in self.blocks:
                 margins = rows[:, block.offset] + block.reserve
                 for i in np.argsort(margins, kind="stable")[:WORST_PER_RULE]:
-                    self.candidates[block.offset].append((float(margins[i]), start + int(i) % m, int(i) // m))
-        #: the residual torque (M·S × nv) and potential (M·S), in scenario blocks as the problem's samples
-        self.tau = np.vstack([np.vstack(parts) for parts in taus])
-        self.potential = np.concatenate([np.concatenate(parts) for parts in potentials])
+                    self.candidates[block.offset].append((float(margins[i]), first + start + int(i) % m, int(i) // m))
+            offsets, reserves = [b.offset for b in self.searched_blocks], [b.reserve for b in self.searched_blocks]
+            searched.append((rows[:, offsets] + np.array(reserves)).reshape(scenarios, m, len(offsets)).min(axis=0))
+        return taus, potentials, np.vstack(searched) if searched else np.empty((0, len(self.searched_blocks)))
+
+    def extended(self, poses: np.ndarray) -> _Dense:
+        """These poses and ``poses`` (k×nv) for the rules: the candidates of both (``tau`` and ``potential`` stay
+        this one's: the residual is judged at these poses only)."""
+        other = copy.copy(self)
+        other.candidates = {offset: list(found) for offset, found in self.candidates.items()}
+        other.values = np.vstack([self.values, poses])
+        other._evaluate(poses, self.values.shape[0])
+        return other
 
     def pose(self, index: int) -> dict[str, float]:
         return {joint.name: float(self.values[index, joint.index_v]) for joint in self.problem.mechanism.joints}
@@ -173,6 +205,16 @@ class _Dense:
         return rule, failing[:WORST_PER_RULE]
 
 
+def _searched(problem: DesignProblem, dense: _Dense, x: np.ndarray) -> np.ndarray:
+    """The worst poses of each length rule, searched to its least margin within the workspace's box
+    (:mod:`~springbalance.design.verification_refine`); none for another workspace."""
+    box = search_box(problem.base_workspace)
+    if box is None:
+        return np.empty((0, problem.mechanism.nv))
+    starts = search_starts(problem, x, dense.values, box, dense.searched_blocks, dense.searched_margins)
+    return refined_poses(problem, x, starts, box)
+
+
 def check_design(
     problem: DesignProblem, x: np.ndarray, round_: int = 0, checker: _Checker | None = None, mode: str = "resolve"
 ) -> Check:
@@ -183,7 +225,11 @@ def check_design(
     clock = time.perf_counter()
     values, sampling = verification_poses(problem.base_workspace, round_)
     x = np.asarray(x, dtype=float)
-    dense = _Dense(problem, x, values)
+    unseen = dense = _Dense(problem, x, values)
+    searched = _searched(problem, unseen, x)
+    if searched.size:  # the length rules' worst poses, searched to the box's boundary: rules only, not the residual
+        dense = unseen.extended(searched)
+        sampling += f", and {searched.shape[0]} pose(s) searched to a length rule's least margin"
     widened = widened_bounds(problem, dense, x)  # a coil's fatigue bounds at its force range there
     if widened is not None:
         x = widened
@@ -198,7 +244,7 @@ def check_design(
             continue
         rules.append(rule)
         poses += failing
-    residual, objective, peak_poses = _residual(problem, dense, sampled.tau, sampled.potential)
+    residual, objective, peak_poses = _residual(problem, unseen, sampled.tau, sampled.potential)
     poses += peak_poses
     contacts: list[Key] = []
     if checker is not None:
@@ -220,8 +266,14 @@ def check_design(
         mode=mode,
         seconds=time.perf_counter() - clock,
     )
-    added = values[list(dict.fromkeys(poses))] if poses else np.empty((0, values.shape[1]))
+    added = _distinct(dense.values[list(dict.fromkeys(poses))]) if poses else np.empty((0, values.shape[1]))
     return Check(record, added, contacts)
+
+
+def _distinct(poses: np.ndarray) -> np.ndarray:
+    """``poses`` (k×nv) without repeats (to 1e-9), in their order: searches from two starts may end at one pose."""
+    _, first = np.unique(np.round(poses, 9), axis=0, return_index=True)  # [rad or m]: equal to 1e-9
+    return poses[np.sort(first)]
 
 
 def _residual(

@@ -31,6 +31,8 @@ from springbalance.errors import InputError, SolverError
 
 #: most re-solves of the loop
 VERIFY_ROUNDS = 3
+#: starts of a re-solve whose warm start finds no feasible design (the first one is the design)
+RESCUE_STARTS = 4
 #: what a failed verification does: ``"resolve"`` (add the poses, solve again), ``"report"`` (report
 #: only) or ``"off"`` (no verification)
 MODES = ("resolve", "report", "off")
@@ -99,11 +101,17 @@ def verify_and_resolve(
 def _round(
     problem: DesignProblem, x: np.ndarray, solution: Solution, fixed: Sequence[str], solve_options: dict[str, Any]
 ) -> Solution | None:
-    """One warm start of ``problem`` (with the added samples and cuts) from ``x``, ``fixed`` held; None when
-    it finds no feasible design (the design before stays)."""
-    try:
-        found = solve_problem(problem, starts=1, initial=x, fixed=list(fixed), progress=False, **solve_options)
-    except SolverError:
+    """One warm start of ``problem`` (with the added samples and cuts) from ``x``, ``fixed`` held; when it finds
+    no feasible design (a pose far outside the design's rules moves it far), :data:`RESCUE_STARTS` starts from
+    ``x`` and Sobol points, ``fixed`` held at ``x``'s values; None when they find none either (the design
+    before stays)."""
+    for starts in (1, RESCUE_STARTS):
+        try:
+            found = solve_problem(problem, starts=starts, initial=x, fixed=list(fixed), progress=False, **solve_options)
+            break
+        except SolverError:
+            continue
+    else:
         return None
     # its multipliers belong to the extended problem's rows, not to the problem's: none are kept
     return Solution(found.x, solution.starts, solution.method, solution.seed, solution.status)

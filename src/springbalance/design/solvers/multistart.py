@@ -410,7 +410,7 @@ class _MultiStartSolver(LeastSquaresStarts, IpoptStarts):
         if "iteration limit" not in status and self._violation(evaluation) <= FEASIBILITY_TOLERANCE:
             return z, status, iterations, None, evaluation
         z, status, more, nlp_lam_g = self._ipopt_solve(z, evaluation, multipliers=multipliers)
-        return z, status, iterations + more, nlp_lam_g, None
+        return (*self._exact_polish(z, status, iterations + more, nlp_lam_g), None)
 
     def _floors_lowered(self, evaluation: Evaluation) -> Evaluation:
         """``evaluation``, or the design with its coils' fatigue floors lowered to their least forces

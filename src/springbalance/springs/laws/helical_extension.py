@@ -20,7 +20,8 @@ The rules of a buildable coil are constraints of the optimisation, at every work
   ``max_outer_diameter`` when given;
 - initial tension within the band that can be wound at that index
   (:func:`~springbalance.springs.helical_formulas.initial_stress_band`);
-- ``L ≥ l_0`` (the coil never goes slack, ``keep_tension``).
+- ``L ≥ l_0`` (the coil never goes slack, ``keep_tension``), with
+  :data:`~springbalance.springs.laws.coil.LENGTH_RESERVE` (1 mm) kept in reserve.
 """
 
 from __future__ import annotations
@@ -31,7 +32,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from springbalance.springs.helical_formulas import hook_bending_stress, hook_torsion_stress, initial_stress_band
-from springbalance.springs.laws.coil import CHECK_TOLERANCE, MPA, HelicalCoilSpring
+from springbalance.springs.laws.coil import CHECK_TOLERANCE, LENGTH_RESERVE, MPA, HelicalCoilSpring
 from springbalance.springs.params import Anchor
 from springbalance.springs.values import Parameters, ValueT
 
@@ -49,8 +50,11 @@ class ExtensionCoilRules:
         if spring.winds:
             parts += [("initial_tension_low", "MPa", 10.0), ("initial_tension_high", "MPa", 10.0)]
         self.parts = tuple(parts + spring.common_parts())
-        #: the stress rows keep ``stress_reserve`` of their allowable in reserve [1]
+        #: the stress rows keep ``stress_reserve`` of their allowable in reserve [1], the length rule
+        #: :data:`~springbalance.springs.laws.coil.LENGTH_RESERVE` [m]
         self.reserves = dict.fromkeys(("body_stress", "hook_bending", "hook_torsion"), spring.stress_reserve)
+        if spring.keep_tension:
+            self.reserves["tension"] = LENGTH_RESERVE
 
     def rows(self, length: ValueT, force: ValueT, parameters: Parameters) -> ValueT | list[ValueT]:
         spring, material = self.spring, self.spring.material
@@ -58,7 +62,7 @@ class ExtensionCoilRules:
         strength = material.tensile_strength(d)  # S_ut [Pa]
         low, high = initial_stress_band(D / d)  # [Pa]
         initial = 8 * parameters["initial_tension"] * D / (math.pi * d**3)  # τ_i [Pa]
-        rows = [length - spring.free_length(parameters)] if spring.keep_tension else []
+        rows = [length - spring.free_length(parameters) - LENGTH_RESERVE] if spring.keep_tension else []
         usable = 1 - spring.stress_reserve  # [1]
         rows += [
             usable - spring.body_stress(force, parameters) / (material.allowable_fraction["extension"] * strength),

@@ -1,0 +1,149 @@
+"""A coil's length rule searched to its worst pose inside the workspace's box, for the verification.
+
+A coil must never go slack: ``L(q) ≥ l0``. ``L`` is smooth in the joint values, and its least value over a box
+of joint ranges lies, for most layouts, on the box's boundary (a joint at its limit), which Sobol points
+approach but never reach: a design that touches ``l0`` at its samples can be a fraction of a millimetre slack
+at the limit (the UR5 example: 0.48 mm at the elbow's limit, found at one of 16,384 poses and at none of the
+verification's 2,560). :func:`refined_poses` starts from the worst poses the verification found for each
+length rule (block ``tension``), a few far apart (:func:`search_starts`), and runs a compass search (Kolda, Lewis & Torczon, SIAM Review 45(3), 2003,
+§3): try ``±h_j`` along each joint ``j``, clipped to its range, move to the best pose that lowers the margin,
+else halve every ``h``; ``h`` starts at :data:`FIRST_STEP` of each range and stops after :data:`HALVINGS`
+halvings. Only a box workspace without couplings is searched (the couplings tie joints that the search would
+move alone). The verification judges the rule at these poses besides its Sobol poses.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from springbalance.design.block_kernel import KERNEL_MIN_SAMPLES
+from springbalance.design.problem import DesignProblem
+from springbalance.design.scenarios import ScenarioWorkspace
+from springbalance.design.torque_model import BlockEvaluator, compiled
+from springbalance.design.torque_model.variables import ConstraintBlock
+from springbalance.model.workspace import Workspace
+
+#: the rules searched: a coil's length row ``L − l0`` [m]
+RULES = ("tension",)
+#: the first step along each joint, as a fraction of its range [1]
+FIRST_STEP = 0.125
+#: halvings of the step before the search stops (the last step is FIRST_STEP / 2^HALVINGS of a range)
+HALVINGS = 8
+#: most rounds of trials (each moves or halves every search still running)
+MAX_ROUNDS = 60
+#: searches per rule, from its worst poses at least APART of the box from each other along some joint
+STARTS_PER_RULE = 4
+APART = 0.25
+
+
+def search_box(workspace: Workspace) -> tuple[np.ndarray, np.ndarray] | None:
+    """``(lower, upper)`` [rad or m] of a workspace drawn over a box of joint ranges without couplings, else
+    None (a path, an array of poses, coupled joints)."""
+    description = workspace.description
+    if "lower" not in description or "upper" not in description or description.get("couplings"):
+        return None
+    return np.array(description["lower"], dtype=float), np.array(description["upper"], dtype=float)
+
+
+def margins(problem: DesignProblem, x: np.ndarray, poses: np.ndarray, blocks: list[ConstraintBlock]) -> np.ndarray:
+    """The rows of ``blocks`` (plus their reserves) of design ``x`` at ``poses`` (k×nv), the least over the
+    problem's scenarios: a k×len(blocks) array [each block's unit]."""
+    model = problem.model
+    sample = compiled(model.sample) if problem.workspace.size >= KERNEL_MIN_SAMPLES else model.sample
+    workspace = Workspace(problem.mechanism, poses, description={"kind": "verification"})
+    stacked = ScenarioWorkspace(workspace, problem.scenarios) if problem.scenarios else workspace
+    rows = BlockEvaluator(sample, model.data_matrix(stacked.kinematics())).evaluate(x)[4]
+    rows = np.asarray(rows).reshape(stacked.size, -1)
+    columns = rows[:, [block.offset for block in blocks]] + np.array([block.reserve for block in blocks])
+    return columns.reshape(-1, poses.shape[0], len(blocks)).min(axis=0)
+
+
+def search_starts(
+    problem: DesignProblem,
+    x: np.ndarray,
+    values: np.ndarray,
+    box: tuple[np.ndarray, np.ndarray],
+    blocks: list[ConstraintBlock] | None = None,
+    at: np.ndarray | None = None,
+) -> list[tuple[int, np.ndarray]]:
+    """Where the searches start: per length rule, up to :data:`STARTS_PER_RULE` of the poses ``values`` (M×nv)
+    with its least margins, each at least :data:`APART` of the box from the others along some joint (so that
+    they start near different minima); ``(block offset, pose)`` pairs. ``blocks`` and ``at`` (M × len(blocks)):
+    the length rules' blocks and their :func:`margins` at ``values``, when the caller has them already."""
+    if blocks is None:
+        blocks = [block for block in problem.model.constraint_blocks if block.per_sample and block.name in RULES]
+    if not blocks or not values.size:
+        return []
+    if at is None:
+        at = margins(problem, x, values, blocks)
+    scale = np.where(box[1] > box[0], box[1] - box[0], 1.0)
+    starts = []
+    for column, block in enumerate(blocks):
+        order = np.argsort(at[:, column], kind="stable")
+        relevant = _relevant(problem, x, values[order[0]], block, box)
+        chosen: list[np.ndarray] = []
+        for index in order:
+            pose = values[index]
+            if all(np.max(np.abs(pose - other)[relevant] / scale[relevant], initial=0.0) >= APART for other in chosen):
+                chosen.append(pose)
+            if len(chosen) == STARTS_PER_RULE:
+                break
+        starts += [(block.offset, pose) for pose in chosen]
+    return starts
+
+
+def _relevant(
+    problem: DesignProblem, x: np.ndarray, pose: np.ndarray, block: ConstraintBlock, box: tuple[np.ndarray, np.ndarray]
+) -> np.ndarray:
+    """The joints whose move by :data:`FIRST_STEP` of their range changes ``block``'s margin at ``pose`` (a
+    coil's length does not depend on the joints beyond its anchors, nor on a joint whose axis it lies along)."""
+    lower, upper = box
+    trials = np.repeat(pose[None, :], pose.size, axis=0)
+    index = np.arange(pose.size)
+    trials[index, index] = np.where(
+        pose + FIRST_STEP * (upper - lower) <= upper,
+        pose + FIRST_STEP * (upper - lower),
+        pose - FIRST_STEP * (upper - lower),
+    )
+    moved = margins(problem, x, np.vstack([pose[None, :], trials]), [block])[:, 0]
+    return np.abs(moved[1:] - moved[0]) > 1e-12 * max(1.0, abs(moved[0]))
+
+
+def refined_poses(
+    problem: DesignProblem, x: np.ndarray, starts: list[tuple[int, np.ndarray]], box: tuple[np.ndarray, np.ndarray]
+) -> np.ndarray:
+    """Each start ``(block offset, pose)`` searched to a local minimum of its block's margin within ``box`` (see
+    the module documentation); the poses (rows, in the order of ``starts``)."""
+    if not starts:
+        return np.empty((0, box[0].size))
+    lower, upper = box
+    by_offset = {block.offset: block for block in problem.model.constraint_blocks}
+    offsets = list(dict.fromkeys(offset for offset, _ in starts))
+    blocks = [by_offset[offset] for offset in offsets]
+    column = np.array([offsets.index(offset) for offset, _ in starts])
+    poses = np.array([pose for _, pose in starts], dtype=float)
+    current = margins(problem, x, poses, blocks)[np.arange(len(starts)), column]
+    moving = np.flatnonzero(upper > lower)
+    steps = np.tile(FIRST_STEP * (upper - lower), (len(starts), 1))
+    halvings = np.zeros(len(starts), dtype=int)
+    for _ in range(MAX_ROUNDS):
+        active = np.flatnonzero(halvings <= HALVINGS)
+        if not active.size:
+            break
+        trials = []  # per active search: 2 × len(moving) neighbours
+        for s in active:
+            for j in moving:
+                for sign in (1.0, -1.0):
+                    trial = poses[s].copy()
+                    trial[j] = np.clip(trial[j] + sign * steps[s, j], lower[j], upper[j])
+                    trials.append(trial)
+        values = margins(problem, x, np.array(trials), blocks).reshape(len(active), 2 * len(moving), len(blocks))
+        for row, s in enumerate(active):
+            at = values[row, :, column[s]]
+            best = int(np.argmin(at))
+            if at[best] < current[s]:
+                poses[s], current[s] = trials[row * 2 * len(moving) + best], at[best]
+            else:
+                steps[s] *= 0.5
+                halvings[s] += 1
+    return poses

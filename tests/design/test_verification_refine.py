@@ -1,0 +1,62 @@
+"""A coil's length rule searched to its least margin inside the workspace's box
+(springbalance.design.verification_refine): the least length of a spring from the ground to a link lies at a
+joint limit, which Sobol points never reach."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import springbalance as sb
+from springbalance.design.verification import check_design
+from springbalance.design.verification_refine import (
+    APART,
+    STARTS_PER_RULE,
+    margins,
+    refined_poses,
+    search_box,
+    search_starts,
+)
+
+URDF = Path(__file__).resolve().parents[2] / "urdf"
+A, R = 0.3, 0.2  # [m] the ground anchor's height above the shoulder, the link-1 anchor's distance along it
+RANGES = {"shoulder": [-1.0, 1.2], "elbow": [-2.0, 2.0]}
+COIL = {"wire_diameter": 0.002, "mean_diameter": 0.02, "active_coils": 20.0, "initial_tension": 5.0}
+
+
+@pytest.fixture(scope="module")
+def problem():
+    arm = sb.Mechanism.from_urdf(URDF / "two_link_planar.urdf")
+    coil = sb.HelicalExtensionSpring(sb.Anchor("universe", [0, 0, A]), sb.Anchor("link1", [R, 0, 0]), "c", **COIL)
+    return sb.DesignProblem(arm, sb.Workspace.sobol(arm, n=16, ranges=RANGES, seed=0), [coil])
+
+
+def test_the_search_reaches_the_joint_limit_where_the_coil_is_shortest(problem):
+    """Link 1 turns about −y, so its anchor is at R (cos θ, 0, sin θ) and ``L² = A² + R² − 2 A R sin θ``: over
+    θ ∈ [−1, 1.2] the least length is at θ = 1.2, and the margin there is ``L − l0`` with the closed coil's
+    ``l0 = d (n + 1) + 2 (D − d)``; the elbow does not move the coil."""
+    x = np.asarray(problem.variables.start, dtype=float)
+    box = search_box(problem.workspace)
+    assert box is not None
+    block = next(b for b in problem.model.constraint_blocks if b.name == "tension")
+    found = refined_poses(problem, x, [(block.offset, np.array([0.0, 0.5]))], box)
+    assert found[0, 0] == pytest.approx(1.2, abs=1e-12)
+    d, D, n = COIL["wire_diameter"], COIL["mean_diameter"], COIL["active_coils"]
+    least = np.sqrt(A**2 + R**2 - 2 * A * R * np.sin(1.2)) - (d * (n + 1) + 2 * (D - d))
+    assert margins(problem, x, found, [block])[0, 0] == pytest.approx(least, abs=1e-9)
+    # the searches start apart along the shoulder, the joint the coil depends on (the elbow does not count)
+    starts = search_starts(problem, x, problem.workspace.joint_values, box)
+    assert {offset for offset, _ in starts} == {block.offset} and 1 <= len(starts) <= STARTS_PER_RULE
+    shoulders = sorted(pose[0] for _, pose in starts)
+    assert np.all(np.diff(shoulders) >= APART * 2.2)
+
+
+def test_the_verification_judges_the_searched_poses(problem):
+    """The verification's worst margin of the length rule is the one at the joint limit, below every Sobol
+    pose's."""
+    x = np.asarray(problem.variables.start, dtype=float)
+    rule = next(r for r in check_design(problem, x).record.rules if r.rule == "tension")
+    assert rule.pose["shoulder"] == pytest.approx(1.2, abs=1e-12)
+    assert rule.margin < rule.sampled
