@@ -106,6 +106,15 @@ def test_an_unconverged_fit_is_a_failure(link, tmp_path):
     assert [flag.kind for flag in loaded.failures()] == ["not_converged"]
 
 
+def test_rounds_over_several_fitted_starts_say_so(link, tmp_path):
+    # three designs of the multi-start fitted, 7 rounds between them: neither "7 rounds" of one fit
+    fit = FitRecord(7, 40, False, 1.0, 1.5, {"s1": -0.0021}, {}, 4096, 3.0, 3)
+    result = _balanced(link, fit=fit)
+    record = assert_flagged(result, tmp_path, "not_converged", "fit", severity="failure")
+    assert "did not converge in 7 round(s) over 3 starts" in record["message"]
+    assert "fitted to the arm in 7 round(s) over 3 starts (40 linearised rows" in result.table()
+
+
 @pytest.mark.parametrize(
     ("status", "failed"),
     [

@@ -139,6 +139,12 @@ class FitRecord:
         starts: how many of the multi-start's designs were fitted (the best fit is this record's).
     """
 
+    @property
+    def rounds_text(self) -> str:
+        """``"N round(s)"``, or ``"N round(s) over S starts"`` when several designs were fitted (``rounds``
+        then counts the rounds of all of them)."""
+        return f"{self.rounds} round(s)" + (f" over {self.starts} starts" if self.starts > 1 else "")
+
     rounds: int
     rows: int
     converged: bool

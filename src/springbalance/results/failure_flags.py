@@ -138,7 +138,7 @@ def not_converged_flags(result: EvaluatedDesign) -> list[Flag]:
             Flag(
                 "not_converged",
                 "fit",
-                f"fitting the springs to the arm did not converge in {fit.rounds} round(s)"
+                f"fitting the springs to the arm did not converge in {fit.rounds_text}"
                 + (f": {details}" if details else ""),
                 "raise clearance.rounds or clearance.starts, widen the anchor boxes, or lower the margin",
                 FAILURE,

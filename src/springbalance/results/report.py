@@ -146,7 +146,7 @@ def fit_lines(fit: FitRecord | None) -> list[str]:
     closest = ", ".join(f"{name} {1e3 * value:.1f} mm" for name, value in fit.closest.items())
     mounts = ", ".join(f"{name} {1e3 * value:.2f} mm" for name, value in fit.mounts.items())
     lines = [
-        f"  fitted to the arm in {fit.rounds} round(s) ({fit.rows} linearised rows, "
+        f"  fitted to the arm in {fit.rounds_text} ({fit.rows} linearised rows, "
         f"{fit.seconds:.1f} s){'' if fit.converged else ' — NOT CONVERGED'}: objective "
         f"{fit.objective_before:.6g} → {fit.objective:.6g} ({fit.cost_percent:+.2f} %)"
     ]
