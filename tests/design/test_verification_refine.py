@@ -1,4 +1,4 @@
-"""A coil's length rule searched to its least margin inside the workspace's box
+"""A coil's length rule and its body stress searched to their least margins inside the workspace's box
 (springbalance.design.verification_refine): the least length of a spring from the ground to a link lies at a
 joint limit, which Sobol points never reach."""
 
@@ -47,8 +47,12 @@ def test_the_search_reaches_the_joint_limit_where_the_coil_is_shortest(problem):
     least = np.sqrt(A**2 + R**2 - 2 * A * R * np.sin(1.2)) - (d * (n + 1) + 2 * (D - d))
     assert margins(problem, x, found, [block])[0, 0] == pytest.approx(least, abs=1e-9)
     # the searches start apart along the shoulder, the joint the coil depends on (the elbow does not count)
-    starts = search_starts(problem, x, problem.workspace.joint_values, box)
-    assert {offset for offset, _ in starts} == {block.offset} and 1 <= len(starts) <= STARTS_PER_RULE
+    every = search_starts(problem, x, problem.workspace.joint_values, box)
+    # the length rule and the body stress (the coil's largest force) are searched, each from its own starts
+    stress = next(b for b in problem.model.constraint_blocks if b.name == "body_stress")
+    assert {offset for offset, _ in every} == {block.offset, stress.offset}
+    starts = [(offset, pose) for offset, pose in every if offset == block.offset]
+    assert 1 <= len(starts) <= STARTS_PER_RULE
     shoulders = sorted(pose[0] for _, pose in starts)
     assert np.all(np.diff(shoulders) >= APART * 2.2)
 
@@ -60,3 +64,24 @@ def test_the_verification_judges_the_searched_poses(problem):
     rule = next(r for r in check_design(problem, x).record.rules if r.rule == "tension")
     assert rule.pose["shoulder"] == pytest.approx(1.2, abs=1e-12)
     assert rule.margin < rule.sampled
+
+
+def test_the_body_stress_is_searched_to_the_limit_where_the_coil_is_longest(problem):
+    """The same coil's largest force is at its longest length, θ = −1 (``L² = A² + R² − 2 A R sin θ``): there
+    ``F = F_i + k (L − l0)`` with ``k = G d⁴/(8 D³ n)``, and the body stress margin is ``1 − τ/(0.45 S_ut)`` with
+    ``τ = K_B 8 F D/(π d³)``, ``K_B = (4C + 2)/(4C − 3)``, music wire's ``G = 81.0 GPa`` at 1.6–3.2 mm and
+    ``S_ut = 2211 MPa·mm^0.145 / d^0.145``
+    (Shigley Tables 10-4, 10-5 and 10-6)."""
+    x = np.asarray(problem.variables.start, dtype=float)
+    box = search_box(problem.workspace)
+    assert box is not None
+    block = next(b for b in problem.model.constraint_blocks if b.name == "body_stress")
+    found = refined_poses(problem, x, [(block.offset, np.array([0.3, -1.0]))], box)
+    assert found[0, 0] == pytest.approx(-1.0, abs=1e-12)
+    d, D, n, initial = (COIL[key] for key in ("wire_diameter", "mean_diameter", "active_coils", "initial_tension"))
+    length = np.sqrt(A**2 + R**2 - 2 * A * R * np.sin(-1.0))
+    force = initial + 81.0e9 * d**4 / (8 * D**3 * n) * (length - (d * (n + 1) + 2 * (D - d)))
+    index = D / d
+    stress = (4 * index + 2) / (4 * index - 3) * 8 * force * D / (np.pi * d**3)
+    strength = 2211e6 / (d * 1e3) ** 0.145
+    assert margins(problem, x, found, [block])[0, 0] == pytest.approx(1 - stress / (0.45 * strength), abs=1e-9)

@@ -27,9 +27,11 @@ is an average, which a denser sampling estimates, not a bound: reported only). W
 same poses (the fit's own check sets use other seeds).
 
 A coil's length rule ``L ≥ l0`` binds, for most layouts, on the boundary of the joint box (a joint at its
-limit), which Sobol points approach but never reach. For a box workspace, each length rule's worst poses are
+limit), which Sobol points approach but never reach, and so do its largest force (body stress, fatigue
+ceiling; the hooks' stresses grow with the same force) and a compression coil's solid length. For a box
+workspace, the worst poses of each of these rules (:data:`~springbalance.design.verification_refine.RULES`) are
 therefore searched to its least margin inside the box (:mod:`~springbalance.design.verification_refine`), and
-the rules are judged at those poses too; the residual torque is judged at the Sobol poses only (the searched
+every rule is judged at those poses too; the residual torque is judged at the Sobol poses only (the searched
 poses are chosen for a rule and would bias its statistics).
 
 The check names the poses to add as samples when a rule fails (the :data:`WORST_PER_RULE` worst per rule,
@@ -133,7 +135,7 @@ class _Dense:
         self.blocks = [block for block in problem.model.constraint_blocks if block.per_sample]
         #: per block, its :data:`WORST_PER_RULE` smallest margins per chunk: (margin, pose, scenario)
         self.candidates: dict[int, list[tuple[float, int, int]]] = {block.offset: [] for block in self.blocks}
-        #: the blocks of the length rules searched to the box's boundary, and their margins at every pose (M × k)
+        #: the blocks of the rules searched to the box's boundary, and their margins at every pose (M × k)
         self.searched_blocks = [block for block in self.blocks if block.name in SEARCHED_RULES]
         taus, potentials, self.searched_margins = self._evaluate(values, 0)
         #: the residual torque (M·S × nv) and potential (M·S), in scenario blocks as the problem's samples
@@ -206,7 +208,7 @@ class _Dense:
 
 
 def _searched(problem: DesignProblem, dense: _Dense, x: np.ndarray) -> np.ndarray:
-    """The worst poses of each length rule, searched to its least margin within the workspace's box
+    """The worst poses of each searched rule, to its least margin within the workspace's box
     (:mod:`~springbalance.design.verification_refine`); none for another workspace."""
     box = search_box(problem.base_workspace)
     if box is None:
@@ -227,9 +229,9 @@ def check_design(
     x = np.asarray(x, dtype=float)
     unseen = dense = _Dense(problem, x, values)
     searched = _searched(problem, unseen, x)
-    if searched.size:  # the length rules' worst poses, searched to the box's boundary: rules only, not the residual
+    if searched.size:  # the searched rules' worst poses: for the rules only, not the residual
         dense = unseen.extended(searched)
-        sampling += f", and {searched.shape[0]} pose(s) searched to a length rule's least margin"
+        sampling += f", and {searched.shape[0]} pose(s) searched to a rule's least margin"
     widened = widened_bounds(problem, dense, x)  # a coil's fatigue bounds at its force range there
     if widened is not None:
         x = widened

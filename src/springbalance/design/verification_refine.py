@@ -1,11 +1,12 @@
-"""A coil's length rule searched to its worst pose inside the workspace's box, for the verification.
+"""A coil's length and force rules searched to their worst poses inside the workspace's box, for the verification.
 
 A coil must never go slack: ``L(q) ≥ l0``. ``L`` is smooth in the joint values, and its least value over a box
 of joint ranges lies, for most layouts, on the box's boundary (a joint at its limit), which Sobol points
 approach but never reach: a design that touches ``l0`` at its samples can be a fraction of a millimetre slack
 at the limit (the UR5 example: 0.48 mm at the elbow's limit, found at one of 16,384 poses and at none of the
-verification's 2,560). :func:`refined_poses` starts from the worst poses the verification found for each
-length rule (block ``tension``), a few far apart (:func:`search_starts`), and runs a compass search (Kolda, Lewis & Torczon, SIAM Review 45(3), 2003,
+verification's 2,560). Its largest force (and with it every stress of the coil) lies there too, at the longest
+length of an extension coil and the shortest of a compression coil. :func:`refined_poses` starts from the worst
+poses the verification found for each rule of :data:`RULES`, a few far apart (:func:`search_starts`), and runs a compass search (Kolda, Lewis & Torczon, SIAM Review 45(3), 2003,
 §3): try ``±h_j`` along each joint ``j``, clipped to its range, move to the best pose that lowers the margin,
 else halve every ``h``; ``h`` starts at :data:`FIRST_STEP` of each range and stops after :data:`HALVINGS`
 halvings. Only a box workspace without couplings is searched (the couplings tie joints that the search would
@@ -23,8 +24,9 @@ from springbalance.design.torque_model import BlockEvaluator, compiled
 from springbalance.design.torque_model.variables import ConstraintBlock
 from springbalance.model.workspace import Workspace
 
-#: the rules searched: a coil's length row ``L − l0`` [m]
-RULES = ("tension",)
+#: the rules searched: an extension coil's length ``L − l0`` [m], the body stress and the fatigue ceiling (its
+#: largest force: the hooks' stresses grow with it), a compression coil's solid length and ``L ≤ l0``
+RULES = ("tension", "body_stress", "fatigue_ceiling", "solid", "stays_compressed")
 #: the first step along each joint, as a fraction of its range [1]
 FIRST_STEP = 0.125
 #: halvings of the step before the search stops (the last step is FIRST_STEP / 2^HALVINGS of a range)
@@ -66,10 +68,10 @@ def search_starts(
     blocks: list[ConstraintBlock] | None = None,
     at: np.ndarray | None = None,
 ) -> list[tuple[int, np.ndarray]]:
-    """Where the searches start: per length rule, up to :data:`STARTS_PER_RULE` of the poses ``values`` (M×nv)
+    """Where the searches start: per rule, up to :data:`STARTS_PER_RULE` of the poses ``values`` (M×nv)
     with its least margins, each at least :data:`APART` of the box from the others along some joint (so that
     they start near different minima); ``(block offset, pose)`` pairs. ``blocks`` and ``at`` (M × len(blocks)):
-    the length rules' blocks and their :func:`margins` at ``values``, when the caller has them already."""
+    the rules' blocks and their :func:`margins` at ``values``, when the caller has them already."""
     if blocks is None:
         blocks = [block for block in problem.model.constraint_blocks if block.per_sample and block.name in RULES]
     if not blocks or not values.size:
