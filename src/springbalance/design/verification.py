@@ -27,10 +27,10 @@ is an average, which a denser sampling estimates, not a bound: reported only). W
 same poses (the fit's own check sets use other seeds).
 
 A coil's length rule ``L ≥ l0`` binds, for most layouts, on the boundary of the joint box (a joint at its
-limit), which Sobol points approach but never reach, and so do its largest force (body stress, fatigue
-ceiling; the hooks' stresses grow with the same force) and a compression coil's solid length. For a box
-workspace, the worst poses of each of these rules (:data:`~springbalance.design.verification_refine.RULES`) are
-therefore searched to its least margin inside the box (:mod:`~springbalance.design.verification_refine`), and
+limit), which Sobol points approach but never reach, and so does its largest force (its body stress; the hooks'
+stresses and the fatigue ceiling grow with the same force, a compression coil's solid length binds at the same
+length). For a box workspace, the worst poses of a helical coil's length rule and body stress
+(:func:`~springbalance.design.verification_refine.searched`) are therefore searched to its least margin inside the box (:mod:`~springbalance.design.verification_refine`), and
 every rule is judged at those poses too; the residual torque is judged at the Sobol poses only (the searched
 poses are chosen for a rule and would bias its statistics).
 
@@ -56,8 +56,7 @@ from springbalance.design.torque_model import BlockEvaluator, compiled
 from springbalance.design.torque_model.variables import ConstraintBlock
 from springbalance.design.verification_fatigue import damage_rule, is_damage_block, widened_bounds
 from springbalance.design.verification_record import JointResidual, RuleMargin, VerificationRecord
-from springbalance.design.verification_refine import RULES as SEARCHED_RULES
-from springbalance.design.verification_refine import refined_poses, search_box, search_starts
+from springbalance.design.verification_refine import refined_poses, search_box, search_starts, searched
 from springbalance.model.workspace import Coupling, Workspace
 
 #: the poses verified per sample optimised on
@@ -136,7 +135,7 @@ class _Dense:
         #: per block, its :data:`WORST_PER_RULE` smallest margins per chunk: (margin, pose, scenario)
         self.candidates: dict[int, list[tuple[float, int, int]]] = {block.offset: [] for block in self.blocks}
         #: the blocks of the rules searched to the box's boundary, and their margins at every pose (M × k)
-        self.searched_blocks = [block for block in self.blocks if block.name in SEARCHED_RULES]
+        self.searched_blocks = [block for block in self.blocks if searched(block)]
         taus, potentials, self.searched_margins = self._evaluate(values, 0)
         #: the residual torque (M·S × nv) and potential (M·S), in scenario blocks as the problem's samples
         self.tau = np.vstack([np.vstack(parts) for parts in taus])

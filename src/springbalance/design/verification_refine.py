@@ -24,9 +24,19 @@ from springbalance.design.torque_model import BlockEvaluator, compiled
 from springbalance.design.torque_model.variables import ConstraintBlock
 from springbalance.model.workspace import Workspace
 
-#: the rules searched: an extension coil's length ``L − l0`` [m], the body stress and the fatigue ceiling (its
-#: largest force: the hooks' stresses grow with it), a compression coil's solid length and ``L ≤ l0``
-RULES = ("tension", "body_stress", "fatigue_ceiling", "solid", "stays_compressed")
+#: the rules searched (:func:`searched`): a helical extension coil's length ``L − l0`` [m] and a helical coil's body
+#: stress, at its largest force (the hooks' stresses and the fatigue ceiling grow with the same force; a
+#: compression coil's solid length binds at the same, shortest, length)
+RULES = ("tension", "body_stress")
+
+
+def searched(block: ConstraintBlock) -> bool:
+    """Whether the verification searches ``block``: a per-sample row of :data:`RULES` that the optimisation keeps a
+    reserve for (a helical coil's: the search finds the rule's extreme between the samples, and the reserve lets
+    a re-solve hold it there when it moves; an ideal spring's ``L ≥ l0`` keeps none and is not searched)."""
+    return block.per_sample and block.name in RULES and block.reserve > 0
+
+
 #: the first step along each joint, as a fraction of its range [1]
 FIRST_STEP = 0.125
 #: halvings of the step before the search stops (the last step is FIRST_STEP / 2^HALVINGS of a range)
@@ -73,7 +83,7 @@ def search_starts(
     they start near different minima); ``(block offset, pose)`` pairs. ``blocks`` and ``at`` (M × len(blocks)):
     the rules' blocks and their :func:`margins` at ``values``, when the caller has them already."""
     if blocks is None:
-        blocks = [block for block in problem.model.constraint_blocks if block.per_sample and block.name in RULES]
+        blocks = [block for block in problem.model.constraint_blocks if searched(block)]
     if not blocks or not values.size:
         return []
     if at is None:
