@@ -135,3 +135,73 @@ def test_the_fit_moves_on_to_the_next_start_when_the_first_one_fails(problem, mo
     assert rows.evaluate(solution.x).max_violation <= 1e-6
     for row in sb.DesignResult(fitted, solution.x, fit=fit).clearance(samples=256).rows:
         assert row.distance >= MARGIN
+
+
+def outside(problem: sb.DesignProblem, x: np.ndarray) -> np.ndarray:
+    """``x`` with every anchor 0.1 m out of the arm's plane: clear of the arm, within the bounds, and no rule
+    broken (zero-free-length springs have no constraint rows), so only a round's linearised rows can miss it."""
+    names = problem.variables.names
+    out = np.array(x, dtype=float)
+    for index, name in enumerate(names):
+        if name.endswith(".y"):
+            out[index] = 0.1
+    return out
+
+
+def stopping_outside(monkeypatch: pytest.MonkeyPatch, rounds: int, iterate) -> list[np.ndarray]:
+    """Make the first ``rounds`` fitting rounds stop infeasible with ``iterate(problem, start)`` as their least
+    violating iterate (a design that meets every rule); returns the iterates they reported."""
+    real = clearance_round.solve_problem
+    reported: list[np.ndarray] = []
+
+    def solve(problem: sb.DesignProblem, **options):
+        if len(reported) >= rounds:
+            return real(problem, **options)
+        x = iterate(problem, np.array(options["initial"], dtype=float))
+        reported.append(x)
+        objective = float(problem.objective_value(problem.evaluate(x)))
+        violation = max(problem.linear_violation(x), 1.0)  # the round's rows: missed
+        record = StartRecord(0, x, x, objective, violation, "ipopt: Infeasible_Problem_Detected", 12, 0.0)
+        raise SolverError("no start met the rows", problem, [record])
+
+    monkeypatch.setattr(clearance_round, "solve_problem", solve)
+    return reported
+
+
+def test_meets_rules_tells_a_design_from_a_broken_one(problem):
+    """A design within its bounds and rules meets them; the broken one (stiffness -50 N/m < 0) does not."""
+    fitted, start = problem
+    assert clearance_round.meets_rules(fitted, start)
+    assert clearance_round.meets_rules(fitted, outside(fitted, start))
+    assert not clearance_round.meets_rules(fitted, broken(fitted, start))
+
+
+def test_rounds_that_only_miss_their_linearised_rows_do_not_stop_the_fit(problem, monkeypatch):
+    """More rounds in a row than INFEASIBLE_ROUNDS stop infeasible, each at its own start: a design of the
+    problem (the in-plane optimum, through link2) that misses only the round's cuts. The loop goes on from
+    there, as after any round, and the real rounds that follow fit the springs clear (before, it gave up
+    after two such rounds and fell back to the start, not converged)."""
+    fitted, start = problem
+    count = clearance_round.INFEASIBLE_ROUNDS + 1
+    reported = stopping_outside(monkeypatch, count, lambda problem, x: x)
+    solution, fit, rows = fit_to_arm(fitted, Solution(start, [], "auto", 0, "given"), **OPTIONS)
+    assert len(reported) == count
+    assert fit.converged and fit.rounds > count
+    assert "fell back" not in solution.status
+    assert within_bounds(fitted, solution.x)
+    assert rows.evaluate(solution.x).max_violation <= 1e-6
+    assert rows.linear_violation(solution.x) <= 1e-6
+    for row in sb.DesignResult(fitted, solution.x, fit=fit).clearance(samples=256).rows:
+        assert row.distance >= MARGIN
+
+
+def test_a_clear_design_outside_its_rows_is_not_the_fit(problem, monkeypatch):
+    """The first round stops infeasible at a clear design that meets every rule but misses the round's rows:
+    it is not returned as the fit; the next round starts from it and must meet its own rows."""
+    fitted, start = problem
+    reported = stopping_outside(monkeypatch, 1, outside)
+    solution, fit, rows = fit_to_arm(fitted, Solution(start, [], "auto", 0, "given"), **OPTIONS)
+    assert len(reported) == 1
+    assert fit.rounds >= 2
+    assert rows.linear_violation(solution.x) <= 1e-6
+    assert within_bounds(fitted, solution.x)

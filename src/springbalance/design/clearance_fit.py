@@ -13,7 +13,14 @@ from typing import Any, Iterable, Iterator, TypeAlias
 import numpy as np
 
 from springbalance.design.clearance import Clearance, FitRecord, LinearRows, stacked_rows
-from springbalance.design.clearance_round import INFEASIBLE_ROUNDS, fall_back, fell_back, solve_round
+from springbalance.design.clearance_round import (
+    INFEASIBLE_NOTE,
+    INFEASIBLE_ROUNDS,
+    OUTSIDE_NOTE,
+    fall_back,
+    fell_back,
+    solve_round,
+)
 from springbalance.design.clearance_rows import _ends_of, _mount_errors, _radius, _rows, mount_planes
 from springbalance.design.mounts import MOUNT_ACCEPT
 from springbalance.design.problem import DesignProblem
@@ -369,7 +376,8 @@ def fit_to_arm(
     geometry = collision_geometry(problem.mechanism) if problem.mounts else None
     watched: set[Key] = set()
     planes = mount_planes(problem, np.asarray(problem.variables.start, dtype=float)) if problem.mounts else {}
-    rounds, converged, stopped = 0, False, 0  # stopped: rounds in a row that stopped infeasible
+    # stopped: rounds in a row that stopped infeasible, breaking a rule; outside: the last one stopped outside its rows
+    rounds, converged, stopped, outside = 0, False, 0, False
     closest: dict[str, float] = {}
     mounts: dict[str, float] = {}
     limit = clearance.rounds if clearance is not None else 12
@@ -382,9 +390,9 @@ def fit_to_arm(
             converged = not below and mounted
         else:
             new, converged = [], mounted
-        if not stopped:  # x met its rows: the design to fall back to
+        if not stopped and not outside:  # x met its rows: the design to fall back to
             met = (x, solution, problem, closest, mounts, rounds)
-        converged = converged and not stopped  # a design that broke its rows is no fit
+        converged = converged and not stopped and not outside  # a design that broke its rows is no fit
         if converged or rounds >= limit or stopped >= INFEASIBLE_ROUNDS:
             break
         watched.update(new)
@@ -394,11 +402,12 @@ def fit_to_arm(
         resolved, note = solve_round(problem, x, solution, solve_options)
         if resolved is None:
             break
-        stopped = stopped + 1 if note else 0
+        stopped = stopped + 1 if note.startswith(INFEASIBLE_NOTE) else 0
+        outside = note.startswith(OUTSIDE_NOTE)
         solution = resolved
         x = np.array(solution.x, dtype=float)
         rounds += 1
-    if stopped:  # the last round broke its rows: back to the last design that met them (it is not clear)
+    if stopped or outside:  # the last round broke its rows: back to the last design that met them (it is not clear)
         x, solution, problem, closest, mounts = fell_back(*met, note)
     return _finished(problem, solution, x, rounds, bool(converged), float(before), closest, mounts, checker, clock)
 

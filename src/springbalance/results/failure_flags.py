@@ -63,7 +63,7 @@ _STATUS = re.compile(
     r"(" + "|".join(FAILED_STATUSES + FINISHED_STATUSES) + r")(?! \(not kept\))|least_squares: ([a-z ]+)"
 )
 #: the note of a fitting round whose linearised rows could not all be met: the fit's own record judges it
-_FIT_ROUND = re.compile(r"a fitting round stopped infeasible \([^)]*\)")
+_FIT_ROUND = re.compile(r"a fitting round (?:stopped infeasible|ended outside its linearised rows) \([^)]*\)")
 #: violated rules named in the ``infeasible`` message
 RULES_SHOWN = 3
 
