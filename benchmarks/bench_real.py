@@ -31,7 +31,8 @@ Every default and search design is verified independently of the solve:
 
   - dense residual: the design evaluated (not re-solved) on --dense Sobol poses (16,384; seed 7, a
     different sequence from the design's) over the config's ranges: the RMS cut there per joint and the
-    largest violation of the design's rows (coil rules, keep_tension) at those unseen poses;
+    largest violation of the design's rows (coil rules, keep_tension) at those unseen poses, and of its rules
+    (a row plus the reserve the optimisation keeps: the rule itself, as the verification judges it);
   - clearance: ``result.clearance(samples=10 × clearance.check_samples)`` (coal against the URDF's own
     meshes, not their hulls): the smallest distance of each spring and its closest link; a case with a
     clearance passes when no spring comes below the margin (cases without one are reported, not judged).
@@ -200,6 +201,19 @@ def solved(runs: list[dict[str, Any]]) -> list[dict[str, Any]]:
     return [run for run in runs if "error" not in run]
 
 
+def rule_violation(result: Any, evaluated: Any) -> float:
+    """The largest violation of a rule at the poses of ``evaluated`` [the row's unit]: a per-sample row plus the
+    reserve the optimisation keeps (as the verification judges it, docs/model.md §12), leaving out a coil's
+    fatigue bounds (auxiliary: the verification judges the damage rows at the force range met instead)."""
+    rows = evaluated.evaluation.constraint_rows
+    worst = [
+        -(float(rows[:, block.offset].min()) + block.reserve)
+        for block in evaluated.problem.model.constraint_blocks
+        if block.per_sample and block.name not in ("fatigue_floor", "fatigue_ceiling") and rows.size
+    ]
+    return max([0.0, *worst])
+
+
 def dense_check(run: dict[str, Any], record: dict[str, Any], case: Case, args: argparse.Namespace) -> dict[str, Any]:
     """The design on --dense unseen Sobol poses and its clearance at 10× the fitting check's poses."""
     result = run["result"]
@@ -213,6 +227,7 @@ def dense_check(run: dict[str, Any], record: dict[str, Any], case: Case, args: a
         "dense_poses": workspace.size,
         "dense_cuts": cuts(evaluated),
         "dense_max_violation": float(evaluated.evaluation.max_violation),
+        "dense_rule_violation": rule_violation(result, evaluated),
     }
     clearance = record.get("clearance")
     margin = float(clearance.get("margin", 0.005)) if clearance else 0.005
@@ -255,7 +270,8 @@ def print_check(label: str, check: dict[str, Any], design_cuts: dict[str, float]
     )
     print(
         f"  dense check of {label}: {check['dense_poses']} unseen poses: {moved}; "
-        f"largest row violation {check['dense_max_violation']:.3g}"
+        f"largest row violation {check['dense_max_violation']:.3g} (of a rule, its reserve added back: "
+        f"{check['dense_rule_violation']:.3g})"
     )
     springs = ", ".join(
         f"{name} {row['distance'] * 1e3:.1f} mm ({row['link']})" for name, row in check["springs"].items()

@@ -22,6 +22,7 @@ import pytest
 import springbalance as sb
 from clearance_helpers import crossing_springs
 from springbalance.design import clearance_round
+from springbalance.design.clearance import FitRecord
 from springbalance.design.clearance_fit import fit_from_starts, fit_to_arm
 from springbalance.design.solvers import Solution
 from springbalance.design.solvers.records import StartRecord
@@ -205,3 +206,21 @@ def test_a_clear_design_outside_its_rows_is_not_the_fit(problem, monkeypatch):
     assert fit.rounds >= 2
     assert rows.linear_violation(solution.x) <= 1e-6
     assert within_bounds(fitted, solution.x)
+
+
+def _fit(rounds: int, converged: bool, status: str = "ipopt: Solve_Succeeded") -> tuple:
+    """A fit as fit_to_arm returns it: its solution (with the status), its record, its problem (unused here)."""
+    return Solution(np.zeros(1), [], "ipopt", 0, status), FitRecord(rounds, 4, converged, 1.0, 1.0), None
+
+
+def test_a_fit_that_had_to_move_its_design_is_compared_with_the_next_design_once():
+    # the best start converged only after 4 rounds moved it: the next ranked design is fitted too, once
+    assert clearance_round.fall_back([_fit(4, True)], 0)
+    assert not clearance_round.fall_back([_fit(4, True), _fit(0, True)], 1)
+    # a start clear as it stands (0 rounds) is not compared; an unconverged fit without an infeasible round stops
+    assert not clearance_round.fall_back([_fit(0, True)], 0)
+    assert not clearance_round.fall_back([_fit(12, False)], 0)
+    # while no fit converged and a round stopped infeasible, up to FALLBACK_STARTS more
+    stopped = _fit(3, False, f"ipopt: Solve_Succeeded; {clearance_round.INFEASIBLE_NOTE} (x)")
+    assert clearance_round.fall_back([stopped], clearance_round.FALLBACK_STARTS - 1)
+    assert not clearance_round.fall_back([stopped], clearance_round.FALLBACK_STARTS)

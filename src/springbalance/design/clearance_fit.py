@@ -338,7 +338,8 @@ def fit_from_starts(
     """:func:`fit_to_arm` from the :attr:`Clearance.starts` best feasible designs of the multi-start
     (``solution.starts``, distinct, best first); keeps the converged fit of lowest objective (else the
     first). When none converged and a fitting round stopped infeasible, the next ranked designs are fitted
-    too, up to :data:`~springbalance.design.clearance_round.FALLBACK_STARTS` more, until one converges. Returns the fit kept with the problem
+    too, up to :data:`~springbalance.design.clearance_round.FALLBACK_STARTS` more, until one converges; when
+    every fit converged only after its rounds moved the design, the next ranked one is fitted too (once). Returns the fit kept with the problem
     that carries its rows."""
     count = problem.clearance.starts if problem.clearance is not None else 1
     records = sorted((record for record in solution.starts if record.feasible), key=lambda record: record.objective)

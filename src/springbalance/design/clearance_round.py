@@ -13,7 +13,8 @@ clear, they fitted the UR5 example's ideal twin at 70× its objective). After :d
 rounds in a row that broke a rule, or when the loop ends on one, it falls back to the last design that met its rows (:func:`fell_back`); that one was
 not clear of the arm (else the loop would have stopped there), so the fit is not converged, and
 :func:`~springbalance.design.clearance_fit.fit_from_starts` fits the next ranked designs of the
-multi-start (:func:`fall_back`).
+multi-start (:func:`fall_back`). It fits the next one also when every fit converged only after its rounds moved
+the design: a design clear as it stands may end better.
 """
 
 from __future__ import annotations
@@ -30,7 +31,8 @@ from springbalance.errors import SolverError
 #: Fitting rounds in a row that may stop infeasible before the loop gives up on its start.
 INFEASIBLE_ROUNDS = 2
 #: Designs of the multi-start fitted beyond :attr:`~springbalance.design.clearance.Clearance.starts` when no
-#: fit converged and a fitting round stopped infeasible (the next ranked ones, best first).
+#: fit converged and a fitting round stopped infeasible (the next ranked ones, best first); one when every fit
+#: converged only after moving its design (:func:`fall_back`).
 FALLBACK_STARTS = 2
 #: The note a fitting round that stopped infeasible leaves in the solution's status.
 INFEASIBLE_NOTE = "a fitting round stopped infeasible"
@@ -88,6 +90,12 @@ def fell_back(
 def fall_back(fits: list[tuple[Solution, FitRecord, DesignProblem]], extra: int) -> bool:
     """Whether to fit one more (the ``extra``-th beyond ``Clearance.starts``) ranked design: while no fit
     converged, one of them had a fitting round stop infeasible, and fewer than :data:`FALLBACK_STARTS` were
-    added."""
-    stopped = any(INFEASIBLE_NOTE in fit[0].status for fit in fits)
-    return extra < FALLBACK_STARTS and stopped and not any(fit[1].converged for fit in fits)
+    added; or, once, when every fit that converged had to move its design (a round or more): the next ranked
+    design may be clear as it stands and end better than a design the rounds moved (the Panda example: its best
+    start fitted in 4 rounds at 3.17 N·m, its second clear at 2.89)."""
+    if extra >= FALLBACK_STARTS:
+        return False
+    converged = [fit for fit in fits if fit[1].converged]
+    if converged:
+        return extra == 0 and all(fit[1].rounds > 0 for fit in converged)
+    return any(INFEASIBLE_NOTE in fit[0].status for fit in fits)

@@ -24,6 +24,9 @@ from typing import Any
 
 from springbalance.viz.browser import WINDOW, BrowserError, chromium_command, find_chromium
 
+#: attempts to remove the browser's profile folder after it stopped, 0.2 s apart
+PROFILE_REMOVALS = 10
+
 
 class PageSession:
     """Headless Chromium showing one page, driven over the DevTools protocol.
@@ -45,7 +48,7 @@ class PageSession:
         if chromium is None:
             raise BrowserError("Chromium is not installed")
         self.timeout = timeout
-        self._profile = tempfile.TemporaryDirectory(prefix="springbalance-devtools-")
+        self._profile = tempfile.TemporaryDirectory(prefix="springbalance-devtools-", ignore_cleanup_errors=True)
         command = chromium_command(chromium, Path("unused"), Path("unused.png"), Path(self._profile.name), window)
         command = [part for part in command[:-1] if not part.startswith(("--screenshot", "--virtual-time-budget"))]
         command += ["--remote-debugging-pipe", "about:blank"]
@@ -185,7 +188,16 @@ class PageSession:
             except OSError:
                 pass
         self._selector.close()
-        self._profile.cleanup()
+        self._remove_profile()
+
+    def _remove_profile(self) -> None:
+        """Remove the browser's profile folder. Chromium's helper processes (renderer, crash handler) can outlive
+        the browser by a moment and still write there: tried :data:`PROFILE_REMOVALS` times, a moment apart."""
+        for _ in range(PROFILE_REMOVALS):
+            self._profile.cleanup()  # ignores errors: what a helper wrote meanwhile stays
+            if not os.path.exists(self._profile.name):
+                return
+            time.sleep(0.2)
 
     def __enter__(self) -> PageSession:
         return self
