@@ -18,41 +18,32 @@ def solved():
     return problem, sb.solve(problem, starts=1, verify="off", progress=False)
 
 
-def test_a_floor_above_the_least_force_is_lowered_to_it_and_the_rest_kept(solved):
+@pytest.mark.parametrize(
+    ("variable", "extreme", "offset"),
+    [("forearm.fatigue_min_force", np.min, 3e-5), ("forearm.fatigue_max_force", np.max, -3e-5)],
+    ids=["floor-above-the-least-force", "ceiling-below-the-largest-force"],
+)
+def test_a_bound_past_the_force_is_moved_to_it_and_the_rest_kept(solved, variable, extreme, offset):
+    """A floor 30 µN above the coil's least tension at the samples is lowered to it, a ceiling 30 µN below its
+    largest raised to it (within IPOPT's scaled tolerance, beyond FEASIBILITY_TOLERANCE); nothing else moves."""
     problem, result = solved
-    floor = problem.variables.names.index("forearm.fatigue_min_force")
-    above = np.array(result.x, dtype=float)
-    least = float(np.min(problem.evaluate(above).tensions[:, 0]))  # the coil's tension at the samples [N]
-    above[floor] = least + 3e-5  # 30 µN above: within IPOPT's scaled tolerance, beyond FEASIBILITY_TOLERANCE
-    evaluation = problem.evaluate(above)
+    bound = problem.variables.names.index(variable)
+    past = np.array(result.x, dtype=float)
+    force = float(extreme(problem.evaluate(past).tensions[:, 0]))  # the coil's least or largest tension [N]
+    past[bound] = force + offset
+    evaluation = problem.evaluate(past)
     assert evaluation.max_violation == pytest.approx(3e-5, rel=1e-6)
-    lowered = lowered_floors(problem, evaluation)
-    assert lowered is not None
-    assert lowered[floor] == pytest.approx(least, abs=1e-12)
-    others = np.arange(above.size) != floor
-    assert np.array_equal(lowered[others], above[others])
-    after = problem.evaluate(lowered)
+    moved = lowered_floors(problem, evaluation)
+    assert moved is not None
+    assert moved[bound] == pytest.approx(force, abs=1e-12)
+    others = np.arange(past.size) != bound
+    assert np.array_equal(moved[others], past[others])
+    after = problem.evaluate(moved)
     assert after.max_violation <= FEASIBILITY_TOLERANCE
-    np.testing.assert_array_equal(after.tau, evaluation.tau)  # the torque does not see the floor
+    np.testing.assert_array_equal(after.tau, evaluation.tau)  # the torque does not see the bounds
 
 
 def test_a_floor_at_or_below_the_least_force_is_left_alone(solved):
     problem, result = solved
     evaluation = problem.evaluate(np.array(result.x, dtype=float))
     assert lowered_floors(problem, evaluation) is None
-
-
-def test_a_ceiling_below_the_largest_force_is_raised_to_it_and_the_rest_kept(solved):
-    problem, result = solved
-    ceiling = problem.variables.names.index("forearm.fatigue_max_force")
-    below = np.array(result.x, dtype=float)
-    largest = float(np.max(problem.evaluate(below).tensions[:, 0]))  # the coil's largest tension at the samples [N]
-    below[ceiling] = largest - 3e-5  # 30 µN below
-    evaluation = problem.evaluate(below)
-    assert evaluation.max_violation == pytest.approx(3e-5, rel=1e-6)
-    raised = lowered_floors(problem, evaluation)
-    assert raised is not None
-    assert raised[ceiling] == pytest.approx(largest, abs=1e-12)
-    others = np.arange(below.size) != ceiling
-    assert np.array_equal(raised[others], below[others])
-    assert problem.evaluate(raised).max_violation <= FEASIBILITY_TOLERANCE
