@@ -4,6 +4,8 @@ together in one solve."""
 
 from __future__ import annotations
 
+import copy
+
 import numpy as np
 import pytest
 
@@ -163,3 +165,41 @@ def test_the_twin_cannot_ask_a_coil_for_more_force_than_any_coil_in_its_envelope
     assert coil_start._largest_force(coil) == pytest.approx(expected, rel=1e-9)
     twin = coil_start._twin(coil)
     assert twin.max_force == pytest.approx(expected, rel=1e-9)
+
+
+def test_the_ideal_twin_is_not_solved_again_when_no_cap_binds(monkeypatch):
+    """The demo's capped twin balances exactly with every force far below its cap (a 40 mm coil carries
+    about 2.2 kN; the demo's springs at most 1.6 kN): the uncapped problem has the same optimum, so the record
+    is that optimum's and no second multi-start runs. The record still removes the whole rms torque."""
+    problem = _demo()
+    calls = []
+    solve_problem = coil_start.solve_problem
+
+    def counted(*args, **kwargs):
+        calls.append(args[0])
+        return solve_problem(*args, **kwargs)
+
+    monkeypatch.setattr(coil_start, "solve_problem", counted)
+    found = coil_start.coil_starts(problem, 3, starts=4, seed=0, method="auto", max_iterations=100, tolerance=1e-8)
+    assert found is not None and len(calls) == 1  # the capped twin's multi-start alone
+    assert not coil_start._cap_binds(found.twin, found.twin_x)
+    record = found.record
+    assert record.objective <= 1e-9 * record.objective_before
+    assert all(cut > 99.99 for cut in record.joints.values()) and len(record.joints) == 2
+
+
+def test_a_binding_cap_means_the_uncapped_twin_is_solved():
+    """At a design where a twin's force reaches its cap, the cap binds (the record needs its own solve)."""
+    problem = _demo()
+    coils = coil_start.coil_springs(problem)
+    twin = coil_start._twin_problem(problem, coils)
+    x = np.asarray(twin.variables.start, dtype=float)
+    forces = np.max(np.abs(twin.evaluate(x).tensions), axis=0)
+    assert not coil_start._cap_binds(twin.with_springs([_capped(s, 10 * f) for s, f in zip(twin.springs, forces)]), x)
+    assert coil_start._cap_binds(twin.with_springs([_capped(s, f) for s, f in zip(twin.springs, forces)]), x)
+
+
+def _capped(spring, force):
+    capped = copy.copy(spring)
+    capped.max_force = float(force)
+    return capped

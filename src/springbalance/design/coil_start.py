@@ -46,6 +46,9 @@ if TYPE_CHECKING:
 #: need not be converged further: winding each coil for its law changes the cost far more)
 TWIN_TOLERANCE = 1e-4
 
+#: a twin's force cap binds when its largest force comes within this fraction of it
+CAP_SLACK = 1e-3
+
 
 def coil_springs(problem: DesignProblem) -> list[HelicalCoilSpring]:
     """The helical coil springs of ``problem`` that have free variables."""
@@ -208,14 +211,30 @@ def _ideal_record(
     """The :class:`~springbalance.design.twin.TwinRecord` of the ideal twin: without the force cap of the
     first guess's twin (the reference a weak design is judged against is the law without the coil's
     limits), solved with the first guess's starts, its first from the capped optimum; that optimum's record when
-    the uncapped solve fails."""
+    the uncapped solve fails. When the cap binds nowhere at the capped optimum (every twin's largest force
+    below its cap), that optimum is a local optimum of the uncapped problem too, and its record is taken
+    without solving again (the demo's twin balances exactly below its caps)."""
     source = ROUTED_TWIN_SOURCE if any(getattr(coil, "routed", False) for coil in coils) else TWIN_SOURCE
     ideal = _twin_problem(problem, coils, capped=False)
+    if not _cap_binds(twin, np.asarray(found.x, dtype=float)):
+        return twin_record(ideal, found.x, source)
     try:
         solved = solve_problem(ideal, **{**options, "initial": found.x, "progress": False})
     except SolverError:
         return twin_record(twin, found.x, source)
     return twin_record(ideal, solved.x, source)
+
+
+def _cap_binds(twin: DesignProblem, x: np.ndarray) -> bool:
+    """Whether some twin's largest force over the samples reaches its ``max_force`` (within
+    :data:`CAP_SLACK` of it) at the design ``x``."""
+    evaluation = twin.evaluate(x)
+    for column, spring in enumerate(twin.springs):
+        cap = getattr(spring, "max_force", None)
+        if cap is not None and evaluation.tensions.shape[0]:
+            if float(np.max(np.abs(evaluation.tensions[:, column]))) >= (1.0 - CAP_SLACK) * cap:
+                return True
+    return False
 
 
 def _bounds(spring: Spring, key: str) -> tuple[float, float]:
