@@ -386,7 +386,7 @@ def twin_part(record: dict[str, Any], case: Case, default: dict[str, Any], joint
     the same coils without clearance, searched with 4× the starts (every design of the case with clearance
     is a design without it, so a loss that the coils alone cannot avoid is a floor of the goal)."""
     twin = solve(ideal_twin(record), case, "ideal twin (d)")
-    floor = solve(search_record(coils_only(record)), case, "coils, no clearance, 4x (d)")
+    floor = solve(search_record(coils_only(record)), case, "coils alone 4x (d)")
     print_runs([twin, floor], joints)
     if "error" in twin:
         return {"run": {key: value for key, value in twin.items() if key != "result"}}

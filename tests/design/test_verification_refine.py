@@ -85,3 +85,37 @@ def test_the_body_stress_is_searched_to_the_limit_where_the_coil_is_longest(prob
     stress = (4 * index + 2) / (4 * index - 3) * 8 * force * D / (np.pi * d**3)
     strength = 2211e6 / (d * 1e3) ** 0.145
     assert margins(problem, x, found, [block])[0, 0] == pytest.approx(1 - stress / (0.45 * strength), abs=1e-9)
+
+
+def test_a_compression_coil_stays_compressed_is_searched_to_where_it_is_longest():
+    """A helical compression coil between the same anchors: its ``L ≤ l0`` binds at its longest length, θ = −1
+    (``L² = A² + R² − 2 A R sin θ``), where the margin is ``l0 − L`` (the optimisation's 1 mm reserve added
+    back); its solid length, ``L − d (n + 2)``, binds at its shortest, θ = 1.2, where its force (and so its
+    body stress) is largest."""
+    arm = sb.Mechanism.from_urdf(URDF / "two_link_planar.urdf")
+    d, n, free = 0.002, 10.0, 0.5  # [m], [1], [m]
+    coil = sb.HelicalCompressionSpring(
+        sb.Anchor("universe", [0, 0, A]),
+        sb.Anchor("link1", [R, 0, 0]),
+        "p",
+        wire_diameter=d,
+        mean_diameter=0.02,
+        active_coils=n,
+        free_length=free,
+        guided=True,
+    )
+    problem = sb.DesignProblem(arm, sb.Workspace.sobol(arm, n=16, ranges=RANGES, seed=0), [coil])
+    x = np.asarray(problem.variables.start, dtype=float)
+    box = search_box(problem.workspace)
+    assert box is not None
+    blocks = {b.name: b for b in problem.model.constraint_blocks}
+    every = search_starts(problem, x, problem.workspace.joint_values, box)
+    assert {offset for offset, _ in every} == {blocks["stays_compressed"].offset, blocks["body_stress"].offset}
+    longest = refined_poses(problem, x, [(blocks["stays_compressed"].offset, np.array([0.3, 0.5]))], box)
+    assert longest[0, 0] == pytest.approx(-1.0, abs=1e-12)
+    length = np.sqrt(A**2 + R**2 - 2 * A * R * np.sin(-1.0))
+    assert margins(problem, x, longest, [blocks["stays_compressed"]])[0, 0] == pytest.approx(free - length, abs=1e-9)
+    shortest = refined_poses(problem, x, [(blocks["body_stress"].offset, np.array([0.3, 0.5]))], box)
+    assert shortest[0, 0] == pytest.approx(1.2, abs=1e-12)
+    length = np.sqrt(A**2 + R**2 - 2 * A * R * np.sin(1.2))
+    assert margins(problem, x, shortest, [blocks["solid"]])[0, 0] == pytest.approx(length - d * (n + 2), abs=1e-9)

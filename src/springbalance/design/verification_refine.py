@@ -24,10 +24,11 @@ from springbalance.design.torque_model import BlockEvaluator, compiled
 from springbalance.design.torque_model.variables import ConstraintBlock
 from springbalance.model.workspace import Workspace
 
-#: the rules searched (:func:`searched`): a helical extension coil's length ``L − l0`` [m] and a helical coil's body
-#: stress, at its largest force (the hooks' stresses and the fatigue ceiling grow with the same force; a
-#: compression coil's solid length binds at the same, shortest, length)
-RULES = ("tension", "body_stress")
+#: the rules searched (:func:`searched`): a helical extension coil's length ``L − l0`` [m], a helical compression
+#: coil's ``l0 − L`` at its longest length, and a helical coil's body stress, at its largest force (the hooks'
+#: stresses and the fatigue ceiling grow with the same force; a compression coil's solid length and buckling
+#: bind at the same, shortest, length)
+RULES = ("tension", "stays_compressed", "body_stress")
 
 
 def searched(block: ConstraintBlock) -> bool:

@@ -15,6 +15,9 @@ comes from mounting it shorter than ``l_0``. The rules are constraints at every 
 :math:`L_s \le L` (it never closes solid); ``L ≤ l_0`` (it stays in contact, ``stays_compressed``);
 no buckling, :math:`l_0 \le 2.63 D/\alpha` with :math:`\alpha = 0.5` for ends between flat parallel
 plates (Shigley Eq. 10-13), unless ``guided`` (on a rod or in a tube); index and envelope as every coil.
+The optimisation keeps :data:`~springbalance.springs.laws.coil.LENGTH_RESERVE` (1 mm) in reserve on both
+length rules, ``L_s + 1 mm ≤ L ≤ l_0 − 1 mm``: they bind on the boundary of the joint box (the shortest and
+the longest length), where the verification searches them, as an extension coil's ``L ≥ l_0``.
 """
 
 from __future__ import annotations
@@ -23,7 +26,7 @@ from typing import Any
 
 import numpy as np
 
-from springbalance.springs.laws.coil import CHECK_TOLERANCE, HelicalCoilSpring
+from springbalance.springs.laws.coil import CHECK_TOLERANCE, LENGTH_RESERVE, HelicalCoilSpring
 from springbalance.springs.params import Anchor
 from springbalance.springs.values import Parameters, ValueT
 
@@ -43,16 +46,22 @@ class CompressionCoilRules:
         if not spring.guided:
             parts.append(("buckling", "m", 0.01))
         self.parts = tuple(parts + spring.common_parts())
-        #: the stress row keeps ``stress_reserve`` of its allowable in reserve [1]
-        self.reserves = {"body_stress": spring.stress_reserve}
+        #: the stress row keeps ``stress_reserve`` of its allowable in reserve [1], the length rows
+        #: :data:`~springbalance.springs.laws.coil.LENGTH_RESERVE` [m]
+        self.reserves = {"body_stress": spring.stress_reserve, "solid": LENGTH_RESERVE}
+        if spring.stays_compressed:
+            self.reserves["stays_compressed"] = LENGTH_RESERVE
 
     def rows(self, length: ValueT, force: ValueT, parameters: Parameters) -> ValueT | list[ValueT]:
         spring, material = self.spring, self.spring.material
         d, D, n = parameters["wire_diameter"], parameters["mean_diameter"], parameters["active_coils"]
         free = parameters["free_length"]
         allowable = material.allowable_fraction["compression"] * material.tensile_strength(d)  # [Pa]
-        rows = [free - length] if spring.stays_compressed else []
-        rows += [length - d * (n + 2), 1 - spring.stress_reserve - spring.body_stress(-force, parameters) / allowable]
+        rows = [free - length - LENGTH_RESERVE] if spring.stays_compressed else []
+        rows += [
+            length - d * (n + 2) - LENGTH_RESERVE,
+            1 - spring.stress_reserve - spring.body_stress(-force, parameters) / allowable,
+        ]
         if not spring.guided:
             rows.append(2.63 * D / END_CONSTANT - free)
         return rows + spring.common_rows(parameters)
