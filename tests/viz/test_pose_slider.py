@@ -76,6 +76,28 @@ def test_pose_data_json_survives_the_page():
     assert fragment.count("</script>") == 2  # the data's element and the script's, nothing from the names
 
 
+@pytest.mark.parametrize(("joints", "springs", "opened"), [(2, 3, True), (4, 4, True), (6, 4, False), (9, 3, False)])
+def test_the_numbers_start_folded_when_they_would_cover_a_large_arm(joints, springs, opened):
+    """The table starts open up to OPEN_ROWS (8) joints and springs in all (the two-link demo's 5), folded above
+    (the UR5 example's 10, the Panda's 12): a click on its caption opens it."""
+    data = PoseData(
+        fps=30.0,
+        joints=[{"name": f"j{i}", "unit": "deg", "torque_unit": "N·m"} for i in range(joints)],
+        springs=[
+            {"name": f"s{i}", "type": "extension", "force_unit": "N", "length_unit": "mm"} for i in range(springs)
+        ],
+        q=[[0.0] * joints],
+        tau=[[0.0] * joints],
+        gravity=[[0.0] * joints],
+        force=[[0.0] * springs],
+        length=[[0.0] * springs],
+        title="sweep of each joint",
+    )
+    fragment = pose_slider_html(data)
+    assert ("<details open>" in fragment) is opened
+    assert fragment.count("<details") == 1 and "<summary>sweep of each joint</summary>" in fragment
+
+
 def test_static_page_has_the_slider_and_its_data(design):
     scene = _scene(design)
     page = scene.html(autoplay=False)

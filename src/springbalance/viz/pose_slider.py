@@ -152,10 +152,17 @@ _SCRIPT = r"""
 </script>"""
 
 
+#: the table of numbers starts open when it has at most this many joints and springs in all (the two-link demo
+#: has 5); a larger one (the UR5 with 4 springs has 10) starts folded, a click away, as it would cover the arm
+OPEN_ROWS = 8
+
+
 def pose_slider_html(data: PoseData) -> str:
     """The slider, the overlay of numbers, their data (JSON) and their script: an HTML fragment for the end of a
-    scene page's ``<body>`` (it drives the page's ``viewer``, meshcat's)."""
+    scene page's ``<body>`` (it drives the page's ``viewer``, meshcat's). The numbers start folded when there
+    are more than :data:`OPEN_ROWS` joints and springs."""
     size = max(data.size, 1)
+    opened = " open" if len(data.joints) + len(data.springs) <= OPEN_ROWS else ""
     return (
         f"{_STYLE}\n"
         f'<div id="{CONTAINER_ID}" role="group" aria-label="pose slider">'
@@ -163,7 +170,7 @@ def pose_slider_html(data: PoseData) -> str:
         f'<input id="{SLIDER_ID}" type="range" min="1" max="{size}" step="1" value="1" '
         f'aria-label="pose ({html.escape(data.title)})">'
         f'<span id="{LABEL_ID}">pose 1 of {size}</span></div>'
-        f"<details open><summary>{html.escape(data.title)}</summary>"
+        f"<details{opened}><summary>{html.escape(data.title)}</summary>"
         f'<table id="{TABLE_ID}"></table></details></div>\n'
         f'<script type="application/json" id="{DATA_ID}">{data.to_json()}</script>'
         f"{_SCRIPT}\n"
