@@ -52,6 +52,8 @@ class TorqueModel:
 
         variable_slots = self._declare_variables()
         self._index = {name: i for i, name in enumerate(self.variables.names)}
+        #: (id of a spring, end) → (the spring, its end's region, the region's columns in x): see anchor_point
+        self._anchor_regions: dict[tuple[int, str], tuple[Spring, Any, np.ndarray]] = {}
         self.base_variables = self.variables
         self.scenarios = list(scenarios)
         self._columns = self._scenario_variables(per_scenario)
@@ -333,9 +335,12 @@ class TorqueModel:
     def anchor_point(self, spring: Spring, end: str, x: npt.ArrayLike, scenario: int = 0) -> np.ndarray:
         """Body-frame anchor point [m] of end ``"a"``/``"b"`` for design vector ``x`` (in ``scenario``)."""
         x = self.scenario_vector(x, scenario)
-        region = spring.anchors[end].region()
-        coordinates = [x[self._index[f"{spring.name}.{end}.{label}"]] for label in region.labels]
-        return region.point(coordinates)
+        cached = self._anchor_regions.get((id(spring), end))
+        if cached is None or cached[0] is not spring:  # the region once per spring and end (a clearance check
+            region = spring.anchors[end].region()  # asks for each end at thousands of poses)
+            columns = np.array([self._index[f"{spring.name}.{end}.{label}"] for label in region.labels], dtype=int)
+            cached = self._anchor_regions[(id(spring), end)] = (spring, region, columns)
+        return cached[1].point(np.asarray(x)[cached[2]])
 
     def spring_values(self, spring: Spring, x: np.ndarray, scenario: int = 0) -> dict:
         """Numeric parameter values of ``spring`` for design vector ``x`` (in ``scenario``)."""
