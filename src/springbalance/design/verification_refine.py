@@ -94,13 +94,11 @@ def search_starts(
     for column, block in enumerate(blocks):
         order = np.argsort(at[:, column], kind="stable")
         relevant = _relevant(problem, x, values[order[0]], block, box)
-        chosen: list[np.ndarray] = []
-        for index in order:
-            pose = values[index]
-            if all(np.max(np.abs(pose - other)[relevant] / scale[relevant], initial=0.0) >= APART for other in chosen):
-                chosen.append(pose)
-            if len(chosen) == STARTS_PER_RULE:
-                break
+        chosen: list[np.ndarray] = []  # greedily, in order: each pose APART from those chosen before it
+        while order.size and len(chosen) < STARTS_PER_RULE:
+            chosen.append(values[order[0]])
+            gaps = np.abs(values[order[1:]] - chosen[-1])[:, relevant] / scale[relevant]
+            order = order[1:][np.max(gaps, axis=1, initial=0.0) >= APART]
         starts += [(block.offset, pose) for pose in chosen]
     return starts
 
