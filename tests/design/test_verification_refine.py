@@ -18,6 +18,7 @@ from springbalance.design.verification_refine import (
     refined_poses,
     search_box,
     search_starts,
+    spring_joints,
 )
 
 URDF = Path(__file__).resolve().parents[2] / "urdf"
@@ -119,3 +120,28 @@ def test_a_compression_coil_stays_compressed_is_searched_to_where_it_is_longest(
     assert shortest[0, 0] == pytest.approx(1.2, abs=1e-12)
     length = np.sqrt(A**2 + R**2 - 2 * A * R * np.sin(1.2))
     assert margins(problem, x, shortest, [blocks["solid"]])[0, 0] == pytest.approx(length - d * (n + 2), abs=1e-9)
+
+
+def test_a_search_moves_only_the_joints_between_its_springs_bodies():
+    """On the two-link arm a coil from the ground to link 1 depends on the shoulder only, one from link 1 to
+    link 2 on the elbow only (the shoulder moves both of its bodies alike), one from the ground to link 2 on
+    both: the compass search tries only those joints, and a search with nothing to move stays where it starts."""
+    arm = sb.Mechanism.from_urdf(URDF / "two_link_planar.urdf")
+    pairs = {"g1": ("universe", "link1"), "12": ("link1", "link2"), "g2": ("universe", "link2")}
+    coils = [
+        sb.HelicalExtensionSpring(sb.Anchor(a, [0.05, 0, 0.1]), sb.Anchor(b, [0.2, 0, 0.02]), name, **COIL)
+        for name, (a, b) in pairs.items()
+    ]
+    problem = sb.DesignProblem(arm, sb.Workspace.sobol(arm, n=16, ranges=RANGES, seed=0), coils)
+    tension = {b.spring: b for b in problem.model.constraint_blocks if b.name == "tension"}
+    expected = {"g1": [True, False], "12": [False, True], "g2": [True, True]}
+    for name, moved in expected.items():
+        assert spring_joints(problem, tension[name]).tolist() == moved, name
+    x = np.asarray(problem.variables.start, dtype=float)
+    box = search_box(problem.workspace)
+    assert box is not None
+    start = np.array([0.3, 0.5])
+    found = refined_poses(problem, x, [(tension["g1"].offset, start), (tension["12"].offset, start)], box)
+    assert found[0, 1] == start[1] and found[1, 0] == start[0]  # the joint a spring does not depend on stays put
+    fixed = (np.array([0.3, -2.0]), np.array([0.3, 2.0]))  # the elbow alone may move: g1 has nothing to search
+    assert np.array_equal(refined_poses(problem, x, [(tension["g1"].offset, start)], fixed)[0], start)

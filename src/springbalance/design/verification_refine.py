@@ -124,7 +124,8 @@ def refined_poses(
     problem: DesignProblem, x: np.ndarray, starts: list[tuple[int, np.ndarray]], box: tuple[np.ndarray, np.ndarray]
 ) -> np.ndarray:
     """Each start ``(block offset, pose)`` searched to a local minimum of its block's margin within ``box`` (see
-    the module documentation); the poses (rows, in the order of ``starts``)."""
+    the module documentation); the poses (rows, in the order of ``starts``). A search moves only the joints its
+    spring depends on (:func:`spring_joints`)."""
     if not starts:
         return np.empty((0, box[0].size))
     lower, upper = box
@@ -134,27 +135,47 @@ def refined_poses(
     column = np.array([offsets.index(offset) for offset, _ in starts])
     poses = np.array([pose for _, pose in starts], dtype=float)
     current = margins(problem, x, poses, blocks)[np.arange(len(starts)), column]
-    moving = np.flatnonzero(upper > lower)
+    moving = [np.flatnonzero((upper > lower) & spring_joints(problem, by_offset[offset])) for offset, _ in starts]
     steps = np.tile(FIRST_STEP * (upper - lower), (len(starts), 1))
-    halvings = np.zeros(len(starts), dtype=int)
+    halvings = np.array([0 if joints.size else HALVINGS + 1 for joints in moving])
     for _ in range(MAX_ROUNDS):
         active = np.flatnonzero(halvings <= HALVINGS)
         if not active.size:
             break
-        trials = []  # per active search: 2 × len(moving) neighbours
+        trials, owner = [], []  # per active search: 2 neighbours along each joint it moves
         for s in active:
-            for j in moving:
+            for j in moving[s]:
                 for sign in (1.0, -1.0):
                     trial = poses[s].copy()
                     trial[j] = np.clip(trial[j] + sign * steps[s, j], lower[j], upper[j])
                     trials.append(trial)
-        values = margins(problem, x, np.array(trials), blocks).reshape(len(active), 2 * len(moving), len(blocks))
-        for row, s in enumerate(active):
-            at = values[row, :, column[s]]
-            best = int(np.argmin(at))
-            if at[best] < current[s]:
-                poses[s], current[s] = trials[row * 2 * len(moving) + best], at[best]
+                    owner.append(s)
+        values = margins(problem, x, np.array(trials), blocks)
+        for s in active:
+            rows = np.flatnonzero(np.array(owner) == s)
+            best = rows[int(np.argmin(values[rows, column[s]]))]
+            if values[best, column[s]] < current[s]:
+                poses[s], current[s] = trials[best], values[best, column[s]]
             else:
                 steps[s] *= 0.5
                 halvings[s] += 1
     return poses
+
+
+def spring_joints(problem: DesignProblem, block: ConstraintBlock) -> np.ndarray:
+    """Which joint coordinates (nv bools) move the points of ``block``'s spring relative to each other: those of
+    the joints that support some of its bodies but not all (a joint that supports them all moves the spring as a
+    rigid whole; a URDF mimic joint counts as its primary's coordinate). Every coordinate for a block of no spring."""
+    mechanism = problem.mechanism
+    spring = next((s for s in problem.springs if s.name == block.spring), None)
+    if spring is None or not hasattr(spring, "anchors"):
+        return np.ones(mechanism.nv, dtype=bool)
+    model = mechanism.model
+    chains = [
+        set(model.supports[model.frames[mechanism.frame_id(anchor.body)].parentJoint])
+        for anchor in spring.anchors.values()
+    ]
+    moved = np.zeros(mechanism.nv, dtype=bool)
+    for joint in set.union(*chains) - set.intersection(*chains):
+        moved[model.joints[joint].idx_v : model.joints[joint].idx_v + max(model.joints[joint].nv, 1)] = True
+    return moved
