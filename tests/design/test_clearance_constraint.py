@@ -70,6 +70,9 @@ def test_clearance_fitted_from_a_design_through_link2_keeps_the_margin_at_10x_th
     )
     result = sb.DesignResult(problem, solution.x, fit=fit)
     assert fit.converged and fit.rounds >= 1 and fit.rows > 0
+    # the fitted solution keeps the records of the starts it was given (design.json's multi-start spread), not
+    # those of its last round's re-solve
+    assert solution.starts == [] and (solution.method, solution.seed) == ("auto", 0)
     report = result.clearance(samples=DENSE)  # the URDF's own shapes, 2,560 poses
     assert report.margin == margin and report.poses == DENSE
     for row in report.rows:

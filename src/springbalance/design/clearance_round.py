@@ -19,6 +19,7 @@ the design: a design clear as it stands may end better.
 
 from __future__ import annotations
 
+import dataclasses
 from typing import Any
 
 import numpy as np
@@ -51,7 +52,10 @@ def solve_round(
     rules (:func:`meets_rules`), only this round's linearised rows, else :data:`INFEASIBLE_NOTE`. None when the
     solver returned no iterate at all."""
     try:
-        return solve_problem(problem, starts=1, initial=x, progress=False, **solve_options), ""
+        found = solve_problem(problem, starts=1, initial=x, progress=False, **solve_options)
+        # the solution keeps the multi-start's records (design.json's and the report's "multi-start" line are
+        # about them); the round is in the fit's record
+        return dataclasses.replace(found, starts=solution.starts, method=solution.method, seed=solution.seed), ""
     except SolverError as error:
         if not error.starts:
             return None, ""
