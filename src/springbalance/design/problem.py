@@ -207,9 +207,7 @@ class DesignProblem(ProblemNlp):
             )
         cache = self._compiled
         if cache.evaluator is None:  # block by block: no work arrays for all samples at once
-            # compiled (and its block kernel) for large workspaces, where the virtual machine takes seconds
-            sample = compiled(self.model.sample) if self.workspace.size >= KERNEL_MIN_SAMPLES else self.model.sample
-            cache.evaluator = BlockEvaluator(sample, self.data)
+            cache.evaluator = BlockEvaluator(self.sample_function(), self.data)
         tau, potential, lengths, tensions, rows = cache.evaluator.evaluate(x)
         n = self.workspace.size
         return Evaluation(
@@ -220,6 +218,17 @@ class DesignProblem(ProblemNlp):
             tensions.reshape(n, -1),
             rows.reshape(n, -1),
         )
+
+    def sample_function(self) -> Any:
+        """The model's per-sample function, compiled to C (with its block kernel) for a workspace of
+        :data:`~springbalance.design.block_kernel.KERNEL_MIN_SAMPLES` samples or more, where the virtual machine
+        takes seconds; made once per problem."""
+        cache = self._compiled
+        if cache.sample is None:
+            cache.sample = (
+                compiled(self.model.sample) if self.workspace.size >= KERNEL_MIN_SAMPLES else self.model.sample
+            )
+        return cache.sample
 
     def with_linear_rows(self, rows: LinearRows | None) -> DesignProblem:
         """This problem with other :attr:`linear_rows` (this one is not changed). The copy shares the
@@ -432,9 +441,10 @@ class DesignProblem(ProblemNlp):
 
 @dataclasses.dataclass
 class _Compiled:
-    """What a problem compiles once for its samples: the block evaluator, the least-squares residuals and
-    the NLPs (by objective phase, with the linear rows each was built for)."""
+    """What a problem compiles once for its samples: the per-sample function, the block evaluator, the
+    least-squares residuals and the NLPs (by objective phase, with the linear rows each was built for)."""
 
+    sample: Any = None
     evaluator: BlockEvaluator | None = None
     least_squares: Any = None
     nlps: dict = dataclasses.field(default_factory=dict)

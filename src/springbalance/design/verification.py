@@ -47,16 +47,19 @@ import time
 
 import numpy as np
 
-from springbalance.design.block_kernel import KERNEL_MIN_SAMPLES
 from springbalance.design.clearance_fit import Key, _Checker, _worst
 from springbalance.design.problem import DesignProblem
-from springbalance.design.scenarios import ScenarioWorkspace
 from springbalance.design.solvers import FEASIBILITY_TOLERANCE
-from springbalance.design.torque_model import BlockEvaluator, compiled
 from springbalance.design.torque_model.variables import ConstraintBlock
 from springbalance.design.verification_fatigue import damage_rule, is_damage_block, widened_bounds
 from springbalance.design.verification_record import JointResidual, RuleMargin, VerificationRecord
-from springbalance.design.verification_refine import refined_poses, search_box, search_starts, searched
+from springbalance.design.verification_refine import (
+    evaluated_at,
+    refined_poses,
+    search_box,
+    search_starts,
+    searched,
+)
 from springbalance.model.workspace import Coupling, Workspace
 
 #: the poses verified per sample optimised on
@@ -151,15 +154,10 @@ class _Dense:
         taus: list[list[np.ndarray]] = [[] for _ in range(scenarios)]
         potentials: list[list[np.ndarray]] = [[] for _ in range(scenarios)]
         searched = []
-        sample = compiled(model.sample) if problem.workspace.size >= KERNEL_MIN_SAMPLES else model.sample
         for start in range(0, values.shape[0], CHUNK):
             part = values[start : start + CHUNK]
-            workspace = Workspace(problem.mechanism, part, description={"kind": "verification"})
-            stacked = ScenarioWorkspace(workspace, problem.scenarios) if problem.scenarios else workspace
-            evaluator = BlockEvaluator(sample, model.data_matrix(stacked.kinematics()))
-            tau, potential, _, _, rows = evaluator.evaluate(self.x)
-            m, n = part.shape[0], stacked.size
-            tau, rows, potential = tau.reshape(n, -1), rows.reshape(n, -1), potential.reshape(n)
+            tau, potential, rows = evaluated_at(problem, self.x, part)
+            m = part.shape[0]
             for scenario in range(scenarios):
                 taus[scenario].append(tau[scenario * m : (scenario + 1) * m])
                 potentials[scenario].append(potential[scenario * m : (scenario + 1) * m])

@@ -17,10 +17,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from springbalance.design.block_kernel import KERNEL_MIN_SAMPLES
 from springbalance.design.problem import DesignProblem
 from springbalance.design.scenarios import ScenarioWorkspace
-from springbalance.design.torque_model import BlockEvaluator, compiled
+from springbalance.design.torque_model import BlockEvaluator
 from springbalance.design.torque_model.variables import ConstraintBlock
 from springbalance.model.workspace import Workspace
 
@@ -58,15 +57,21 @@ def search_box(workspace: Workspace) -> tuple[np.ndarray, np.ndarray] | None:
     return np.array(description["lower"], dtype=float), np.array(description["upper"], dtype=float)
 
 
+def evaluated_at(problem: DesignProblem, x: np.ndarray, poses: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The residual torque (n×nv), potential (n) and constraint rows (n×rows) of design ``x`` at ``poses`` (k×nv),
+    in every scenario of the problem in turn (``n = k·S``: the poses of scenario 0, then of scenario 1 …)."""
+    workspace = Workspace(problem.mechanism, poses, description={"kind": "verification"})
+    stacked = ScenarioWorkspace(workspace, problem.scenarios) if problem.scenarios else workspace
+    evaluator = BlockEvaluator(problem.sample_function(), problem.model.data_matrix(stacked.kinematics()))
+    tau, potential, _, _, rows = evaluator.evaluate(x)
+    n = stacked.size
+    return np.asarray(tau).reshape(n, -1), np.asarray(potential).reshape(n), np.asarray(rows).reshape(n, -1)
+
+
 def margins(problem: DesignProblem, x: np.ndarray, poses: np.ndarray, blocks: list[ConstraintBlock]) -> np.ndarray:
     """The rows of ``blocks`` (plus their reserves) of design ``x`` at ``poses`` (k×nv), the least over the
     problem's scenarios: a k×len(blocks) array [each block's unit]."""
-    model = problem.model
-    sample = compiled(model.sample) if problem.workspace.size >= KERNEL_MIN_SAMPLES else model.sample
-    workspace = Workspace(problem.mechanism, poses, description={"kind": "verification"})
-    stacked = ScenarioWorkspace(workspace, problem.scenarios) if problem.scenarios else workspace
-    rows = BlockEvaluator(sample, model.data_matrix(stacked.kinematics())).evaluate(x)[4]
-    rows = np.asarray(rows).reshape(stacked.size, -1)
+    rows = evaluated_at(problem, x, poses)[2]
     columns = rows[:, [block.offset for block in blocks]] + np.array([block.reserve for block in blocks])
     return columns.reshape(-1, poses.shape[0], len(blocks)).min(axis=0)
 
@@ -93,7 +98,7 @@ def search_starts(
     starts = []
     for column, block in enumerate(blocks):
         order = np.argsort(at[:, column], kind="stable")
-        relevant = _relevant(problem, x, values[order[0]], block, box)
+        relevant = spring_joints(problem, block)
         chosen: list[np.ndarray] = []  # greedily, in order: each pose APART from those chosen before it
         while order.size and len(chosen) < STARTS_PER_RULE:
             chosen.append(values[order[0]])
@@ -101,23 +106,6 @@ def search_starts(
             order = order[1:][np.max(gaps, axis=1, initial=0.0) >= APART]
         starts += [(block.offset, pose) for pose in chosen]
     return starts
-
-
-def _relevant(
-    problem: DesignProblem, x: np.ndarray, pose: np.ndarray, block: ConstraintBlock, box: tuple[np.ndarray, np.ndarray]
-) -> np.ndarray:
-    """The joints whose move by :data:`FIRST_STEP` of their range changes ``block``'s margin at ``pose`` (a
-    coil's length does not depend on the joints beyond its anchors, nor on a joint whose axis it lies along)."""
-    lower, upper = box
-    trials = np.repeat(pose[None, :], pose.size, axis=0)
-    index = np.arange(pose.size)
-    trials[index, index] = np.where(
-        pose + FIRST_STEP * (upper - lower) <= upper,
-        pose + FIRST_STEP * (upper - lower),
-        pose - FIRST_STEP * (upper - lower),
-    )
-    moved = margins(problem, x, np.vstack([pose[None, :], trials]), [block])[:, 0]
-    return np.abs(moved[1:] - moved[0]) > 1e-12 * max(1.0, abs(moved[0]))
 
 
 def refined_poses(
@@ -135,7 +123,8 @@ def refined_poses(
     column = np.array([offsets.index(offset) for offset, _ in starts])
     poses = np.array([pose for _, pose in starts], dtype=float)
     current = margins(problem, x, poses, blocks)[np.arange(len(starts)), column]
-    moving = [np.flatnonzero((upper > lower) & spring_joints(problem, by_offset[offset])) for offset, _ in starts]
+    joints = {offset: np.flatnonzero((upper > lower) & spring_joints(problem, by_offset[offset])) for offset in offsets}
+    moving = [joints[offset] for offset, _ in starts]
     steps = np.tile(FIRST_STEP * (upper - lower), (len(starts), 1))
     halvings = np.array([0 if joints.size else HALVINGS + 1 for joints in moving])
     for _ in range(MAX_ROUNDS):
@@ -150,9 +139,9 @@ def refined_poses(
                     trial[j] = np.clip(trial[j] + sign * steps[s, j], lower[j], upper[j])
                     trials.append(trial)
                     owner.append(s)
-        values = margins(problem, x, np.array(trials), blocks)
+        values, owners = margins(problem, x, np.array(trials), blocks), np.array(owner)
         for s in active:
-            rows = np.flatnonzero(np.array(owner) == s)
+            rows = np.flatnonzero(owners == s)
             best = rows[int(np.argmin(values[rows, column[s]]))]
             if values[best, column[s]] < current[s]:
                 poses[s], current[s] = trials[best], values[best, column[s]]
