@@ -6,7 +6,7 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 DOCS_STAMP := $(VENV)/.docs-installed
 
-.PHONY: bytecode demo lint test test-fast bench bench-buildable bench-clearance bench-explore bench-startup bench-workers bench-memory bench-cli-memory bench-evaluation bench-ipopt bench-real clean chromium demo-check docs test-drake bench-demo
+.PHONY: bytecode demo lint test test-fast bench bench-buildable bench-clearance bench-explore bench-startup bench-workers bench-memory bench-cli-memory bench-evaluation bench-ipopt bench-distance-check bench-real clean chromium demo-check docs test-drake bench-demo
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -130,6 +130,10 @@ bench-evaluation: $(STAMP)
 # The IPOPT path: one peak start at 4,096 UR5 samples and one coil-constrained two-link solve, structured vs plain NLP
 bench-ipopt: $(STAMP)
 	$(BIN)/python benchmarks/bench_ipopt.py
+
+# The clearance fit's distance check on the UR5 (512 poses): capsules built by Eigen's rotation against the NumPy builder
+bench-distance-check: $(STAMP)
+	$(BIN)/python benchmarks/bench_distance_check.py
 
 # the demo's solve with its coils' fatigue duty against the same demo without it (ratio in one run)
 bench-demo: $(STAMP)
