@@ -2,16 +2,15 @@
 
 The fit to the arm (springbalance.design.clearance_fit) measures every spring's distance to every link at
 its check poses, again at each round, and at 4× as many when those are clear: it builds a coal capsule per
-spring, scenario and pose, hundreds of thousands of times in a UR5 design. The capsule's placement is
-built by Eigen's shortest rotation (``pin.Quaternion.FromTwoVectors``) in ``collision.capsule``; the
-baseline, run in the same process on the same poses, is the NumPy builder it replaced (the rotation's
-columns from a helper axis and two cross products).
+spring, scenario and pose, hundreds of thousands of times in a UR5 design. ``collision.capsule`` computes
+the placement's columns (a helper axis and two cross products) on Python floats; the baseline, run in the
+same process on the same poses, is the NumPy builder it replaced (the same columns from small arrays).
 
 Problem: the four springs of bench_clearance.py (UR5, shoulder → upper arm ×2, shoulder → forearm, upper
 arm → forearm; anchors in ±0.3 m boxes), at the boxes' centres and at 8 random designs (seed 0). Each
 builder measures the design at the check poses (--poses, 512; the fit's pose set 0) --repeat times; the
-script prints the time per measure and per capsule of each, their ratio, and the largest difference of
-the distances they give [m] (a capsule is the same at any turn about its axis: the two differ only within coal's GJK tolerance, 1e-7 m).
+script prints the time per pass of each, their ratio, and the largest difference of the distances they
+give [m]: the two placements are equal bit for bit, so it must be 0.
 
 Run: .venv/bin/python benchmarks/bench_distance_check.py [--poses 512] [--repeat 3]   (make bench-distance-check)
 """
@@ -105,11 +104,11 @@ print(
     f"{capsules} capsules per pass (best of {args.repeat} passes)"
 )
 print(
-    f"  Eigen rotation (collision.capsule): {new_seconds:6.2f} s, {new_seconds / capsules * 1e6:5.1f} µs per spring and pose"
+    f"  Python floats (collision.capsule):  {new_seconds:6.2f} s, {new_seconds / capsules * 1e6:5.1f} µs per spring and pose"
 )
 print(
     f"  NumPy columns (baseline):           {old_seconds:6.2f} s, {old_seconds / capsules * 1e6:5.1f} µs per spring and pose"
 )
 print(
-    f"  ratio baseline / now: ×{old_seconds / new_seconds:.2f}; largest difference of the closest distances: {difference:.2e} m (coal's GJK tolerance)"
+    f"  ratio baseline / now: ×{old_seconds / new_seconds:.2f}; largest difference of the closest distances: {difference:.2e} m"
 )

@@ -91,24 +91,38 @@ def collision_geometry(mechanism: Mechanism) -> pin.GeometryModel:
     return geometry
 
 
-#: A capsule's own axis (coal's capsules lie along their local z).
-_CAPSULE_AXIS = np.array([0.0, 0.0, 1.0])
-
-
 def capsule(start: np.ndarray, end: np.ndarray, radius: float) -> tuple[coal.CollisionGeometry, coal.Transform3s]:
-    """coal capsule of ``radius`` [m] around the segment ``start``–``end`` (world, [m]) and its placement: its
-    local z turned onto the segment by the shortest rotation (Eigen's ``FromTwoVectors``; a capsule is the same
-    at any turn about its axis). A clearance check builds one per spring and pose, hundreds of thousands of
-    times: this is 4× faster than building the rotation's columns with NumPy."""
+    """coal capsule of ``radius`` [m] around the segment ``start``–``end`` (world, [m]) and its placement: local
+    z along the segment ``z = (end − start)/|end − start|``, local x the unit ``e_k × z`` for the world axis
+    ``e_k`` least aligned with it, local y ``z × x``.
+
+    A clearance check builds one per spring and pose, hundreds of thousands of times: the columns are
+    computed on Python floats (``e_k × z`` has a zero and two entries of ``z``), 2.5× faster than NumPy's
+    small-array operations and equal to them bit for bit (a placement turned about the capsule's axis is the
+    same capsule, but coal's distances then differ by up to 1e-7 m, enough to move a fit's path)."""
     import coal
 
     start, end = np.asarray(start, dtype=float), np.asarray(end, dtype=float)
     axis = end - start
-    length = math.sqrt(float(axis @ axis))
-    centre = 0.5 * (start + end)
+    length = math.sqrt(float(axis.dot(axis)))  # as np.linalg.norm computes it, bit for bit
+    centre = (start + end) / 2
     if length < 1e-12:
         return coal.Sphere(radius), coal.Transform3s(np.eye(3), centre)
-    return coal.Capsule(radius, length), coal.Transform3s(pin.Quaternion.FromTwoVectors(_CAPSULE_AXIS, axis), centre)
+    a0, a1, a2 = axis.tolist()
+    z0, z1, z2 = a0 / length, a1 / length, a2 / length
+    m0, m1, m2 = abs(z0), abs(z1), abs(z2)
+    if m0 <= m1 and m0 <= m2:  # e_x × z
+        x0, x1, x2 = 0.0, -z2, z1
+    elif m1 <= m2:  # e_y × z
+        x0, x1, x2 = z2, 0.0, -z0
+    else:  # e_z × z
+        x0, x1, x2 = -z1, z0, 0.0
+    across = np.array([x0, x1, x2])
+    norm = math.sqrt(float(across.dot(across)))
+    x0, x1, x2 = x0 / norm, x1 / norm, x2 / norm
+    y0, y1, y2 = z1 * x2 - z2 * x1, z2 * x0 - z0 * x2, z0 * x1 - z1 * x0  # z × x
+    rotation = np.array([[x0, y0, z0], [x1, y1, z1], [x2, y2, z2]])
+    return coal.Capsule(radius, length), coal.Transform3s(rotation, centre)
 
 
 @dataclasses.dataclass(frozen=True)
