@@ -1,16 +1,22 @@
-"""The clearance fit's distance check on the UR5: one capsule per spring and pose, built two ways in one process.
+"""The clearance fit's distance check on the UR5, against two baselines run in the same process on the same poses.
 
 The fit to the arm (springbalance.design.clearance_fit) measures every spring's distance to every link at
-its check poses, again at each round, and at 4× as many when those are clear: it builds a coal capsule per
-spring, scenario and pose, hundreds of thousands of times in a UR5 design. ``collision.capsule`` computes
-the placement's columns (a helper axis and two cross products) on Python floats; the baseline, run in the
-same process on the same poses, is the NumPy builder it replaced (the same columns from small arrays).
+its check poses, again at each round, at 4× as many when those are clear, and the verification at 10× as many.
+Three ways, each over the same designs and poses:
+
+  - now:      ``_Checker.measure``: a lower bound of every pair at every pose from bounding capsules, in one
+              pass of array operations (springbalance.design.clearance_distances), coal asked only where the
+              bound is within the margin and descent band, and at each pair's least; capsules built on
+              Python floats (``collision.capsule``);
+  - coal:     coal for every pair at every pose (the check before the bounds), the same capsules;
+  - numpy:    the same as coal, with the capsule builder before that (its rotation's columns from NumPy's
+              small-array operations): the check as it was at the start of session 37.
 
 Problem: the four springs of bench_clearance.py (UR5, shoulder → upper arm ×2, shoulder → forearm, upper
-arm → forearm; anchors in ±0.3 m boxes), at the boxes' centres and at 8 random designs (seed 0). Each
-builder measures the design at the check poses (--poses, 512; the fit's pose set 0) --repeat times; the
-script prints the time per pass of each, their ratio, and the largest difference of the distances they
-give [m]: the two placements are equal bit for bit, so it must be 0.
+arm → forearm; anchors in ±0.3 m boxes), at the boxes' centres and at 8 random designs (seed 0), at the check
+poses (--poses, 512; the fit's pose set 0), best of --repeat passes. The script prints the time of each, the
+ratios, and whether each baseline finds the same contacts below the margin and the same closest distance of
+every spring, bit for bit (it must).
 
 Run: .venv/bin/python benchmarks/bench_distance_check.py [--poses 512] [--repeat 3]   (make bench-distance-check)
 """
@@ -77,38 +83,86 @@ rng = np.random.default_rng(0)
 designs = [np.asarray(problem.variables.start, dtype=float)] + [
     lower + (upper - lower) * rng.random(lower.size) for _ in range(8)
 ]
-capsules = len(checker.pose_sets[0]) * len(checker.springs) * problem.model.n_scenarios * len(designs)
 
 
-def measured(builder):
-    """Seconds of one pass over the designs (best of --repeat) and the distances of the last pass."""
-    clearance_fit.capsule = builder
-    best, distances = np.inf, []
+def every_pair(x):
+    """The baseline's measure: coal's distance of every pair at every pose, then the same reductions."""
+    radius, pairs = checker._radii(x), list(checker._pairs())
+    poses = checker.pose_sets[0]
+    distances = np.empty((len(poses), len(pairs)))
+    for sample, q in enumerate(poses):
+        checker.scene.place(q)
+        distances[sample] = checker.placed_distances(pairs, x, radius)
+    below = {
+        pair + (0, int(s)): float(distances[s, c])
+        for c, pair in enumerate(pairs)
+        for s in np.flatnonzero(distances[:, c] < 0.005)
+    }
+    closest = {}
+    for c, pair in enumerate(pairs):
+        names = (pair[1], pair[2]) if pair[0] == "spring" else (pair[1],)
+        for name in names:
+            closest[name] = min(closest.get(name, np.inf), float(distances[:, c].min()))
+    return below, closest
+
+
+def measured(how):
+    """Seconds of one pass over the designs (best of --repeat) and what the last pass found."""
+    best, found = np.inf, []
     for _ in range(args.repeat):
         clock = time.perf_counter()
-        distances = [sorted(checker.measure(x, 0)[1].items()) for x in designs]
+        found = [how(x) for x in designs]
         best = min(best, time.perf_counter() - clock)
-    return best, distances
+    return best, found
 
 
-# alternate the two builders so that the machine's load falls on both alike
-new_seconds, new_distances = measured(collision.capsule)
-old_seconds, old_distances = measured(numpy_capsule)
-new_again, _ = measured(collision.capsule)
-new_seconds = min(new_seconds, new_again)
-clearance_fit.capsule = collision.capsule
+def now(x):
+    below, closest, _ = checker.measure(x, 0)
+    return below, closest
 
-difference = max(abs(a[1] - b[1]) for new, old in zip(new_distances, old_distances) for a, b in zip(new, old))
+
+def with_builder(builder):
+    def run(x):
+        clearance_fit.capsule = builder
+        try:
+            return every_pair(x)
+        finally:
+            clearance_fit.capsule = collision.capsule
+
+    return run
+
+
+# how many pairs `now` asks coal for, of all the pairs at all the poses
+asked = [0]
+placed_distances = checker.placed_distances
+
+
+def counted(pairs, x, radius):
+    asked[0] += len(pairs)
+    return placed_distances(pairs, x, radius)
+
+
+checker.placed_distances = counted
+for x in designs:
+    checker.measure(x, 0)
+checker.placed_distances = placed_distances
+every = len(designs) * len(checker.pose_sets[0]) * len(list(checker._pairs()))
+
+# alternate so that the machine's load falls on all alike
+times = {"now": [], "coal": [], "numpy": []}
+results = {}
+for _ in range(2):
+    for label, how in (("now", now), ("coal", with_builder(collision.capsule)), ("numpy", with_builder(numpy_capsule))):
+        seconds, results[label] = measured(how)
+        times[label].append(seconds)
+best = {label: min(values) for label, values in times.items()}
 print(
-    f"UR5, {len(checker.springs)} springs, {len(checker.pose_sets[0])} check poses, {len(designs)} designs: "
-    f"{capsules} capsules per pass (best of {args.repeat} passes)"
+    f"UR5, {len(checker.springs)} springs, {len(checker.pose_sets[0])} check poses, {len(designs)} designs "
+    f"(best of {2 * args.repeat} passes); now asks coal for {asked[0]} of the {every} pairs at all poses "
+    f"({100 * asked[0] / every:.1f} %)"
 )
-print(
-    f"  Python floats (collision.capsule):  {new_seconds:6.2f} s, {new_seconds / capsules * 1e6:5.1f} µs per spring and pose"
-)
-print(
-    f"  NumPy columns (baseline):           {old_seconds:6.2f} s, {old_seconds / capsules * 1e6:5.1f} µs per spring and pose"
-)
-print(
-    f"  ratio baseline / now: ×{old_seconds / new_seconds:.2f}; largest difference of the closest distances: {difference:.2e} m"
-)
+for label in ("now", "coal", "numpy"):
+    same = all(set(a[0]) == set(b[0]) and a[1] == b[1] for a, b in zip(results[label], results["now"]))
+    print(
+        f"  {label:>5}: {best[label]:6.2f} s a pass, ×{best[label] / best['now']:.2f} of now; same contacts and closest distances as now: {same}"
+    )

@@ -19,7 +19,8 @@ import pytest
 import springbalance as sb
 from clearance_helpers import crossing_springs
 from springbalance.cli import main
-from springbalance.design.clearance_fit import fit_to_arm
+from springbalance.design.clearance_distances import pair_distances
+from springbalance.design.clearance_fit import DESCENT_BAND, _Checker, fit_to_arm
 from springbalance.design.mounts import MOUNT_ACCEPT
 from springbalance.design.solvers import Solution
 
@@ -271,7 +272,7 @@ def test_the_checkers_batched_distances_equal_each_contacts_distance(arm, worksp
     assert any(kind == "spring" for kind, *_ in pairs) and any(kind == "object" for kind, *_ in pairs)
     for q in checker.pose_sets[0][:12]:
         checker.scene.place(q)
-        batched = checker._distances(pairs, x, radius)
+        batched = checker.placed_distances(pairs, x, radius)
         alone = [checker._contact(pair, x, radius)[0].distance for pair in pairs]
         assert batched == pytest.approx(alone, abs=1e-12)
 
@@ -301,3 +302,55 @@ def test_mounting_rows_are_linearised_where_the_free_optimum_puts_the_anchors():
     assert result.fit.objective_before < 0.6 * bare
     assert result.fit.objective < 0.6 * bare
     assert max(result.fit.mounts.values()) <= MOUNT_ACCEPT
+
+
+def _ur5_shoulder_springs():
+    """Three ideal springs on the UR5 (shoulder → upper arm, shoulder → forearm, upper arm → forearm), at random
+    anchors (seed 3) in ±0.3 m boxes: a design that passes through some links at some poses and far from others."""
+    ur5 = sb.Mechanism.from_robot("ur5")
+    pairs = [("shoulder_link", "upper_arm_link"), ("shoulder_link", "forearm_link"), ("upper_arm_link", "forearm_link")]
+    springs = [
+        sb.ExtensionSpring(
+            sb.Anchor(a, sb.Free([-0.3] * 3, [0.3] * 3)),
+            sb.Anchor(b, sb.Free([-0.3] * 3, [0.3] * 3)),
+            f"s{i}",
+            stiffness=sb.Free(0, 5000),
+            free_length=sb.Free(0.05, 1.0),
+        )
+        for i, (a, b) in enumerate(pairs)
+    ]
+    clearance = sb.Clearance(margin=0.005, check_samples=96, between_springs=True)
+    problem = sb.DesignProblem(ur5, sb.Workspace.sobol(ur5, 16, seed=1), springs, clearance=clearance)
+    lower, upper = (np.asarray(bound, dtype=float) for bound in problem.variables.bounds())
+    return problem, lower + (upper - lower) * np.random.default_rng(3).random(lower.size)
+
+
+@pytest.mark.parametrize("setting", ["two_link", "ur5"])
+def test_the_checks_bounded_distances_are_coals_wherever_they_count(arm, workspace, setting):
+    """The check asks coal only where a lower bound (bounding capsules of the objects) cannot decide. Against
+    coal's distance of every pair at every pose: equal, bit for bit, wherever within the margin and descent
+    band and at each pair's least; below it (a lower bound) everywhere else."""
+    if setting == "ur5":
+        problem, x = _ur5_shoulder_springs()
+    else:
+        problem = sb.DesignProblem(
+            arm, workspace, crossing_springs(0.02), clearance=sb.Clearance(margin=0.005, between_springs=True)
+        )
+        x = np.asarray(problem.variables.start, dtype=float)
+    checker = _Checker(problem, problem.clearance)
+    radius, pairs, poses = checker._radii(x), list(checker._pairs()), checker.pose_sets[0]
+    threshold = problem.clearance.margin + DESCENT_BAND
+    found = pair_distances(checker, pairs, x, radius, poses, threshold)
+    coal_distances = np.empty_like(found)
+    for sample, q in enumerate(poses):
+        checker.scene.place(q)
+        coal_distances[sample] = checker.placed_distances(pairs, x, radius)
+    near = coal_distances <= threshold
+    assert near.any() and (~near).any()  # the design comes close at some poses, not at others
+    assert np.array_equal(found[near], coal_distances[near])
+    assert np.array_equal(found.min(axis=0), coal_distances.min(axis=0))
+    assert np.all(found <= coal_distances + 1e-12)
+    assert np.all(found[~near] > threshold)
+    computed = np.sum(found == coal_distances)
+    if setting == "ur5":  # the bounds decide most pairs without coal
+        assert computed < 0.5 * found.size

@@ -4,7 +4,7 @@ import coal
 import numpy as np
 import pytest
 
-from springbalance.model.collision import capsule
+from springbalance.model.collision import capsule, segment_distances
 
 SEGMENTS = [
     ([0.1, 0.2, 0.3], [0.4, 0.1, 0.5]),
@@ -47,3 +47,25 @@ def test_a_point_segment_is_a_sphere():
     shape, placement = capsule(np.ones(3), np.ones(3), 0.03)
     assert isinstance(shape, coal.Sphere) and shape.radius == 0.03
     assert placement.getTranslation() == pytest.approx(np.ones(3))
+
+
+def test_segment_distances_are_coals_capsule_distances_and_no_more_than_any_two_points():
+    """Between random segments (some of zero or tiny length, some parallel), all at once: coal's distance of two
+    capsules of radius 0, and at most the least distance of points sampled along both."""
+    rng = np.random.default_rng(0)
+    n = 2000
+    lengths = rng.choice([0.0, 1e-3, 1.0, 3.0], size=(n, 2, 1))
+    p1, p2 = rng.normal(size=(n, 3)), rng.normal(size=(n, 3))
+    q1, q2 = p1 + lengths[:, 0] * rng.normal(size=(n, 3)), p2 + lengths[:, 1] * rng.normal(size=(n, 3))
+    parallel = rng.random(n) < 0.1
+    q2[parallel] = p2[parallel] + (q1[parallel] - p1[parallel]) * rng.normal(size=(int(parallel.sum()), 1))
+    found = segment_distances(p1, q1, p2, q2)
+    request = coal.DistanceRequest()
+    for i in range(n):
+        first, second = capsule(p1[i], q1[i], 1e-9), capsule(p2[i], q2[i], 1e-9)
+        expected = coal.distance(*first, *second, request, coal.DistanceResult()) + 2e-9
+        assert found[i] == pytest.approx(expected, abs=1e-9)
+    along = np.linspace(0.0, 1.0, 101)[:, None]
+    for i in range(0, n, 20):
+        a, b = p1[i] + along * (q1[i] - p1[i]), p2[i] + along * (q2[i] - p2[i])
+        assert found[i] <= np.min(np.linalg.norm(a[:, None] - b[None], axis=-1)) + 1e-12

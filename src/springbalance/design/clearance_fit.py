@@ -13,6 +13,7 @@ from typing import Any, Iterable, Iterator, TypeAlias
 import numpy as np
 
 from springbalance.design.clearance import Clearance, FitRecord, LinearRows, stacked_rows
+from springbalance.design.clearance_distances import Pair, pair_distances
 from springbalance.design.clearance_round import (
     INFEASIBLE_NOTE,
     INFEASIBLE_ROUNDS,
@@ -46,8 +47,6 @@ DESCENT_BAND = 0.02
 #: Most distance evaluations of one descent.
 DESCENT_EVALUATIONS = 150
 
-#: A pair checked: ``(kind, spring, object index or other spring, scenario)``, kind ``"object"`` or ``"spring"``.
-Pair: TypeAlias = tuple[str, str, "int | str", int]
 #: A contact watched: ``(*pair, pose set, sample)``.
 Key: TypeAlias = tuple[str, str, "int | str", int, int, int]
 #: World placements ``(rotation, translation)`` of a spring's end bodies.
@@ -158,9 +157,8 @@ class _Checker:
         pairs = list(self._pairs())
         poses = self.pose_sets[pose_set]
         distances = np.full((len(poses), len(pairs)), np.inf)
-        for sample, q in enumerate(poses):
-            self.scene.place(q)
-            distances[sample] = self._distances(pairs, x, radius)
+        if len(poses) and pairs:
+            distances = pair_distances(self, pairs, x, radius, poses, self.clearance.margin + DESCENT_BAND)
         below: dict[Key, float] = {}
         closest = {_named(s): np.inf for s in self.springs}
         nearest: Nearest = {}
@@ -175,7 +173,7 @@ class _Checker:
                 below[pair + (pose_set, int(hit))] = float(distances[hit, column])
         return below, closest, nearest
 
-    def _distances(self, pairs: list[Pair], x: np.ndarray, radius: dict[str, float]) -> list[float]:
+    def placed_distances(self, pairs: list[Pair], x: np.ndarray, radius: dict[str, float]) -> list[float]:
         """The distance [m] of every pair at the placed pose: :meth:`_contact`'s, with each spring's ends and
         capsule computed once for all the objects it is checked against."""
         capsules: dict[tuple[str, int], tuple] = {}

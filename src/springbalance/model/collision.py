@@ -203,15 +203,52 @@ class CollisionScene:
 
     def place(self, configuration: np.ndarray) -> None:
         """Move the arm and its collision objects to configuration ``q`` (Pinocchio's order)."""
+        self.move(configuration)
+        self._placements = [None] * len(self.objects)  # coal's, built when an object is first asked for
+
+    def _placement(self, index: int) -> coal.Transform3s:
+        """coal's placement of object ``index`` at the placed configuration."""
         import coal
 
+        placement = self._placements[index]
+        if placement is None:
+            oMg = self._geometry_data.oMg[index]
+            placement = self._placements[index] = coal.Transform3s(np.array(oMg.rotation), np.array(oMg.translation))
+        return placement
+
+    def move(self, configuration: np.ndarray) -> None:
+        """Move the arm's frames and objects' placements to ``q`` without building coal's placements: for
+        :meth:`frame` and :meth:`object_placements` alone (:meth:`distance_to` needs :meth:`place`)."""
         model = self.mechanism.model
         pin.forwardKinematics(model, self._data, configuration)
         pin.updateFramePlacements(model, self._data)
         pin.updateGeometryPlacements(model, self._data, self.geometry, self._geometry_data)
-        self._placements = [
-            coal.Transform3s(np.array(p.rotation), np.array(p.translation)) for p in self._geometry_data.oMg
-        ]
+
+    def object_placements(self) -> tuple[np.ndarray, np.ndarray]:
+        """World rotations (n×3×3) and translations (n×3) [m] of the objects at the current configuration."""
+        placements = self._geometry_data.oMg
+        return np.array([p.rotation for p in placements]), np.array([p.translation for p in placements])
+
+    def bounding_capsules(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Per object, a capsule that holds it, in the object's own frame: ``(start, end, radius)`` (n×3, n×3, n)
+        [m]. Its axis runs along the longest side of the object's bounding box through the box's centre, as long
+        as that side; its radius is the half-diagonal of the box's cross-section (a point of the box projects onto
+        the axis within the side and lies within that distance of it)."""
+        if getattr(self, "_bounds", None) is None:
+            starts, ends, radii = [], [], []
+            for obj in self.objects:
+                shape = obj.geometry
+                shape.computeLocalAABB()
+                lower, upper = np.array(shape.aabb_local.min_), np.array(shape.aabb_local.max_)
+                centre, half = (lower + upper) / 2, (upper - lower) / 2
+                axis = int(np.argmax(half))
+                step = np.zeros(3)
+                step[axis] = half[axis]
+                starts.append(centre - step)
+                ends.append(centre + step)
+                radii.append(float(np.linalg.norm(np.delete(half, axis))))
+            self._bounds = (np.array(starts), np.array(ends), np.array(radii))
+        return self._bounds
 
     def frame(self, frame_id: int) -> pin.SE3:
         """World placement of a frame at the current configuration."""
@@ -228,7 +265,7 @@ class CollisionScene:
                 shape,
                 placement,
                 self.objects[index].geometry,
-                self._placements[index],
+                self._placement(index),
                 self._request,
                 coal.DistanceResult(),
             )
@@ -241,7 +278,7 @@ class CollisionScene:
         shape, placement = capsule(start, end, radius)
         result = coal.DistanceResult()
         distance = coal.distance(
-            shape, placement, self.objects[index].geometry, self._placements[index], self._request, result
+            shape, placement, self.objects[index].geometry, self._placement(index), self._request, result
         )
         return Contact(
             float(distance),
@@ -250,6 +287,29 @@ class CollisionScene:
             np.array(result.getNearestPoint2()),
             -np.array(result.normal),
         )
+
+
+def segment_distances(p1: np.ndarray, q1: np.ndarray, p2: np.ndarray, q2: np.ndarray) -> np.ndarray:
+    """Distances [m] between the segments ``p1``–``q1`` and ``p2``–``q2`` (arrays of points, ...×3, broadcast):
+    the closest points' parameters ``s, t ∈ [0, 1]`` clamped as in Ericson, *Real-Time Collision Detection*
+    (2005), §5.1.9, for every pair at once. A segment of zero length is a point."""
+    d1, d2, r = q1 - p1, q2 - p2, p1 - p2
+    a, e = np.einsum("...i,...i", d1, d1), np.einsum("...i,...i", d2, d2)
+    b, c, f = np.einsum("...i,...i", d1, d2), np.einsum("...i,...i", d1, r), np.einsum("...i,...i", d2, r)
+    tiny = 1e-18
+    safe_a, safe_e = np.where(a > tiny, a, 1.0), np.where(e > tiny, e, 1.0)
+    denominator = a * e - b * b
+    s = np.where(
+        denominator > tiny, np.clip((b * f - c * e) / np.where(denominator > tiny, denominator, 1.0), 0, 1), 0.0
+    )
+    t = (b * s + f) / safe_e
+    s = np.where(t < 0, np.clip(-c / safe_a, 0, 1), np.where(t > 1, np.clip((b - c) / safe_a, 0, 1), s))
+    t = np.clip(t, 0, 1)
+    # a point: the other segment's parameter alone
+    s = np.where(a > tiny, s, 0.0)
+    t = np.where(e > tiny, np.where(a > tiny, t, np.clip(f / safe_e, 0, 1)), 0.0)
+    s = np.where((e <= tiny) & (a > tiny), np.clip(-c / safe_a, 0, 1), s)
+    return np.linalg.norm(p1 + s[..., None] * d1 - p2 - t[..., None] * d2, axis=-1)
 
 
 def capsule_contact(

@@ -1,0 +1,140 @@
+"""The clearance fit's distances at many poses, coal asked only where a cheap lower bound cannot decide.
+
+A spring is a capsule (segment ``A–B``, radius ``r``); every collision object lies inside a capsule of its own
+(:meth:`~springbalance.model.collision.CollisionScene.bounding_capsules`: axis ``S–E``, radius ``ρ``). So the
+distance of the spring to the object is at least
+
+.. math:: \\underline{d} = \\operatorname{dist}(A\\!-\\!B,\\ S\\!-\\!E) - r - ρ ,
+
+and between two springs the segments' distance less both radii (which is their distance). These bounds take
+one pass of array operations over all poses and pairs (:func:`~springbalance.model.collision.segment_distances`).
+coal's exact signed distance is asked only where the bound is within ``threshold`` [m] (the fit's margin and its
+descent band: where a distance can matter), and, per pair, at the poses of lowest bound until the bound exceeds
+the least distance found, so that each pair's least distance is coal's own. The other entries keep their bound,
+above ``threshold`` and above their pair's least distance: every use of the distances (those below the margin,
+each spring's closest, the closest poses within the descent band) sees the values coal gives, bit for bit.
+"""
+
+from __future__ import annotations
+
+from typing import Protocol, TypeAlias
+
+import numpy as np
+
+from springbalance.design.clearance_rows import _ends_of
+from springbalance.design.problem import DesignProblem
+from springbalance.model.collision import CollisionScene, segment_distances
+from springbalance.springs.laws import Spring
+
+#: A pair checked: ``(kind, spring, object index or other spring, scenario)``, kind ``"object"`` or ``"spring"``.
+Pair: TypeAlias = tuple[str, str, "int | str", int]
+
+
+class Checker(Protocol):
+    """What the distances need of the clearance fit's checker (:class:`~springbalance.design.clearance_fit._Checker`)."""
+
+    problem: DesignProblem
+    scene: CollisionScene
+    by_name: dict[str, Spring]
+    frame_ids: dict[str, tuple[int, ...]]
+
+    def placed_distances(self, pairs: list[Pair], x: np.ndarray, radius: dict[str, float]) -> list[float]:
+        """coal's distance [m] of every pair at the pose the scene is placed at."""
+        ...
+
+
+#: Configurations (Pinocchio's order): an array (poses × nq) or a list of them.
+Poses: TypeAlias = "np.ndarray | list[np.ndarray]"
+
+#: Round-off allowance [m] of the bounds against coal's distances (GJK's tolerance is far below it).
+BOUND_SLACK = 1e-6
+
+
+def pair_distances(
+    checker: Checker,
+    pairs: list[Pair],
+    x: np.ndarray,
+    radius: dict[str, float],
+    poses: Poses,
+    threshold: float,
+) -> np.ndarray:
+    """Distances [m] (poses × pairs) of every pair at the configurations ``poses`` (see the module docstring):
+    coal's where the bound is within ``threshold`` and at each pair's least, the bound elsewhere."""
+    bounds = _bounds(checker, pairs, x, radius, poses)
+    distances = bounds.copy()
+    exact = bounds <= threshold + BOUND_SLACK
+    # a pair with no bound within the threshold: coal's at its pose of lowest bound, an upper bound u of its least
+    lacking = np.flatnonzero(~exact.any(axis=0))
+    exact[np.argmin(bounds[:, lacking], axis=0), lacking] = True
+    _fill(checker, pairs, x, radius, poses, distances, exact)
+    # then coal's at every pose whose bound is within the least found, at once
+    least = np.min(np.where(exact, distances, np.inf), axis=0)
+    _fill(checker, pairs, x, radius, poses, distances, ~exact & (bounds <= least[None, :] + BOUND_SLACK))
+    return distances
+
+
+def _fill(
+    checker: Checker,
+    pairs: list[Pair],
+    x: np.ndarray,
+    radius: dict[str, float],
+    poses: Poses,
+    distances: np.ndarray,
+    wanted: np.ndarray,
+) -> None:
+    """Write coal's distance into ``distances`` wherever ``wanted`` (poses × pairs) is set, pose by pose."""
+    for sample in np.flatnonzero(wanted.any(axis=1)):
+        columns = np.flatnonzero(wanted[sample])
+        checker.scene.place(poses[int(sample)])
+        distances[sample, columns] = checker.placed_distances([pairs[c] for c in columns], x, radius)
+
+
+def _bounds(checker: Checker, pairs: list[Pair], x: np.ndarray, radius: dict[str, float], poses: Poses) -> np.ndarray:
+    """Lower bounds [m] of every pair's distance at every pose (poses × pairs)."""
+    scene, model = checker.scene, checker.problem.model
+    frames = sorted({frame for ids in checker.frame_ids.values() for frame in ids})
+    where = {frame: index for index, frame in enumerate(frames)}
+    n = len(poses)
+    frame_rotations, frame_translations = np.empty((n, len(frames), 3, 3)), np.empty((n, len(frames), 3))
+    object_rotations, object_translations = (
+        np.empty((n, len(scene.objects), 3, 3)),
+        np.empty((n, len(scene.objects), 3)),
+    )
+    for sample, q in enumerate(poses):
+        scene.move(q)
+        object_rotations[sample], object_translations[sample] = scene.object_placements()
+        for index, frame in enumerate(frames):
+            placement = scene.frame(frame)
+            frame_rotations[sample, index], frame_translations[sample, index] = (
+                placement.rotation,
+                placement.translation,
+            )
+    starts, ends, widths = scene.bounding_capsules()
+    object_start = np.einsum("poij,oj->poi", object_rotations, starts) + object_translations
+    object_end = np.einsum("poij,oj->poi", object_rotations, ends) + object_translations
+    segments: dict[tuple[str, int], tuple[np.ndarray, np.ndarray]] = {}
+
+    def segment(name: str, scenario: int) -> tuple[np.ndarray, np.ndarray]:
+        """The spring's two ends (world, poses × 3) in ``scenario``."""
+        if (name, scenario) not in segments:
+            spring = checker.by_name[name]
+            points = []
+            for end, frame in zip(_ends_of(spring), checker.frame_ids[name]):
+                body_point = model.anchor_point(spring, end, x, scenario)
+                rotation, translation = frame_rotations[:, where[frame]], frame_translations[:, where[frame]]
+                points.append(np.einsum("pij,j->pi", rotation, body_point) + translation)
+            segments[name, scenario] = (points[0], points[1])
+        return segments[name, scenario]
+
+    bounds = np.empty((n, len(pairs)))
+    for column, (kind, first, second, scenario) in enumerate(pairs):
+        start, end = segment(first, scenario)
+        if kind == "object":
+            assert isinstance(second, int)  # an object pair names the object by its index
+            gap = segment_distances(start, end, object_start[:, second], object_end[:, second])
+            bounds[:, column] = gap - radius[first] - widths[second]
+        else:
+            assert isinstance(second, str)  # a spring pair names the other spring
+            gap = segment_distances(start, end, *segment(second, scenario))
+            bounds[:, column] = gap - radius[first] - radius[second]
+    return bounds
