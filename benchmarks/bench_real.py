@@ -347,9 +347,12 @@ def goals(runs: list[dict[str, Any]], joints: list[str]) -> dict[str, Any]:
     default = next((run for run in runs if run["label"].startswith("default")), None)
     designs = solved(runs)
     pool = [run for run in designs if feasible(run)] or designs
-    best = min(pool, key=lambda run: run["objective"])
+    best = min(pool, key=lambda run: run["objective"]) if pool else None
     if default is not None and len(runs) > 1:
-        if "error" in default:
+        if best is None:
+            print("  gap default → best: every run failed → MISS")
+            out["gap"] = {"best": None, "points": None, "pass": False}
+        elif "error" in default:
             print("  gap default → best: the default failed → MISS")
             out["gap"] = {"best": best["label"], "points": None, "pass": False}
         else:
@@ -362,7 +365,7 @@ def goals(runs: list[dict[str, Any]], joints: list[str]) -> dict[str, Any]:
     seeded = [run for run in runs if "seed" in run]
     if len(seeded) > 1:
         good = solved(seeded)
-        spread = {j: max(r["cuts"][j] for r in good) - min(r["cuts"][j] for r in good) for j in joints}
+        spread = {j: max(r["cuts"][j] for r in good) - min(r["cuts"][j] for r in good) for j in joints} if good else {}
         worst = max(spread.values(), default=0.0)
         failed = len(seeded) - len(good)
         cells = ", ".join(f"{joint_label(j)} {value:.2f}" for j, value in spread.items())
