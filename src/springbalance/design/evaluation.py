@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
-from typing import Callable
+from typing import Any, Callable, Sequence
 
 import casadi as ca
 import numpy as np
@@ -22,6 +22,8 @@ class Evaluation:
         tensions: generalised spring forces N×n_s: tensions [N] (negative when pushing),
             torques [N·m] of torsional springs.
         constraint_rows: N×n_c, ``≥ 0`` when feasible.
+        row_units: per column of ``constraint_rows``, the size of its unit in those of :attr:`max_violation`
+            (:data:`ROW_UNITS`; None: 1 for every column).
     """
 
     x: np.ndarray
@@ -30,13 +32,30 @@ class Evaluation:
     lengths: np.ndarray
     tensions: np.ndarray
     constraint_rows: np.ndarray
+    row_units: np.ndarray | None = None
 
     @property
     def max_violation(self) -> float:
-        """Largest constraint violation (0 when feasible)."""
+        """Largest constraint violation (0 when feasible): in m, N or as a fraction (of an allowable stress), a
+        row in MPa in units of 100 MPa (:data:`ROW_UNITS`), so that one feasibility tolerance fits them all."""
         if self.constraint_rows.size == 0:
             return 0.0
-        return float(max(0.0, -np.min(self.constraint_rows)))
+        rows = self.constraint_rows if self.row_units is None else self.constraint_rows / self.row_units
+        return float(max(0.0, -np.min(rows)))
+
+
+#: A row's unit → its size in the units of :attr:`Evaluation.max_violation`: a stress row in MPa (a coil's initial
+#: stress against the band it can be wound in, about 100 MPa wide) counts in units of 100 MPa, as a stress row
+#: in fractions of its allowable does; m, N and fractions count as they are. (At 1e-6 MPa, a tolerance meant
+#: for metres, a Panda coil whose IPOPT solve had succeeded failed as infeasible by 2.6 Pa.)
+ROW_UNITS = {"MPa": 100.0}
+
+
+def row_units(blocks: Sequence[Any]) -> np.ndarray | None:
+    """:attr:`Evaluation.row_units` of the constraint columns ``blocks`` (each with its ``unit``; the model's
+    :attr:`constraint_blocks`, one column each), None when every unit counts as it is."""
+    units = np.array([ROW_UNITS.get(block.unit, 1.0) for block in blocks])
+    return units if np.any(units != 1.0) else None
 
 
 @dataclasses.dataclass

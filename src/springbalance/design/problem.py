@@ -29,7 +29,7 @@ from springbalance.deprecation import warn_deprecated
 from springbalance.design.block_kernel import KERNEL_MIN_SAMPLES
 from springbalance.design.bounds import check_cable
 from springbalance.design.clearance import Clearance, LinearRows
-from springbalance.design.evaluation import Evaluation
+from springbalance.design.evaluation import Evaluation, row_units
 from springbalance.design.mounts import check_mounts, resolve_mounts
 from springbalance.design.objectives import Objective, ScenarioAggregate
 from springbalance.design.problem_inputs import (
@@ -209,15 +209,14 @@ class DesignProblem(ProblemNlp):
         if cache.evaluator is None:  # block by block: no work arrays for all samples at once
             cache.evaluator = BlockEvaluator(self.sample_function(), self.data)
         tau, potential, lengths, tensions, rows = cache.evaluator.evaluate(x)
-        n = self.workspace.size
-        return Evaluation(
-            x,
+        n, units = self.workspace.size, row_units(self.model.constraint_blocks)
+        tau, potential, lengths, tensions = (
             tau.reshape(n, -1),
             potential.reshape(n),
             lengths.reshape(n, -1),
             tensions.reshape(n, -1),
-            rows.reshape(n, -1),
         )
+        return Evaluation(x, tau, potential, lengths, tensions, rows.reshape(n, -1), units)
 
     def sample_function(self) -> Any:
         """The model's per-sample function, compiled to C (with its block kernel) for a workspace of
