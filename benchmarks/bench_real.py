@@ -186,6 +186,8 @@ def solve(record: dict[str, Any], case: Case, label: str, seed: int | None = Non
         "cuts": cuts(result, metrics),
         "fit": None if fit is None else {"rounds": fit.rounds, "converged": fit.converged, "seconds": fit.seconds},
         "status": result.status,
+        # what would make the CLI exit 3 (not converged, not verified, overlapping, a joint made worse, ...)
+        "failures": sorted({flag.kind for flag in result.failures()}),
         "result": result,
     }
 
@@ -269,7 +271,8 @@ def print_runs(runs: list[dict[str, Any]], joints: list[str]) -> None:
         fit = run["fit"]
         fitted = "" if fit is None else f"   {fit['rounds']} round(s){'' if fit['converged'] else ', NOT converged'}"
         cells = "".join(f"{run['cuts'].get(j, float('nan')):>16.2f}" for j in joints)
-        print(f"  {run['label']:<18}{run['seconds']:>10.1f}{run['objective']:>12.5g}{cells}{fitted}")
+        fails = f"   FAILS: {', '.join(run['failures'])}" if run.get("failures") else ""
+        print(f"  {run['label']:<18}{run['seconds']:>10.1f}{run['objective']:>12.5g}{cells}{fitted}{fails}")
 
 
 def print_check(label: str, check: dict[str, Any], design_cuts: dict[str, float]) -> None:
@@ -425,12 +428,24 @@ def twin_part(record: dict[str, Any], case: Case, default: dict[str, Any], joint
 
 
 # ---------------------------------------------------------------------- summary
+def outcome(run: dict[str, Any] | None) -> str:
+    """The default run's outcome: ``ok`` (the CLI exits 0), ``fails`` (a design the CLI refuses, exit 3:
+    not converged, not verified, overlapping, a joint made worse), ``error`` (no design: no feasible start, a
+    crash), ``-`` (not run)."""
+    if run is None:
+        return "-"
+    if "error" in run:
+        return "error"
+    return "fails" if run.get("failures") else "ok"
+
+
 def summary(cases: list[dict[str, Any]]) -> None:
     print(
-        "\nSummary (PASS/MISS per goal; - where the part was not run; FLOOR: the loss misses, and so do the coils alone)"
+        "\nSummary (PASS/MISS per goal; - where the part was not run; FLOOR: the loss misses, and so do the coils alone;"
+        "\n outcome of the default: ok, fails (the CLI would refuse the design, exit 3) or error (no design))"
     )
     print(
-        f"  {'case':<20}{'default [s]':>12}{'solved':>8}{'gap ≤ 1':>10}{'spread ≤ 1':>12}{'clear':>8}"
+        f"  {'case':<20}{'default [s]':>12}{'outcome':>8}{'gap ≤ 1':>10}{'spread ≤ 1':>12}{'clear':>8}"
         f"{'loss ≤ 2':>10}{'time ≤ 10×':>12}"
     )
 
@@ -444,7 +459,7 @@ def summary(cases: list[dict[str, Any]]) -> None:
         twin = case.get("twin", {})
         print(
             f"  {case['case']:<20}{default['seconds'] if default else float('nan'):>12.1f}"
-            f"{'-' if default is None else ('FAILED' if 'error' in default else 'yes'):>8}"
+            f"{outcome(default):>8}"
             f"{mark(case.get('gap', {}).get('pass')):>10}{mark(case.get('spread', {}).get('pass')):>12}"
             f"{mark(clear):>8}{'FLOOR' if twin.get('loss_floor') else mark(twin.get('loss_pass')):>10}"
             f"{mark(twin.get('ratio_pass')):>12}"
