@@ -208,15 +208,11 @@ class DesignProblem(ProblemNlp):
         cache = self._compiled
         if cache.evaluator is None:  # block by block: no work arrays for all samples at once
             cache.evaluator = BlockEvaluator(self.sample_function(), self.data)
+            cache.row_units = row_units(self.model.constraint_blocks)
         tau, potential, lengths, tensions, rows = cache.evaluator.evaluate(x)
-        n, units = self.workspace.size, row_units(self.model.constraint_blocks)
-        tau, potential, lengths, tensions = (
-            tau.reshape(n, -1),
-            potential.reshape(n),
-            lengths.reshape(n, -1),
-            tensions.reshape(n, -1),
-        )
-        return Evaluation(x, tau, potential, lengths, tensions, rows.reshape(n, -1), units)
+        n = self.workspace.size
+        tau, lengths, tensions, rows = (array.reshape(n, -1) for array in (tau, lengths, tensions, rows))
+        return Evaluation(x, tau, potential.reshape(n), lengths, tensions, rows, cache.row_units)
 
     def sample_function(self) -> Any:
         """The model's per-sample function, compiled to C (with its block kernel) for a workspace of
@@ -440,10 +436,11 @@ class DesignProblem(ProblemNlp):
 
 @dataclasses.dataclass
 class _Compiled:
-    """What a problem compiles once for its samples: the per-sample function, the block evaluator, the
-    least-squares residuals and the NLPs (by objective phase, with the linear rows each was built for)."""
+    """What a problem compiles once for its samples: the per-sample function, the block evaluator, its rows'
+    units, the least-squares residuals and the NLPs (by objective phase, with the linear rows each was built for)."""
 
     sample: Any = None
     evaluator: BlockEvaluator | None = None
+    row_units: np.ndarray | None = None  # Evaluation.row_units, with the evaluator
     least_squares: Any = None
     nlps: dict = dataclasses.field(default_factory=dict)

@@ -196,6 +196,7 @@ class CollisionScene:
         self._request = coal.DistanceRequest()
         self._request.enable_signed_distance = True
         self._placements: list = []
+        self._bounds: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None  # bounding_capsules, once
 
     def indices_except(self, bodies: Sequence[str]) -> list[int]:
         """Indices of the collision objects not carried by any of ``bodies``."""
@@ -234,7 +235,7 @@ class CollisionScene:
         [m]. Its axis runs along the longest side of the object's bounding box through the box's centre, as long
         as that side; its radius is the half-diagonal of the box's cross-section (a point of the box projects onto
         the axis within the side and lies within that distance of it)."""
-        if getattr(self, "_bounds", None) is None:
+        if self._bounds is None:
             starts, ends, radii = [], [], []
             for obj in self.objects:
                 shape = obj.geometry

@@ -91,14 +91,7 @@ def free_optimum(state: SolveState) -> np.ndarray | None:
     in 10-24 rounds over two fits, converged)."""
     options = state.options
     try:
-        solution = solve_problem(
-            state.problem,
-            starts=options.starts,
-            seed=options.seed,
-            progress=False,
-            initial=state.initial,
-            **options.solver_options(),
-        )
+        solution = _multi_started(state, state.problem, progress=False)
     except SolverError:
         return None
     except Interrupted:
@@ -115,25 +108,28 @@ def multi_start(state: SolveState) -> SolveState:
     """Every start, screened then polished; the best feasible design (SolverError when none is). When no coil
     start meets the rows of the twin's fit, the starts run again without them (the fit to the arm then finds
     its own)."""
-    options = state.options
-
-    def solved(problem: DesignProblem) -> Solution:
-        return solve_problem(
-            problem,
-            starts=options.starts,
-            seed=options.seed,
-            progress=options.progress,
-            initial=state.initial,
-            **options.solver_options(),
-        )
-
+    progress = state.options.progress
     try:
-        return state.but(solution=solved(state.problem))
+        return state.but(solution=_multi_started(state, state.problem, progress))
     except SolverError:
         if state.kept_rows is None:
             raise
     problem = state.problem.with_linear_rows(None)
-    return state.but(problem=problem, solution=solved(problem), kept_rows=None)
+    return state.but(problem=problem, solution=_multi_started(state, problem, progress), kept_rows=None)
+
+
+def _multi_started(state: SolveState, problem: DesignProblem, progress: bool | None) -> Solution:
+    """The multi-start of ``problem`` with the solve's options (starts, seed, solver) from the state's first
+    starts."""
+    options = state.options
+    return solve_problem(
+        problem,
+        starts=options.starts,
+        seed=options.seed,
+        progress=progress,
+        initial=state.initial,
+        **options.solver_options(),
+    )
 
 
 def fit_to_arm(state: SolveState) -> SolveState:
