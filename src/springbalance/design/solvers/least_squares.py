@@ -33,6 +33,8 @@ _STATUS = {
     3: "converged (step size)",
     4: "converged (cost change and step size)",
 }
+#: the status of a run that SciPy stopped on its step size alone (``xtol``)
+STEP_SIZE_STOP = f"least_squares: {_STATUS[3]}"
 
 
 #: Gauss–Newton iterations that try to take a warm IPOPT design of a least-squares objective to round-off ...
