@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from springbalance.design import coil_start, standard_wire
-from springbalance.design.solvers import StartRecord, multistart
+from springbalance.design.solvers import StartRecord, multistart, polish
 from springbalance.io.config import load_config
 from springbalance.pipeline import solve
 from springbalance.springs.sizing import PREFERRED_WIRE_DIAMETERS
@@ -86,7 +86,7 @@ def test_a_start_stopped_short_of_feasible_below_the_best_feasible_one_is_polish
     ]
     runner = _Continues()
     runner.objectives = {0: 0.37, 1: 0.38, 2: 29.4, 3: 16.7}
-    best = multistart._polished_best(_Problem(), runner, records, 400, 4)
+    best = polish.polished_best(_Problem(), runner, records, 400, 4)
     assert runner.continued == [0, 1]  # the two promising ones (PROMISING_INFEASIBLE), best first; not start 2
     assert best.index == 0 and best.feasible and best.objective == 0.37
 
@@ -98,7 +98,7 @@ def test_an_infeasible_start_above_the_best_feasible_one_is_not_polished():
     ]
     runner = _Continues()
     runner.objectives = {0: 0.5, 1: 1.0}
-    best = multistart._polished_best(_Problem(), runner, records, 400, 2)
+    best = polish.polished_best(_Problem(), runner, records, 400, 2)
     assert runner.continued == [] and best.index == 1
 
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import sys
 import time
-from typing import Callable, Sequence
+from typing import Sequence
 
 import numpy as np
 from threadpoolctl import threadpool_limits
@@ -18,9 +18,9 @@ from springbalance.design.evaluation import Evaluation
 from springbalance.design.solvers.floors import lowered_floors
 from springbalance.design.solvers.ipopt import IpoptStarts
 from springbalance.design.solvers.least_squares import STEP_SIZE_STOP, LeastSquaresStarts
+from springbalance.design.solvers.polish import best_record, polished_best
 from springbalance.design.solvers.pool import _pool_workers, _StartRunner, check_workers
 from springbalance.design.solvers.records import (
-    EPIGRAPH_TOLERANCE,
     FEASIBILITY_TOLERANCE,
     METHODS,
     Problem,
@@ -28,7 +28,7 @@ from springbalance.design.solvers.records import (
     StartRecord,
 )
 from springbalance.design.solvers.starts import start_points
-from springbalance.errors import InputError, Interrupted, SolverError
+from springbalance.errors import InputError, Interrupted
 
 
 def solve_problem(
@@ -131,7 +131,7 @@ def _solve(
     records = _screen(problem, runner, points, progress, given, multipliers)
     polish = 4 * max_iterations if polish_iterations is None else int(polish_iterations)
     polish = polish if problem.variables.size else 0
-    best = _polished_best(problem, runner, records, polish, len(points))
+    best = polished_best(problem, runner, records, polish, len(points))
     return Solution(best.x, records, method, seed, best.status, best.multipliers)
 
 
@@ -175,7 +175,7 @@ def _screen(
             problem=problem,
             starts=sorted(finished, key=lambda record: record.index),
             total=len(points),
-            best_x=_best(feasible, problem).x if feasible else None,
+            best_x=best_record(feasible, problem).x if feasible else None,
         ) from None
     if bar is not None:
         bar.close()
@@ -184,114 +184,6 @@ def _screen(
 
 #: the status of a start where the design has no finite value (a spring of zero length: its anchors coincide)
 NOT_FINITE = "not run: the design is not finite at this start (a spring of zero length: its two anchors coincide)"
-#: starts that the budget stopped short of feasible, below the best feasible objective, that the polish continues
-PROMISING_INFEASIBLE = 2
-
-
-def _polished_best(
-    problem: Problem, runner: _StartRunner, records: list[StartRecord], polish: int, total: int
-) -> StartRecord:
-    """The best feasible start after the polish: when none is feasible, up to three that the budget stopped
-    (the least violated first) go on for ``polish`` iterations; then up to three feasible ones within 25 % of
-    the best that the budget stopped, and up to :data:`PROMISING_INFEASIBLE` infeasible ones it stopped at a
-    lower objective than the best. :class:`SolverError` when no start is feasible."""
-    feasible = [record for record in records if record.feasible]
-    if not feasible and polish > 0:
-        # no start is feasible yet: continue those the budget stopped, the closest to feasible first
-        stopped = sorted((r for r in records if _stopped_by_budget(r)), key=lambda record: record.max_violation)[:3]
-        _polish(
-            runner,
-            problem,
-            records,
-            stopped,
-            polish,
-            lambda new, old: new.max_violation < old.max_violation,
-            total,
-            None,
-        )
-        feasible = [record for record in records if record.feasible]
-    if not feasible:
-        summary = "; ".join(f"start {r.index}: {r.status}, violation {r.max_violation:.3g}" for r in records)
-        raise SolverError(f"no start gave a feasible design ({summary})", problem=problem, starts=records)
-    best = _best(feasible, problem)
-    if polish > 0:
-        # continue the starts that are close to the best and were stopped by the budget, and those the budget
-        # stopped short of feasible at a lower objective than the best (a coil start that IPOPT was still
-        # pulling onto its rules must not lose to a feasible start that is no better than no springs)
-        near = sorted(
-            (r for r in feasible if _stopped_by_budget(r) and r.objective <= 1.25 * best.objective),
-            key=lambda record: record.objective,
-        )[:3]
-        promising = sorted(
-            (r for r in records if not r.feasible and _stopped_by_budget(r) and r.objective < best.objective),
-            key=lambda record: record.objective,
-        )[:PROMISING_INFEASIBLE]
-        _polish(
-            runner,
-            problem,
-            records,
-            near + promising,
-            polish,
-            lambda new, old: new.feasible and (not old.feasible or new.objective <= old.objective),
-            total,
-            best.x,
-        )
-        best = _best([r for r in records if r.feasible], problem)
-    return best
-
-
-def _stopped_by_budget(record: StartRecord) -> bool:
-    """Whether the start stopped on its iteration limit (least squares' or IPOPT's)."""
-    return "iteration limit" in record.status or "Maximum_Iterations_Exceeded" in record.status
-
-
-def _polish(
-    runner: _StartRunner,
-    problem: Problem,
-    records: list[StartRecord],
-    candidates: list[StartRecord],
-    iterations: int,
-    better: Callable[[StartRecord, StartRecord], bool],
-    total: int,
-    best_x: np.ndarray | None,
-) -> None:
-    """Continue ``candidates`` (records of ``records``) from where they stopped for up to ``iterations``;
-    a continued start replaces its record when ``better(new, old)``."""
-    if not candidates:
-        return
-    runner.solver.max_iterations = iterations
-    try:
-        # from where each stopped: its design, and IPOPT's multipliers when IPOPT stopped it
-        continued = runner.run(
-            [(record.index, problem.unscale(record.x), False, record.multipliers) for record in candidates]
-        )
-    except KeyboardInterrupt:
-        raise Interrupted(
-            f"interrupted while polishing: all {total} starts had finished",
-            problem=problem,
-            starts=records,
-            total=total,
-            best_x=best_x,
-        ) from None
-    for record, polished in zip(candidates, continued):
-        polished.z0 = record.z0
-        polished.status = f"{polished.status} (polished after {record.iterations} iterations)"
-        polished.iterations += record.iterations
-        polished.seconds += record.seconds
-        if better(polished, record):
-            records[records.index(record)] = polished
-
-
-def _best(records: list[StartRecord], problem: Problem) -> StartRecord:
-    """The record of lowest objective; for a lexicographic objective, of those within ``slack`` of
-    the lowest, the one of lowest tiebreak."""
-    objective = problem.objective
-    best = min(records, key=lambda record: record.objective)
-    if objective.first_phase is None:
-        return best
-    window = best.objective * (1.0 + objective.slack) + EPIGRAPH_TOLERANCE * problem.torque_scale
-    tied = [r for r in records if r.objective <= window]
-    return min(tied, key=lambda record: (record.tiebreak if np.isfinite(record.tiebreak) else np.inf, record.objective))
 
 
 class _MultiStartSolver(LeastSquaresStarts, IpoptStarts):
