@@ -218,6 +218,23 @@ def test_an_anchor_on_collision_without_a_box_goes_around_the_geometry(arm, work
     assert result.fit.converged
 
 
+def test_the_multi_start_without_the_mountings_shows_its_own_progress(arm, workspace, capsys):
+    """The free optimum (the mounting rows' linearisation point) is a multi-start of its own: with progress on, it
+    has a bar of its own, named, before the multi-start's."""
+    from springbalance.pipeline.steps import FREE_OPTIMUM_LABEL
+
+    spring = sb.ZeroFreeLengthSpring(
+        sb.Anchor("universe", sb.Free([-0.1, -0.1, 0.1], [0.1, 0.1, 0.3])),
+        sb.Anchor("link1", None, on="collision", offset=0.005),
+        stiffness=sb.Free(0, 5000),
+        name="s1",
+    )
+    sb.solve(sb.DesignProblem(arm, workspace, [spring]), starts=2, progress=True)
+    bars = capsys.readouterr().err
+    assert FREE_OPTIMUM_LABEL in bars
+    assert bars.index(FREE_OPTIMUM_LABEL) < bars.rindex("starts:")  # then the mounted multi-start's own bar
+
+
 @pytest.mark.parametrize(
     "a, b, clearance, culprit",
     [

@@ -60,12 +60,17 @@ def test_adjuster_travel_against_least_squares_per_corner(case):
         shifted = [(k, l0 - step if i == s else l0, f0) for i, (k, l0, f0) in enumerate(nominal)]
         columns.append(((tau(shifted) - design.evaluation.tau) / step).reshape(-1))
     A = np.stack(columns, axis=1)
-    adjustments = np.array([np.linalg.lstsq(A, -r.reshape(-1), rcond=None)[0] for _, r in corners.values()])
+    # each build restored to the nominal design: least squares on its change of the residual
+    nominal_tau = design.evaluation.tau
+    adjustments = np.array(
+        [np.linalg.lstsq(A, -(r - nominal_tau).reshape(-1), rcond=None)[0] for _, r in corners.values()]
+    )
     for s, row in enumerate(analysis.travel):
         # the analysis uses the nominal rate in the adjuster's column (δk·t is second order: ≤ 10 % of t here)
         assert row["high"] == pytest.approx(adjustments[:, s].max(), rel=0.1, abs=1e-5)
         assert row["low"] == pytest.approx(adjustments[:, s].min(), rel=0.1, abs=1e-5)
         assert row["travel"] > 0
+        assert row["low"] < 0 < row["high"]  # the nominal build needs no turn, the corners turn both ways
     # after the adjustment the worst residual is smaller than before it
     for row in analysis.joints:
         assert row["adjusted_rms"] < row["worst_rms"]

@@ -33,6 +33,8 @@ from springbalance.design.twin import twin_record
 from springbalance.errors import Interrupted, SolverError
 from springbalance.pipeline.state import SolveState
 
+#: the progress bar of the multi-start without the mountings (:func:`free_optimum`)
+FREE_OPTIMUM_LABEL = "starts, anchors off their surfaces"
 #: what the twin of a problem fitted to the arm is (without coils), in the words of its record
 FIT_TWIN_SOURCE = "the multi-start's optimum before the fit to the arm (no clearance rows)"
 
@@ -91,7 +93,7 @@ def free_optimum(state: SolveState) -> np.ndarray | None:
     in 10-24 rounds over two fits, converged)."""
     options = state.options
     try:
-        solution = _multi_started(state, state.problem, progress=False)
+        solution = _multi_started(state, state.problem, state.options.progress, FREE_OPTIMUM_LABEL)
     except SolverError:
         return None
     except Interrupted:
@@ -118,9 +120,9 @@ def multi_start(state: SolveState) -> SolveState:
     return state.but(problem=problem, solution=_multi_started(state, problem, progress), kept_rows=None)
 
 
-def _multi_started(state: SolveState, problem: DesignProblem, progress: bool | None) -> Solution:
+def _multi_started(state: SolveState, problem: DesignProblem, progress: bool | None, label: str = "starts") -> Solution:
     """The multi-start of ``problem`` with the solve's options (starts, seed, solver) from the state's first
-    starts."""
+    starts; ``label``: its progress bar's."""
     options = state.options
     return solve_problem(
         problem,
@@ -128,6 +130,7 @@ def _multi_started(state: SolveState, problem: DesignProblem, progress: bool | N
         seed=options.seed,
         progress=progress,
         initial=state.initial,
+        label=label,
         **options.solver_options(),
     )
 

@@ -45,6 +45,7 @@ def solve_problem(
     multipliers: np.ndarray | None = None,
     fixed: Sequence[str] | None = None,
     workers: int | None = None,
+    label: str = "starts",
 ) -> Solution:
     """Run every start and return the best feasible design (see :meth:`DesignProblem.solve`).
 
@@ -64,6 +65,8 @@ def solve_problem(
     rows (a variable held, a bound moved): each given start then goes on from that primal-dual point
     (:meth:`_MultiStartSolver._warm`) instead of starting over. Ignored by ``least_squares`` and when
     the row count differs.
+
+    ``label``: what the progress bar calls the starts.
 
     ``workers``: processes that run the starts at once (the result does not depend on it); default
     :func:`default_workers` (``os.cpu_count()``), used when a start is expected to last
@@ -97,7 +100,17 @@ def solve_problem(
         runner = _StartRunner(solver, *_pool_workers(problem, workers, starts))
         try:
             return _solve(
-                problem, runner, starts, seed, method, progress, max_iterations, polish_iterations, initial, multipliers
+                problem,
+                runner,
+                starts,
+                seed,
+                method,
+                progress,
+                max_iterations,
+                polish_iterations,
+                initial,
+                multipliers,
+                label,
             )
         finally:
             runner.close()
@@ -125,10 +138,11 @@ def _solve(
     polish_iterations: int | None,
     initial: np.ndarray | None = None,
     multipliers: np.ndarray | None = None,
+    label: str = "starts",
 ) -> Solution:
     points = start_points(problem, starts, seed, initial, runner.solver.fixed)
     given = 1 if initial is None else np.atleast_2d(initial).shape[0]
-    records = _screen(problem, runner, points, progress, given, multipliers)
+    records = _screen(problem, runner, points, progress, given, multipliers, label)
     polish = 4 * max_iterations if polish_iterations is None else int(polish_iterations)
     polish = polish if problem.variables.size else 0
     best = polished_best(problem, runner, records, polish, len(points))
@@ -142,9 +156,10 @@ def _screen(
     progress: bool | None,
     given: int,
     multipliers: np.ndarray | None,
+    label: str = "starts",
 ) -> list[StartRecord]:
     """Every start with the screening budget (the ``given`` first ones warm from ``multipliers``), with a
-    progress bar when asked (default: several starts and a terminal); Ctrl-C raises :class:`Interrupted`
+    progress bar (``label``) when asked (default: several starts and a terminal); Ctrl-C raises :class:`Interrupted`
     with the starts that had finished and the best feasible design among them."""
     if progress is None:
         progress = len(points) > 1 and sys.stderr.isatty()
@@ -152,7 +167,7 @@ def _screen(
     if progress:
         from tqdm.auto import tqdm
 
-        bar = tqdm(total=len(points), desc="starts", unit="start")
+        bar = tqdm(total=len(points), desc=label, unit="start")
     finished: list[StartRecord] = []
 
     def done(record: StartRecord) -> None:
