@@ -73,8 +73,8 @@ def tolerance_lines(result: EvaluatedDesign) -> list[str]:
         lines.append(f"  adjuster travel bound {1e3 * bound:.2f} mm: {verdict}")
     lines.append(
         "  adjuster: a preload screw in series with each spring shortens its effective free length by t "
-        "(t > 0 stretches an extension spring, compresses a compression spring); travel = the range of the "
-        "least-squares t over the box"
+        "(t > 0 stretches an extension spring, compresses a compression spring); t: the least-squares turn that "
+        "brings a build back to the nominal design (0 for the nominal build); travel = its range over the box"
     )
     return lines + _corner_lines(analysis) + [""]
 
@@ -133,7 +133,8 @@ def tolerance_html(result: EvaluatedDesign) -> list[str]:
     parts = [
         '<h2 id="tolerances">Tolerances</h2>',
         "<p>Worst case over the springs' tolerance box (exact over all corners; the RMS bounds every build's), "
-        "and after re-balancing each build with its preload screws.</p>",
+        "and after each build's preload screws bring it back to the nominal design (the nominal build needs no "
+        "turn).</p>",
         "<table><tr><th class=l>joint</th><th>peak</th><th>worst peak</th><th>rms</th><th>worst rms</th>"
         "<th>adjusted peak</th><th>adjusted rms</th></tr>",
     ]
