@@ -23,7 +23,8 @@ import springbalance as sb
 from clearance_helpers import crossing_springs
 from springbalance.design import clearance_round
 from springbalance.design.clearance import FitRecord
-from springbalance.design.clearance_fit import fit_from_starts, fit_to_arm
+from springbalance.design.clearance_fit import fit_to_arm
+from springbalance.design.clearance_starts import fit_from_starts
 from springbalance.design.solvers import Solution
 from springbalance.design.solvers.records import StartRecord
 from springbalance.errors import SolverError

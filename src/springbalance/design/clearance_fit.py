@@ -18,7 +18,6 @@ from springbalance.design.clearance_round import (
     INFEASIBLE_NOTE,
     INFEASIBLE_ROUNDS,
     OUTSIDE_NOTE,
-    fall_back,
     fell_back,
     solve_round,
 )
@@ -328,33 +327,6 @@ def _violations(checker: _Checker, x: np.ndarray) -> tuple[dict[Key, float], dic
         below, searched = checker.descend(x, nearest)
         closest = {name: min(closest[name], searched[name]) for name in closest}
     return below, closest
-
-
-def fit_from_starts(
-    problem: DesignProblem, solution: Solution, kept: LinearRows | None = None, **solve_options: Any
-) -> tuple[Solution, FitRecord, DesignProblem]:
-    """:func:`fit_to_arm` from the :attr:`Clearance.starts` best feasible designs of the multi-start
-    (``solution.starts``, distinct, best first); keeps the converged fit of lowest objective (else the
-    first). When none converged and a fitting round stopped infeasible, the next ranked designs are fitted
-    too, up to :data:`~springbalance.design.clearance_round.FALLBACK_STARTS` more, until one converges; when
-    every fit converged only after its rounds moved the design, the next ranked one is fitted too (once). Returns the fit kept with the problem
-    that carries its rows."""
-    count = problem.clearance.starts if problem.clearance is not None else 1
-    records = sorted((record for record in solution.starts if record.feasible), key=lambda record: record.objective)
-    others = [record for record in records if not np.array_equal(record.x, solution.x)]
-    fits: list[tuple[Solution, FitRecord, DesignProblem]] = []  # each from the problem as given
-    for index, x in enumerate([solution.x] + [record.x for record in others]):
-        if index >= count and not fall_back(fits, index - count):
-            break
-        start = Solution(np.array(x, dtype=float), solution.starts, solution.method, solution.seed, solution.status)
-        fits.append(fit_to_arm(problem, start, kept, **solve_options))
-    converged = [fit for fit in fits if fit[1].converged] or fits[:1]
-    fitted, record, fitted_problem = min(converged, key=lambda fit: fit[1].objective)
-    record.starts = len(fits)
-    if len(fits) > 1:
-        record.rounds = sum(fit[1].rounds for fit in fits)
-        record.seconds = sum(fit[1].seconds for fit in fits)
-    return fitted, record, fitted_problem
 
 
 def fit_to_arm(

@@ -12,7 +12,7 @@ anchors on its links after two rounds, its springs still through the links; take
 clear, they fitted the UR5 example's ideal twin at 70× its objective). After :data:`INFEASIBLE_ROUNDS`
 rounds in a row that broke a rule, or when the loop ends on one, it falls back to the last design that met its rows (:func:`fell_back`); that one was
 not clear of the arm (else the loop would have stopped there), so the fit is not converged, and
-:func:`~springbalance.design.clearance_fit.fit_from_starts` fits the next ranked designs of the
+:func:`~springbalance.design.clearance_starts.fit_from_starts` fits the next ranked designs of the
 multi-start (:func:`fall_back`). It fits the next one also when every fit converged only after its rounds moved
 the design: a design clear as it stands may end better.
 """

@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from springbalance.design import clearance_fit, clearance_rows
+from springbalance.design import clearance_rows, clearance_starts
 from springbalance.design.clearance import LinearRows
 from springbalance.design.solvers import FEASIBILITY_TOLERANCE, Solution, solve_problem
 from springbalance.design.twin import TwinRecord, twin_record
@@ -143,7 +143,7 @@ def _distinct_starts(
 def _fitted_twin(
     problem: DesignProblem, coils: list[HelicalCoilSpring], twin: DesignProblem, found: Solution, options: dict
 ) -> tuple[Solution, LinearRows] | None:
-    """The twin fitted to the arm (:func:`~springbalance.design.clearance_fit.fit_from_starts`) and the rows of
+    """The twin fitted to the arm (:func:`~springbalance.design.clearance_starts.fit_from_starts`) and the rows of
     its fit, or None when the fit does not converge. Its capsules are as wide as the widest coil's envelope
     (the twin's ideal springs have no coil of their own), so its rows hold for every coil that fits it; its
     rounds are solves of the ideal laws, far cheaper than the coils'."""
@@ -155,7 +155,7 @@ def _fitted_twin(
     if wide.mounts:
         wide = wide.with_linear_rows(clearance_rows.mount_rows(wide, wide.variables.start))
     fit_options = {key: value for key, value in options.items() if key not in ("starts", "seed", "progress")}
-    solution, fit, fitted = clearance_fit.fit_from_starts(wide, found, **fit_options)
+    solution, fit, fitted = clearance_starts.fit_from_starts(wide, found, **fit_options)
     rows = fitted.linear_rows
     if not fit.converged or rows is None:
         return None

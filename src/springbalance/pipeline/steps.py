@@ -9,7 +9,8 @@ is absent:
    optimum without them puts them (:func:`free_optimum`; :mod:`springbalance.design.clearance_rows`);
 3. :func:`multi_start`: every start, then the polish of the best (:mod:`springbalance.design.solvers`);
 4. :func:`fit_to_arm`: clearance from the links and mountings, by linearised rows refreshed until a
-   check finds no violation (:mod:`springbalance.design.clearance_fit`); without a coil twin, the
+   check finds no violation (:mod:`springbalance.design.clearance_fit`, the fits side by side:
+   :mod:`springbalance.design.clearance_starts`); without a coil twin, the
    multi-start's optimum before the fit is the twin;
 5. :func:`round_wires`: every coil's free wire to the preferred series, the rest re-optimised
    (:mod:`springbalance.design.standard_wire`);
@@ -26,7 +27,7 @@ from typing import Callable
 
 import numpy as np
 
-from springbalance.design import clearance_fit, clearance_rows, coil_start, standard_wire, verification_loop
+from springbalance.design import clearance_rows, clearance_starts, coil_start, standard_wire, verification_loop
 from springbalance.design.problem import DesignProblem
 from springbalance.design.solvers import Solution, solve_problem
 from springbalance.design.twin import twin_record
@@ -142,7 +143,7 @@ def fit_to_arm(state: SolveState) -> SolveState:
         return state
     twin = state.twin or twin_record(problem, state.solved.x, FIT_TWIN_SOURCE)
     with _interrupted_after_starts(state, "fitting the springs to the arm"):
-        solution, fit, problem = clearance_fit.fit_from_starts(
+        solution, fit, problem = clearance_starts.fit_from_starts(
             problem, state.solved, state.kept_rows, **state.options.solver_options()
         )
     return state.but(problem=problem, solution=solution, fit=fit, twin=twin)

@@ -40,7 +40,8 @@ bit for bit the sequential one. Without ``workers``, :func:`default_workers` dec
 
 The modules, one concept each: :mod:`~springbalance.design.solvers.records` (:class:`StartRecord`,
 :class:`Solution`, the tolerances), :mod:`~springbalance.design.solvers.starts` (Sobol start points),
-:mod:`~springbalance.design.solvers.pool` (worker processes), :mod:`~springbalance.design.solvers.multistart`
+:mod:`~springbalance.design.solvers.pool` (worker processes), :mod:`~springbalance.design.solvers.forked` (tasks
+that decide the next one's need, run ahead on forked workers: the clearance fits), :mod:`~springbalance.design.solvers.multistart`
 (:func:`solve_problem`: the multi-start with polish), :mod:`~springbalance.design.solvers.residuals` and
 :mod:`~springbalance.design.solvers.least_squares` (augmented-Lagrangian least squares, :func:`refine`),
 :mod:`~springbalance.design.solvers.ipopt` (IPOPT). This package re-exports their public names.
