@@ -36,6 +36,12 @@ poses are chosen for a rule and would bias its statistics).
 
 The check names the poses to add as samples when a rule fails (the :data:`WORST_PER_RULE` worst per rule,
 and for a failed peak the worst per joint), and the clearance contacts below the margin;
+a length rule without a reserve (an ideal spring's ``L ≥ l0``), not searched to judge it, is searched from its
+failing poses when it fails, and the poses found join the samples too (:func:`_searched_failures`): a re-solve
+then holds it at its least margin, not at Sobol poses near it, where it would fail again a little further on
+(the Panda with four ideal springs at seed 1: 1.86 mm slack after three re-solves, with the elbow 0.8° inside its
+range's end).
+
 :mod:`springbalance.design.verification_loop` re-solves with them.
 """
 
@@ -54,6 +60,7 @@ from springbalance.design.torque_model.variables import ConstraintBlock
 from springbalance.design.verification_fatigue import damage_rule, is_damage_block, widened_bounds
 from springbalance.design.verification_record import JointResidual, RuleMargin, VerificationRecord
 from springbalance.design.verification_refine import (
+    RULES,
     evaluated_at,
     refined_poses,
     search_box,
@@ -233,10 +240,12 @@ def check_design(
     if widened is not None:
         x = widened
     sampled = problem.evaluate(x)
-    rules, poses = [], []
+    rules, poses, unsearched = [], [], []
     for block in problem.model.constraint_blocks:
         if block.per_sample:
             rule, failing = dense.rule(block, sampled.constraint_rows)
+            if not rule.passed and block.name in RULES and block.reserve <= 0:  # (not searched to judge it)
+                unsearched.append(block)
         elif is_damage_block(block):
             rule, failing = damage_rule(problem, dense, block, x, sampled.constraint_rows, WORST_PER_RULE)
         else:
@@ -265,8 +274,21 @@ def check_design(
         mode=mode,
         seconds=time.perf_counter() - clock,
     )
-    added = _distinct(dense.values[list(dict.fromkeys(poses))]) if poses else np.empty((0, values.shape[1]))
-    return Check(record, added, contacts)
+    added = dense.values[list(dict.fromkeys(poses))] if poses else np.empty((0, values.shape[1]))
+    added = np.vstack([added, _searched_failures(problem, dense, x, unsearched)])
+    return Check(record, _distinct(added) if added.size else added, contacts)
+
+
+def _searched_failures(
+    problem: DesignProblem, dense: _Dense, x: np.ndarray, blocks: list[ConstraintBlock]
+) -> np.ndarray:
+    """The failing length rules without a reserve (``blocks``), each searched from its worst poses to its least
+    margin within the workspace's box (:mod:`~springbalance.design.verification_refine`): the poses where it is
+    worst (none for another workspace)."""
+    box = search_box(problem.base_workspace) if blocks else None
+    if box is None:
+        return np.empty((0, problem.mechanism.nv))
+    return refined_poses(problem, x, search_starts(problem, x, dense.values, box, blocks), box)
 
 
 def _distinct(poses: np.ndarray) -> np.ndarray:
