@@ -36,13 +36,11 @@ poses are chosen for a rule and would bias its statistics).
 
 The check names the poses to add as samples when a rule fails (the :data:`WORST_PER_RULE` worst per rule,
 and for a failed peak the worst per joint), and the clearance contacts below the margin;
-a length rule without a reserve (an ideal spring's ``L ≥ l0``), not searched to judge it, is searched from its
-failing poses when it fails, and the poses found join the samples too (:func:`_searched_failures`): a re-solve
-then holds it at its least margin, not at Sobol poses near it, where it would fail again a little further on
-(the Panda with four ideal springs at seed 1: 1.86 mm slack after three re-solves, with the elbow 0.8° inside its
-range's end).
-
-:mod:`springbalance.design.verification_loop` re-solves with them.
+:mod:`springbalance.design.verification_loop` re-solves with them. A length rule without a reserve (an ideal
+spring's ``L ≥ l0``), not searched to judge it, is searched from its failing poses when it fails, and the poses
+found join the samples too (:func:`_searched_failures`): a re-solve then holds it at its least margin, not at
+Sobol poses near it, where it would fail again a little further on (the Panda with four ideal springs at seed 1:
+1.86 mm slack after three re-solves, with the elbow 0.8° inside its range's end).
 """
 
 from __future__ import annotations
