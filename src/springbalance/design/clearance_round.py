@@ -20,7 +20,7 @@ the design: a design clear as it stands may end better.
 from __future__ import annotations
 
 import dataclasses
-from typing import Any
+from typing import Any, Sequence
 
 import numpy as np
 
@@ -91,7 +91,7 @@ def fell_back(
     return x, Solution(x, solution.starts, solution.method, solution.seed, status), problem, closest, mounts
 
 
-def fall_back(fits: list[tuple[Solution, FitRecord, DesignProblem]], extra: int) -> bool:
+def fall_back(fits: Sequence[tuple[Solution, FitRecord, Any]], extra: int) -> bool:
     """Whether to fit one more (the ``extra``-th beyond ``Clearance.starts``) ranked design: while no fit
     converged, one of them had a fitting round stop infeasible, and fewer than :data:`FALLBACK_STARTS` were
     added; or, once, when every fit that converged had to move its design (a round or more): the next ranked

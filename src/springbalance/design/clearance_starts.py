@@ -48,7 +48,7 @@ def fit_from_starts(
         return task
 
     def needed(index: int, done: list[Fitted]) -> bool:
-        return index < count or fall_back([(fitted, record, problem) for fitted, record, _ in done], index - count)
+        return index < count or fall_back(done, index - count)
 
     clock = time.perf_counter()
     tasks = [fit(x) for x in ([solution.x] + others)[: count + FALLBACK_STARTS]]

@@ -38,7 +38,7 @@ The check names the poses to add as samples when a rule fails (the :data:`WORST_
 and for a failed peak the worst per joint), and the clearance contacts below the margin;
 :mod:`springbalance.design.verification_loop` re-solves with them. A length rule without a reserve (an ideal
 spring's ``L ≥ l0``), not searched to judge it, is searched from its failing poses when it fails, and the poses
-found join the samples too (:func:`_searched_failures`): a re-solve then holds it at its least margin, not at
+found join the samples too (:func:`_searched`): a re-solve then holds it at its least margin, not at
 Sobol poses near it, where it would fail again a little further on (the Panda with four ideal springs at seed 1:
 1.86 mm slack after three re-solves, with the elbow 0.8° inside its range's end).
 """
@@ -209,14 +209,20 @@ class _Dense:
         return rule, failing[:WORST_PER_RULE]
 
 
-def _searched(problem: DesignProblem, dense: _Dense, x: np.ndarray) -> np.ndarray:
-    """The worst poses of each searched rule, to its least margin within the workspace's box
-    (:mod:`~springbalance.design.verification_refine`); none for another workspace."""
-    box = search_box(problem.base_workspace)
+def _searched(
+    problem: DesignProblem,
+    dense: _Dense,
+    x: np.ndarray,
+    blocks: list[ConstraintBlock],
+    at: np.ndarray | None = None,
+) -> np.ndarray:
+    """The worst poses of each rule of ``blocks``, searched from the poses verified to its least margin within the
+    workspace's box (:mod:`~springbalance.design.verification_refine`; ``at``: the rules' margins at those poses,
+    when known); none for another workspace."""
+    box = search_box(problem.base_workspace) if blocks else None
     if box is None:
         return np.empty((0, problem.mechanism.nv))
-    starts = search_starts(problem, x, dense.values, box, dense.searched_blocks, dense.searched_margins)
-    return refined_poses(problem, x, starts, box)
+    return refined_poses(problem, x, search_starts(problem, x, dense.values, box, blocks, at), box)
 
 
 def check_design(
@@ -230,10 +236,10 @@ def check_design(
     values, sampling = verification_poses(problem.base_workspace, round_)
     x = np.asarray(x, dtype=float)
     unseen = dense = _Dense(problem, x, values)
-    searched = _searched(problem, unseen, x)
-    if searched.size:  # the searched rules' worst poses: for the rules only, not the residual
-        dense = unseen.extended(searched)
-        sampling += f", and {searched.shape[0]} pose(s) searched to a rule's least margin"
+    found = _searched(problem, unseen, x, unseen.searched_blocks, unseen.searched_margins)
+    if found.size:  # the searched rules' worst poses: for the rules only, not the residual
+        dense = unseen.extended(found)
+        sampling += f", and {found.shape[0]} pose(s) searched to a rule's least margin"
     widened = widened_bounds(problem, dense, x)  # a coil's fatigue bounds at its force range there
     if widened is not None:
         x = widened
@@ -242,7 +248,7 @@ def check_design(
     for block in problem.model.constraint_blocks:
         if block.per_sample:
             rule, failing = dense.rule(block, sampled.constraint_rows)
-            if not rule.passed and block.name in RULES and block.reserve <= 0:  # (not searched to judge it)
+            if not rule.passed and block.name in RULES and not searched(block):  # (no reserve: judged unsearched)
                 unsearched.append(block)
         elif is_damage_block(block):
             rule, failing = damage_rule(problem, dense, block, x, sampled.constraint_rows, WORST_PER_RULE)
@@ -273,20 +279,8 @@ def check_design(
         seconds=time.perf_counter() - clock,
     )
     added = dense.values[list(dict.fromkeys(poses))] if poses else np.empty((0, values.shape[1]))
-    added = np.vstack([added, _searched_failures(problem, dense, x, unsearched)])
+    added = np.vstack([added, _searched(problem, dense, x, unsearched)])
     return Check(record, _distinct(added) if added.size else added, contacts)
-
-
-def _searched_failures(
-    problem: DesignProblem, dense: _Dense, x: np.ndarray, blocks: list[ConstraintBlock]
-) -> np.ndarray:
-    """The failing length rules without a reserve (``blocks``), each searched from its worst poses to its least
-    margin within the workspace's box (:mod:`~springbalance.design.verification_refine`): the poses where it is
-    worst (none for another workspace)."""
-    box = search_box(problem.base_workspace) if blocks else None
-    if box is None:
-        return np.empty((0, problem.mechanism.nv))
-    return refined_poses(problem, x, search_starts(problem, x, dense.values, box, blocks), box)
 
 
 def _distinct(poses: np.ndarray) -> np.ndarray:
