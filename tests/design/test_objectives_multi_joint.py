@@ -219,3 +219,38 @@ def test_joint_peaks_worst_scenario_and_peak_then_joints_needs_sum(crossing):
     assert max(per_scenario) < JointPeaks().value(
         problem.workspace.kinematics().gravity_torque * problem.weights, None, None
     )
+
+
+def test_no_joint_worse_between_the_samples_holds_the_bare_arm_where_it_carries_more():
+    """Between the samples the bare arm may pass its sampled peak ``P_j``: there the limit is its own torque
+    ``|g_ij|``. The elbow, which the shoulder's spring does not act on (``tau = g``), then meets its row at every
+    pose and the design is verified; with ``P_j`` alone it broke it wherever the bare elbow passed ``P_j``."""
+    from springbalance.design.verification_refine import evaluated_at
+
+    mechanism = sb.Mechanism.from_urdf(URDF)
+    ranges = {"shoulder": [-90, 90], "elbow": [-90, 90]}
+    workspace = sb.Workspace.sobol(mechanism, n=8, seed=1, ranges=ranges, degrees=True)
+    spring = sb.ExtensionSpring(
+        sb.Anchor("universe", sb.Free([-0.1, 0, 0.02], [0.1, 0, 0.3])),
+        sb.Anchor("link1", sb.Free([0.05, 0, -0.05], [0.45, 0, 0.05])),
+        stiffness=sb.Free(0, 5000),
+        free_length=sb.Free(0.0, 0.5),
+    )
+    problem = sb.DesignProblem(mechanism, workspace, [spring], no_joint_worse=True)
+    peak = problem.joint_limits[0]
+    dense = sb.Workspace.grid(mechanism, n=41, ranges=ranges, degrees=True)
+    bare = np.abs(dense.kinematics().gravity_torque)
+    beyond = np.argmax(bare[:, 1])
+    assert bare[beyond, 1] > 1.01 * peak[1]  # a pose where the bare elbow carries more than at any sample
+
+    result = sb.solve(problem, starts=2)
+    tau, _, rows = evaluated_at(problem, result.x, dense.joint_values)
+    np.testing.assert_array_equal(tau[:, 1], dense.kinematics().gravity_torque[:, 1])  # the spring leaves the elbow
+    limit = np.maximum(peak[None, :], bare)
+    np.testing.assert_allclose(rows[:, -2:], (limit**2 - tau**2) / limit, rtol=1e-9, atol=1e-12)
+    assert rows[beyond, -1] >= 0.0  # (P² − g²)/P < 0 there
+    # at the samples the limit is P: the rows the solver saw
+    at_samples = result.evaluation.constraint_rows[:, -2:]
+    np.testing.assert_allclose(at_samples, (peak**2 - result.evaluation.tau**2) / peak, rtol=1e-9, atol=1e-12)
+    elbow = next(rule for rule in result.verification.rules if rule.rule == "no_joint_worse.elbow")
+    assert elbow.passed and result.verification.passed

@@ -80,7 +80,8 @@ class DesignProblem(ProblemNlp):
         no_joint_worse: add constraint rows ``|tau_ij| ≤ P_j`` at every sample ``i`` and every joint
             ``j`` with a weight > 0, ``P_j`` being that joint's unbalanced peak ``max_i |g_ij|`` over
             the workspace (per scenario with scenarios), floored at ``1e-6`` of the largest
-            (:attr:`joint_limits`): no joint ends up worse than without springs. Both solver methods
+            (:attr:`joint_limits`), or the bare arm's ``|g_ij|`` at a pose where that is larger (the
+            verification's unseen poses): no joint ends up worse than without springs. Both solver methods
             respect them (least squares through its augmented Lagrangian, IPOPT as rows).
         clearance: a :class:`~springbalance.design.clearance.Clearance` (margin [m], check poses):
             every two-point spring keeps that distance from the arm's collision geometry (and,

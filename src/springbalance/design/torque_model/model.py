@@ -76,7 +76,8 @@ class TorqueModel:
 
         if joint_limits is not None:
             selectors = data[self.data_size - len(self.scenarios) :] if self.scenarios else None
-            self._add_joint_limits(np.asarray(joint_limits, dtype=float), tau, selectors, constraint_rows)
+            gravity = data[:nv]  # the bare arm's generalized gravity g at the sample
+            self._add_joint_limits(np.asarray(joint_limits, dtype=float), tau, gravity, selectors, constraint_rows)
         if max_spring_mass is not None:
             self._add_mass_limit(float(max_spring_mass), local, data, constraint_rows)
 
@@ -209,11 +210,20 @@ class TorqueModel:
                 constraint_rows.append(row)
 
     def _add_joint_limits(
-        self, limits: np.ndarray, tau: ca.SX, selectors: ca.SX | None, constraint_rows: list[ca.SX]
+        self,
+        limits: np.ndarray,
+        tau: ca.SX,
+        gravity: ca.SX,
+        selectors: ca.SX | None,
+        constraint_rows: list[ca.SX],
     ) -> None:
-        r"""Rows :math:`(P_j^2 - \tau_j^2)/P_j \ge 0`, i.e. :math:`|\tau_j| \le P_j`, for every joint
-        whose limit ``P_j`` [N·m or N] is finite. ``limits`` is (S×nv) with scenarios (a sample sees
-        its own scenario's row through the selectors), else (1×nv); NaN: no row for that joint."""
+        r"""Rows :math:`(L_j^2 - \tau_j^2)/L_j \ge 0`, i.e. :math:`|\tau_j| \le L_j`, for every joint
+        whose limit ``P_j`` [N·m or N] is finite, with :math:`L_j = \max(P_j, |g_j|)`: no worse than the bare
+        arm's peak over the samples nor than the bare arm at this pose. At the samples :math:`L_j = P_j` (the
+        peak is over them); at a pose where the bare arm itself carries more, the springs may leave it that
+        (a joint no spring acts on, :math:`\tau_j = g_j`, meets its row everywhere). ``limits`` is (S×nv)
+        with scenarios (a sample sees its own scenario's row through the selectors), else (1×nv); NaN: no
+        row for that joint."""
         limits = limits.reshape(-1, self.mechanism.nv)
         for joint in self.mechanism.joints:
             column = limits[:, joint.index_v]
@@ -227,6 +237,7 @@ class TorqueModel:
             else:  # (sum() of SX is SX: typeshed's sum wants int-addable items)
                 bound = cast(ca.SX, sum(selectors[s] * float(column[s]) for s in range(column.size)))
             torque = tau[joint.index_v]
+            bound = ca.fmax(bound, ca.fabs(gravity[joint.index_v]))  # data only: the same row's x-derivatives
             self.constraint_blocks.append(
                 ConstraintBlock(
                     "", f"no_joint_worse.{joint.name}", joint.torque_unit, len(constraint_rows), float(np.max(column))
