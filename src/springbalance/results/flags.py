@@ -40,6 +40,8 @@ The warnings:
 - ``beyond_joint_limits``, ``off_series_wire``: see :mod:`springbalance.results.range_flags`.
 - ``short_life``: a coil without a stated duty that would not live the default one; see
   :mod:`springbalance.results.fatigue_flags`.
+- ``long_bracket``: an anchor that stands far off its link (a bracket the design leaves out); see
+  :mod:`springbalance.results.brackets`.
 
 The text report, ``report.html`` and ``design.json`` all list them, failures first (``design.json``:
 every finding under ``warnings``, the failures again under ``failures``).
@@ -55,6 +57,7 @@ from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.design.problem import DesignProblem
 from springbalance.errors import InputError
 from springbalance.export.common import law_warnings, spring_name
+from springbalance.results.brackets import long_bracket_flags
 from springbalance.results.failure_flags import infeasible_flags, not_converged_flags, overlap_flags, partial_flags
 from springbalance.results.fatigue_flags import short_life_flags
 from springbalance.results.flag import FAILURE, WARNING, Flag, failures_first
@@ -89,6 +92,7 @@ KINDS = {
     "not_verified": FAILURE,
     "inside_own_link": WARNING,
     "short_life": WARNING,
+    "long_bracket": WARNING,
 }
 #: ``heavy_springs``: the springs are heavy above this fraction of the arm's moving mass [1] ...
 HEAVY_ARM_FRACTION = 0.10
@@ -375,4 +379,5 @@ CHECKS: tuple[Callable[[EvaluatedDesign], list[Flag]], ...] = (
     short_life_flags,
     heavy_springs_flags,
     inside_own_link_flags,
+    long_bracket_flags,
 )

@@ -79,12 +79,10 @@ from springbalance.viz.pose_paths import scene_path
 from springbalance.viz.pose_slider import scene_slider_html
 from springbalance.viz.recorder import SceneRecorder
 from springbalance.viz.regions import REGION_COLOR, RegionShape, anchor_regions, region_geometry
+from springbalance.viz.rods import add_brackets, animate_rods, draw_rods
 from springbalance.viz.tracks import SpringTrack, add_clearances, spring_tracks
 
 ANCHOR_COLOR = 0x333333
-#: a routed spring's cable (docs/model.md §3.9): a thin dark line from the spring's end over its pulleys
-CABLE_COLOR = 0x222222
-CABLE_RADIUS = 0.0015  # [m]
 #: Side of a label's square sprite (live view) as a fraction of the camera's distance from what it frames.
 LABEL_SIZE = 0.22
 #: the helix drawn when no style is given (frozen: one instance serves every scene)
@@ -176,6 +174,7 @@ class DesignScene:
                 self.springs, self._records, mechanism, self.configurations, self.margin, radius
             )
         add_own_link(self.springs, self._records, mechanism, self.configurations, self.flagged)  # their markers
+        add_brackets(self.springs, self._records, mechanism, kinematics)  # anchors held off their links
         self.camera_center: np.ndarray | None = None
         self.camera_radius: float | None = None
         self.camera_target: np.ndarray | None = None
@@ -282,7 +281,7 @@ class DesignScene:
 
     def _draw_springs(self, root: Any, sprites: bool = True) -> dict[str, str]:
         """Draw each spring at the first pose below ``root``: its helix, the node its name label follows
-        (a text sprite there with ``sprites``), its clearance marker, anchor spheres and cable. Returns
+        (a text sprite there with ``sprites``), its clearance marker, anchor spheres, cable and brackets. Returns
         the uuid of each spring's helix mesh by spring name."""
         mg = import_meshcat().geometry
         if self.camera_position is None or self.camera_target is None:
@@ -308,11 +307,7 @@ class DesignScene:
                 sphere = root["anchors"][f"{spring.name}.{end}"]
                 sphere.set_object(mg.Sphere(1.6 * spring.wire_radius + 0.004), mg.MeshPhongMaterial(color=ANCHOR_COLOR))
                 sphere.set_transform(placement(np.eye(3), positions[0]))
-            if spring.cable is not None:
-                for segment in range(spring.cable.shape[1] - 1):
-                    node = root["cables"][spring.name][f"segment{segment}"]
-                    node.set_object(mg.Cylinder(1.0, CABLE_RADIUS), mg.MeshPhongMaterial(color=CABLE_COLOR))
-                    node.set_transform(spring.cable_transform(segment, 0))
+            draw_rods(root, spring, mg)
         return helix_objects
 
     def _draw_regions(self, root: Any) -> None:
@@ -369,12 +364,7 @@ class DesignScene:
         for end, positions in spring.points_by_end().items():
             point = [float(v) for v in positions[frame]]
             root["anchors"][f"{spring.name}.{end}"].set_property("position", "vector3", point)
-        if spring.cable is not None:
-            for segment in range(spring.cable.shape[1] - 1):
-                rigid, length = spring.cable_placement(segment, frame)
-                node = root["cables"][spring.name][f"segment{segment}"]
-                node.set_transform(rigid)
-                node.set_property("scale", "vector3", [1.0, length, 1.0])
+        animate_rods(root, spring, frame)
 
     def _visual_model(self) -> pin.GeometryModel:
         """The arm's visual geometry: the URDF's, or a stick figure when it has none."""

@@ -31,7 +31,7 @@ from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.files import write_text_atomic
 from springbalance.viz.camera import CAMERA_FILL, CAMERA_FOV, camera_distance
 from springbalance.viz.colors import CLEARANCE_COLOR, CLEARANCE_RGB, ColorScale
-from springbalance.viz.design_scene import ANCHOR_COLOR, CABLE_COLOR, CABLE_RADIUS, LABEL_SIZE, DesignScene
+from springbalance.viz.design_scene import ANCHOR_COLOR, LABEL_SIZE, DesignScene
 from springbalance.viz.helix import HelixStyle, helix_centerline, helix_tube, placement, spring_rotation
 
 # the private names below are the old module's, kept importable from here for one release
@@ -45,6 +45,7 @@ from springbalance.viz.regions import region_corners as _region_corners  # noqa:
 from springbalance.viz.regions import region_geometry as _region_geometry  # noqa: F401 (old name)
 from springbalance.viz.regions import region_points as _region_points  # noqa: F401 (old name)
 from springbalance.viz.regions import spring_anchors as _anchors  # noqa: F401 (old name)
+from springbalance.viz.rods import CABLE_COLOR, CABLE_RADIUS
 from springbalance.viz.tracks import SpringTrack
 
 __all__ = [

@@ -75,6 +75,9 @@ class SpringTrack:
     cable: np.ndarray | None = None
     #: world position per pose (N×3) [m] of every point of the spring's path by end name (a, via1 …, b)
     anchor_points: dict | None = None
+    #: the foot of the bracket that holds an anchor off its link, world position per pose (N×3) [m] by end
+    #: name (:func:`~springbalance.viz.rods.add_brackets`), or None when no anchor stands off its link
+    brackets: dict | None = None
 
     def points_by_end(self) -> dict:
         """World positions (N×3) [m] of the spring's anchor points by end name."""
@@ -85,18 +88,7 @@ class SpringTrack:
         (axis y) at the segment's middle along it, and the segment's length [m] (its y scale)."""
         if self.cable is None:
             raise ValueError(f"spring {self.name!r} has no cable: it is not routed over pulleys")
-        start, end = self.cable[frame, segment], self.cable[frame, segment + 1]
-        direction = end - start
-        length = float(np.linalg.norm(direction))
-        rotation = spring_rotation(direction if length > 0 else np.array([0.0, 0.0, 1.0]), self.side)
-        # spring_rotation takes e_z to the direction; the cylinder's axis is y: turn y onto z first
-        y_to_z = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
-        return placement(rotation @ y_to_z, (start + end) / 2), max(length, 1e-9)
-
-    def cable_transform(self, segment: int, frame: int) -> np.ndarray:
-        """Full node transform (4×4) of cable segment ``segment`` at pose ``frame`` (scaled to its length)."""
-        rigid, length = self.cable_placement(segment, frame)
-        return rigid @ np.diag([1.0, length, 1.0, 1.0])
+        return rod_placement(self.cable[frame, segment], self.cable[frame, segment + 1], self.side)
 
     def midpoints(self) -> np.ndarray:
         """The middle of the spring per pose (N×3) [m]."""
@@ -126,6 +118,17 @@ class SpringTrack:
     def mesh(self) -> tuple[np.ndarray, np.ndarray]:
         """Vertices (axial coordinates) and faces of the helix tube."""
         return helix_tube(self.centerline(), self.wire_radius, self.reference_length, self.sides)
+
+
+def rod_placement(start: np.ndarray, end: np.ndarray, side: np.ndarray) -> tuple[np.ndarray, float]:
+    """A rod from ``start`` to ``end`` (world [m]): the rigid placement (4×4) of a unit cylinder (axis y) at its
+    middle along it, and its length [m] (the cylinder's y scale); ``side`` fixes its roll."""
+    direction = np.asarray(end, dtype=float) - np.asarray(start, dtype=float)
+    length = float(np.linalg.norm(direction))
+    rotation = spring_rotation(direction if length > 0 else np.array([0.0, 0.0, 1.0]), side)
+    # spring_rotation takes e_z to the direction; the cylinder's axis is y: turn y onto z first
+    y_to_z = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
+    return placement(rotation @ y_to_z, (np.asarray(start) + np.asarray(end)) / 2), max(length, 1e-9)
 
 
 def spring_tracks(

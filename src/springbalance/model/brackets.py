@@ -1,0 +1,76 @@
+"""The bracket an anchor needs when it stands off its link (:func:`bracket`, :func:`spring_brackets`).
+
+An anchor lies where its region puts it in its body's frame: on the link's surface (``on: collision``), or
+anywhere in a box, which may reach far from the link. A spring end there is held by a bracket from the link
+that the design does not include:
+
+- not its mass: the gravity the springs balance is the arm's;
+- not its stiffness: a spring force ``F`` [N] at the end of a bracket of length ``d`` [m] bends its root by
+  the moment ``F·d`` [N·m], and the anchor moves as the bracket bends;
+- not its clearance: the springs alone are kept clear of the links.
+
+The bracket here is the straight segment from the anchor to the nearest point of its link's collision geometry
+(meshes as their convex hulls, :func:`~springbalance.model.collision.surface_distance`): the shortest one it
+can be. Lengths in m; points in the link's (body's) frame.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Any, Iterable, Mapping
+
+import numpy as np
+import pinocchio as pin
+
+from springbalance.errors import InputError
+from springbalance.model.collision import body_objects, collision_geometry, surface_distance
+from springbalance.model.mechanism import Mechanism
+
+
+@dataclasses.dataclass(frozen=True)
+class Bracket:
+    """A bracket from a link's surface to an anchor.
+
+    Attributes:
+        body: the link that carries it.
+        anchor: the anchor point, body frame [m] (3).
+        foot: the nearest point of the link's collision geometry, body frame [m] (3).
+        length: the distance from the foot to the anchor [m] (> 0).
+    """
+
+    body: str
+    anchor: np.ndarray
+    foot: np.ndarray
+    length: float
+
+
+def bracket(mechanism: Mechanism, geometry: pin.GeometryModel, body: str, point: np.ndarray) -> Bracket | None:
+    """The bracket that holds ``point`` (body frame [m]) off ``body``; None on the ground (the base or a post
+    is the mounting's business), on a link without collision geometry, and for a point on or inside the link."""
+    if mechanism.is_ground(body) or not body_objects(mechanism, geometry, body):
+        return None
+    anchor = np.asarray(point, dtype=float)
+    distance, foot, _ = surface_distance(mechanism, geometry, body, anchor)
+    if distance <= 0.0:
+        return None
+    return Bracket(body, anchor, np.asarray(foot, dtype=float), float(distance))
+
+
+def spring_brackets(mechanism: Mechanism, springs: Iterable[Mapping[str, Any]]) -> dict[tuple[str, str], Bracket]:
+    """The brackets of the ends of two-point springs, by ``(spring name, end)``, from spring records (a design's
+    :attr:`~springbalance.design.evaluated.EvaluatedDesign.springs`: ``{"name", "a": {"body", "point"}, "b": …}``;
+    records without ends, torsional springs, are skipped). Empty for an arm without collision geometry."""
+    try:
+        geometry = collision_geometry(mechanism)
+    except InputError:  # no URDF, or no <collision> elements: nothing to measure
+        return {}
+    found = {}
+    for record in springs:
+        for end in ("a", "b"):
+            anchor = record.get(end)
+            if not isinstance(anchor, Mapping) or "point" not in anchor:
+                continue
+            held = bracket(mechanism, geometry, anchor["body"], np.asarray(anchor["point"], dtype=float))
+            if held is not None:
+                found[(str(record["name"]), end)] = held
+    return found
