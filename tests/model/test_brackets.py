@@ -62,3 +62,22 @@ def test_the_brackets_of_spring_records_by_spring_and_end(arm):
     assert found[("s2", "b")].length == pytest.approx(0.05, abs=1e-6)  # link2's box: top face at z = 0.015
     plain = sb.Mechanism.from_urdf(URDF / "two_link_planar.urdf")  # no collision geometry: nothing to measure
     assert spring_brackets(plain, records) == {}
+
+
+def test_a_straight_bracket_through_another_link_is_found_where_it_passes_deepest(arm):
+    """link2's anchor 0.3 m behind the elbow along link2's axis: its bracket runs from link2's end face at the
+    elbow back along the arm. Straight (elbow 0) it lies on link1's axis inside link1's box, 20 mm from its
+    nearest face (the half thickness); at elbow 90° it only touches link1's end face x = 0.5 m."""
+    from springbalance.model.brackets import bracket_crossings
+
+    mechanism, geometry = arm
+    held = bracket(mechanism, geometry, "link2", np.array([-0.3, 0.0, 0.0]))
+    assert held is not None and held.length == pytest.approx(0.3, abs=1e-6)
+    np.testing.assert_allclose(held.foot, [0.0, 0.0, 0.0], atol=1e-6)
+    configurations = np.array([[0.0, 1.0], [0.0, 0.0], [0.0, np.pi / 2]])  # shoulder, elbow [rad]
+    crossings = bracket_crossings(mechanism, {"behind": held}, configurations)
+    assert set(crossings) == {"behind"}
+    assert crossings["behind"].link == "link1" and crossings["behind"].pose == 1
+    assert crossings["behind"].depth == pytest.approx(0.02, abs=1e-6)
+    above = bracket(mechanism, geometry, "link1", np.array([0.25, 0.0, 0.12]))
+    assert bracket_crossings(mechanism, {"above": above}, configurations) == {}  # clear of link2 and the tool

@@ -55,3 +55,16 @@ def test_an_anchor_far_off_its_link_is_flagged_with_its_bracket_and_load(arm):
 def test_no_bracket_warning_without_collision_geometry():
     plain = sb.Mechanism.from_urdf(URDF / "two_link_planar.urdf")
     assert long_bracket_flags(fixed_design(plain, [_spring("far", 0.12)], [[0.0, 0.0]])) == []
+
+
+def test_a_straight_bracket_through_another_link_must_go_round_it(arm):
+    # link2's anchor 0.3 m behind the elbow: at elbow 0 its bracket runs back along link1's axis, inside link1's
+    # box 20 mm from its nearest face (the box's half thickness)
+    spring = sb.ZeroFreeLengthSpring(
+        sb.Anchor("universe", [0.3, 0, 0.5]), sb.Anchor("link2", [-0.3, 0, 0]), "behind", stiffness=100.0
+    )
+    (flag,) = long_bracket_flags(fixed_design(arm, [spring], [[0.0, 1.0], [0.0, 0.0]]))
+    assert "b stands 300 mm off link2" in flag.message
+    assert "the straight bracket at b passes through link1 at some poses (20 mm deep) and must go round it" in (
+        flag.message
+    )

@@ -11,7 +11,8 @@ that the design does not include:
 
 The bracket here is the straight segment from the anchor to the nearest point of its link's collision geometry
 (meshes as their convex hulls, :func:`~springbalance.model.collision.surface_distance`): the shortest one it
-can be. Lengths in m; points in the link's (body's) frame.
+can be. Where that segment passes through another link at some pose (:func:`bracket_crossings`), the bracket
+must go round it. Lengths in m; points in the link's (body's) frame.
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ import numpy as np
 import pinocchio as pin
 
 from springbalance.errors import InputError
-from springbalance.model.collision import body_objects, collision_geometry, surface_distance
+from springbalance.model.collision import CollisionScene, body_objects, collision_geometry, surface_distance
 from springbalance.model.mechanism import Mechanism
 
 
@@ -74,3 +75,42 @@ def spring_brackets(mechanism: Mechanism, springs: Iterable[Mapping[str, Any]]) 
             if held is not None:
                 found[(str(record["name"]), end)] = held
     return found
+
+
+@dataclasses.dataclass(frozen=True)
+class Crossing:
+    """The deepest pass of a bracket's straight line through another link.
+
+    Attributes:
+        link: the link it passes through.
+        depth: how deep [m] (the overlap of the line with the link's convex hull, > 0).
+        pose: the index of the configuration where it is deepest.
+    """
+
+    link: str
+    depth: float
+    pose: int
+
+
+def bracket_crossings(
+    mechanism: Mechanism, brackets: Mapping[Any, Bracket], configurations: np.ndarray
+) -> dict[Any, Crossing]:
+    """For each of ``brackets`` (by key) whose straight line passes through a link other than its own at one of
+    ``configurations`` (N×nq), the deepest such pass; meshes count as their convex hulls."""
+    if not brackets:
+        return {}
+    scene = CollisionScene(mechanism, collision_geometry(mechanism), convex=True)
+    objects = {key: scene.indices_except([held.body]) for key, held in brackets.items()}
+    deepest: dict[Any, Crossing] = {}
+    for pose, configuration in enumerate(np.asarray(configurations, dtype=float)):
+        scene.place(configuration)
+        data = mechanism.model.createData()
+        pin.framesForwardKinematics(mechanism.model, data, configuration)
+        for key, held in brackets.items():
+            placement = data.oMf[mechanism.frame_id(held.body)]
+            foot, anchor = placement.act(held.foot), placement.act(held.anchor)
+            for index in objects[key]:
+                depth = -scene.capsule_distance(foot, anchor, 0.0, index).distance
+                if depth > 0.0 and (key not in deepest or depth > deepest[key].depth):
+                    deepest[key] = Crossing(scene.links[index], depth, pose)
+    return deepest
