@@ -261,3 +261,22 @@ def test_the_template_ships_with_the_package():
     assert template.is_file()
     pyproject = (ROOT / "pyproject.toml").read_text()
     assert '"results/order/templates/*.j2"' in pyproject and '"jinja2>=3.1"' in pyproject
+
+
+def test_an_anchor_off_its_link_is_a_bracket_to_design_with_its_load():
+    """two_link_planar_collision.urdf: link1's box has its top face at z = 0.02 m (link1's frame), so the anchor
+    (0.3, 0, 0.12) stands 100 mm above it, its bracket's foot at (0.3, 0, 0.02). The zero-free-length spring of
+    200 N/m from the ground point (0.3, 0, 0.5) is 0.38 m long at shoulder 0: 76 N, 7.6 N·m at the foot."""
+    mechanism = sb.Mechanism.from_urdf(URDF / "two_link_planar_collision.urdf")
+    spring = sb.ZeroFreeLengthSpring(
+        sb.Anchor("universe", [0.3, 0, 0.5]), sb.Anchor("link1", [0.3, 0, 0.12]), "far", stiffness=200.0
+    )
+    problem = sb.DesignProblem(mechanism, sb.Workspace.from_array(mechanism, np.zeros((1, 2))), [spring])
+    from springbalance.results.order.bom import bom_rows
+
+    rows = bom_rows(sb.DesignResult(problem, np.zeros(0)), [])  # a law, not a coil: the anchors all the same
+    ground, link = (row for row in rows if row["category"] == "anchor")
+    assert ground["body"] == "universe" and ground["description"] == "anchor bracket with a pin"
+    assert link["description"] == "anchor bracket with a pin, 100 mm off link1"
+    assert "its shortest foot on link1 at (300.0, 0.0, 20.0) mm" in link["notes"]
+    assert "far.b pulls with up to 76 N, 7.6 N·m at the foot" in link["notes"]

@@ -4,8 +4,10 @@ and the cables, pulleys and guides of routed springs; and the springs a maker ca
 Each row is one item to buy or make: ``item`` (a number), ``category`` (``spring``, ``anchor``, ``pulley``,
 ``guide``, ``cable``), ``description``, ``quantity``, the ``body`` it sits on and its ``point`` in that
 body's frame [mm] (anchors, pulleys, guides), the ``springs`` it serves (``name.end``), and ``notes``. Two
-spring ends at the same point of the same body (within 0.1 mm) share one anchor. :func:`bom_csv` writes
-the rows as CSV.
+spring ends at the same point of the same body (within 0.1 mm) share one anchor. An anchor that stands off
+its link (:mod:`springbalance.model.brackets`) notes how far, where the bracket's shortest foot is on the link
+and the load it carries: the spring's largest tension ``F`` [N] over the workspace and ``F·d`` [N·m] at the
+foot, ``d`` its length. :func:`bom_csv` writes the rows as CSV.
 """
 
 from __future__ import annotations
@@ -14,7 +16,10 @@ import csv
 import io
 from typing import Any
 
+import numpy as np
+
 from springbalance.design.evaluated import EvaluatedDesign
+from springbalance.model.brackets import Bracket, spring_brackets
 from springbalance.results.order.form import SpringOrder
 
 #: the columns of bom.csv
@@ -58,12 +63,15 @@ def bom_rows(result: EvaluatedDesign, orders: list[SpringOrder], quantity: int =
     by_name = {order.name: order for order in orders}
     rows: list[dict[str, Any]] = []
     anchors: dict[tuple[str, tuple[float, ...]], dict[str, Any]] = {}
-    for record in result.springs:
+    brackets = spring_brackets(result.problem.mechanism, result.springs)
+    tensions = np.abs(np.asarray(result.evaluation.tensions))
+    for column, record in enumerate(result.springs):
         name = str(record["name"])
         rows.append(_spring_row(record, by_name.get(name), quantity))
+        force = float(np.max(tensions[:, column])) if tensions.size else 0.0
         for end in ("a", "b"):
             if end in record:
-                _add_anchor(anchors, record[end], f"{name}.{end}", quantity)
+                _add_anchor(anchors, record[end], f"{name}.{end}", quantity, brackets.get((name, end)), force)
         rows.extend(_path_rows(record, quantity))
         if "joint" in record:
             rows.append(_row("anchor", f"joint mount of {name}", quantity, body=str(record["joint"]), springs=name))
@@ -113,16 +121,28 @@ def _spring_row(record: dict[str, Any], order: SpringOrder | None, quantity: int
     return _row("spring", description, quantity, springs=name, notes=f"{order.form}: order/{name}.svg, order.html")
 
 
-def _add_anchor(anchors: dict, end: dict[str, Any], label: str, quantity: int) -> None:
-    """Count the anchor of a spring end ``end`` (``{body, point}``), merged with one at the same point."""
+def _add_anchor(
+    anchors: dict, end: dict[str, Any], label: str, quantity: int, held: Bracket | None, force: float
+) -> None:
+    """Count the anchor of a spring end ``end`` (``{body, point}``), merged with one at the same point;
+    ``held``: its bracket when it stands off its link, ``force`` [N] the spring's largest tension."""
     point = [1e3 * float(value) for value in end["point"]]
+    load = f"{label} pulls with up to {force:.0f} N" + (f", {force * held.length:.1f} N·m at the foot" if held else "")
     for (body, other), row in anchors.items():
         if body == end["body"] and max(abs(a - b) for a, b in zip(point, other)) < SAME_POINT:
             row["springs"] += f" {label}"
-            row["description"] = "anchor bracket with a pin (shared)"
+            row["description"] = row["description"].replace(
+                "anchor bracket with a pin", "anchor bracket with a pin (shared)"
+            )
+            row["notes"] += f"; {load}" if held else ""
             return
+    description, notes = "anchor bracket with a pin", ""
+    if held is not None:
+        foot = ", ".join(f"{1e3 * value:.1f}" for value in held.foot)
+        description += f", {1e3 * held.length:.0f} mm off {held.body}"
+        notes = f"a bracket to design: its shortest foot on {held.body} at ({foot}) mm; {load}"
     anchors[(str(end["body"]), tuple(point))] = _row(
-        "anchor", "anchor bracket with a pin", quantity, str(end["body"]), point, label
+        "anchor", description, quantity, str(end["body"]), point, label, notes
     )
 
 
