@@ -3,8 +3,10 @@
 A spring with an anchor on a moving link farther than :data:`BRACKET_WARNING` from that link's collision
 geometry gets one warning (:func:`long_bracket_flags`) with each such bracket's shortest length ``d`` [m] (to
 the nearest surface point, :mod:`springbalance.model.brackets`), the spring's largest tension ``F`` [N] over
-the workspace and the moment ``F·d`` [N·m] it puts on the longest bracket's root. The bracket's mass, stiffness and clearance from the other
-links are not in the design. Anchors on the ground, and arms without collision geometry, get none.
+the workspace and the moment ``F·d`` [N·m] it puts on the longest bracket's root. Where such a bracket's straight
+line passes through another link at one of the workspace's poses (up to :data:`BRACKET_POSES` of them, evenly
+spread), the warning says which link and how deep: the bracket must go round it. The brackets' mass and stiffness
+are not in the design. Anchors on the ground, and arms without collision geometry, get none.
 """
 
 from __future__ import annotations
