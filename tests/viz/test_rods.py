@@ -56,3 +56,23 @@ def test_no_bracket_without_collision_geometry():
     scene = viz.DesignScene(fixed_design(URDF / "two_link_planar.urdf", _springs(), path), path)
     assert scene.springs[0].brackets is None
     assert "brackets" not in record_scene(scene).tree["meshcat"][viz.ROOT]  # a defaultdict: no such child
+
+
+def test_a_bracket_is_red_in_the_frames_where_it_passes_through_another_link():
+    """link2's anchor 0.3 m behind the elbow along link2's axis: its bracket runs from link2's end face at the
+    elbow back along the arm. At elbow 0 it lies on link1's axis inside link1's box; at elbow 2 rad and 90° it
+    points away from link1, touching only its end face at the elbow."""
+    from springbalance.viz import colors
+
+    spring = sb.ZeroFreeLengthSpring(
+        sb.Anchor("universe", [0.3, 0, 0.5]), sb.Anchor("link2", [-0.3, 0, 0]), "behind", stiffness=100.0
+    )
+    path = np.array([[0.0, 2.0], [0.0, 0.0], [0.0, np.pi / 2]])
+    scene = viz.DesignScene(fixed_design(COLLISION_URDF, [spring], path), path)
+    (track,) = scene.springs
+    np.testing.assert_array_equal(track.brackets_through["b"], [False, True, False])
+    clip = animation_clips(record_scene(scene))[f"/meshcat/{viz.ROOT}/brackets/behind.b"]
+    colours = next(values for name, values in clip.items() if name.endswith(".material.color"))
+    grey = np.array([0x8C, 0x90, 0x99]) / 255
+    np.testing.assert_allclose(colours, [grey, colors.CLEARANCE_RGB, grey], atol=FLOAT32_ATOL)
+    assert scene.problems() == ["behind.b's bracket: through a link in 1 of 3 frames"]  # the legend's red entries

@@ -77,6 +77,10 @@ def spring_brackets(mechanism: Mechanism, springs: Iterable[Mapping[str, Any]]) 
     return found
 
 
+#: a bracket's line that overlaps another link by less than this [m] only touches it (where two links meet)
+TOUCH = 1e-4
+
+
 @dataclasses.dataclass(frozen=True)
 class Crossing:
     """The deepest pass of a bracket's straight line through another link.
@@ -97,20 +101,36 @@ def bracket_crossings(
 ) -> dict[Any, Crossing]:
     """For each of ``brackets`` (by key) whose straight line passes through a link other than its own at one of
     ``configurations`` (N×nq), the deepest such pass; meshes count as their convex hulls."""
+    deepest = {}
+    for key, (depths, links) in bracket_depths(mechanism, brackets, configurations).items():
+        pose = int(np.argmax(depths))
+        if depths[pose] > 0.0:
+            deepest[key] = Crossing(links[pose], float(depths[pose]), pose)
+    return deepest
+
+
+def bracket_depths(
+    mechanism: Mechanism, brackets: Mapping[Any, Bracket], configurations: np.ndarray
+) -> dict[Any, tuple[np.ndarray, list[str]]]:
+    """For each of ``brackets`` (by key), how deep [m] its straight line passes through a link other than its own
+    at each of ``configurations`` (N×nq; 0 where it passes through none, or only touches one: :data:`TOUCH`) and
+    through which link (``""`` there); meshes count as their convex hulls."""
+    configurations = np.asarray(configurations, dtype=float)
+    found = {key: (np.zeros(len(configurations)), [""] * len(configurations)) for key in brackets}
     if not brackets:
-        return {}
+        return found
     scene = CollisionScene(mechanism, collision_geometry(mechanism), convex=True)
     objects = {key: scene.indices_except([held.body]) for key, held in brackets.items()}
-    deepest: dict[Any, Crossing] = {}
-    for pose, configuration in enumerate(np.asarray(configurations, dtype=float)):
+    data = mechanism.model.createData()
+    for pose, configuration in enumerate(configurations):
         scene.place(configuration)
-        data = mechanism.model.createData()
         pin.framesForwardKinematics(mechanism.model, data, configuration)
         for key, held in brackets.items():
             placement = data.oMf[mechanism.frame_id(held.body)]
             foot, anchor = placement.act(held.foot), placement.act(held.anchor)
+            depths, links = found[key]
             for index in objects[key]:
                 depth = -scene.capsule_distance(foot, anchor, 0.0, index).distance
-                if depth > 0.0 and (key not in deepest or depth > deepest[key].depth):
-                    deepest[key] = Crossing(scene.links[index], depth, pose)
-    return deepest
+                if depth > max(depths[pose], TOUCH):
+                    depths[pose], links[pose] = depth, scene.links[index]
+    return found

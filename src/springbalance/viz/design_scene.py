@@ -174,7 +174,7 @@ class DesignScene:
                 self.springs, self._records, mechanism, self.configurations, self.margin, radius
             )
         add_own_link(self.springs, self._records, mechanism, self.configurations, self.flagged)  # their markers
-        add_brackets(self.springs, self._records, mechanism, kinematics)  # anchors held off their links
+        add_brackets(self.springs, self._records, mechanism, kinematics, self.configurations)  # off their links
         self.camera_center: np.ndarray | None = None
         self.camera_radius: float | None = None
         self.camera_target: np.ndarray | None = None
@@ -226,7 +226,8 @@ class DesignScene:
         return below or spring.name in self.flagged
 
     def problems(self) -> list[str]:
-        """One line per spring drawn red: the frames below the clearance margin, and why it is flagged."""
+        """One line per spring drawn red: the frames below the clearance margin, and why it is flagged; one per
+        bracket drawn red: the frames where it passes through another link (:mod:`springbalance.viz.rods`)."""
         lines = []
         for spring in self.springs:
             if spring.below_margin is not None and np.any(spring.below_margin):
@@ -234,6 +235,10 @@ class DesignScene:
                 lines.append(f"{spring.name}: below the margin in {count} of {self.size} frames")
             if spring.name in self.flagged:
                 lines.append(f"{spring.name}: {self.flagged[spring.name]}")
+            for end, through in (spring.brackets_through or {}).items():
+                if np.any(through):
+                    count = int(np.count_nonzero(through))
+                    lines.append(f"{spring.name}.{end}'s bracket: through a link in {count} of {self.size} frames")
         return lines
 
     def legend_html(self, position: str = "fixed") -> str:

@@ -78,6 +78,10 @@ class SpringTrack:
     #: the foot of the bracket that holds an anchor off its link, world position per pose (N×3) [m] by end
     #: name (:func:`~springbalance.viz.rods.add_brackets`), or None when no anchor stands off its link
     brackets: dict | None = None
+    #: per end name with a bracket, whether its straight line passes through another link at each pose (N)
+    brackets_through: dict | None = None
+    #: the uuid of each bracket's mesh by its node name (set when the scene is drawn; its colour is animated)
+    rod_meshes: dict | None = None
 
     def points_by_end(self) -> dict:
         """World positions (N×3) [m] of the spring's anchor points by end name."""
