@@ -1,4 +1,4 @@
-"""The bracket an anchor needs when it stands off its link (:func:`bracket`, :func:`spring_brackets`).
+"""The bracket an anchor needs when it stands off its link (:func:`bracket`, :func:`spring_brackets`; docs/model.md §11).
 
 An anchor lies where its region puts it in its body's frame: on the link's surface (``on: collision``), or
 anywhere in a box, which may reach far from the link. A spring end there is held by a bracket from the link
