@@ -8,6 +8,7 @@ solved as a user solves them (``sb.solve(config)``: the config's ``solve`` secti
   ur5-coils          UR5, the 4 springs of ur5-ideal as helical coils of at most 40 mm outer diameter
   ur5-coils-clear    ur5-coils kept 5 mm clear of the arm's collision meshes (+ its ideal twin, part d)
   ur5-mounted-clear  UR5, 3 ideal springs whose anchors sit on the links' surfaces (``on: collision``), clear
+  ur5-mounted-coils-clear  ur5-mounted-clear as coils of at most 40 mm: what an engineer builds
   panda-ideal        Panda, 4 ideal springs on links 1–4 (upper-arm roll held, fingers held)
   panda-coils-clear  panda-ideal as coils of at most 40 mm, kept 5 mm clear
   example-ur5        examples/ur5.yaml (the shipped example, sized to run in about a minute)
@@ -85,6 +86,7 @@ CASES = [
     Case("ur5-coils", REAL / "ur5_coils.yaml"),
     Case("ur5-coils-clear", REAL / "ur5_coils_clear.yaml", twin=True),
     Case("ur5-mounted-clear", REAL / "ur5_mounted_clear.yaml"),
+    Case("ur5-mounted-coils-clear", REAL / "ur5_mounted_coils_clear.yaml"),
     Case("panda-ideal", REAL / "panda_ideal.yaml"),
     Case("panda-coils-clear", REAL / "panda_coils_clear.yaml"),
     Case("example-ur5", ROOT / "examples" / "ur5.yaml"),
@@ -445,7 +447,7 @@ def summary(cases: list[dict[str, Any]]) -> None:
         "\n outcome of the default: ok, fails (the CLI would refuse the design, exit 3) or error (no design))"
     )
     print(
-        f"  {'case':<20}{'default [s]':>12}{'outcome':>8}{'gap ≤ 1':>10}{'spread ≤ 1':>12}{'clear':>8}"
+        f"  {'case':<24}{'default [s]':>12}{'outcome':>8}{'gap ≤ 1':>10}{'spread ≤ 1':>12}{'clear':>8}"
         f"{'loss ≤ 2':>10}{'time ≤ 10×':>12}"
     )
 
@@ -458,7 +460,7 @@ def summary(cases: list[dict[str, Any]]) -> None:
         clear = check["clear"] if check and check["judged"] else None
         twin = case.get("twin", {})
         print(
-            f"  {case['case']:<20}{default['seconds'] if default else float('nan'):>12.1f}"
+            f"  {case['case']:<24}{default['seconds'] if default else float('nan'):>12.1f}"
             f"{outcome(default):>8}"
             f"{mark(case.get('gap', {}).get('pass')):>10}{mark(case.get('spread', {}).get('pass')):>12}"
             f"{mark(clear):>8}{'FLOOR' if twin.get('loss_floor') else mark(twin.get('loss_pass')):>10}"
