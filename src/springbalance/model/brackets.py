@@ -121,12 +121,11 @@ def bracket_depths(
         return found
     scene = CollisionScene(mechanism, collision_geometry(mechanism), convex=True)
     objects = {key: scene.indices_except([held.body]) for key, held in brackets.items()}
-    data = mechanism.model.createData()
+    frames = {key: mechanism.frame_id(held.body) for key, held in brackets.items()}
     for pose, configuration in enumerate(configurations):
-        scene.place(configuration)
-        pin.framesForwardKinematics(mechanism.model, data, configuration)
+        scene.place(configuration)  # the frames too: each bracket moves with its link
         for key, held in brackets.items():
-            placement = data.oMf[mechanism.frame_id(held.body)]
+            placement = scene.frame(frames[key])
             foot, anchor = placement.act(held.foot), placement.act(held.anchor)
             depths, links = found[key]
             for index in objects[key]:

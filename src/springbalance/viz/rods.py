@@ -56,21 +56,17 @@ def add_brackets(
         track.brackets_through = {**(track.brackets_through or {}), end: depths > 0.0}
 
 
-def _rods(spring: SpringTrack, frame: int) -> list[tuple[str, np.ndarray, np.ndarray]]:
-    """``(node name, start, end)`` of each rod of ``spring`` at ``frame`` (world [m])."""
-    rods = []
+def _rods(spring: SpringTrack, frame: int) -> list[tuple[str, np.ndarray, np.ndarray, str | None]]:
+    """``(node name, start, end, bracket)`` of each rod of ``spring`` at ``frame`` (world [m]); ``bracket``: the
+    end name whose anchor a bracket holds, None for a cable segment."""
+    rods: list[tuple[str, np.ndarray, np.ndarray, str | None]] = []
     if spring.cable is not None:
         for segment in range(spring.cable.shape[1] - 1):
-            rods.append(
-                (
-                    f"cables/{spring.name}/segment{segment}",
-                    spring.cable[frame, segment],
-                    spring.cable[frame, segment + 1],
-                )
-            )
+            start, end = spring.cable[frame, segment], spring.cable[frame, segment + 1]
+            rods.append((f"cables/{spring.name}/segment{segment}", start, end, None))
     anchors = spring.points_by_end()
-    for end, feet in (spring.brackets or {}).items():
-        rods.append((f"brackets/{spring.name}.{end}", feet[frame], anchors[end][frame]))
+    for end_name, feet in (spring.brackets or {}).items():
+        rods.append((f"brackets/{spring.name}.{end_name}", feet[frame], anchors[end_name][frame], end_name))
     return rods
 
 
@@ -78,14 +74,13 @@ def draw_rods(root: Any, spring: SpringTrack, geometry: Any) -> None:
     """Draw the rods of ``spring`` at its first frame below ``root`` (``geometry``: ``meshcat.geometry``); the
     uuid of each bracket's mesh goes to :attr:`SpringTrack.rod_meshes` (its colour is animated)."""
     spring.rod_meshes = {}
-    for name, start, end in _rods(spring, 0):
-        bracket = name.startswith("brackets/")
+    for name, start, end, bracket in _rods(spring, 0):
         mesh = geometry.Mesh(
-            geometry.Cylinder(1.0, BRACKET_RADIUS if bracket else CABLE_RADIUS),
-            geometry.MeshPhongMaterial(color=BRACKET_COLOR if bracket else CABLE_COLOR),
+            geometry.Cylinder(1.0, CABLE_RADIUS if bracket is None else BRACKET_RADIUS),
+            geometry.MeshPhongMaterial(color=CABLE_COLOR if bracket is None else BRACKET_COLOR),
         )
         root[name].set_object(mesh)
-        if bracket:
+        if bracket is not None:
             spring.rod_meshes[name] = mesh.uuid
         rigid, length = rod_placement(start, end, spring.side)
         root[name].set_transform(rigid @ np.diag([1.0, length, 1.0, 1.0]))
@@ -94,12 +89,11 @@ def draw_rods(root: Any, spring: SpringTrack, geometry: Any) -> None:
 def animate_rods(root: Any, spring: SpringTrack, frame: int) -> None:
     """Key frame ``frame`` of the rods of ``spring`` below ``root`` (a frame of the animation): placement, length
     and, for a bracket, its colour (red where it passes through another link)."""
-    through = spring.brackets_through or {}
-    for name, start, end in _rods(spring, frame):
+    for name, start, end, bracket in _rods(spring, frame):
         rigid, length = rod_placement(start, end, spring.side)
         root[name].set_transform(rigid)
         root[name].set_property("scale", "vector3", [1.0, length, 1.0])
-        uuid = (spring.rod_meshes or {}).get(name)
-        if uuid is not None:
-            red = bool(through[name.rsplit(".", 1)[1]][frame])
-            root[name].set_property(f"{uuid}.material.color", "color", list(CLEARANCE_RGB if red else BRACKET_RGB))
+        if bracket is not None and spring.rod_meshes and spring.brackets_through:
+            red = bool(spring.brackets_through[bracket][frame])
+            colour = CLEARANCE_RGB if red else BRACKET_RGB
+            root[name].set_property(f"{spring.rod_meshes[name]}.material.color", "color", list(colour))

@@ -87,13 +87,6 @@ class SpringTrack:
         """World positions (N×3) [m] of the spring's anchor points by end name."""
         return self.anchor_points if self.anchor_points is not None else {"a": self.starts, "b": self.ends}
 
-    def cable_placement(self, segment: int, frame: int) -> tuple[np.ndarray, float]:
-        """Cable segment ``segment`` at pose ``frame``: the rigid placement (4×4) of a unit cylinder
-        (axis y) at the segment's middle along it, and the segment's length [m] (its y scale)."""
-        if self.cable is None:
-            raise ValueError(f"spring {self.name!r} has no cable: it is not routed over pulleys")
-        return rod_placement(self.cable[frame, segment], self.cable[frame, segment + 1], self.side)
-
     def midpoints(self) -> np.ndarray:
         """The middle of the spring per pose (N×3) [m]."""
         return (self.starts + self.ends) / 2
