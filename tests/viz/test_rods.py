@@ -76,3 +76,17 @@ def test_a_bracket_is_red_in_the_frames_where_it_passes_through_another_link():
     grey = np.array([0x8C, 0x90, 0x99]) / 255
     np.testing.assert_allclose(colours, [grey, colors.CLEARANCE_RGB, grey], atol=FLOAT32_ATOL)
     assert scene.problems() == ["behind.b's bracket: through a link in 1 of 3 frames"]  # the legend's red entries
+
+
+def test_a_bracket_through_a_link_at_the_first_pose_is_drawn_red_from_the_start():
+    import umsgpack
+
+    from springbalance.viz import colors
+
+    spring = sb.ZeroFreeLengthSpring(
+        sb.Anchor("universe", [0.3, 0, 0.5]), sb.Anchor("link2", [-0.3, 0, 0]), "behind", stiffness=100.0
+    )
+    for path, colour in ((np.array([[0.0, 0.0]]), colors.CLEARANCE_COLOR), (np.array([[0.0, 2.0]]), 0x8C9099)):
+        scene = viz.DesignScene(fixed_design(COLLISION_URDF, [spring], path), path)  # one pose: no animation
+        node = record_scene(scene).tree["meshcat"][viz.ROOT]["brackets"]["behind.b"]
+        assert umsgpack.unpackb(node.object)["object"]["materials"][0]["color"] == colour

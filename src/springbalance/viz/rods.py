@@ -22,7 +22,7 @@ import numpy as np
 from springbalance.model.brackets import bracket_depths, spring_brackets
 from springbalance.model.kinematics import WorkspaceKinematics
 from springbalance.model.mechanism import Mechanism
-from springbalance.viz.colors import CLEARANCE_RGB
+from springbalance.viz.colors import CLEARANCE_COLOR, CLEARANCE_RGB
 from springbalance.viz.tracks import SpringTrack, rod_placement
 
 #: a routed spring's cable: colour and radius [m]
@@ -75,9 +75,12 @@ def draw_rods(root: Any, spring: SpringTrack, geometry: Any) -> None:
     uuid of each bracket's mesh goes to :attr:`SpringTrack.rod_meshes` (its colour is animated)."""
     spring.rod_meshes = {}
     for name, start, end, bracket in _rods(spring, 0):
+        colour = CABLE_COLOR if bracket is None else BRACKET_COLOR
+        if bracket is not None and spring.brackets_through is not None and spring.brackets_through[bracket][0]:
+            colour = CLEARANCE_COLOR  # through another link at the first pose: red from the start
         mesh = geometry.Mesh(
             geometry.Cylinder(1.0, CABLE_RADIUS if bracket is None else BRACKET_RADIUS),
-            geometry.MeshPhongMaterial(color=CABLE_COLOR if bracket is None else BRACKET_COLOR),
+            geometry.MeshPhongMaterial(color=colour),
         )
         root[name].set_object(mesh)
         if bracket is not None:
