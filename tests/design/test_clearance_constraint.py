@@ -119,8 +119,9 @@ def test_fitting_more_starts_keeps_the_best_fit(arm, workspace):
         results[starts] = sb.solve(
             sb.DesignProblem(arm, workspace, crossing_springs(0.1), clearance=clearance), starts=4, seed=1
         )
-    assert results[1].fit.starts == 1 and results[3].fit.starts == 3
-    assert results[3].fit.converged and results[3].fit.rounds >= results[1].fit.rounds
+    # one start fitted, and the next one too when that fit had to move its design (clearance_round.fall_back)
+    assert results[1].fit.starts in (1, 2) and results[3].fit.starts >= 3
+    assert results[3].fit.converged
     assert results[3].fit.objective <= results[1].fit.objective * (1 + 1e-9)
     assert results[3].metrics()["objectives"]["rms"]["after"] == pytest.approx(results[3].fit.objective, rel=1e-9)
     for row in results[3].clearance(samples=DENSE).rows:

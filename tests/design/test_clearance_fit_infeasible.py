@@ -56,8 +56,15 @@ def broken(problem: sb.DesignProblem, x: np.ndarray) -> np.ndarray:
     return out
 
 
-def stopping(monkeypatch: pytest.MonkeyPatch, rounds: int) -> list[np.ndarray]:
-    """Make the first ``rounds`` fitting rounds stop infeasible; returns the iterates they reported."""
+def trusted(problem: sb.DesignProblem) -> bool:
+    """Whether ``problem`` is a round's attempt inside its trust region (clearance_round.trust_rows)."""
+    rows = problem.linear_rows
+    return rows is not None and any("within its trust region" in label for label in rows.labels)
+
+
+def stopping(monkeypatch: pytest.MonkeyPatch, rounds: int, inside: list | None = None) -> list[np.ndarray]:
+    """Make the first ``rounds`` solves of fitting rounds stop infeasible; returns the iterates they reported
+    (``inside``: also collects those of the attempts inside a trust region)."""
     real = clearance_round.solve_problem
     reported: list[np.ndarray] = []
 
@@ -66,6 +73,8 @@ def stopping(monkeypatch: pytest.MonkeyPatch, rounds: int) -> list[np.ndarray]:
             return real(problem, **options)
         x = broken(problem, options["initial"])
         reported.append(x)
+        if inside is not None and trusted(problem):
+            inside.append(x)
         objective = float(problem.objective_value(problem.evaluate(x)))
         record = StartRecord(0, x, x, objective, 50.0, "ipopt: Infeasible_Problem_Detected", 12, 0.0)
         raise SolverError("no start met the rows", problem, [record])
@@ -104,11 +113,15 @@ def test_a_round_that_stops_infeasible_is_not_returned(problem, monkeypatch):
 
 def test_rounds_that_keep_stopping_fall_back_and_say_not_converged(problem, monkeypatch):
     """Every round stops infeasible: the fit falls back to the start (round 0, through link2) and is not
-    converged, and says so."""
+    converged, and says so. The loop ran twice, the second time with a trust region (each of its rounds tried
+    inside it, then without it), and each run gave up after INFEASIBLE_ROUNDS rounds."""
     fitted, start = problem
-    reported = stopping(monkeypatch, 10**6)
+    inside: list[np.ndarray] = []
+    reported = stopping(monkeypatch, 10**6, inside)
     solution, fit, rows = fit_to_arm(fitted, Solution(start, [], "auto", 0, "given"), **OPTIONS)
-    assert len(reported) == clearance_round.INFEASIBLE_ROUNDS
+    assert len(inside) == clearance_round.INFEASIBLE_ROUNDS
+    assert len(reported) - len(inside) == 2 * clearance_round.INFEASIBLE_ROUNDS
+    assert fit.rounds == 2 * clearance_round.INFEASIBLE_ROUNDS
     assert not fit.converged
     np.testing.assert_array_equal(solution.x, start)
     assert rows.linear_rows is None  # the start's problem: no rows yet

@@ -11,6 +11,7 @@ import yaml
 from springbalance.design.solvers import solve_problem
 from springbalance.design.solvers.least_squares import STEP_SIZE_STOP
 from springbalance.design.solvers.multistart import _MultiStartSolver
+from springbalance.design.solvers.records import StartRecord
 from springbalance.io.config import config_from_dict
 
 
@@ -53,23 +54,70 @@ def test_a_feasible_design_that_least_squares_converged_on_is_kept(coils, status
     np.testing.assert_array_equal(z, problem.unscale(x))
 
 
+class _ScriptedRunner:
+    """A start runner whose continued starts are given in advance, call by call (the polish's own logic is what
+    is tested: which starts it continues, how often, and which record it keeps)."""
+
+    def __init__(self, answers):
+        self.answers, self.calls = list(answers), []
+        self.solver = type("Solver", (), {"max_iterations": None})()
+
+    def run(self, tasks):
+        self.calls.append([index for index, *_ in tasks])
+        return [self.answers.pop(0)(index) for index, *_ in tasks]
+
+
+class _Problem:
+    """What the polish reads of a problem: its scaling (the identity here) and a single-phase objective."""
+
+    objective = type("Objective", (), {"first_phase": None})()
+
+    @staticmethod
+    def unscale(z):
+        return z
+
+
+def _record(index, objective, violation, status, iterations=40):
+    return StartRecord(index, np.zeros(2), np.full(2, objective), objective, violation, status, iterations, 0.0)
+
+
+def _promising_case(second_violation):
+    """The demo's coils at 40 iterations a start, as one machine ran them: start 0 feasible at 2.77 N·m; start 3
+    stopped by its budget at 1.87 N·m, 0.56 outside its rules. Its first polish stops on the budget again at 1.85,
+    ``second_violation`` outside; a second one finishes it feasible at 1.81."""
+    stopped = "ipopt: Maximum_Iterations_Exceeded"
+    records = [_record(0, 2.77, 0.0, "ipopt: Solve_Succeeded"), _record(3, 1.87, 0.56, stopped)]
+    runner = _ScriptedRunner(
+        [
+            lambda index: _record(index, 1.85, second_violation, stopped),
+            lambda index: _record(index, 1.81, 0.0, "ipopt: Solve_Succeeded"),
+        ]
+    )
+    return records, runner
+
+
 def test_a_promising_start_that_the_polish_brought_close_to_its_rules_is_polished_again(monkeypatch):
-    """The demo's coils with 40 iterations a start and a polish: start 3 stops at 1.87 N·m, 0.56 outside its rules,
-    below the only feasible start (2.77). One polish takes it to 5.8e-4 outside (still stopped by the budget); the
-    next one finishes it feasible at 1.81. Without the further polish the multi-start keeps 2.77."""
+    """The first polish cut start 3's violation from 0.56 to 5.8e-4 (below a quarter) and stopped on its budget
+    below the best feasible objective: it is polished again and wins (1.81 against 2.77). Without the further
+    polishes the multi-start keeps 2.77. (The demo's own run of this case depends on the processor's floating-point
+    path: on an AMD EPYC the first polish already finishes the start, so the logic is tested on scripted runs.)"""
     from springbalance.design.solvers import polish
 
-    record = yaml.safe_load(open("examples/two_link.yaml", encoding="utf-8"))
-    problem = config_from_dict(record, base_dir=Path("examples")).problem
-
-    def solved():
-        solution = solve_problem(problem, starts=4, seed=0, progress=False, max_iterations=40, polish_iterations=40)
-        return problem.objective_value(problem.evaluate(solution.x)), solution
-
-    again, solution = solved()
+    records, runner = _promising_case(5.8e-4)
+    best = polish.polished_best(_Problem(), runner, records, 40, 4)
+    assert best.index == 3 and best.objective == 1.81
+    assert runner.calls == [[3], [3]] and runner.solver.max_iterations == 40
+    assert best.status.endswith("(polished after 80 iterations)") and best.iterations == 120
     monkeypatch.setattr(polish, "REPOLISHES", 0)
-    once, _ = solved()
-    assert again < 0.75 * once
-    polished = [start for start in solution.starts if "polished after" in start.status]
-    assert polished and all(start.feasible for start in polished)
-    assert min(start.iterations for start in polished) > 2 * 40  # screened, then polished twice
+    records, runner = _promising_case(5.8e-4)
+    assert polish.polished_best(_Problem(), runner, records, 40, 4).objective == 2.77
+    assert runner.calls == [[3]]
+
+
+def test_a_polish_that_closes_in_slowly_is_not_repeated():
+    """A first polish that only halved the violation (0.56 to 0.28: more than a quarter) is not repeated."""
+    from springbalance.design.solvers import polish
+
+    records, runner = _promising_case(0.28)
+    assert polish.polished_best(_Problem(), runner, records, 40, 4).objective == 2.77
+    assert runner.calls == [[3]]

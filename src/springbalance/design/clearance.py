@@ -33,7 +33,9 @@ closest approach between the samples (in six joints, even thousands of samples l
 and the minima below the margin join the watched set and are checked in every later round.
 The loop ends when all three are clear, or after
 :attr:`Clearance.rounds` rounds; its record (:class:`FitRecord`) says which, and what the
-clearance cost (the objective before and after).
+clearance cost (the objective before and after). When it does not converge, it runs once more from the
+same design with each round inside a trust region first
+(:func:`~springbalance.design.clearance_round.trust_rows`).
 
 **Mounting.** An anchor ``on: collision`` lies ``offset`` [m] outside its body's collision
 surface (the union of the body's objects; meshes as hulls). In the body frame this does not

@@ -335,10 +335,29 @@ def fit_to_arm(
     """Enforce the problem's clearance and mountings from ``solution`` (see the module documentation); each
     round's rows come after ``kept`` (rows found before: those of the ideal twin's fit, which the coils keep).
 
+    When the rounds do not converge, the loop runs again from ``solution`` with a trust region in each round
+    (:func:`~springbalance.design.clearance_round.trust_rows`), and keeps that fit when it converges; the
+    record counts the rounds and time of both.
+
     ``solve_options`` go to :func:`~springbalance.design.solvers.solve_problem` (method, iterations).
     Returns the fitted solution, its :class:`FitRecord` and the problem with the last round's rows
     (``problem`` itself when no round ran).
     """
+    clock = time.perf_counter()
+    fitted = _fitted(problem, solution, kept, False, solve_options)
+    if fitted[1].converged or fitted[1].rounds == 0:
+        return fitted
+    retried = _fitted(problem, solution, kept, True, solve_options)
+    chosen = retried if retried[1].converged else fitted
+    chosen[1].rounds = fitted[1].rounds + retried[1].rounds
+    chosen[1].seconds = time.perf_counter() - clock
+    return chosen
+
+
+def _fitted(
+    problem: DesignProblem, solution: Solution, kept: LinearRows | None, trusted: bool, solve_options: dict[str, Any]
+) -> tuple[Solution, FitRecord, DesignProblem]:
+    """The loop of :func:`fit_to_arm`; ``trusted``: each round inside its trust region first."""
     clock = time.perf_counter()
     clearance = problem.clearance
     x = np.array(solution.x, dtype=float)
@@ -370,7 +389,7 @@ def fit_to_arm(
         object_cuts, spring_cuts = checker.cuts(x, watched) if checker is not None else ([], [])
         planes = mount_planes(problem, x, planes)
         problem = problem.with_linear_rows(stacked_rows(kept, _rows(problem, x, object_cuts, spring_cuts, planes)))
-        resolved, note = solve_round(problem, x, solution, solve_options)
+        resolved, note = solve_round(problem, x, solution, solve_options, trusted)
         if resolved is None:
             break
         stopped = stopped + 1 if note.startswith(INFEASIBLE_NOTE) else 0

@@ -142,9 +142,9 @@ def _distinct_starts(
 
 def _fitted_twin(
     problem: DesignProblem, coils: list[HelicalCoilSpring], twin: DesignProblem, found: Solution, options: dict
-) -> tuple[Solution, LinearRows] | None:
+) -> tuple[Solution, LinearRows | None] | None:
     """The twin fitted to the arm (:func:`~springbalance.design.clearance_starts.fit_from_starts`) and the rows of
-    its fit, or None when the fit does not converge. Its capsules are as wide as the widest coil's envelope
+    its fit (None when the design it kept was clear as it stood), or None when the fit does not converge. Its capsules are as wide as the widest coil's envelope
     (the twin's ideal springs have no coil of their own), so its rows hold for every coil that fits it; its
     rounds are solves of the ideal laws, far cheaper than the coils'."""
     clearance = problem.clearance
@@ -157,8 +157,10 @@ def _fitted_twin(
     fit_options = {key: value for key, value in options.items() if key not in ("starts", "seed", "progress")}
     solution, fit, fitted = clearance_starts.fit_from_starts(wide, found, **fit_options)
     rows = fitted.linear_rows
-    if not fit.converged or rows is None:
+    if not fit.converged:
         return None
+    if rows is None or not len(rows):  # a fitted design clear as it stands: the coils start there, free
+        return solution, None
     # the rows of the last round, linearised where it started: keep those the fitted design meets (a row it
     # breaks is stale, and with it the coils could meet no row set at all)
     matrix, offset = fitted.linear_matrix()
