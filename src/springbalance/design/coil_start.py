@@ -23,7 +23,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from springbalance.design import clearance_rows, clearance_starts
-from springbalance.design.clearance import LinearRows
+from springbalance.design.clearance import LinearRows, stacked_rows
+from springbalance.design.clearance_sides import side_rows
 from springbalance.design.solvers import FEASIBILITY_TOLERANCE, Solution, solve_problem
 from springbalance.design.twin import TwinRecord, twin_record
 from springbalance.errors import SolverError
@@ -144,9 +145,11 @@ def _fitted_twin(
     problem: DesignProblem, coils: list[HelicalCoilSpring], twin: DesignProblem, found: Solution, options: dict
 ) -> tuple[Solution, LinearRows | None] | None:
     """The twin fitted to the arm (:func:`~springbalance.design.clearance_starts.fit_from_starts`) and the rows of
-    its fit (None when the design it kept was clear as it stood), or None when the fit does not converge. Its capsules are as wide as the widest coil's envelope
-    (the twin's ideal springs have no coil of their own), so its rows hold for every coil that fits it; its
-    rounds are solves of the ideal laws, far cheaper than the coils'."""
+    its fit (None when the design it kept was clear as it stood), or None when the fit does not converge. Its
+    capsules are as wide as the widest coil's envelope (the twin's ideal springs have no coil of their own), so
+    its rows hold for every coil that fits it; its rounds are solves of the ideal laws, far cheaper than the
+    coils'. When the fit moved the twin, the rows also hold each spring on the side of each link the fitted
+    design passes on (:func:`~springbalance.design.clearance_sides.side_rows`)."""
     clearance = problem.clearance
     if clearance is not None:
         widest = max(_largest_outer_diameter(coil) for coil in coils)
@@ -161,6 +164,10 @@ def _fitted_twin(
         return None
     if rows is None or not len(rows):  # a fitted design clear as it stands: the coils start there, free
         return solution, None
+    # the fit moved the twin: the coils keep the side of each link its fitted design passes on
+    fitted = fitted.with_linear_rows(stacked_rows(rows, side_rows(wide, solution.x)))
+    rows = fitted.linear_rows
+    assert rows is not None  # (the fit's rows, and the sides' after them)
     # the rows of the last round, linearised where it started: keep those the fitted design meets (a row it
     # breaks is stale, and with it the coils could meet no row set at all)
     matrix, offset = fitted.linear_matrix()
