@@ -4,7 +4,13 @@ design/test_clearance_fit_infeasible.py) move them out of the arm's plane."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
+import numpy as np
+
 import springbalance as sb
+
+URDF = Path(__file__).resolve().parents[1] / "urdf"
 
 
 def crossing_springs(width: float) -> list[sb.ZeroFreeLengthSpring]:
@@ -24,3 +30,16 @@ def crossing_springs(width: float) -> list[sb.ZeroFreeLengthSpring]:
             name="s2",
         ),
     ]
+
+
+def crossing_case(margin: float, check_samples: int = 64) -> tuple[sb.DesignProblem, np.ndarray]:
+    """The fit's case: the springs with anchors that may leave the arm's plane by 0.1 m, kept ``margin`` [m] clear
+    (checked on ``check_samples`` poses), over 128 Sobol poses; and the in-plane optimum (4 starts), whose first
+    spring passes through link2, as the fit's start."""
+    arm = sb.Mechanism.from_urdf(URDF / "two_link_planar_collision.urdf")
+    workspace = sb.Workspace.sobol(arm, n=128, seed=0)
+    in_plane = sb.solve(sb.DesignProblem(arm, workspace, crossing_springs(0.0)), starts=4)
+    clearance = sb.Clearance(margin=margin, check_samples=check_samples)
+    problem = sb.DesignProblem(arm, workspace, crossing_springs(0.1), clearance=clearance)
+    start = np.array([in_plane.variables.get(name, 0.0) for name in problem.variables.names])
+    return problem, start

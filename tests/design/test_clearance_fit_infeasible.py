@@ -14,13 +14,11 @@ converged.
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 
 import springbalance as sb
-from clearance_helpers import crossing_springs
+from clearance_helpers import crossing_case
 from springbalance.design import clearance_round
 from springbalance.design.clearance import FitRecord
 from springbalance.design.clearance_fit import fit_to_arm
@@ -29,20 +27,13 @@ from springbalance.design.solvers import Solution
 from springbalance.design.solvers.records import StartRecord
 from springbalance.errors import SolverError
 
-URDF = Path(__file__).resolve().parents[2] / "urdf"
 OPTIONS = {"method": "auto", "max_iterations": 100, "tolerance": 1e-8, "polish_iterations": None}
 MARGIN = 0.005
 
 
 @pytest.fixture(scope="module")
 def problem():
-    arm = sb.Mechanism.from_urdf(URDF / "two_link_planar_collision.urdf")
-    workspace = sb.Workspace.sobol(arm, n=128, seed=0)
-    in_plane = sb.solve(sb.DesignProblem(arm, workspace, crossing_springs(0.0)), starts=4)
-    clearance = sb.Clearance(margin=MARGIN, check_samples=64)
-    fitted = sb.DesignProblem(arm, workspace, crossing_springs(0.1), clearance=clearance)
-    start = np.array([in_plane.variables.get(name, 0.0) for name in fitted.variables.names])
-    return fitted, start
+    return crossing_case(MARGIN)
 
 
 def broken(problem: sb.DesignProblem, x: np.ndarray) -> np.ndarray:

@@ -9,31 +9,22 @@ and is as clear, but passes link2 on the other side: the rows tell the two apart
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 
 import springbalance as sb
-from clearance_helpers import crossing_springs
+from clearance_helpers import crossing_case, crossing_springs
 from springbalance.design.clearance_fit import fit_to_arm
 from springbalance.design.clearance_sides import side_rows
 from springbalance.design.solvers import Solution
 
-URDF = Path(__file__).resolve().parents[2] / "urdf"
 MARGIN = 0.005
 
 
 @pytest.fixture(scope="module")
 def fitted():
     """The problem and its design fitted 5 mm clear of the arm from the in-plane optimum."""
-    arm = sb.Mechanism.from_urdf(URDF / "two_link_planar_collision.urdf")
-    workspace = sb.Workspace.sobol(arm, n=128, seed=0)
-    in_plane = sb.solve(sb.DesignProblem(arm, workspace, crossing_springs(0.0)), starts=4)
-    problem = sb.DesignProblem(
-        arm, workspace, crossing_springs(0.1), clearance=sb.Clearance(margin=MARGIN, check_samples=64)
-    )
-    start = np.array([in_plane.variables.get(name, 0.0) for name in problem.variables.names])
+    problem, start = crossing_case(MARGIN)
     solution, fit, _ = fit_to_arm(
         problem, Solution(start, [], "auto", 0, "given"), method="auto", max_iterations=100, tolerance=1e-8
     )

@@ -8,32 +8,23 @@ by 0.1 m, fitted from the in-plane optimum, whose first spring passes through li
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 
 import springbalance as sb
-from clearance_helpers import crossing_springs
+from clearance_helpers import crossing_case
 from springbalance.design import clearance_fit, clearance_round
 from springbalance.design.clearance_fit import fit_to_arm
 from springbalance.design.clearance_round import TRUST_LENGTH, TRUST_REGION, trust_rows
 from springbalance.design.solvers import Solution
 
-URDF = Path(__file__).resolve().parents[2] / "urdf"
 OPTIONS = {"method": "auto", "max_iterations": 100, "tolerance": 1e-8, "polish_iterations": None}
 MARGIN = 0.005
 
 
 @pytest.fixture(scope="module")
 def problem():
-    arm = sb.Mechanism.from_urdf(URDF / "two_link_planar_collision.urdf")
-    workspace = sb.Workspace.sobol(arm, n=128, seed=0)
-    in_plane = sb.solve(sb.DesignProblem(arm, workspace, crossing_springs(0.0)), starts=4)
-    clearance = sb.Clearance(margin=MARGIN, check_samples=64)
-    fitted = sb.DesignProblem(arm, workspace, crossing_springs(0.1), clearance=clearance)
-    start = np.array([in_plane.variables.get(name, 0.0) for name in fitted.variables.names])
-    return fitted, start
+    return crossing_case(MARGIN)
 
 
 def _spans(problem: sb.DesignProblem) -> np.ndarray:
