@@ -330,24 +330,30 @@ def _violations(checker: _Checker, x: np.ndarray) -> tuple[dict[Key, float], dic
 
 
 def fit_to_arm(
-    problem: DesignProblem, solution: Solution, kept: LinearRows | None = None, **solve_options: Any
+    problem: DesignProblem,
+    solution: Solution,
+    kept: LinearRows | None = None,
+    trusted_first: bool = False,
+    **solve_options: Any,
 ) -> tuple[Solution, FitRecord, DesignProblem]:
     """Enforce the problem's clearance and mountings from ``solution`` (see the module documentation); each
     round's rows come after ``kept`` (rows found before: those of the ideal twin's fit, which the coils keep).
 
     When the rounds do not converge, the loop runs again from ``solution`` with a trust region in each round
     (:func:`~springbalance.design.clearance_round.trust_rows`), and keeps that fit when it converges; the
-    record counts the rounds and time of both.
+    record counts the rounds and time of both. ``trusted_first``: the run with the trust region comes first, and
+    the one without it only when that does not converge (the ideal twin's fit: its springs' ``k·a·b`` family lets
+    its rounds slide far; :mod:`springbalance.design.coil_start`).
 
     ``solve_options`` go to :func:`~springbalance.design.solvers.solve_problem` (method, iterations).
     Returns the fitted solution, its :class:`FitRecord` and the problem with the last round's rows
     (``problem`` itself when no round ran).
     """
     clock = time.perf_counter()
-    fitted = _fitted(problem, solution, kept, False, solve_options)
+    fitted = _fitted(problem, solution, kept, trusted_first, solve_options)
     if fitted[1].converged or fitted[1].rounds == 0:
         return fitted
-    retried = _fitted(problem, solution, kept, True, solve_options)
+    retried = _fitted(problem, solution, kept, not trusted_first, solve_options)
     chosen = retried if retried[1].converged else fitted
     chosen[1].rounds = fitted[1].rounds + retried[1].rounds
     chosen[1].seconds = time.perf_counter() - clock

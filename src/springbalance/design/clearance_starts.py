@@ -25,15 +25,19 @@ Fitted = tuple[Solution, FitRecord, "LinearRows | None"]
 
 
 def fit_from_starts(
-    problem: DesignProblem, solution: Solution, kept: LinearRows | None = None, **solve_options: Any
+    problem: DesignProblem,
+    solution: Solution,
+    kept: LinearRows | None = None,
+    trusted_first: bool = False,
+    **solve_options: Any,
 ) -> tuple[Solution, FitRecord, DesignProblem]:
     """:func:`~springbalance.design.clearance_fit.fit_to_arm` from the :attr:`Clearance.starts` best feasible
     designs of the multi-start (``solution.starts``, distinct, best first); keeps the converged fit of lowest
     objective (else the first). When none converged and a fitting round stopped infeasible, the next ranked
     designs are fitted too, up to :data:`~springbalance.design.clearance_round.FALLBACK_STARTS` more, until one
     converges; when every fit converged only after its rounds moved the design, the next ranked one is fitted
-    too (once). Returns the fit kept with the problem that carries its rows; its record's ``seconds`` are the
-    wall time of all the fits."""
+    too (once). ``trusted_first``: each fit's first run has a trust region (:func:`fit_to_arm`). Returns the fit
+    kept with the problem that carries its rows; its record's ``seconds`` are the wall time of all the fits."""
     count = problem.clearance.starts if problem.clearance is not None else 1
     records = sorted((record for record in solution.starts if record.feasible), key=lambda record: record.objective)
     others = [record.x for record in records if not np.array_equal(record.x, solution.x)]
@@ -42,7 +46,7 @@ def fit_from_starts(
         start = Solution(np.array(x, dtype=float), solution.starts, solution.method, solution.seed, solution.status)
 
         def task() -> Fitted:
-            fitted, record, fitted_problem = fit_to_arm(problem, start, kept, **solve_options)
+            fitted, record, fitted_problem = fit_to_arm(problem, start, kept, trusted_first, **solve_options)
             return fitted, record, fitted_problem.linear_rows
 
         return task

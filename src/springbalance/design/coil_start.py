@@ -118,7 +118,7 @@ def coil_starts(problem: DesignProblem, count: int, **solve_options: Any) -> Twi
         if fitted is not None:  # the coils start from the twin's fitted design, inside its rows
             solution, rows = fitted
             start = _wound(problem, twin, coils, np.asarray(solution.x, dtype=float))
-            others = _distinct_starts(problem, twin, coils, found, count - 1)
+            others = _distinct_starts(problem, twin, coils, found, count - 1, np.asarray(solution.x, dtype=float))
             return TwinStart(np.vstack([start[None, :], others]), twin, np.asarray(found.x, dtype=float), record, rows)
     return TwinStart(
         _distinct_starts(problem, twin, coils, found, count), twin, np.asarray(found.x, dtype=float), record
@@ -126,19 +126,28 @@ def coil_starts(problem: DesignProblem, count: int, **solve_options: Any) -> Twi
 
 
 def _distinct_starts(
-    problem: DesignProblem, twin: DesignProblem, coils: list[HelicalCoilSpring], found: Solution, count: int
+    problem: DesignProblem,
+    twin: DesignProblem,
+    coils: list[HelicalCoilSpring],
+    found: Solution,
+    count: int,
+    taken: np.ndarray | None = None,
 ) -> np.ndarray:
-    """The twin's distinct feasible optima, best first (at most ``count``), each wound into coils (rows)."""
+    """The twin's distinct feasible optima, best first (at most ``count``), each wound into coils (rows); none equal
+    to ``taken`` (a twin design the coils start from already: the fitted one)."""
     if count < 1:
         return np.zeros((0, problem.variables.size))
-    designs = [np.asarray(found.x, dtype=float)]
-    for candidate_record in sorted((r for r in found.starts if r.feasible), key=lambda record: record.objective):
+    designs: list[np.ndarray] = []
+    seen = [] if taken is None else [np.asarray(taken, dtype=float)]
+    ranked = sorted((r for r in found.starts if r.feasible), key=lambda record: record.objective)
+    for candidate in [np.asarray(found.x, dtype=float)] + [np.asarray(r.x, dtype=float) for r in ranked]:
         if len(designs) >= count:
             break
-        candidate = np.asarray(candidate_record.x, dtype=float)
-        if not any(np.allclose(candidate, design, rtol=1e-6, atol=1e-9) for design in designs):
+        if not any(np.allclose(candidate, design, rtol=1e-6, atol=1e-9) for design in designs + seen):
             designs.append(candidate)
-    return np.array([_wound(problem, twin, coils, design) for design in designs[:count]])
+    if not designs:
+        return np.zeros((0, problem.variables.size))
+    return np.array([_wound(problem, twin, coils, design) for design in designs])
 
 
 def _fitted_twin(
@@ -148,8 +157,9 @@ def _fitted_twin(
     its fit (None when the design it kept was clear as it stood), or None when the fit does not converge. Its
     capsules are as wide as the widest coil's envelope (the twin's ideal springs have no coil of their own), so
     its rows hold for every coil that fits it; its rounds are solves of the ideal laws, far cheaper than the
-    coils'. When the fit moved the twin, the rows also hold each spring on the side of each link the fitted
-    design passes on (:func:`~springbalance.design.clearance_sides.side_rows`)."""
+    coils', each inside a trust region first (:func:`~springbalance.design.clearance_round.trust_rows`). When
+    the twin's optimum was not clear as it stood, the rows also hold each spring on the side of each link the
+    kept design passes on (:func:`~springbalance.design.clearance_sides.side_rows`)."""
     clearance = problem.clearance
     if clearance is not None:
         widest = max(_largest_outer_diameter(coil) for coil in coils)
@@ -158,16 +168,18 @@ def _fitted_twin(
     if wide.mounts:
         wide = wide.with_linear_rows(clearance_rows.mount_rows(wide, wide.variables.start))
     fit_options = {key: value for key, value in options.items() if key not in ("starts", "seed", "progress")}
-    solution, fit, fitted = clearance_starts.fit_from_starts(wide, found, **fit_options)
-    rows = fitted.linear_rows
+    # each round inside a trust region first: the twin's zero-free-length-like laws let a round slide far
+    solution, fit, fitted = clearance_starts.fit_from_starts(wide, found, trusted_first=True, **fit_options)
     if not fit.converged:
         return None
-    if rows is None or not len(rows):  # a fitted design clear as it stands: the coils start there, free
+    if fit.rounds == 0:  # the twin's optimum was clear as it stood: the coils start there, free
         return solution, None
-    # the fit moved the twin: the coils keep the side of each link its fitted design passes on
-    fitted = fitted.with_linear_rows(stacked_rows(rows, side_rows(wide, solution.x)))
+    # the fits moved the twin (or kept another design, clear as it stood): the coils keep the side of each link the
+    # kept design passes on
+    fitted = fitted.with_linear_rows(stacked_rows(fitted.linear_rows, side_rows(wide, solution.x)))
     rows = fitted.linear_rows
-    assert rows is not None  # (the fit's rows, and the sides' after them)
+    if rows is None:
+        return solution, None
     # the rows of the last round, linearised where it started: keep those the fitted design meets (a row it
     # breaks is stale, and with it the coils could meet no row set at all)
     matrix, offset = fitted.linear_matrix()
