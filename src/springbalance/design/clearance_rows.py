@@ -16,6 +16,7 @@ import pinocchio as pin
 from springbalance.design.clearance import LinearRows
 from springbalance.design.mounts import MOUNT_TOLERANCE
 from springbalance.design.problem import DesignProblem
+from springbalance.design.solvers import FEASIBILITY_TOLERANCE
 from springbalance.model.collision import collision_geometry, surface_distance
 from springbalance.springs.laws import Spring
 
@@ -47,6 +48,19 @@ def mount_planes(problem: DesignProblem, x: np.ndarray | Sequence[float], planes
                     )
                 )
     return planes
+
+
+def rows_held(problem: DesignProblem, rows: LinearRows | None, x: np.ndarray) -> LinearRows | None:
+    """The rows of ``rows`` (over ``problem``'s variables) that design ``x`` [physical units] meets, to
+    :data:`~springbalance.design.solvers.FEASIBILITY_TOLERANCE` [m]; None when it meets none."""
+    if rows is None or not len(rows):
+        return None
+    matrix, offset = problem.with_linear_rows(rows).linear_matrix()
+    held = matrix @ np.asarray(x, dtype=float) + offset >= -FEASIBILITY_TOLERANCE
+    if not np.any(held):
+        return None
+    labels = [label for label, keep in zip(rows.labels, held) if keep]
+    return LinearRows(list(rows.names), rows.matrix[held], rows.offset[held], labels, rows.scale)
 
 
 def mount_rows(problem: DesignProblem, x: np.ndarray | Sequence[float]) -> LinearRows | None:

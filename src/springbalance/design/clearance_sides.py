@@ -23,9 +23,8 @@ import numpy as np
 
 from springbalance.design.clearance import LinearRows
 from springbalance.design.clearance_fit import _Checker
-from springbalance.design.clearance_rows import _rows
+from springbalance.design.clearance_rows import _rows, rows_held
 from springbalance.design.problem import DesignProblem
-from springbalance.design.solvers import FEASIBILITY_TOLERANCE
 
 
 def side_rows(problem: DesignProblem, x: np.ndarray) -> LinearRows | None:
@@ -40,12 +39,8 @@ def side_rows(problem: DesignProblem, x: np.ndarray) -> LinearRows | None:
     _, _, nearest = checker.measure(x, 0)
     keys = [pair + (pose_set, sample) for pair, poses in nearest.items() for _, pose_set, sample in poses[:1]]
     object_cuts, spring_cuts = checker.cuts(x, keys)
-    rows = _rows(problem, x, object_cuts, spring_cuts, None)
-    if rows is None or not len(rows):
+    rows = rows_held(problem, _rows(problem, x, object_cuts, spring_cuts, None), x)
+    if rows is None:
         return None
-    matrix, offset = problem.with_linear_rows(rows).linear_matrix()
-    held = matrix @ x + offset >= -FEASIBILITY_TOLERANCE
-    if not np.any(held):
-        return None
-    labels = [f"{label}, the side it passes on" for label, keep in zip(rows.labels, held) if keep]
-    return LinearRows(list(rows.names), rows.matrix[held], rows.offset[held], labels, rows.scale)
+    labels = [f"{label}, the side it passes on" for label in rows.labels]
+    return LinearRows(rows.names, rows.matrix, rows.offset, labels, rows.scale)

@@ -25,7 +25,7 @@ import numpy as np
 from springbalance.design import clearance_rows, clearance_starts
 from springbalance.design.clearance import LinearRows, stacked_rows
 from springbalance.design.clearance_sides import side_rows
-from springbalance.design.solvers import FEASIBILITY_TOLERANCE, Solution, solve_problem
+from springbalance.design.solvers import Solution, solve_problem
 from springbalance.design.twin import TwinRecord, twin_record
 from springbalance.errors import SolverError
 from springbalance.model.collision import DEFAULT_RADIUS
@@ -176,18 +176,13 @@ def _fitted_twin(
         return solution, None
     # the fits moved the twin (or kept another design, clear as it stood): the coils keep the side of each link the
     # kept design passes on
-    fitted = fitted.with_linear_rows(stacked_rows(fitted.linear_rows, side_rows(wide, solution.x)))
-    rows = fitted.linear_rows
+    rows = stacked_rows(fitted.linear_rows, side_rows(wide, solution.x))
     if rows is None:
         return solution, None
     # the rows of the last round, linearised where it started: keep those the fitted design meets (a row it
     # breaks is stale, and with it the coils could meet no row set at all)
-    matrix, offset = fitted.linear_matrix()
-    kept = matrix @ np.asarray(solution.x, dtype=float) + offset >= -FEASIBILITY_TOLERANCE
-    if not np.any(kept):
-        return None
-    labels = [label for label, keep in zip(rows.labels, kept) if keep]
-    return solution, LinearRows(list(rows.names), rows.matrix[kept], rows.offset[kept], labels, rows.scale)
+    held = clearance_rows.rows_held(wide, rows, solution.x)
+    return None if held is None else (solution, held)
 
 
 def _largest_outer_diameter(coil: HelicalCoilSpring) -> float:
