@@ -120,6 +120,8 @@ def test_too_stiff_spring_makes_the_joint_worse(link, tmp_path):
     # the pivot has weight 1: the design was asked to balance it, so a worse pivot is a failure
     record = assert_flagged(result, tmp_path, "worse_joint", "pivot", severity="failure")
     assert "peak" in record["message"] and "RMS" in record["message"]
+    # the hint names the setting that holds the joint within what the bare arm carries
+    assert "no_joint_worse: true" in record["hint"]
 
 
 def test_joint_gravity_does_not_load_is_worse_when_a_spring_loads_it(tmp_path):
@@ -206,3 +208,21 @@ def test_spring_without_rate_is_not_sized(link):
     spring = sb.ExtensionSpring(*_anchors(), name="flat", stiffness=0.0, free_length=0.3, initial_tension=20.0)
     result = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [spring]), np.zeros(0))
     assert _of_kind(result, "unbuildable_ideal") == []
+
+
+# ---------------------------------------------------------------------- not_verified
+def test_a_broken_rule_at_unseen_poses_gets_the_hint_of_what_the_verification_tried():
+    from springbalance.results.flags import verification_hint
+
+    # reported only: the hint is to let the verification re-solve
+    assert "verify='resolve'" in verification_hint("report", 0, "tension")
+    # no re-solve met the poses added (the UR5 with coils mounted on its links: a spring 0.25 mm into
+    # wrist_3_link where the arm folds onto itself): more samples would not help; the hint names the workspace,
+    # the anchor boxes and the fit's check poses, and does not claim re-solves that were never made
+    stuck = verification_hint("resolve", 0, "clearance")
+    assert "no re-solve" in stuck and "re-solve(s)" not in stuck
+    assert all(word in stuck for word in ("workspace", "anchor boxes", "clearance.check_samples"))
+    assert "more workspace samples" not in stuck
+    # re-solves were made and did not clear a coil's rule: they are counted, and more samples is the advice
+    tried = verification_hint("resolve", 3, "body_stress")
+    assert tried.startswith("3 re-solve(s)") and tried.endswith("use more workspace samples")

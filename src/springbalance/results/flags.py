@@ -178,7 +178,10 @@ def worse_joint_flags(result: EvaluatedDesign, tolerance: float = TORQUE_TOLERAN
                 "springs that act across it"
             )
         else:
-            hint = f"move or soften the springs that act across {row['joint']}, or raise its weight in the objective"
+            hint = (
+                f"move or soften the springs that act across {row['joint']}, raise its weight in the objective, or "
+                "set no_joint_worse: true (each weighted joint held within what the bare arm carries)"
+            )
         found.append(Flag("worse_joint", row["joint"], message, hint, FAILURE if weighted else WARNING))
     return found
 
@@ -306,18 +309,35 @@ def heavy_springs_flags(result: EvaluatedDesign) -> list[Flag]:
 
 
 # ---------------------------------------------------------------------- not_verified, inside_own_link
+def verification_hint(mode: str, rounds: int, rule: str) -> str:
+    """What to do about a rule (``"clearance"``, a coil's rule, ``"residual"``) broken at unseen poses, after a
+    verification in ``mode`` that made ``rounds`` re-solves (in mode ``"resolve"``, 0 when no re-solve from the
+    design met the added poses)."""
+    if mode != "resolve":
+        return (
+            "solve with verify='resolve' (the worst poses join the samples and the design is solved again), "
+            "or use more workspace samples"
+        )
+    tried = (
+        f"{rounds} re-solve(s) with the worst poses added did not clear it"
+        if rounds
+        else "no re-solve from the design could meet the rules at the poses added"
+    )
+    if rule == "clearance":
+        return (
+            f"{tried}: from where the spring lies it cannot pass clear of the link at that pose. Narrow the "
+            "workspace near that pose (the arm may fold onto itself there), move the spring's anchor boxes, or "
+            "raise clearance.check_samples, so that the fit meets such poses while the anchors can still move"
+        )
+    return f"{tried}: use more workspace samples"
+
+
 def not_verified_flags(result: EvaluatedDesign) -> list[Flag]:
     """Rules the design breaks at unseen poses, and a peak residual above its allowance there (its verification)."""
     record = result.verification
     if record is None or record.passed:
         return []
     units = {joint.name: joint.unit for joint in result.problem.mechanism.joints}
-    hint = (
-        "the re-solves did not clear it: use more workspace samples"
-        if record.mode == "resolve"
-        else "solve with verify='resolve' (the worst poses join the samples and the design is solved again), "
-        "or use more workspace samples"
-    )
     found = [
         Flag(
             "not_verified",
@@ -325,7 +345,7 @@ def not_verified_flags(result: EvaluatedDesign) -> list[Flag]:
             f"{rule.label} is broken at unseen poses: margin {margin_text(rule.margin, rule.unit)} at "
             f"{pose_text(rule.pose, units, rule.scenario)} (worst at the samples "
             f"{margin_text(rule.sampled, rule.unit)}; {record.poses} poses verified)",
-            hint,
+            verification_hint(record.mode, record.rounds, rule.rule),
             severity=FAILURE,
         )
         for rule in record.violated
@@ -337,7 +357,7 @@ def not_verified_flags(result: EvaluatedDesign) -> list[Flag]:
                 record.objective,
                 f"objective {record.objective} is {record.objective_dense:.4g} at unseen poses, "
                 f"{record.objective_sampled:.4g} at the samples",
-                hint,
+                verification_hint(record.mode, record.rounds, "residual"),
                 severity=FAILURE,
             )
         )
