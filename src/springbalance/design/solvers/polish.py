@@ -138,7 +138,7 @@ def _polish(
         return []
     runner.solver.max_iterations = iterations
     try:
-        # from where each stopped: its design, and IPOPT's multipliers when IPOPT stopped it
+        # from where each stopped: its design, and (warm) IPOPT's multipliers when IPOPT stopped it
         continued = runner.run(
             [(r.index, problem.unscale(r.x), cold, None if cold else r.multipliers) for r in candidates]
         )
