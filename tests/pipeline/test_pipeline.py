@@ -9,11 +9,12 @@ import numpy as np
 import pytest
 
 import springbalance as sb
+from springbalance.design.clearance import Clearance
 from springbalance.errors import InputError
 from springbalance.io.catalogue import read_catalogue
 from springbalance.io.config import config_from_dict, load_config
-from springbalance.pipeline import STEPS, SolveOptions
-from springbalance.pipeline.state import SolveState
+from springbalance.pipeline import STEPS, SolveOptions, steps
+from springbalance.pipeline.state import COIL_POLISH_FACTOR, SolveState
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -71,6 +72,30 @@ def test_a_config_gives_the_defaults_and_keyword_arguments_win():
     assert options.starts == 3 and options.seed == record.get("seed", 0)
     with pytest.raises(InputError, match="unknown solve option"):
         SolveOptions.merged({"start": 2}, {})
+
+
+def test_coils_that_no_fit_to_the_arm_follows_get_the_longer_polish(pendulum):
+    coils = load_config(ROOT / "examples/two_link.yaml").problem
+    options = SolveOptions(max_iterations=50)
+    assert options.for_problem(coils).polish_iterations == COIL_POLISH_FACTOR * 50
+    # given, it stays; no coils, or coils fitted to the arm after the multi-start: the solvers' own default
+    assert SolveOptions(polish_iterations=7).for_problem(coils).polish_iterations == 7
+    assert options.for_problem(pendulum).polish_iterations is None
+    clear = coils.with_springs(coils.springs, clearance=Clearance(margin=0.005))
+    assert options.for_problem(clear).polish_iterations is None
+
+
+def test_every_solve_of_the_steps_gets_the_polish_budget(monkeypatch):
+    budgets = []
+    solve = steps.solve_problem
+
+    def recorded(*args, **kwargs):
+        budgets.append(kwargs.get("polish_iterations"))
+        return solve(*args, **kwargs)
+
+    monkeypatch.setattr(steps, "solve_problem", recorded)
+    sb.solve(load_config(ROOT / "examples/two_link.yaml"), starts=2, max_iterations=30, progress=False)
+    assert budgets and set(budgets) == {COIL_POLISH_FACTOR * 30}
 
 
 def test_solve_names_what_it_was_given_when_it_is_neither_a_problem_nor_a_config():

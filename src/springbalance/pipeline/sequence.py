@@ -13,9 +13,11 @@ from springbalance.results.result import DesignResult
 
 
 def run_steps(problem: DesignProblem, options: SolveOptions) -> DesignResult:
-    """Every step in order, with ``options.workers`` as the default of every solve along the way; the
+    """Every step in order, with ``options.workers`` as the default of every solve along the way and the polish
+    budget the problem needs (:meth:`SolveOptions.for_problem`); the
     design of the last state as a :class:`DesignResult` (of the problem with the final linear rows)."""
     _check_starts(problem, options.starts)
+    options = options.for_problem(problem)
     with workers_default(options.workers):
         state = SolveState(problem, options)
         for step in STEPS:

@@ -15,6 +15,7 @@ from typing import Any, Mapping, Protocol
 
 import numpy as np
 
+from springbalance.design import coil_start
 from springbalance.design.clearance import FitRecord, LinearRows
 from springbalance.design.problem import DesignProblem
 from springbalance.design.solvers import Solution
@@ -26,6 +27,14 @@ from springbalance.errors import InputError
 #: the verification's default mode (:attr:`SolveOptions.verify`): "resolve" re-solves where a rule fails at
 #: unseen poses (the demo's forearm coil went slack between its samples); "report" only reports
 VERIFY_DEFAULT = "resolve"
+#: the polish budget (:attr:`SolveOptions.polish_iterations`, as a multiple of ``max_iterations``) of a problem with
+#: helical coils and no fit to the arm after its multi-start (:meth:`SolveOptions.for_problem`); the solvers' own
+#: default is 4. The coils' rules are nonlinear rows that IPOPT closes in on slowly, and there the multi-start's best
+#: start is the design: bench_real's ur5-coils at seed 1 stopped on the 4× budget at 0.468 N·m (93.16 % on the elbow,
+#: 1.95 points from the other seeds) and reached 0.410 (94.93 %) with this one, the five seeds then within 0.49 point.
+#: With a fit to the arm (clearance, mountings) its rounds re-solve the design, and a longer polish only moves where
+#: they start: ur5-coils-clear at seed 3 went from 1.557 to 7.30 N·m with it, so it is not used there.
+COIL_POLISH_FACTOR = 16
 
 
 class ConfiguredProblem(Protocol):
@@ -46,7 +55,8 @@ class SolveOptions:
         progress: show a progress bar (None: when more than one start and stderr is a terminal).
         max_iterations: iteration limit per start and phase (the screening budget).
         tolerance: relative cost change at which least squares stop.
-        polish_iterations: further iterations for the best starts stopped by the limit (None: 4 × max_iterations).
+        polish_iterations: further iterations for the best starts stopped by the limit (None: 4 × max_iterations;
+            :data:`COIL_POLISH_FACTOR` × for coils not fitted to the arm, :meth:`for_problem`).
         standard_wire: round every coil's free wire diameter to the preferred series.
         workers: processes that run the starts at once (None: ``$SPRINGBALANCE_WORKERS`` or the cores).
         verify: what the verification at unseen poses does when a rule fails there: ``"resolve"`` (add the
@@ -77,6 +87,15 @@ class SolveOptions:
                 f"unknown solve option(s) {', '.join(map(repr, unknown))}; valid: {', '.join(sorted(names))}"
             )
         return cls(**options)
+
+    def for_problem(self, problem: DesignProblem) -> SolveOptions:
+        """These options with the polish budget ``problem`` needs: :data:`COIL_POLISH_FACTOR` × ``max_iterations``
+        for a problem with free helical coils that is not fitted to the arm (no clearance, no mountings), unless
+        ``polish_iterations`` was given; otherwise these options."""
+        fitted = problem.clearance is not None or bool(problem.mounts)
+        if self.polish_iterations is not None or fitted or not coil_start.coil_springs(problem):
+            return self
+        return dataclasses.replace(self, polish_iterations=COIL_POLISH_FACTOR * self.max_iterations)
 
     def solver_options(self) -> dict[str, Any]:
         """The options every solve of the pipeline passes on: method, iteration limits, tolerance."""
