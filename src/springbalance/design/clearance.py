@@ -58,6 +58,10 @@ import numpy as np
 from springbalance.errors import InputError
 
 
+#: most re-solves of a fitting loop (:attr:`Clearance.rounds`; also the mountings' without a clearance)
+FIT_ROUNDS = 24
+
+
 @dataclasses.dataclass(frozen=True)
 class Clearance:
     """What clearance the springs must keep from the arm (see the module documentation).
@@ -80,7 +84,7 @@ class Clearance:
     radius: float | None = None
     between_springs: bool = False
     buffer: float | None = None
-    rounds: int = 12
+    rounds: int = FIT_ROUNDS
     starts: int = 1
 
     def __post_init__(self) -> None:

@@ -12,7 +12,7 @@ from typing import Any, Iterable, Iterator, TypeAlias
 
 import numpy as np
 
-from springbalance.design.clearance import Clearance, FitRecord, LinearRows, stacked_rows
+from springbalance.design.clearance import FIT_ROUNDS, Clearance, FitRecord, LinearRows, stacked_rows
 from springbalance.design.clearance_distances import Pair, pair_distances
 from springbalance.design.clearance_round import (
     INFEASIBLE_NOTE,
@@ -376,7 +376,7 @@ def _fitted(
     rounds, converged, stopped, outside = 0, False, 0, False
     closest: dict[str, float] = {}
     mounts: dict[str, float] = {}
-    limit = clearance.rounds if clearance is not None else 12
+    limit = clearance.rounds if clearance is not None else FIT_ROUNDS
     while True:
         mounts = _mount_errors(problem, x, geometry) if problem.mounts else {}
         mounted = all(error <= MOUNT_ACCEPT for error in mounts.values())

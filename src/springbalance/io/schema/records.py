@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING, Annotated, Any, Literal, Optional, Union, cast
 import annotated_types
 from pydantic import ConfigDict, Field
 
+from springbalance.design.clearance import FIT_ROUNDS
 from springbalance.io.schema.fields import (
     KIND_KEYS,
     Aggregate,
@@ -165,7 +166,7 @@ class ClearanceRecord(Record, title="Clearance"):
     buffer: NonNegative = optional(
         "extra distance [m] asked for between checked poses (default 10 % of the margin, at least 0.5 mm)"
     )
-    rounds: Counting = Field(12, description="most re-solves of the fitting loop")
+    rounds: Counting = Field(FIT_ROUNDS, description="most re-solves of the fitting loop")
     starts: Counting = Field(
         1,
         description="how many of the multi-start's best designs are fitted (each from its "
