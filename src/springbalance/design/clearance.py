@@ -57,7 +57,6 @@ import numpy as np
 
 from springbalance.errors import InputError
 
-
 #: most re-solves of a fitting loop (:attr:`Clearance.rounds`; also the mountings' without a clearance)
 FIT_ROUNDS = 24
 
