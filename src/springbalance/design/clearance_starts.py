@@ -24,6 +24,12 @@ from springbalance.design.solvers import Solution, forked
 Fitted = tuple[Solution, FitRecord, "LinearRows | None"]
 
 
+def fitted_to_arm(problem: DesignProblem) -> bool:
+    """Whether ``problem``'s design is fitted to the arm after its multi-start (:func:`fit_from_starts`): it asks
+    for a clearance, or has anchors mounted on the links' surfaces."""
+    return problem.clearance is not None or bool(problem.mounts)
+
+
 def fit_from_starts(
     problem: DesignProblem,
     solution: Solution,

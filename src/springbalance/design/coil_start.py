@@ -113,7 +113,7 @@ def coil_starts(problem: DesignProblem, count: int, **solve_options: Any) -> Twi
     except SolverError:
         return None
     record = _ideal_record(problem, coils, twin, found, options)
-    if problem.clearance is not None or problem.mounts:
+    if clearance_starts.fitted_to_arm(problem):
         fitted = _fitted_twin(problem, coils, twin, found, options)
         if fitted is not None:  # the coils start from the twin's fitted design, inside its rows
             solution, rows = fitted

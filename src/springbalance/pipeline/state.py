@@ -15,7 +15,7 @@ from typing import Any, Mapping, Protocol
 
 import numpy as np
 
-from springbalance.design import coil_start
+from springbalance.design import clearance_starts, coil_start
 from springbalance.design.clearance import FitRecord, LinearRows
 from springbalance.design.problem import DesignProblem
 from springbalance.design.solvers import Solution
@@ -92,8 +92,11 @@ class SolveOptions:
         """These options with the polish budget ``problem`` needs: :data:`COIL_POLISH_FACTOR` × ``max_iterations``
         for a problem with free helical coils that is not fitted to the arm (no clearance, no mountings), unless
         ``polish_iterations`` was given; otherwise these options."""
-        fitted = problem.clearance is not None or bool(problem.mounts)
-        if self.polish_iterations is not None or fitted or not coil_start.coil_springs(problem):
+        if (
+            self.polish_iterations is not None
+            or clearance_starts.fitted_to_arm(problem)
+            or not coil_start.coil_springs(problem)
+        ):
             return self
         return dataclasses.replace(self, polish_iterations=COIL_POLISH_FACTOR * self.max_iterations)
 

@@ -139,7 +139,7 @@ def _multi_started(state: SolveState, problem: DesignProblem, progress: bool | N
 def fit_to_arm(state: SolveState) -> SolveState:
     """Clearance and mountings: the fitted design and the problem with its final rows."""
     problem = state.problem
-    if problem.clearance is None and not problem.mounts:
+    if not clearance_starts.fitted_to_arm(problem):
         return state
     twin = state.twin or twin_record(problem, state.solved.x, FIT_TWIN_SOURCE)
     with _interrupted_after_starts(state, "fitting the springs to the arm"):
