@@ -9,8 +9,10 @@ solved as a user solves them (``sb.solve(config)``: the config's ``solve`` secti
   ur5-coils-clear    ur5-coils kept 5 mm clear of the arm's collision meshes (+ its ideal twin, part d)
   ur5-mounted-clear  UR5, 3 ideal springs whose anchors sit on the links' surfaces (``on: collision``), clear
   ur5-mounted-coils-clear  ur5-mounted-clear as coils of at most 40 mm: what an engineer builds
-  panda-ideal        Panda, 4 ideal springs on links 1–4 (upper-arm roll held, fingers held)
-  panda-coils-clear  panda-ideal as coils of at most 40 mm, kept 5 mm clear
+  panda-ideal        Panda, 4 ideal springs on links 1–4 (upper-arm roll held, fingers held; the spring that
+                     spans the roll in the arm's plane)
+  panda-coils-clear  Panda, the same 4 springs as coils of at most 40 mm, kept 5 mm clear (the one across the roll
+                     free beside the plane: in it, no coil passes the upper arm)
   example-ur5        examples/ur5.yaml (the shipped example, sized to run in about a minute)
   example-panda      examples/panda.yaml (shipped: two shoulder coils beside the arm, one elbow coil in its plane)
 
