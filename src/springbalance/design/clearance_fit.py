@@ -18,7 +18,9 @@ from springbalance.design.clearance_round import (
     INFEASIBLE_NOTE,
     INFEASIBLE_ROUNDS,
     OUTSIDE_NOTE,
+    Tightening,
     fell_back,
+    finished,
     solve_round,
 )
 from springbalance.design.clearance_rows import _ends_of, _mount_errors, _radius, _rows, mount_planes
@@ -38,8 +40,7 @@ from springbalance.springs.laws import Spring
 
 #: Most poses per spring and object (and round) that join the watched set.
 WORST_PER_PAIR = 4
-#: Closest sampled poses per spring and object (a quarter of the joint box apart) from which
-#: :meth:`_Checker.descend` searches.
+#: Closest sampled poses per pair (a quarter of the joint box apart) from which :meth:`_Checker.descend` searches.
 DESCENTS_PER_PAIR = 2
 #: A pair is searched when its closest sampled pose is within this distance [m] of the margin.
 DESCENT_BAND = 0.02
@@ -345,15 +346,19 @@ def fit_to_arm(
     the one without it only when that does not converge (the ideal twin's fit: its springs' ``k·a·b`` family lets
     its rounds slide far; :mod:`springbalance.design.coil_start`).
 
+    Once a round's design is fitted (clear, mounted, its rows met), rounds with the rows linearised again there
+    follow while they lower the objective (:class:`~springbalance.design.clearance_round.Tightening`; not for the
+    twin), and the fitted design of lowest objective is the fit's.
+
     ``solve_options`` go to :func:`~springbalance.design.solvers.solve_problem` (method, iterations).
     Returns the fitted solution, its :class:`FitRecord` and the problem with the last round's rows
     (``problem`` itself when no round ran).
     """
     clock = time.perf_counter()
-    fitted = _fitted(problem, solution, kept, trusted_first, solve_options)
+    fitted = _fitted(problem, solution, kept, trusted_first, solve_options, not trusted_first)
     if fitted[1].converged or fitted[1].rounds == 0:
         return fitted
-    retried = _fitted(problem, solution, kept, not trusted_first, solve_options)
+    retried = _fitted(problem, solution, kept, not trusted_first, solve_options, not trusted_first)
     chosen = retried if retried[1].converged else fitted
     chosen[1].rounds = fitted[1].rounds + retried[1].rounds
     chosen[1].seconds = time.perf_counter() - clock
@@ -361,9 +366,15 @@ def fit_to_arm(
 
 
 def _fitted(
-    problem: DesignProblem, solution: Solution, kept: LinearRows | None, trusted: bool, solve_options: dict[str, Any]
+    problem: DesignProblem,
+    solution: Solution,
+    kept: LinearRows | None,
+    trusted: bool,
+    solve_options: dict[str, Any],
+    tighten: bool = True,
 ) -> tuple[Solution, FitRecord, DesignProblem]:
-    """The loop of :func:`fit_to_arm`; ``trusted``: each round inside its trust region first."""
+    """The loop of :func:`fit_to_arm`; ``trusted``: each round inside its trust region first; ``tighten``: the
+    rounds of :class:`~springbalance.design.clearance_round.Tightening` after a fitted design."""
     clock = time.perf_counter()
     clearance = problem.clearance
     x = np.array(solution.x, dtype=float)
@@ -377,6 +388,7 @@ def _fitted(
     closest: dict[str, float] = {}
     mounts: dict[str, float] = {}
     limit = clearance.rounds if clearance is not None else FIT_ROUNDS
+    tightening = Tightening()
     while True:
         mounts = _mount_errors(problem, x, geometry) if problem.mounts else {}
         mounted = all(error <= MOUNT_ACCEPT for error in mounts.values())
@@ -389,6 +401,8 @@ def _fitted(
         if not stopped and not outside:  # x met its rows: the design to fall back to
             met = (x, solution, problem, closest, mounts, rounds)
         converged = converged and not stopped and not outside  # a design that broke its rows is no fit
+        if converged and rounds and tighten:  # fitted: go on with the rows linearised here while the objective falls
+            converged = not tightening.goes_on(float(problem.objective_value(problem.evaluate(x))), met, rounds, limit)
         if converged or rounds >= limit or stopped >= INFEASIBLE_ROUNDS:
             break
         watched.update(new)
@@ -403,38 +417,9 @@ def _fitted(
         solution = resolved
         x = np.array(solution.x, dtype=float)
         rounds += 1
-    if stopped or outside:  # the last round broke its rows: back to the last design that met them (it is not clear)
+    if tightening.best is not None and (not converged or tightening.best[0] is not x):  # the best fitted design
+        x, solution, problem, closest, mounts, converged = *tightening.best[:5], True
+    elif stopped or outside:  # the last round broke its rows: back to the last design that met them (it is not clear)
         x, solution, problem, closest, mounts = fell_back(*met, note)
-    return _finished(problem, solution, x, rounds, bool(converged), float(before), closest, mounts, checker, clock)
-
-
-def _finished(
-    problem: DesignProblem,
-    solution: Solution,
-    x: np.ndarray,
-    rounds: int,
-    converged: bool,
-    before: float,
-    closest: dict[str, float],
-    mounts: dict[str, float],
-    checker: _Checker | None,
-    clock: float,
-) -> tuple[Solution, FitRecord, DesignProblem]:
-    """The fit's solution at ``x``, its :class:`FitRecord` (``clock``: when the loop started) and ``problem``."""
-    objective = problem.objective_value(problem.evaluate(x))
     poses = sum(len(poses) for poses in checker.pose_sets) if checker is not None else 0
-    record = FitRecord(
-        rounds,
-        len(problem.linear_rows) if problem.linear_rows is not None else 0,
-        converged,
-        before,
-        float(objective),
-        {k: float(v) for k, v in closest.items()},
-        {k: float(v) for k, v in mounts.items()},
-        poses,
-        time.perf_counter() - clock,
-    )
-    status = f"{solution.status}; fitted to the arm in {rounds} round(s)" + (
-        "" if converged else " (NOT converged: see the clearance check)"
-    )
-    return Solution(x, solution.starts, solution.method, solution.seed, status), record, problem
+    return finished(problem, solution, x, rounds, bool(converged), float(before), closest, mounts, poses, clock)
