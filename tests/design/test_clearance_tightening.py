@@ -28,7 +28,7 @@ REAL_VIOLATIONS = clearance_fit._violations
 @pytest.fixture(scope="module")
 def case():
     problem, start = crossing_case(MARGIN)
-    fitted = clearance_fit.fit_to_arm(problem, Solution(start, [], "auto", 0, "given"), **OPTIONS)[0]
+    fitted = clearance_fit.fit_to_arm(problem, Solution(start, [], "auto", 0, "given"), tighten=True, **OPTIONS)[0]
     return problem, start, np.asarray(fitted.x, dtype=float)
 
 
@@ -81,8 +81,10 @@ def test_a_fitted_design_is_tightened_to_the_real_clearance_and_stays_clear(case
     """Unscripted: the fit with its tightening rounds ends clear of the arm on the URDF's own shapes at 4× the
     check's poses, no worse than the fit without them."""
     problem, start, _ = case
-    solution, fit, rows = clearance_fit.fit_to_arm(problem, Solution(start, [], "auto", 0, "given"), **OPTIONS)
-    untightened = clearance_fit._fitted(problem, Solution(start, [], "auto", 0, "given"), None, False, OPTIONS, False)
+    solution, fit, rows = clearance_fit.fit_to_arm(
+        problem, Solution(start, [], "auto", 0, "given"), tighten=True, **OPTIONS
+    )
+    untightened = clearance_fit.fit_to_arm(problem, Solution(start, [], "auto", 0, "given"), **OPTIONS)
     assert fit.converged and untightened[1].converged
     assert fit.rounds > untightened[1].rounds  # a round at least, linearised at the fitted design
     assert fit.objective <= untightened[1].objective * (1 + 1e-9)
@@ -97,7 +99,9 @@ def test_the_rounds_go_on_while_the_objective_falls_and_keep_the_lowest(case, mo
     problem, start, fitted = case
     low, middle, high = _designs(problem, fitted)
     starts = _scripted(monkeypatch, [(middle, ""), (low, ""), (high, "")])
-    solution, fit, rows = clearance_fit.fit_to_arm(problem, Solution(start, [], "auto", 0, "given"), **OPTIONS)
+    solution, fit, rows = clearance_fit.fit_to_arm(
+        problem, Solution(start, [], "auto", 0, "given"), tighten=True, **OPTIONS
+    )
     assert len(starts) == 3
     np.testing.assert_array_equal(starts[1], middle)
     np.testing.assert_array_equal(starts[2], low)
@@ -115,7 +119,9 @@ def test_tightening_stops_after_its_rounds(case, monkeypatch):
     values = [_objective(problem, x) for x in designs]
     assert all(b < a * (1 - TIGHTEN_GAIN) for a, b in zip(values, values[1:]))  # each one lower
     starts = _scripted(monkeypatch, [(x, "") for x in designs])
-    solution, fit, _ = clearance_fit.fit_to_arm(problem, Solution(start, [], "auto", 0, "given"), **OPTIONS)
+    solution, fit, _ = clearance_fit.fit_to_arm(
+        problem, Solution(start, [], "auto", 0, "given"), tighten=True, **OPTIONS
+    )
     assert len(starts) == 1 + TIGHTEN_ROUNDS
     np.testing.assert_array_equal(solution.x, designs[TIGHTEN_ROUNDS])
     assert fit.converged
@@ -128,23 +134,28 @@ def test_a_tightening_round_that_breaks_its_rows_falls_back_to_the_best_fitted_d
     problem, start, fitted = case
     low, middle, _ = _designs(problem, fitted)
     _scripted(monkeypatch, [(middle, ""), (low, f"{INFEASIBLE_NOTE} (x)"), (low, f"{INFEASIBLE_NOTE} (x)")])
-    solution, fit, _ = clearance_fit.fit_to_arm(problem, Solution(start, [], "auto", 0, "given"), **OPTIONS)
+    solution, fit, _ = clearance_fit.fit_to_arm(
+        problem, Solution(start, [], "auto", 0, "given"), tighten=True, **OPTIONS
+    )
     np.testing.assert_array_equal(solution.x, middle)
     assert fit.converged and "NOT converged" not in solution.status
     _scripted(monkeypatch, [(middle, ""), (None, "")])
-    solution, fit, _ = clearance_fit.fit_to_arm(problem, Solution(start, [], "auto", 0, "given"), **OPTIONS)
+    solution, fit, _ = clearance_fit.fit_to_arm(
+        problem, Solution(start, [], "auto", 0, "given"), tighten=True, **OPTIONS
+    )
     np.testing.assert_array_equal(solution.x, middle)
     assert fit.converged
 
 
-def test_the_ideal_twin_is_not_tightened(case, monkeypatch):
-    """``trusted_first`` (the ideal twin's fit, :mod:`springbalance.design.coil_start`): the first fitted design
-    ends the loop."""
+@pytest.mark.parametrize("trusted_first", [False, True])
+def test_a_fit_not_asked_to_tighten_ends_at_its_first_fitted_design(case, monkeypatch, trusted_first):
+    """Without ``tighten`` (the ideal twin of coils, a problem with free coils): the first fitted design ends the
+    loop, with or without the trust region first."""
     problem, start, fitted = case
     low, middle, _ = _designs(problem, fitted)
     starts = _scripted(monkeypatch, [(middle, ""), (low, "")])
     solution, fit, _ = clearance_fit.fit_to_arm(
-        problem, Solution(start, [], "auto", 0, "given"), trusted_first=True, **OPTIONS
+        problem, Solution(start, [], "auto", 0, "given"), trusted_first=trusted_first, **OPTIONS
     )
     assert len(starts) == 1
     np.testing.assert_array_equal(solution.x, middle)
@@ -156,7 +167,9 @@ def test_a_design_clear_as_it_stands_is_not_tightened(case, monkeypatch):
     problem, start, fitted = case
     calls = []
     monkeypatch.setattr(clearance_fit, "solve_round", lambda *arguments: calls.append(1))
-    solution, fit, _ = clearance_fit.fit_to_arm(problem, Solution(fitted, [], "auto", 0, "given"), **OPTIONS)
+    solution, fit, _ = clearance_fit.fit_to_arm(
+        problem, Solution(fitted, [], "auto", 0, "given"), tighten=True, **OPTIONS
+    )
     assert not calls and fit.rounds == 0 and fit.converged
     np.testing.assert_array_equal(solution.x, fitted)
 

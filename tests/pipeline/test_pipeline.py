@@ -98,6 +98,26 @@ def test_every_solve_of_the_steps_gets_the_polish_budget(monkeypatch):
     assert budgets and set(budgets) == {COIL_POLISH_FACTOR * 30}
 
 
+def test_the_fit_to_the_arm_tightens_the_designs_of_problems_without_free_coils(pendulum, monkeypatch):
+    """docs/model.md §11, "Tightening a fitted design": asked for ideal springs, not for free coils."""
+    from clearance_helpers import crossing_case
+    from springbalance.design import clearance_starts
+
+    coils = load_config(ROOT / "examples/two_link.yaml").problem
+    assert steps.tightened(pendulum) and not steps.tightened(coils)
+    asked = []
+    fit = clearance_starts.fit_from_starts
+
+    def recorded(*args, **kwargs):
+        asked.append(kwargs.get("tighten"))
+        return fit(*args, **kwargs)
+
+    monkeypatch.setattr(clearance_starts, "fit_from_starts", recorded)
+    problem, _ = crossing_case(0.005)
+    result = sb.solve(problem, starts=2, progress=False)
+    assert asked == [True] and result.fit is not None and result.fit.converged
+
+
 def test_solve_names_what_it_was_given_when_it_is_neither_a_problem_nor_a_config():
     with pytest.raises(InputError, match="DesignProblem or a Config, got str"):
         sb.solve("examples/two_link.yaml")

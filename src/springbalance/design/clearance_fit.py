@@ -335,6 +335,7 @@ def fit_to_arm(
     solution: Solution,
     kept: LinearRows | None = None,
     trusted_first: bool = False,
+    tighten: bool = False,
     **solve_options: Any,
 ) -> tuple[Solution, FitRecord, DesignProblem]:
     """Enforce the problem's clearance and mountings from ``solution`` (see the module documentation); each
@@ -346,19 +347,19 @@ def fit_to_arm(
     the one without it only when that does not converge (the ideal twin's fit: its springs' ``k·a·b`` family lets
     its rounds slide far; :mod:`springbalance.design.coil_start`).
 
-    Once a round's design is fitted (clear, mounted, its rows met), rounds with the rows linearised again there
-    follow while they lower the objective (:class:`~springbalance.design.clearance_round.Tightening`; not for the
-    twin), and the fitted design of lowest objective is the fit's.
+    ``tighten``: once a round's design is fitted (clear, mounted, its rows met), rounds with the rows linearised
+    again there follow while they lower the objective (:class:`~springbalance.design.clearance_round.Tightening`),
+    and the fitted design of lowest objective is the fit's.
 
     ``solve_options`` go to :func:`~springbalance.design.solvers.solve_problem` (method, iterations).
     Returns the fitted solution, its :class:`FitRecord` and the problem with the last round's rows
     (``problem`` itself when no round ran).
     """
     clock = time.perf_counter()
-    fitted = _fitted(problem, solution, kept, trusted_first, solve_options, not trusted_first)
+    fitted = _fitted(problem, solution, kept, trusted_first, solve_options, tighten)
     if fitted[1].converged or fitted[1].rounds == 0:
         return fitted
-    retried = _fitted(problem, solution, kept, not trusted_first, solve_options, not trusted_first)
+    retried = _fitted(problem, solution, kept, not trusted_first, solve_options, tighten)
     chosen = retried if retried[1].converged else fitted
     chosen[1].rounds = fitted[1].rounds + retried[1].rounds
     chosen[1].seconds = time.perf_counter() - clock
@@ -371,7 +372,7 @@ def _fitted(
     kept: LinearRows | None,
     trusted: bool,
     solve_options: dict[str, Any],
-    tighten: bool = True,
+    tighten: bool = False,
 ) -> tuple[Solution, FitRecord, DesignProblem]:
     """The loop of :func:`fit_to_arm`; ``trusted``: each round inside its trust region first; ``tighten``: the
     rounds of :class:`~springbalance.design.clearance_round.Tightening` after a fitted design."""

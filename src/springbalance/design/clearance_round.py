@@ -170,9 +170,10 @@ class Tightening:
     (the rows are conservative), so a fitted design meets the rows taken at itself, and a round from there can only
     lower the objective: the rounds are a sequential convex programme, which stops at a point where the clearance's
     own first-order conditions hold. On bench_real's ur5-mounted-clear (ideal springs on the UR5's link surfaces)
-    seed 3 fitted at 0.819 N·m without them and at 0.672 with them (elbow 83.87 → 88.71 %). The ideal twin of coils
-    (:mod:`springbalance.design.coil_start`) is not tightened: a twin closer to its own optimum is a worse start for
-    the coils (example-ur5 at seed 4: 4.82 N·m and a joint made worse, against 4.32)."""
+    seed 3 fitted at 0.819 N·m without them and at 0.672 with them (elbow 83.87 → 88.71 %). The solve tightens
+    the fits of problems without free coils only (:func:`springbalance.pipeline.steps.tightened`); so the ideal twin
+    of coils (:mod:`springbalance.design.coil_start`) is not tightened either: a twin closer to its own optimum was a
+    worse start for the coils (example-ur5 at seed 4: 4.82 N·m and a joint made worse, against 4.32)."""
 
     rounds: int = 0
     best: tuple | None = None  # (x, solution, problem, closest, mounts, rounds) of the lowest objective

@@ -35,6 +35,7 @@ def fit_from_starts(
     solution: Solution,
     kept: LinearRows | None = None,
     trusted_first: bool = False,
+    tighten: bool = False,
     **solve_options: Any,
 ) -> tuple[Solution, FitRecord, DesignProblem]:
     """:func:`~springbalance.design.clearance_fit.fit_to_arm` from the :attr:`Clearance.starts` best feasible
@@ -42,7 +43,8 @@ def fit_from_starts(
     objective (else the first). When none converged and a fitting round stopped infeasible, the next ranked
     designs are fitted too, up to :data:`~springbalance.design.clearance_round.FALLBACK_STARTS` more, until one
     converges; when every fit converged only after its rounds moved the design, the next ranked one is fitted
-    too (once). ``trusted_first``: each fit's first run has a trust region (:func:`fit_to_arm`). Returns the fit
+    too (once). ``trusted_first``: each fit's first run has a trust region; ``tighten``: each fitted design is tightened
+    (:func:`fit_to_arm`). Returns the fit
     kept with the problem that carries its rows; its record's ``seconds`` are the wall time of all the fits."""
     count = problem.clearance.starts if problem.clearance is not None else 1
     records = sorted((record for record in solution.starts if record.feasible), key=lambda record: record.objective)
@@ -52,7 +54,7 @@ def fit_from_starts(
         start = Solution(np.array(x, dtype=float), solution.starts, solution.method, solution.seed, solution.status)
 
         def task() -> Fitted:
-            fitted, record, fitted_problem = fit_to_arm(problem, start, kept, trusted_first, **solve_options)
+            fitted, record, fitted_problem = fit_to_arm(problem, start, kept, trusted_first, tighten, **solve_options)
             return fitted, record, fitted_problem.linear_rows
 
         return task

@@ -136,6 +136,15 @@ def _multi_started(state: SolveState, problem: DesignProblem, progress: bool | N
     )
 
 
+def tightened(problem: DesignProblem) -> bool:
+    """Whether the fit to the arm tightens its fitted designs (:class:`~springbalance.design.clearance_round.
+    Tightening`): without free helical coils. With them, on bench_real's UR5 with three coils on its links'
+    surfaces, tightened fits moved the designs where rounding the wires then made the elbow's peak worse than the
+    bare arm's at two of five seeds (exit 3; they passed untightened), and ur5-coils-clear's 4× search failed its
+    verification at unseen poses."""
+    return not coil_start.coil_springs(problem)
+
+
 def fit_to_arm(state: SolveState) -> SolveState:
     """Clearance and mountings: the fitted design and the problem with its final rows."""
     problem = state.problem
@@ -144,7 +153,7 @@ def fit_to_arm(state: SolveState) -> SolveState:
     twin = state.twin or twin_record(problem, state.solved.x, FIT_TWIN_SOURCE)
     with _interrupted_after_starts(state, "fitting the springs to the arm"):
         solution, fit, problem = clearance_starts.fit_from_starts(
-            problem, state.solved, state.kept_rows, **state.options.solver_options()
+            problem, state.solved, state.kept_rows, tighten=tightened(problem), **state.options.solver_options()
         )
     return state.but(problem=problem, solution=solution, fit=fit, twin=twin)
 
