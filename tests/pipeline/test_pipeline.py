@@ -85,15 +85,21 @@ def test_coils_that_no_fit_to_the_arm_follows_get_the_longer_polish(pendulum):
     assert options.for_problem(clear).polish_iterations is None
 
 
-def test_every_solve_of_the_steps_gets_the_polish_budget(monkeypatch):
-    budgets = []
-    solve = steps.solve_problem
+def _recorded(monkeypatch, module, name: str, keyword: str) -> list:
+    """Wrap ``module.name`` so that each call's ``keyword`` argument is appended to the list returned."""
+    seen = []
+    real = getattr(module, name)
 
     def recorded(*args, **kwargs):
-        budgets.append(kwargs.get("polish_iterations"))
-        return solve(*args, **kwargs)
+        seen.append(kwargs.get(keyword))
+        return real(*args, **kwargs)
 
-    monkeypatch.setattr(steps, "solve_problem", recorded)
+    monkeypatch.setattr(module, name, recorded)
+    return seen
+
+
+def test_every_solve_of_the_steps_gets_the_polish_budget(monkeypatch):
+    budgets = _recorded(monkeypatch, steps, "solve_problem", "polish_iterations")
     sb.solve(load_config(ROOT / "examples/two_link.yaml"), starts=2, max_iterations=30, progress=False)
     assert budgets and set(budgets) == {COIL_POLISH_FACTOR * 30}
 
@@ -105,14 +111,7 @@ def test_the_fit_to_the_arm_tightens_the_designs_of_problems_without_free_coils(
 
     coils = load_config(ROOT / "examples/two_link.yaml").problem
     assert steps.tightened(pendulum) and not steps.tightened(coils)
-    asked = []
-    fit = clearance_starts.fit_from_starts
-
-    def recorded(*args, **kwargs):
-        asked.append(kwargs.get("tighten"))
-        return fit(*args, **kwargs)
-
-    monkeypatch.setattr(clearance_starts, "fit_from_starts", recorded)
+    asked = _recorded(monkeypatch, clearance_starts, "fit_from_starts", "tighten")
     problem, _ = crossing_case(0.005)
     result = sb.solve(problem, starts=2, progress=False)
     assert asked == [True] and result.fit is not None and result.fit.converged

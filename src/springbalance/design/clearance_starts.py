@@ -43,9 +43,9 @@ def fit_from_starts(
     objective (else the first). When none converged and a fitting round stopped infeasible, the next ranked
     designs are fitted too, up to :data:`~springbalance.design.clearance_round.FALLBACK_STARTS` more, until one
     converges; when every fit converged only after its rounds moved the design, the next ranked one is fitted
-    too (once). ``trusted_first``: each fit's first run has a trust region; ``tighten``: each fitted design is tightened
-    (:func:`fit_to_arm`). Returns the fit
-    kept with the problem that carries its rows; its record's ``seconds`` are the wall time of all the fits."""
+    too (once). ``trusted_first``: each fit's first run has a trust region; ``tighten``: each fitted design is
+    tightened (:func:`fit_to_arm`). Returns the fit kept with the problem that carries its rows; its record's
+    ``seconds`` are the wall time of all the fits."""
     count = problem.clearance.starts if problem.clearance is not None else 1
     records = sorted((record for record in solution.starts if record.feasible), key=lambda record: record.objective)
     others = [record.x for record in records if not np.array_equal(record.x, solution.x)]
