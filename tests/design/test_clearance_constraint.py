@@ -21,6 +21,7 @@ from clearance_helpers import crossing_springs
 from springbalance.cli import main
 from springbalance.design.clearance_distances import pair_distances
 from springbalance.design.clearance_fit import DESCENT_BAND, _Checker, fit_to_arm
+from springbalance.design.clearance_round import FALLBACK_STARTS
 from springbalance.design.mounts import MOUNT_ACCEPT
 from springbalance.design.solvers import Solution
 
@@ -120,7 +121,8 @@ def test_fitting_more_starts_keeps_the_best_fit(arm, workspace):
             sb.DesignProblem(arm, workspace, crossing_springs(0.1), clearance=clearance), starts=4, seed=1
         )
     # one start fitted, and the next one too when that fit had to move its design (clearance_round.fall_back)
-    assert results[1].fit.starts in (1, 2) and results[3].fit.starts >= 3
+    # (and the next ones while every fit carries a joint worse than the bare arm: this arm's elbow peak)
+    assert results[1].fit.starts <= 1 + FALLBACK_STARTS and results[3].fit.starts >= 3
     assert results[3].fit.converged
     assert results[3].fit.objective <= results[1].fit.objective * (1 + 1e-9)
     assert results[3].metrics()["objectives"]["rms"]["after"] == pytest.approx(results[3].fit.objective, rel=1e-9)

@@ -23,7 +23,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import time
-from typing import Any, Sequence
+from typing import Any, Callable, Sequence
 
 import numpy as np
 
@@ -145,18 +145,23 @@ def fell_back(
     return x, Solution(x, solution.starts, solution.method, solution.seed, status), problem, closest, mounts
 
 
-def fall_back(fits: Sequence[tuple[Solution, FitRecord, Any]], extra: int) -> bool:
+def fall_back(
+    fits: Sequence[tuple[Solution, FitRecord, Any]], extra: int, accepted: Callable[[Any], bool] | None = None
+) -> bool:
     """Whether to fit one more (the ``extra``-th beyond ``Clearance.starts``) ranked design: while no fit
     converged, one of them had a fitting round stop infeasible, and fewer than :data:`FALLBACK_STARTS` were
-    added; or, once, when every fit that converged had to move its design (a round or more): the next ranked
-    design may be clear as it stands and end better than a design the rounds moved (the Panda example: its best
-    start fitted in 4 rounds at 3.17 N·m, its second clear at 2.89)."""
+    added; while every fit that converged did so to a design that is not ``accepted`` (default: every converged
+    design is; :func:`~springbalance.design.clearance_starts.fit_from_starts` refuses one that carries a weighted
+    joint worse than the bare arm); or, once, when every accepted fit had to move its design (a round or more):
+    the next ranked design may be clear as it stands and end better than a design the rounds moved (the Panda
+    example: its best start fitted in 4 rounds at 3.17 N·m, its second clear at 2.89)."""
     if extra >= FALLBACK_STARTS:
         return False
     converged = [fit for fit in fits if fit[1].converged]
-    if converged:
-        return extra == 0 and all(fit[1].rounds > 0 for fit in converged)
-    return any(INFEASIBLE_NOTE in fit[0].status for fit in fits)
+    good = [fit for fit in converged if accepted is None or accepted(fit)]
+    if good:
+        return extra == 0 and all(fit[1].rounds > 0 for fit in good)
+    return bool(converged) or any(INFEASIBLE_NOTE in fit[0].status for fit in fits)
 
 
 @dataclasses.dataclass

@@ -17,11 +17,15 @@ import numpy as np
 from springbalance.design.clearance import FitRecord, LinearRows
 from springbalance.design.clearance_fit import fit_to_arm
 from springbalance.design.clearance_round import FALLBACK_STARTS, fall_back
+from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.design.problem import DesignProblem
 from springbalance.design.solvers import Solution, forked
 
 #: a fit as a worker returns it: the problem does not pickle, its rows do
 Fitted = tuple[Solution, FitRecord, "LinearRows | None"]
+#: Designs of the multi-start that lie within this fraction of every variable's range of a better one are that
+#: design again, and are not fitted (:func:`distinct_designs`).
+SAME_DESIGN = 1e-2
 
 
 def fitted_to_arm(problem: DesignProblem) -> bool:
@@ -38,17 +42,17 @@ def fit_from_starts(
     tighten: bool = False,
     **solve_options: Any,
 ) -> tuple[Solution, FitRecord, DesignProblem]:
-    """:func:`~springbalance.design.clearance_fit.fit_to_arm` from the :attr:`Clearance.starts` best feasible
-    designs of the multi-start (``solution.starts``, distinct, best first); keeps the converged fit of lowest
-    objective (else the first). When none converged and a fitting round stopped infeasible, the next ranked
-    designs are fitted too, up to :data:`~springbalance.design.clearance_round.FALLBACK_STARTS` more, until one
-    converges; when every fit converged only after its rounds moved the design, the next ranked one is fitted
-    too (once). ``trusted_first``: each fit's first run has a trust region; ``tighten``: each fitted design is
-    tightened (:func:`fit_to_arm`). Returns the fit kept with the problem that carries its rows; its record's
-    ``seconds`` are the wall time of all the fits."""
+    """:func:`~springbalance.design.clearance_fit.fit_to_arm` from the :attr:`Clearance.starts` best distinct
+    designs of the multi-start (:func:`distinct_designs`); keeps the converged fit of lowest objective among those
+    that carry no weighted joint worse than the bare arm (peak and RMS at the samples: a design the command would
+    refuse, ``worse_joint``), else among the converged ones, else the first. When no fit converged and a fitting
+    round stopped infeasible, or when every converged fit carries a joint worse, the next ranked designs are fitted
+    too, up to :data:`~springbalance.design.clearance_round.FALLBACK_STARTS` more; when every accepted fit
+    converged only after its rounds moved the design, the next ranked one is fitted too (once). ``trusted_first``:
+    each fit's first run has a trust region; ``tighten``: each fitted design is tightened (:func:`fit_to_arm`).
+    Returns the fit kept with the problem that carries its rows; its record's ``seconds`` are the wall time of all
+    the fits."""
     count = problem.clearance.starts if problem.clearance is not None else 1
-    records = sorted((record for record in solution.starts if record.feasible), key=lambda record: record.objective)
-    others = [record.x for record in records if not np.array_equal(record.x, solution.x)]
 
     def fit(x: np.ndarray) -> Callable[[], Fitted]:
         start = Solution(np.array(x, dtype=float), solution.starts, solution.method, solution.seed, solution.status)
@@ -59,16 +63,43 @@ def fit_from_starts(
 
         return task
 
+    refused: dict[int, bool] = {}
+
+    def accepted(fit: Fitted) -> bool:
+        if id(fit) not in refused:
+            refused[id(fit)] = bool(EvaluatedDesign(problem, fit[0].x).weighted_joints_made_worse())
+        return not refused[id(fit)]
+
     def needed(index: int, done: list[Fitted]) -> bool:
-        return index < count or fall_back(done, index - count)
+        return index < count or fall_back(done, index - count, accepted)
 
     clock = time.perf_counter()
-    tasks = [fit(x) for x in ([solution.x] + others)[: count + FALLBACK_STARTS]]
-    fits = [(s, r, problem.with_linear_rows(rows)) for s, r, rows in forked.run_in_order(problem, tasks, needed)]
-    converged = [fit for fit in fits if fit[1].converged] or fits[:1]
-    fitted, record, fitted_problem = min(converged, key=lambda fit: fit[1].objective)
-    record.starts = len(fits)
-    if len(fits) > 1:
-        record.rounds = sum(fit[1].rounds for fit in fits)
+    tasks = [fit(x) for x in distinct_designs(problem, solution)[: count + FALLBACK_STARTS]]
+    done = forked.run_in_order(problem, tasks, needed)
+    converged = [fit for fit in done if fit[1].converged]
+    fitted, record, rows = min(
+        [fit for fit in converged if accepted(fit)] or converged or done[:1], key=lambda fit: fit[1].objective
+    )
+    record.starts = len(done)
+    if len(done) > 1:
+        record.rounds = sum(fit[1].rounds for fit in done)
         record.seconds = time.perf_counter() - clock
-    return fitted, record, fitted_problem
+    return fitted, record, problem.with_linear_rows(rows)
+
+
+def distinct_designs(problem: DesignProblem, solution: Solution) -> list[np.ndarray]:
+    """The designs a fit may start from: ``solution.x``, then the multi-start's other feasible designs
+    (``solution.starts``), best first, each kept only when some variable lies more than :data:`SAME_DESIGN` of its
+    range (1 where the range is not finite) from every design kept before it. Starts that converged to one optimum
+    end a few 10⁻³ of a range apart, and their fits, chaotic, part on such differences: on the UR5 with three coils
+    on its links' surfaces three of four starts ended at one design (3.5801 N·m), and the fit of each copy was a
+    second try of the same design in place of the next one (6.77 N·m)."""
+    lower, upper = (np.asarray(bound, dtype=float) for bound in problem.variables.bounds())
+    span = upper - lower
+    span = np.where(np.isfinite(span) & (span > 0), span, 1.0)
+    kept = [np.asarray(solution.x, dtype=float)]
+    for record in sorted((record for record in solution.starts if record.feasible), key=lambda r: r.objective):
+        x = np.asarray(record.x, dtype=float)
+        if all(np.max(np.abs(x - other) / span) > SAME_DESIGN for other in kept):
+            kept.append(x)
+    return kept

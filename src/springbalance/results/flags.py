@@ -53,7 +53,7 @@ from typing import Callable
 
 import numpy as np
 
-from springbalance.design.evaluated import EvaluatedDesign
+from springbalance.design.evaluated import TORQUE_TOLERANCE, EvaluatedDesign
 from springbalance.design.problem import DesignProblem
 from springbalance.errors import InputError
 from springbalance.export.common import law_warnings, spring_name
@@ -69,8 +69,6 @@ from springbalance.results.weak_design import weak_design_flags
 from springbalance.springs import CompressionSpring, ExtensionSpring, GasSpring
 from springbalance.springs.sizing import size_helical_spring
 
-#: torque differences below this fraction of the largest unbalanced peak are round-off
-TORQUE_TOLERANCE = 1e-9
 #: material of the helical springs that ``unbuildable_ideal`` tries (springs without a ``helical`` option)
 DEFAULT_MATERIAL = "music_wire"
 
@@ -147,23 +145,13 @@ def at_bound_flags(result: EvaluatedDesign, tolerance: float = BOUND_TOLERANCE) 
 
 # ---------------------------------------------------------------------- worse_joint
 def worse_joint_flags(result: EvaluatedDesign, tolerance: float = TORQUE_TOLERANCE) -> list[Flag]:
-    """Joints whose peak or RMS torque is larger with the springs than without them: a failure on a joint of
-    weight > 0 (the design was asked to balance it), a warning on one of weight 0."""
-    rows = result.metrics()["joints"]
-    largest = max((row["peak_before"] for row in rows), default=0.0)
-    if not largest > 0:  # gravity loads no joint: compare with what the springs leave
-        largest = max((row["peak_after"] for row in rows), default=0.0)
-    negligible = tolerance * largest
+    """Joints whose peak or RMS torque is larger with the springs than without them
+    (:meth:`~springbalance.design.evaluated.EvaluatedDesign.joints_made_worse`): a failure on a joint of weight > 0
+    (the design was asked to balance it), a warning on one of weight 0."""
     weights = dict(zip((joint.name for joint in result.problem.mechanism.joints), result.problem.weights.tolist()))
     found = []
-    for row in rows:
-        worse = [
-            label
-            for label, key in (("peak", "peak"), ("RMS", "rms"))
-            if row[f"{key}_after"] - row[f"{key}_before"] > negligible
-        ]
-        if not worse:
-            continue
+    for row in result.joints_made_worse(tolerance):
+        worse = row["worse"]
         unit = row["unit"]
         parts = [
             f"{label} {row[key + '_after']:.4g} {unit} with the springs vs {row[key + '_before']:.4g} {unit} without"
