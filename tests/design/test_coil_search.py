@@ -121,6 +121,43 @@ def test_the_demo_wires_are_rounded_together_to_preferred_sizes():
     assert result.evaluation.max_violation <= 1e-6
 
 
+def test_the_joint_rounding_starts_from_each_wire_moved_alone():
+    """The sets of wires the joint rounding starts from: every coil at its nearest size, every coil at its other
+    neighbour, and each coil alone at its other one; a coil with one neighbour adds no set twice."""
+    sets = standard_wire._combinations([[2.2, 2.5], [4.0, 4.5], [3.0, 3.0]])
+    assert sets == [[2.2, 4.0, 3.0], [2.5, 4.5, 3.0], [2.5, 4.0, 3.0], [2.2, 4.5, 3.0]]
+
+
+def test_the_joint_rounding_keeps_the_best_set_of_wires(monkeypatch):
+    """The demo's three coils, the joint rounding's solve scripted to return each start as it was given (every
+    wire held, nothing re-optimised): the design kept is the set of standard wires of lowest objective, whichever
+    start it was, and the record names its wires."""
+    result = solve(load_config("examples/two_link.yaml"), progress=False, standard_wire=False)
+    problem = result.problem
+    given: list[np.ndarray] = []
+
+    def scripted(problem, starts, initial, **options):
+        given.append(np.array(initial))
+        records = [
+            StartRecord(i, x, x, float(problem.objective_value(problem.evaluate(x))), 0.0, "scripted", 1, 0.0)
+            for i, x in enumerate(np.array(initial))
+        ]
+        return standard_wire.Solution(records[0].x, records, "auto", 0, "scripted")
+
+    monkeypatch.setattr(standard_wire, "solve_problem", scripted)
+    continuous = standard_wire.Solution(result.x, result.starts, "auto", 0, result.status)
+    solution, rounding = standard_wire.round_wires(problem, continuous)
+    starts = given[0]
+    assert len(given) == 1 and 3 <= len(starts) <= 5  # nearest, other, and the single moves that differ
+    objectives = [float(problem.objective_value(problem.evaluate(x))) for x in starts]
+    best = starts[int(np.argmin(objectives))]
+    np.testing.assert_array_equal(solution.x, best)
+    assert rounding.objective == pytest.approx(min(objectives), rel=1e-12)
+    names = problem.variables.names
+    for spring, (_, standard) in rounding.wires.items():
+        assert standard == best[names.index(f"{spring}.{standard_wire.WIRE}")]
+
+
 def test_a_start_where_a_spring_has_zero_length_is_skipped_not_a_crash():
     """Both anchor boxes centred on the shoulder pivot (the ground's origin and link1's): at the first start
     (the boxes' midpoints) the spring has zero length in every pose and no direction, so the design has no

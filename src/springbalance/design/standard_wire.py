@@ -12,10 +12,11 @@ reports what the rounding cost: the objective before and after, and each spring'
 With several coils, one coil after the other costs one solve per coil. A coil's rate
 ``k = G d⁴/(8 D³ n)`` and its stress ``8 K F D/(π d³)`` keep their values when ``d`` moves to a
 nearby size and ``D`` and ``n`` follow it, so the wires rarely interact: :func:`round_wires` first
-solves once with *every* wire held, two starts at once (every wire at its nearest preferred size;
-every wire at its other neighbour), and keeps the better feasible one when it costs at most
-:data:`JOINT_ACCEPT` of the continuous objective's distance to the unbalanced one. Only when
-neither start is feasible, or the joint rounding costs more, does it go coil by coil as above.
+solves once with *every* wire held, from several starts at once (every wire at its nearest preferred size;
+every wire at its other neighbour; every wire at its nearest but one at its other: :func:`_combinations`), and
+keeps the best feasible one when it costs at most :data:`JOINT_ACCEPT` of the continuous objective's distance
+to the unbalanced one. Only when no start is feasible, or the joint rounding costs more, does it go coil by
+coil as above.
 """
 
 from __future__ import annotations
@@ -183,6 +184,24 @@ def _best_candidate(
     return best
 
 
+def _combinations(choices: list[list[float]]) -> list[list[float]]:
+    """The sets of standard wires the joint rounding starts from, one per coil in each, from each coil's
+    ``[nearest, other]`` neighbour (the same size twice when it has one): every coil at its nearest size, every
+    coil at its other one, and every coil at its nearest but one at its other (the sets that repeat one before
+    are left out). One coil's wire moved to its other neighbour can cost much less than the nearest sizes together:
+    the UR5 example at seed 0 rounded its four wires at 4.2860 N·m RMS (its elbow cut 43.08 → 41.69 %), and with
+    the elbow coil's wire at 2.5 mm instead of 2.2 at 4.2594."""
+    nearest = [pair[0] for pair in choices]
+    found = [nearest, [pair[1] for pair in choices]]
+    for index, pair in enumerate(choices):
+        found.append(nearest[:index] + [pair[1]] + nearest[index + 1 :])
+    distinct: list[list[float]] = []
+    for combination in found:
+        if combination not in distinct:
+            distinct.append(combination)
+    return distinct
+
+
 def _joint_rounding(
     problem: DesignProblem, solution: Solution, continuous: float, solve_options: dict[str, Any]
 ) -> tuple[Solution, WireRounding] | None:
@@ -206,13 +225,13 @@ def _joint_rounding(
     if len(wires) < 2:
         return None
     held = [names.index(name) for _, name, _, _ in wires]
-    starts = np.repeat(x[None, :], 2, axis=0)
-    for row in range(2):
-        starts[row, held] = [choices[row] for _, _, _, choices in wires]
+    combinations = _combinations([choices for _, _, _, choices in wires])
+    starts = np.repeat(x[None, :], len(combinations), axis=0)
+    starts[:, held] = combinations
     try:
         found = solve_problem(
             problem,
-            starts=2,
+            starts=len(combinations),
             initial=starts,
             multipliers=solution.multipliers,
             fixed=[name for _, name, _, _ in wires],
