@@ -123,9 +123,13 @@ def test_the_demo_wires_are_rounded_together_to_preferred_sizes():
 
 def test_the_joint_rounding_starts_from_each_wire_moved_alone():
     """The sets of wires the joint rounding starts from: every coil at its nearest size, every coil at its other
-    neighbour, and each coil alone at its other one; a coil with one neighbour adds no set twice."""
-    sets = standard_wire._combinations([[2.2, 2.5], [4.0, 4.5], [3.0, 3.0]])
+    neighbour, and each coil alone at its other one; a coil with one neighbour adds no set twice, and a coil whose
+    wire is a standard size already (within AT_SIZE) is not moved alone."""
+    sets = standard_wire._combinations([[2.2, 2.5], [4.0, 4.5], [3.0, 3.0]], [2.3, 4.2, 3.0])
     assert sets == [[2.2, 4.0, 3.0], [2.5, 4.5, 3.0], [2.5, 4.0, 3.0], [2.2, 4.5, 3.0]]
+    at_size = 6.5 * (1 - 0.5 * standard_wire.AT_SIZE)
+    sets = standard_wire._combinations([[6.5, 6.0], [2.8, 3.0]], [at_size, 2.89])
+    assert sets == [[6.5, 2.8], [6.0, 3.0], [6.5, 3.0]]
 
 
 def test_the_joint_rounding_keeps_the_best_set_of_wires(monkeypatch):

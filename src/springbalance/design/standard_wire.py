@@ -38,6 +38,9 @@ WIRE = "wire_diameter"
 #: the joint rounding (every wire at once) is kept when it raises the objective by at most this fraction of
 #: the gap between the continuous optimum and the unbalanced arm's objective
 JOINT_ACCEPT = 0.05
+#: a continuous wire within this fraction of its nearest standard size is that size: the joint rounding does not
+#: also start from it at its other neighbour (:func:`_combinations`)
+AT_SIZE = 0.01
 
 
 @dataclasses.dataclass
@@ -184,17 +187,20 @@ def _best_candidate(
     return best
 
 
-def _combinations(choices: list[list[float]]) -> list[list[float]]:
+def _combinations(choices: list[list[float]], values: list[float]) -> list[list[float]]:
     """The sets of standard wires the joint rounding starts from, one per coil in each, from each coil's
-    ``[nearest, other]`` neighbour (the same size twice when it has one): every coil at its nearest size, every
-    coil at its other one, and every coil at its nearest but one at its other (the sets that repeat one before
-    are left out). One coil's wire moved to its other neighbour can cost much less than the nearest sizes together:
-    the UR5 example at seed 0 rounded its four wires at 4.2860 N·m RMS (its elbow cut 43.08 → 41.69 %), and with
-    the elbow coil's wire at 2.5 mm instead of 2.2 at 4.2594."""
+    ``[nearest, other]`` neighbour (the same size twice when it has one) of its continuous wire ``values`` [m]:
+    every coil at its nearest size, every coil at its other one, and every coil at its nearest but one at its other,
+    for each coil whose continuous wire lies more than :data:`AT_SIZE` from its nearest size (a wire that is a
+    standard size already moves a whole step away from its optimum); sets that repeat one before are left out.
+    One coil's wire moved to its other neighbour can cost much less than the nearest sizes together: the UR5
+    example at seed 0 rounded its four wires at 4.2860 N·m RMS (its elbow cut 43.08 → 41.69 %), and with the elbow
+    coil's wire at 2.5 mm instead of 2.2 at 4.2594."""
     nearest = [pair[0] for pair in choices]
     found = [nearest, [pair[1] for pair in choices]]
-    for index, pair in enumerate(choices):
-        found.append(nearest[:index] + [pair[1]] + nearest[index + 1 :])
+    for index, (pair, value) in enumerate(zip(choices, values)):
+        if abs(value - pair[0]) > AT_SIZE * pair[0]:
+            found.append(nearest[:index] + [pair[1]] + nearest[index + 1 :])
     distinct: list[list[float]] = []
     for combination in found:
         if combination not in distinct:
@@ -225,7 +231,7 @@ def _joint_rounding(
     if len(wires) < 2:
         return None
     held = [names.index(name) for _, name, _, _ in wires]
-    combinations = _combinations([choices for _, _, _, choices in wires])
+    combinations = _combinations([choices for _, _, _, choices in wires], [value for _, _, value, _ in wires])
     starts = np.repeat(x[None, :], len(combinations), axis=0)
     starts[:, held] = combinations
     try:
