@@ -15,9 +15,9 @@ import springbalance as sb
 from clearance_helpers import crossing_case
 from springbalance.design import clearance_round, clearance_starts
 from springbalance.design.clearance import FitRecord
-from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.design.solvers import Solution
 from springbalance.design.solvers.records import StartRecord
+from springbalance.design.worse_joints import weighted_joints_made_worse
 
 OPTIONS = {"method": "auto", "max_iterations": 100, "tolerance": 1e-8, "polish_iterations": None}
 
@@ -79,9 +79,9 @@ def test_the_fit_kept_carries_no_weighted_joint_worse_when_one_does_not(problem,
     (the in-plane optimum of this arm does: 4.63 against 3.92 N·m), the other has no spring force and carries
     what the bare arm carries. The fit kept is the second; its problem is the one with its rows."""
     fitted, start = problem
-    assert EvaluatedDesign(fitted, start).weighted_joints_made_worse() == ["elbow"]  # the premise
+    assert weighted_joints_made_worse(fitted, start) == ["elbow"]  # the premise
     idle = _stiffness_free(fitted, start)
-    assert EvaluatedDesign(fitted, idle).weighted_joints_made_worse() == []
+    assert weighted_joints_made_worse(fitted, idle) == []
     calls: list[np.ndarray] = []
 
     def scripted(problem, solution, kept=None, trusted_first=False, tighten=False, **options):

@@ -162,6 +162,31 @@ def test_the_joint_rounding_keeps_the_best_set_of_wires(monkeypatch):
         assert standard == best[names.index(f"{spring}.{standard_wire.WIRE}")]
 
 
+def test_the_joint_rounding_keeps_a_set_that_makes_no_weighted_joint_worse(monkeypatch):
+    """As above, with the set of lowest objective taken to carry a weighted joint worse than the bare arm: the
+    rounding keeps the best of the others."""
+    result = solve(load_config("examples/two_link.yaml"), progress=False, standard_wire=False)
+    problem = result.problem
+
+    def scripted(problem, starts, initial, **options):
+        records = [
+            StartRecord(i, x, x, float(problem.objective_value(problem.evaluate(x))), 0.0, "scripted", 1, 0.0)
+            for i, x in enumerate(np.array(initial))
+        ]
+        scripted.objectives = [record.objective for record in records]
+        return standard_wire.Solution(records[0].x, records, "auto", 0, "scripted")
+
+    def refused(problem, design):
+        return float(problem.objective_value(problem.evaluate(design))) == min(scripted.objectives)
+
+    monkeypatch.setattr(standard_wire, "solve_problem", scripted)
+    monkeypatch.setattr(standard_wire, "_refused", refused)
+    continuous = standard_wire.Solution(result.x, result.starts, "auto", 0, result.status)
+    solution, rounding = standard_wire.round_wires(problem, continuous)
+    assert rounding.objective == pytest.approx(sorted(scripted.objectives)[1], rel=1e-12)
+    assert rounding.objective > min(scripted.objectives)
+
+
 def test_a_start_where_a_spring_has_zero_length_is_skipped_not_a_crash():
     """Both anchor boxes centred on the shoulder pivot (the ground's origin and link1's): at the first start
     (the boxes' midpoints) the spring has zero length in every pose and no direction, so the design has no

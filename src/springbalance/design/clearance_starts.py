@@ -17,9 +17,9 @@ import numpy as np
 from springbalance.design.clearance import FitRecord, LinearRows
 from springbalance.design.clearance_fit import fit_to_arm
 from springbalance.design.clearance_round import FALLBACK_STARTS, fall_back
-from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.design.problem import DesignProblem
 from springbalance.design.solvers import Solution, forked
+from springbalance.design.worse_joints import weighted_joints_made_worse
 
 #: a fit as a worker returns it: the problem does not pickle, its rows do
 Fitted = tuple[Solution, FitRecord, "LinearRows | None"]
@@ -67,7 +67,7 @@ def fit_from_starts(
 
     def accepted(fit: Fitted) -> bool:
         if id(fit) not in refused:
-            refused[id(fit)] = bool(EvaluatedDesign(problem, fit[0].x).weighted_joints_made_worse())
+            refused[id(fit)] = bool(weighted_joints_made_worse(problem, fit[0].x))
         return not refused[id(fit)]
 
     def needed(index: int, done: list[Fitted]) -> bool:

@@ -28,16 +28,13 @@ from springbalance.design.stock import StockSelection
 from springbalance.design.tolerance_spec import ToleranceSpec
 from springbalance.design.twin import TwinRecord
 from springbalance.design.verification_record import VerificationRecord
+from springbalance.design.worse_joints import TORQUE_TOLERANCE, worse_rows
 from springbalance.errors import InputError
 from springbalance.model.workspace import Workspace
 from springbalance.springs.laws import Spring, TwoPointSpring
 from springbalance.springs.mass import CoilMass
 from springbalance.springs.records import spring_from_dict
 from springbalance.springs.sizing import HelicalDesign, Material, size_helical_spring
-
-#: torque differences below this fraction of the largest unbalanced peak are round-off
-#: (:meth:`EvaluatedDesign.joints_made_worse`)
-TORQUE_TOLERANCE = 1e-9
 
 
 @runtime_checkable
@@ -315,31 +312,10 @@ class EvaluatedDesign:
         }
 
     def joints_made_worse(self, tolerance: float = TORQUE_TOLERANCE) -> list[dict[str, Any]]:
-        """The joints that carry more torque with the springs than without: the rows of :meth:`metrics` whose peak
-        or RMS after exceeds the one before by more than ``tolerance`` × the bare arm's largest peak (the springs'
-        largest when gravity loads no joint), each with ``"worse"``: which of ``"peak"`` and ``"RMS"`` grew.
-        Every joint, whatever its weight (the caller decides what a joint of weight 0 means)."""
-        rows = self.metrics()["joints"]
-        largest = max((row["peak_before"] for row in rows), default=0.0)
-        if not largest > 0:  # gravity loads no joint: compare with what the springs leave
-            largest = max((row["peak_after"] for row in rows), default=0.0)
-        negligible = tolerance * largest
-        found = []
-        for row in rows:
-            worse = [
-                label
-                for label, key in (("peak", "peak"), ("RMS", "rms"))
-                if row[f"{key}_after"] - row[f"{key}_before"] > negligible
-            ]
-            if worse:
-                found.append({**row, "worse": worse})
-        return found
-
-    def weighted_joints_made_worse(self) -> list[str]:
-        """The names of the joints of weight > 0 in :meth:`joints_made_worse`: a design that the command refuses
-        (``worse_joint``)."""
-        weights = dict(zip((joint.name for joint in self.problem.mechanism.joints), self.problem.weights.tolist()))
-        return [row["joint"] for row in self.joints_made_worse() if weights.get(row["joint"], 1.0) > 0]
+        """The joints that carry more torque with the springs than without (:mod:`springbalance.design.worse_joints`):
+        the rows of :meth:`metrics`, each with ``"worse"``: which of ``"peak"`` and ``"RMS"`` grew. Every joint,
+        whatever its weight (the caller decides what a joint of weight 0 means)."""
+        return worse_rows(self.metrics()["joints"], tolerance)
 
     def exact_balance(self, tolerance: float = 1e-9) -> dict[str, Any]:
         """Whether the design balances exactly: residual torque zero to solver precision.

@@ -53,8 +53,9 @@ from typing import Callable
 
 import numpy as np
 
-from springbalance.design.evaluated import TORQUE_TOLERANCE, EvaluatedDesign
+from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.design.problem import DesignProblem
+from springbalance.design.worse_joints import TORQUE_TOLERANCE
 from springbalance.errors import InputError
 from springbalance.export.common import law_warnings, spring_name
 from springbalance.results.brackets import long_bracket_flags
@@ -146,7 +147,7 @@ def at_bound_flags(result: EvaluatedDesign, tolerance: float = BOUND_TOLERANCE) 
 # ---------------------------------------------------------------------- worse_joint
 def worse_joint_flags(result: EvaluatedDesign, tolerance: float = TORQUE_TOLERANCE) -> list[Flag]:
     """Joints whose peak or RMS torque is larger with the springs than without them
-    (:meth:`~springbalance.design.evaluated.EvaluatedDesign.joints_made_worse`): a failure on a joint of weight > 0
+    (:mod:`springbalance.design.worse_joints`): a failure on a joint of weight > 0
     (the design was asked to balance it), a warning on one of weight 0."""
     weights = dict(zip((joint.name for joint in result.problem.mechanism.joints), result.problem.weights.tolist()))
     found = []
