@@ -63,12 +63,8 @@ def fit_from_starts(
 
         return task
 
-    refused: dict[int, bool] = {}
-
     def accepted(fit: Fitted) -> bool:
-        if id(fit) not in refused:
-            refused[id(fit)] = bool(weighted_joints_made_worse(problem, fit[0].x))
-        return not refused[id(fit)]
+        return not weighted_joints_made_worse(problem, fit[0].x)
 
     def needed(index: int, done: list[Fitted]) -> bool:
         return index < count or fall_back(done, index - count, accepted)

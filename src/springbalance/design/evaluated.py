@@ -28,7 +28,7 @@ from springbalance.design.stock import StockSelection
 from springbalance.design.tolerance_spec import ToleranceSpec
 from springbalance.design.twin import TwinRecord
 from springbalance.design.verification_record import VerificationRecord
-from springbalance.design.worse_joints import TORQUE_TOLERANCE, worse_rows
+from springbalance.design.worse_joints import TORQUE_TOLERANCE, torque_rows, worse_rows
 from springbalance.errors import InputError
 from springbalance.model.workspace import Workspace
 from springbalance.springs.laws import Spring, TwoPointSpring
@@ -272,26 +272,17 @@ class EvaluatedDesign:
         problem = self.problem
         kinematics = problem.workspace.kinematics()
         before_tau, after_tau = kinematics.gravity_torque, self.evaluation.tau
-        joints = []
         # a joint that gravity does not load (|g| at round-off level) has no meaningful reduction
         negligible = 1e-9 * max(float(np.max(np.abs(before_tau))), 1e-300)
-        for joint in problem.mechanism.joints:
-            j = joint.index_v
-            peak_before, peak_after = float(np.max(np.abs(before_tau[:, j]))), float(np.max(np.abs(after_tau[:, j])))
-            rms_before = float(np.sqrt(np.mean(before_tau[:, j] ** 2)))
-            rms_after = float(np.sqrt(np.mean(after_tau[:, j] ** 2)))
-            joints.append(
-                {
-                    "joint": joint.name,
-                    "unit": joint.torque_unit,
-                    "peak_before": peak_before,
-                    "peak_after": peak_after,
-                    "peak_reduction_percent": _reduction(peak_before, peak_after, negligible),
-                    "rms_before": rms_before,
-                    "rms_after": rms_after,
-                    "rms_reduction_percent": _reduction(rms_before, rms_after, negligible),
-                }
-            )
+        joints = [
+            {
+                **{key: row[key] for key in ("joint", "unit", "peak_before", "peak_after")},
+                "peak_reduction_percent": _reduction(row["peak_before"], row["peak_after"], negligible),
+                **{key: row[key] for key in ("rms_before", "rms_after")},
+                "rms_reduction_percent": _reduction(row["rms_before"], row["rms_after"], negligible),
+            }
+            for row in torque_rows(problem, after_tau)
+        ]
         objectives = {}
         for name, cls in OBJECTIVES.items():
             objective = cls()

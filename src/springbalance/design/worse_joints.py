@@ -41,10 +41,10 @@ def worse_rows(rows: Iterable[dict[str, Any]], tolerance: float = TORQUE_TOLERAN
     return found
 
 
-def weighted_joints_made_worse(problem: DesignProblem, x: np.ndarray) -> list[str]:
-    """The joints of weight > 0 that design ``x`` (physical units) carries worse than the bare arm, at the
-    problem's samples."""
-    after = problem.evaluate(np.asarray(x, dtype=float)).tau
+def torque_rows(problem: DesignProblem, tau: np.ndarray) -> list[dict[str, Any]]:
+    """Per joint of ``problem``'s mechanism: its name, torque unit, and the peak and RMS over the samples of the
+    bare arm's torque (``peak_before``, ``rms_before``: gravity alone) and of the residual ``tau`` (N×nv) with the
+    springs (``peak_after``, ``rms_after``) [N·m or N]."""
     before = problem.workspace.kinematics().gravity_torque
     rows = []
     for joint in problem.mechanism.joints:
@@ -52,11 +52,19 @@ def weighted_joints_made_worse(problem: DesignProblem, x: np.ndarray) -> list[st
         rows.append(
             {
                 "joint": joint.name,
+                "unit": joint.torque_unit,
                 "peak_before": float(np.max(np.abs(before[:, j]))),
-                "peak_after": float(np.max(np.abs(after[:, j]))),
+                "peak_after": float(np.max(np.abs(tau[:, j]))),
                 "rms_before": float(np.sqrt(np.mean(before[:, j] ** 2))),
-                "rms_after": float(np.sqrt(np.mean(after[:, j] ** 2))),
+                "rms_after": float(np.sqrt(np.mean(tau[:, j] ** 2))),
             }
         )
+    return rows
+
+
+def weighted_joints_made_worse(problem: DesignProblem, x: np.ndarray) -> list[str]:
+    """The joints of weight > 0 that design ``x`` (physical units) carries worse than the bare arm, at the
+    problem's samples."""
+    rows = torque_rows(problem, problem.evaluate(np.asarray(x, dtype=float)).tau)
     weights = dict(zip((joint.name for joint in problem.mechanism.joints), problem.weights.tolist()))
     return [row["joint"] for row in worse_rows(rows) if weights.get(row["joint"], 1.0) > 0]
