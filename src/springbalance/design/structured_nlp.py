@@ -40,10 +40,10 @@ the rows that are violated or among the :data:`WORKING_ROWS` closest to binding 
 :data:`ROWS_PER_VARIABLE` per variable) at the start, solves, evaluates *every* row at the solution,
 adds the rows found violated (and the next closest), and solves again from there, until no row
 outside the set is violated: the answer then satisfies the full NLP's KKT conditions, as if all rows
-had been there. The maps over the samples run only over the samples that the cost and the rows in
-the set depend on (all of them for ``rms``, a few hundred for ``peak``). A bound over the samples (a coil's
-fatigue floor ``P_i - F_lo ≥ 0`` or ceiling) starts with the rows of its :data:`EXTREME_SAMPLES` smallest
-samples instead of those of the spread samples.
+had been there (a solve with helical coils may end on a plateau of its objective instead of at IPOPT's tolerance:
+:mod:`~springbalance.design.plateau`). The maps over the samples run only over the samples that the cost and the
+rows in the set depend on (all of them for ``rms``, a few hundred for ``peak``). A bound over the samples (a coil's
+fatigue floor ``P_i - F_lo ≥ 0`` or ceiling) starts with the rows of its :data:`EXTREME_SAMPLES` smallest samples.
 
 **Rows evaluated once.** A row of no sample enters the NLP once (from sample 0's outputs), but the
 per-sample functions compute it at every sample. The rows a constraint marks ``once`` (a coil's fatigue
@@ -58,6 +58,7 @@ from typing import Any, Callable
 import casadi as ca
 import numpy as np
 
+from springbalance.design.plateau import PLATEAU_STATUS, Plateau, stops_on_plateau
 from springbalance.design.torque_model import compiled
 
 
@@ -81,7 +82,7 @@ WARM_PUSH = 1e-6
 #: a row outside the working set counts as violated below this (scaled units, as IPOPT's ``tol``)
 ROW_TOLERANCE = 1e-8
 #: IPOPT statuses after which a further round may follow (not after a failure or the iteration limit)
-CONVERGED = ("Solve_Succeeded", "Solved_To_Acceptable_Level")
+CONVERGED = ("Solve_Succeeded", "Solved_To_Acceptable_Level", PLATEAU_STATUS)
 #: working-set rounds at most (each adds rows; the last one solves with every row still missing)
 MAX_ROUNDS = 12
 
@@ -113,6 +114,7 @@ class StructuredNlp:
         if not _linear_in(both, design):
             raise NotStructured("the NLP depends nonlinearly on the design variables other than through the samples")
         self.n_rows = int(nlp.rows.numel())
+        self.stops_on_plateau = stops_on_plateau(problem)
         self.extra_start: Callable[[np.ndarray], np.ndarray] | None = None
         if nlp.size > n_x:
             starts = nlp.extra_start
@@ -216,11 +218,15 @@ class StructuredNlp:
         """Every row of the NLP at ``x`` (design and extra variables, scaled)."""
         return np.array(self._all_rows(x)).reshape(-1)
 
-    def _solver(self, rows: np.ndarray, options: dict) -> ca.Function:
-        """IPOPT on the NLP restricted to ``rows``, differentiated through the samples they use."""
+    def _solver(self, rows: np.ndarray, options: dict) -> tuple[ca.Function, Plateau | None]:
+        """IPOPT on the NLP restricted to ``rows``, differentiated through the samples they use, and its
+        :class:`~springbalance.design.plateau.Plateau` callback (None when the NLP does not stop on a plateau)."""
         x, cost, constraints, derivatives = self.callbacks(rows)
         options = {**options, **derivatives, "calc_lam_p": False, "no_nlp_grad": True}
-        return ca.nlpsol("springbalance", "ipopt", {"x": x, "f": cost, "g": constraints}, options)
+        plateau = Plateau(int(x.numel()), int(constraints.numel())) if self.stops_on_plateau else None
+        if plateau is not None:
+            options["iteration_callback"] = plateau
+        return ca.nlpsol("springbalance", "ipopt", {"x": x, "f": cost, "g": constraints}, options), plateau
 
     def _phi_functions(self, rows: np.ndarray) -> tuple:
         """The NLP restricted to ``rows`` over the outputs of the samples it uses only: ``(samples, n_g, linear,
@@ -366,8 +372,7 @@ class StructuredNlp:
             if round_ == MAX_ROUNDS - 1:
                 active[:] = True
             rows = np.flatnonzero(active)
-            # a warm round usually needs a few iterations; it may take half the budget even when the
-            # first rounds used it up (all rounds together stop at twice the budget)
+            # a warm round usually needs few iterations; it may take half the budget even when the first ones used it
             round_options = {**options, "ipopt.max_iter": max(1, max_iterations - iterations, max_iterations // 2)}
             arguments = {"x0": x, "lbx": lower, "ubx": upper, "lbg": 0.0, "ubg": np.inf}
             if multipliers is not None:  # warm start: the previous round's multipliers, 0 for the new rows
@@ -380,11 +385,11 @@ class StructuredNlp:
                         lower[self.n_design :],
                         upper[self.n_design :],
                     )
-            solver = self._solver(rows, round_options)
+            solver, plateau = self._solver(rows, round_options)
             result = solver(**arguments)
             stats = solver.stats()
             iterations += int(stats.get("iter_count", 0))
-            status = str(stats.get("return_status", "unknown"))
+            status = PLATEAU_STATUS if plateau and plateau.stopped else str(stats.get("return_status", "unknown"))
             x = np.clip(np.array(result["x"]).reshape(-1), lower, upper)
             lam_g = np.zeros(self.n_rows)
             lam_g[rows] = np.array(result["lam_g"]).reshape(-1)

@@ -27,6 +27,7 @@ from __future__ import annotations
 import re
 
 from springbalance.design.evaluated import EvaluatedDesign
+from springbalance.design.plateau import PLATEAU_STATUS
 from springbalance.design.solvers import FEASIBILITY_TOLERANCE
 from springbalance.results.clearance import checked_clearance
 from springbalance.results.flag import FAILURE, Flag
@@ -57,6 +58,7 @@ FINISHED_STATUSES = (
     "Feasible_Point_Found",
     "Search_Direction_Becomes_Too_Small",
     "Maximum_Iterations_Exceeded",
+    PLATEAU_STATUS,
 )
 #: a solver status in a status text: IPOPT's (not followed by " (not kept)"), or least squares' own
 _STATUS = re.compile(
