@@ -104,3 +104,19 @@ def test_a_structured_solve_stopped_on_a_plateau_reports_it_as_finished(monkeypa
 @pytest.mark.parametrize("status", ["Maximum_Iterations_Exceeded", "User_Requested_Stop"])
 def test_other_statuses_keep_their_meaning(status):
     assert last_solver_status(f"ipopt: {status}") == (status, status == "User_Requested_Stop")
+
+
+def test_a_plateau_where_rows_outside_the_solve_are_broken_stops_nothing():
+    """A working set's plateau on a design that breaks rows the solve does not see: the callback asks once, then lets
+    IPOPT go on as without it (its own tolerance or limit; the working set then grows)."""
+    asked = []
+
+    def broken(x):
+        asked.append(x.size)
+        return False
+
+    callback = Plateau(2, 1, broken)
+    assert not any(_iterate(callback, 1.0, 0.0) for _ in range(3 * MIN_ITERATIONS))
+    assert callback.gave_up and not callback.stopped and asked == [2]
+    met = Plateau(2, 1, lambda x: True)
+    assert [_iterate(met, 1.0, 0.0) for _ in range(MIN_ITERATIONS + 1)].index(1) == MIN_ITERATIONS

@@ -24,7 +24,7 @@ its iteration limit, as before.
 
 from __future__ import annotations
 
-from typing import Any, Sequence
+from typing import Any, Callable, Sequence
 
 import casadi as ca
 import numpy as np
@@ -51,13 +51,20 @@ def stops_on_plateau(problem: Any) -> bool:
 class Plateau(ca.Callback):
     """IPOPT's iteration callback (CasADi's ``iteration_callback``) that stops a solve on a plateau of its
     objective (see the module docstring). One per solver: it keeps the objective of each iteration so far
-    (NaN where the iterate broke a row); :attr:`stopped` says whether it stopped the solve."""
+    (NaN where the iterate broke a row of the solve); :attr:`stopped` says whether it stopped the solve.
 
-    def __init__(self, n_x: int, n_g: int) -> None:
+    ``every_row_met``: whether an iterate (IPOPT's ``x``) meets the rows the solve does not see (those outside a
+    working set, :mod:`~springbalance.design.structured_nlp`). At the first plateau where it does not, the callback
+    stops no more (:attr:`gave_up`): the solve goes on as without it, to IPOPT's tolerance or its limit, where the
+    working set grows. Stopped on a plateau, a round of a small budget would have to pull the design back into
+    rows it breaks: on the Panda example at seed 1 such rounds ended on their limit, infeasible, and the multi-start
+    kept a poorer design (4.75 N·m instead of 2.89)."""
+
+    def __init__(self, n_x: int, n_g: int, every_row_met: Callable[[np.ndarray], bool] | None = None) -> None:
         ca.Callback.__init__(self)
-        self.n_x, self.n_g = n_x, n_g
+        self.n_x, self.n_g, self.every_row_met = n_x, n_g, every_row_met
         self.objectives: list[float] = []
-        self.stopped = False
+        self.stopped = self.gave_up = False
         self.construct("plateau", {})
 
     def get_n_in(self) -> int:
@@ -87,7 +94,10 @@ class Plateau(ca.Callback):
         if k < max(MIN_ITERATIONS, WINDOW) or not feasible:
             return [0]
         before = self.objectives[k - WINDOW]
-        if np.isfinite(before) and before - objective <= RELATIVE_GAIN * abs(objective):
-            self.stopped = True
-            return [1]
-        return [0]
+        if self.gave_up or not (np.isfinite(before) and before - objective <= RELATIVE_GAIN * abs(objective)):
+            return [0]
+        if self.every_row_met is not None and not self.every_row_met(np.asarray(arg[0], dtype=float).reshape(-1)):
+            self.gave_up = True
+            return [0]
+        self.stopped = True
+        return [1]

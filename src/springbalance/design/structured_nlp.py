@@ -75,9 +75,8 @@ SPREAD_SAMPLES = 64
 #: ... but of a bound over the samples (:attr:`ConstraintBlock.extreme`), the rows of this many samples where it is
 #: smallest instead
 EXTREME_SAMPLES = 4
-#: how far a warm-started round pushes its start point and multipliers into the interior (IPOPT's
-#: adaptive barrier strategy then picks the barrier parameter itself: its ``mu_init`` counts only for
-#: the monotone one, which took 1.5-2× the iterations here)
+#: how far a warm-started round pushes its start point and multipliers into the interior (IPOPT's adaptive barrier
+#: strategy then picks the barrier parameter itself: its ``mu_init`` counts only for the monotone one, 1.5-2× slower)
 WARM_PUSH = 1e-6
 #: a row outside the working set counts as violated below this (scaled units, as IPOPT's ``tol``)
 ROW_TOLERANCE = 1e-8
@@ -219,13 +218,14 @@ class StructuredNlp:
         return np.array(self._all_rows(x)).reshape(-1)
 
     def _solver(self, rows: np.ndarray, options: dict) -> tuple[ca.Function, Plateau | None]:
-        """IPOPT on the NLP restricted to ``rows``, differentiated through the samples they use, and its
-        :class:`~springbalance.design.plateau.Plateau` callback (None when the NLP does not stop on a plateau)."""
+        """IPOPT on the NLP restricted to ``rows`` (derivatives through their samples) and its plateau callback."""
         x, cost, constraints, derivatives = self.callbacks(rows)
         options = {**options, **derivatives, "calc_lam_p": False, "no_nlp_grad": True}
-        plateau = Plateau(int(x.numel()), int(constraints.numel())) if self.stops_on_plateau else None
-        if plateau is not None:
-            options["iteration_callback"] = plateau
+        outside = np.setdiff1d(np.arange(self.n_rows), rows)  # a plateau stops only where these are met too
+        plateau = None
+        if self.stops_on_plateau:
+            met = lambda point: bool(np.all(self.row_values(point)[outside] >= -ROW_TOLERANCE))  # noqa: E731
+            options["iteration_callback"] = plateau = Plateau(int(x.numel()), int(constraints.numel()), met)
         return ca.nlpsol("springbalance", "ipopt", {"x": x, "f": cost, "g": constraints}, options), plateau
 
     def _phi_functions(self, rows: np.ndarray) -> tuple:
