@@ -214,8 +214,9 @@ def test_a_clear_design_outside_its_rows_is_not_the_fit(problem, monkeypatch):
 
 
 def _fit(rounds: int, converged: bool, status: str = "ipopt: Solve_Succeeded") -> tuple:
-    """A fit as fit_to_arm returns it: its solution (with the status), its record, its problem (unused here)."""
-    return Solution(np.zeros(1), [], "ipopt", 0, status), FitRecord(rounds, 4, converged, 1.0, 1.0), None
+    """A fit as fit_to_arm returns it: its solution (with the status), its record (fitted at 1.5 times the
+    objective before, beyond clearance_round.AT_BEST), its problem (unused here)."""
+    return Solution(np.zeros(1), [], "ipopt", 0, status), FitRecord(rounds, 4, converged, 1.0, 1.5), None
 
 
 def test_a_fit_that_had_to_move_its_design_is_compared_with_the_next_design_once():

@@ -74,6 +74,18 @@ def test_a_fit_that_makes_a_joint_worse_sends_the_loop_to_the_next_design():
     assert clearance_round.fall_back([moved], 0, accepted)
 
 
+def test_no_further_design_is_fitted_once_a_moved_fit_ends_at_the_best_objective():
+    """A fit adds rows to the problem, so a fit that ends within AT_BEST of the best design's objective before any
+    fit is as good as another could end: the next ranked design is not fitted, though the rounds moved the design."""
+
+    def fit(objective: float):
+        return (Solution(np.ones(1), [], "ipopt", 0, "ok"), FitRecord(10, 4, True, 1.0, objective), None)
+
+    assert not clearance_round.fall_back([fit(0.95)], 0)  # below it (the multi-start's own polish was looser)
+    assert not clearance_round.fall_back([fit(1.0 + 0.5 * clearance_round.AT_BEST)], 0)
+    assert clearance_round.fall_back([fit(1.0 + 2.0 * clearance_round.AT_BEST)], 0)
+
+
 def test_the_fit_kept_carries_no_weighted_joint_worse_when_one_does_not(problem, monkeypatch):
     """Two designs fitted (scripted): the better one by objective carries the elbow's peak above the bare arm's
     (the in-plane optimum of this arm does: 4.63 against 3.92 N·m), the other has no spring force and carries
