@@ -65,6 +65,8 @@ class Plateau(ca.Callback):
         self.n_x, self.n_g, self.every_row_met = n_x, n_g, every_row_met
         self.objectives: list[float] = []
         self.stopped = self.gave_up = False
+        names = ca.nlpsol_out()
+        self._x, self._f, self._g = names.index("x"), names.index("f"), names.index("g")
         self.construct("plateau", {})
 
     def get_n_in(self) -> int:
@@ -86,17 +88,17 @@ class Plateau(ca.Callback):
 
     def eval(self, arg: Sequence[ca.DM]) -> list:
         """One iteration: ``[1]`` stops IPOPT, ``[0]`` lets it go on."""
-        objective = float(arg[ca.nlpsol_out().index("f")])
-        rows = np.asarray(arg[ca.nlpsol_out().index("g")], dtype=float).reshape(-1)
+        objective = float(arg[self._f])
+        rows = np.asarray(arg[self._g], dtype=float).reshape(-1)
         feasible = rows.size == 0 or float(rows.min()) >= -ROW_SLACK
         self.objectives.append(objective if feasible else float("nan"))
         k = len(self.objectives) - 1
-        if k < max(MIN_ITERATIONS, WINDOW) or not feasible:
+        if self.gave_up or k < max(MIN_ITERATIONS, WINDOW) or not feasible:
             return [0]
         before = self.objectives[k - WINDOW]
-        if self.gave_up or not (np.isfinite(before) and before - objective <= RELATIVE_GAIN * abs(objective)):
+        if not (np.isfinite(before) and before - objective <= RELATIVE_GAIN * abs(objective)):
             return [0]
-        if self.every_row_met is not None and not self.every_row_met(np.asarray(arg[0], dtype=float).reshape(-1)):
+        if self.every_row_met is not None and not self.every_row_met(np.asarray(arg[self._x], dtype=float).reshape(-1)):
             self.gave_up = True
             return [0]
         self.stopped = True

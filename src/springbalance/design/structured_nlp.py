@@ -221,9 +221,9 @@ class StructuredNlp:
         """IPOPT on the NLP restricted to ``rows`` (derivatives through their samples) and its plateau callback."""
         x, cost, constraints, derivatives = self.callbacks(rows)
         options = {**options, **derivatives, "calc_lam_p": False, "no_nlp_grad": True}
-        outside = np.setdiff1d(np.arange(self.n_rows), rows)  # a plateau stops only where these are met too
         plateau = None
-        if self.stops_on_plateau:
+        if self.stops_on_plateau:  # a plateau stops the solve only where the rows outside ``rows`` are met too
+            outside = np.setdiff1d(np.arange(self.n_rows), rows)
             met = lambda point: bool(np.all(self.row_values(point)[outside] >= -ROW_TOLERANCE))  # noqa: E731
             options["iteration_callback"] = plateau = Plateau(int(x.numel()), int(constraints.numel()), met)
         return ca.nlpsol("springbalance", "ipopt", {"x": x, "f": cost, "g": constraints}, options), plateau
