@@ -83,6 +83,32 @@ def test_derivatives_equal_casadi_of_the_plain_nlp(make):
             assert np.allclose(a, b, rtol=1e-10, atol=1e-12 * max(1.0, np.max(np.abs(a)))), name
 
 
+@pytest.mark.parametrize("make", [lambda: _planar("rms"), _coils], ids=["rms", "coil-rows"])
+def test_derivatives_on_a_working_set_equal_casadi_of_the_plain_nlp(make):
+    """On a part of the rows, whose samples are fewer than the cost's (rms uses every sample), the rows and their
+    Jacobian come from those samples alone and still equal CasADi's derivatives of the plain NLP's same rows."""
+    problem = make()
+    structured = StructuredNlp(problem)
+    every = np.arange(structured.n_rows)
+    rows = every[(every % 3 == 1) & (structured._row_sample < structured.n_samples // 2)]
+    x, _, constraints, derivatives = structured.callbacks(rows)
+    assert structured._restricted(rows).row_samples.size < structured._restricted(rows).samples.size
+    plain = problem.build()
+    rng = np.random.default_rng(11)
+    point, multipliers = rng.random(plain.size), rng.normal(size=rows.size)
+    g_rows = plain.rows[rows.tolist()]
+    theirs_jacobian = ca.Function("j", [plain.z], [g_rows, ca.jacobian(g_rows, plain.z)])(point)
+    mine_jacobian = derivatives["jac_g"](point, [])
+    lagrangian = 0.8 * plain.cost + ca.dot(multipliers, g_rows)
+    theirs_hessian = ca.Function("h", [plain.z], [ca.triu(ca.hessian(lagrangian, plain.z)[0])])(point)
+    mine_hessian = derivatives["hess_lag"](point, [], 0.8, multipliers)
+    mine_rows = ca.Function("g", [x], [constraints])(point)
+    for a, b in zip([*theirs_jacobian, theirs_hessian, theirs_jacobian[0]], [*mine_jacobian, mine_hessian, mine_rows]):
+        a, b = _dense(a), _dense(b)
+        assert a.shape == b.shape
+        assert np.allclose(a, b, rtol=1e-10, atol=1e-12 * max(1.0, np.max(np.abs(a))))
+
+
 def test_working_set_ends_at_a_solution_of_the_full_nlp():
     """From the rms design, a peak solve sees a part of the 2·N·nv rows, yet every row holds at its answer
     and IPOPT on all rows, started there, finds nothing lower."""

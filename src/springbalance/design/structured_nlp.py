@@ -42,7 +42,8 @@ adds the rows found violated (and the next closest), and solves again from there
 outside the set is violated: the answer then satisfies the full NLP's KKT conditions, as if all rows
 had been there (a solve with helical coils may end on a plateau of its objective instead of at IPOPT's tolerance:
 :mod:`~springbalance.design.plateau`). The maps over the samples run only over the samples that the cost and the
-rows in the set depend on (all of them for ``rms``, a few hundred for ``peak``). A bound over the samples (a coil's
+rows in the set depend on (all of them for ``rms``, a few hundred for ``peak``); the rows and their Jacobian
+only over the samples of the rows (:meth:`StructuredNlp.callbacks`). A bound over the samples (a coil's
 fatigue floor ``P_i - F_lo ≥ 0`` or ceiling) starts with the rows of its :data:`EXTREME_SAMPLES` smallest samples.
 
 **Rows evaluated once.** A row of no sample enters the NLP once (from sample 0's outputs), but the
@@ -58,6 +59,7 @@ from typing import Any, Callable
 import casadi as ca
 import numpy as np
 
+from springbalance.design.output_structure import RestrictedNlp, diagonal_curvature, linear_in, samples_of
 from springbalance.design.plateau import PLATEAU_STATUS, Plateau, stops_on_plateau
 from springbalance.design.torque_model import compiled
 
@@ -108,9 +110,9 @@ class StructuredNlp:
         design = ca.MX.sym("z", n_x)
         self.nlp = nlp = problem.assemble(design, grid[:nv, :], grid[nv, :], grid[nv + 1 :, :], objective)
         both = ca.vertcat(nlp.cost, nlp.rows)
-        if nlp.size > n_x and not _linear_in(both, ca.vertcat(*nlp.z.primitives()[1:])):
+        if nlp.size > n_x and not linear_in(both, ca.vertcat(*nlp.z.primitives()[1:])):
             raise NotStructured("the objective's extra variables enter its NLP nonlinearly")
-        if not _linear_in(both, design):
+        if not linear_in(both, design):
             raise NotStructured("the NLP depends nonlinearly on the design variables other than through the samples")
         self.n_rows = int(nlp.rows.numel())
         self.stops_on_plateau = stops_on_plateau(problem)
@@ -129,7 +131,7 @@ class StructuredNlp:
         np.minimum.at(self._row_sample, np.asarray(rows_of, dtype=int), np.asarray(columns_of, dtype=int) // m)
 
         # the outputs k of a sample on which ∂²L/∂Y² has its (diagonal) entries; None when it is not diagonal
-        self._curved = _diagonal_curvature(ca.vertcat(nlp.cost, nlp.rows), self._outputs, m)
+        self._curved = diagonal_curvature(ca.vertcat(nlp.cost, nlp.rows), self._outputs, m)
         self._curved_list = [] if self._curved is None else self._curved.tolist()
 
         # per sample, compiled: y_s, then y_s with J_sᵀ, then the Hessian of ȳ_sᵀ y_s (+ J_kᵀ diag(d) J_k)
@@ -153,7 +155,10 @@ class StructuredNlp:
         varying = [block for block in model.constraint_blocks if block.per_sample]
         self._extreme = [(b, len(varying)) for b, block in enumerate(varying) if block.extreme]
         x = ca.MX.sym("x", nlp.size)
-        self._all_rows = ca.Function("all_rows", [x], [self._oracle(x, np.arange(self.n_samples), nlp.rows)[1]])
+        every_output = self._mapped(np.arange(self.n_samples), x[:n_x])[0]
+        self._all_rows = ca.Function(
+            "all_rows", [x], [ca.Function("g", [self._outputs, nlp.z], [nlp.rows])(every_output, x)]
+        )
 
     def _split_once(self, blocks: list, nv: int, z: ca.SX, y: ca.SX) -> ca.SX:
         """``y`` with the rows evaluated once (:attr:`ConstraintBlock.once`: rows of no sample, a coil's fatigue
@@ -190,20 +195,6 @@ class StructuredNlp:
         values, transposed = self._once_jacobian(z)
         return place, values, transposed
 
-    def _oracle(self, x: ca.MX, samples: np.ndarray, rows: ca.MX) -> tuple[ca.MX, ca.MX]:
-        """``(f, g)`` at ``x`` with the per-sample outputs of ``samples`` only (the others are not needed)."""
-        outputs = ca.vec(
-            self._sample_outputs.map("outputs", "serial", samples.size, [0], [])(
-                x[: self.n_design], ca.MX(ca.DM(self._data[:, samples]))
-            )
-        )
-        once = self._once(samples, x[: self.n_design])
-        if once is not None:
-            outputs = outputs + once[0] @ once[1]
-        phi = ca.Function("phi", [self._outputs, self.nlp.z], [self.nlp.cost, rows])
-        # casadi's stubs type a call as one MX; a function of two outputs returns the tuple of both
-        return phi(self._scatter(samples) @ outputs, x)  # type: ignore[return-value]
-
     def _scatter(self, samples: np.ndarray) -> ca.DM:
         """The sparse 0/1 matrix that places the outputs of ``samples`` in vec(Y) (zeros elsewhere)."""
         m = self.n_outputs
@@ -228,23 +219,19 @@ class StructuredNlp:
             options["iteration_callback"] = plateau = Plateau(int(x.numel()), int(constraints.numel()), met)
         return ca.nlpsol("springbalance", "ipopt", {"x": x, "f": cost, "g": constraints}, options), plateau
 
-    def _phi_functions(self, rows: np.ndarray) -> tuple:
-        """The NLP restricted to ``rows`` over the outputs of the samples it uses only: ``(samples, n_g, linear,
-        diagonal, phi, phi_gradient, phi_jacobian, phi_hessian)`` (``linear``: ``f`` and ``g`` linear in the
-        outputs; ``diagonal``: ``∂²L/∂Y²`` diagonal), the ``phi*`` functions of ``(Y_local, w)``."""
+    def _restricted(self, rows: np.ndarray) -> RestrictedNlp:
+        """The NLP restricted to ``rows`` as functions of the outputs of the samples it uses."""
         nlp, n_x, m = self.nlp, self.n_design, self.n_outputs
         f, g = nlp.cost, nlp.rows[rows.tolist()] if rows.size < self.n_rows else nlp.rows
-        used = ca.jacobian(ca.vertcat(f, g), self._outputs).sparsity().get_col()
-        samples = np.unique(np.asarray(used, dtype=int) // m) if len(used) else np.zeros(0, dtype=int)
-        if samples.size == 0:
-            samples = np.zeros(1, dtype=int)
-        count = samples.size
-        # the NLP over the outputs of those samples only
-        local = ca.MX.sym("Y", m * count)
-        f_local, g_local = ca.Function("phi", [self._outputs, nlp.z], [f, g])(self._scatter(samples) @ local, nlp.z)
+        samples, row_samples = samples_of(ca.vertcat(f, g), self._outputs, m), samples_of(g, self._outputs, m)
+        samples, row_samples = (found if found.size else np.zeros(1, dtype=int) for found in (samples, row_samples))
+        phi = ca.Function("phi", [self._outputs, nlp.z], [f, g])
+        local, local_rows = ca.MX.sym("Y", m * samples.size), ca.MX.sym("Y_rows", m * row_samples.size)
+        f_local, g_all = phi(self._scatter(samples) @ local, nlp.z)
+        g_local = phi(self._scatter(row_samples) @ local_rows, nlp.z)[1]
         n_g = int(g_local.numel())
         lam_f, lam_g = ca.MX.sym("lam_f"), ca.MX.sym("lam_g", n_g)
-        ybar = ca.gradient(lam_f * f_local + ca.dot(lam_g, g_local), local)
+        ybar = ca.gradient(lam_f * f_local + ca.dot(lam_g, g_all), local)
         # ȳ does not depend on Y when f and g are linear in Y (epigraphs, constraint rows); when ∂²L/∂Y² is
         # diagonal (rms), its diagonal is ∂²L/∂Y² 1 and the per-sample Hessian adds J_kᵀ diag(d_k) J_k itself;
         # otherwise the Gauss–Newton-like term is Jᵀ (∂²L/∂Y²) J, n forward directions through ȳ
@@ -253,48 +240,69 @@ class StructuredNlp:
         curved = self._curved_list
         if linear or diagonal:
             curvature = (
-                ca.reshape(ca.jtimes(ybar, local, ca.DM.ones(m * count)), m, count)[curved, :]
+                ca.reshape(ca.jtimes(ybar, local, ca.DM.ones(m * samples.size)), m, samples.size)[curved, :]
                 if diagonal
-                else ca.MX(len(curved), count)
+                else ca.MX(len(curved), samples.size)
             )
-            phi_hessian = ca.Function("phi_hessian", [local, nlp.z, lam_f, lam_g], [ybar, curvature])
+            hessian = ca.Function("phi_hessian", [local, nlp.z, lam_f, lam_g], [ybar, curvature])
         else:
-            directions = ca.MX.sym("J", m * count, n_x)
-            phi_hessian = ca.Function(
+            directions = ca.MX.sym("J", m * samples.size, n_x)
+            hessian = ca.Function(
                 "phi_hessian",
                 [local, nlp.z, lam_f, lam_g, directions],
                 [ybar, ca.mtimes(directions.T, ca.jtimes(ybar, local, directions))],
             )
-        phi = ca.Function("phi", [local, nlp.z], [f_local, g_local])
-        phi_gradient = ca.Function(
-            "phi_gradient", [local, nlp.z], [f_local, ca.gradient(f_local, local), ca.gradient(f_local, nlp.z)]
+        return RestrictedNlp(
+            samples,
+            row_samples,
+            n_g,
+            linear,
+            diagonal,
+            ca.Function("cost", [local, nlp.z], [f_local]),
+            ca.Function(
+                "cost_gradient", [local, nlp.z], [f_local, ca.gradient(f_local, local), ca.gradient(f_local, nlp.z)]
+            ),
+            ca.Function("rows", [local_rows, nlp.z], [g_local]).expand(),
+            ca.Function(
+                "rows_jacobian",
+                [local_rows, nlp.z],
+                [g_local, ca.jacobian(g_local, local_rows).T, ca.jacobian(g_local, nlp.z)],
+            ).expand(),
+            hessian,
         )
-        phi_jacobian = ca.Function(
-            "phi_jacobian", [local, nlp.z], [g_local, ca.jacobian(g_local, local), ca.jacobian(g_local, nlp.z)]
-        )
-        return samples, n_g, linear, diagonal, phi, phi_gradient, phi_jacobian, phi_hessian
 
-    def callbacks(self, rows: np.ndarray) -> tuple:
-        """``(x, f, g, {"grad_f", "jac_g", "hess_lag"})`` of the NLP restricted to ``rows``: the variables,
-        cost and rows as MX expressions, and the three derivative functions with the signatures IPOPT's
-        interface expects (``nlp_grad_f``, ``nlp_jac_g``, ``nlp_hess_l``)."""
-        nlp, n_x, m = self.nlp, self.n_design, self.n_outputs
-        samples, n_g, linear, diagonal, phi, phi_gradient, phi_jacobian, phi_hessian = self._phi_functions(rows)
-        count, curved = samples.size, self._curved_list
-
-        # the oracle and its derivatives, as IPOPT's callbacks expect them
-        x, p = ca.MX.sym("x", nlp.size), ca.MX.sym("p", 0)
-        zx, columns, n_extra = x[:n_x], ca.MX(ca.DM(self._data[:, samples])), nlp.size - n_x
-        values = ca.vec(self._sample_outputs.map("outputs", "serial", count, [0], [])(zx, columns))
-        values_j, transposed = self._sample_jacobian.map("jacobian", "serial", count, [0], [])(zx, columns)
+    def _mapped(self, samples: np.ndarray, z: ca.MX) -> tuple[ca.MX, ca.MX, ca.MX, ca.MX, tuple | None]:
+        """Over ``samples`` at ``z``: ``(Y, Y, Jᵀ, data, once)``: their outputs (from the outputs' map, then from the
+        Jacobians' map) with the rows evaluated once added to sample 0's, the Jacobians transposed (n × m·count),
+        the samples' data and :meth:`_once`'s result."""
+        count, columns = samples.size, ca.MX(ca.DM(self._data[:, samples]))
+        values = ca.vec(self._sample_outputs.map("outputs", "serial", count, [0], [])(z, columns))
+        values_j, transposed = self._sample_jacobian.map("jacobian", "serial", count, [0], [])(z, columns)
         values_j = ca.vec(values_j)
-        once = self._once(samples, zx)
+        once = self._once(samples, z)
         if once is not None:  # the rows evaluated once, in sample 0's outputs
             place, once_values, once_transposed = once
             values, values_j = values + place @ once_values, values_j + place @ once_values
             transposed = transposed + ca.mtimes(once_transposed, place.T)
-        cost, constraints = phi(values, x)
-        cost_j, cost_y, cost_w = phi_gradient(values_j, x)
+        return values, values_j, transposed, columns, once
+
+    def callbacks(self, rows: np.ndarray) -> tuple:
+        """``(x, f, g, {"grad_f", "jac_g", "hess_lag"})`` of the NLP restricted to ``rows``: the variables,
+        cost and rows as MX expressions, and the three derivative functions with the signatures IPOPT's
+        interface expects (``nlp_grad_f``, ``nlp_jac_g``, ``nlp_hess_l``). The cost, its gradient and the
+        Hessian map over the samples the cost or the rows use; the rows and their Jacobian over the rows'
+        samples only (for ``rms``, a few hundred of the workspace's samples)."""
+        nlp, n_x, m = self.nlp, self.n_design, self.n_outputs
+        restricted = self._restricted(rows)
+        samples, n_g, count, curved = restricted.samples, restricted.n_g, restricted.samples.size, self._curved_list
+
+        # the oracle and its derivatives, as IPOPT's callbacks expect them
+        x, p = ca.MX.sym("x", nlp.size), ca.MX.sym("p", 0)
+        zx, n_extra = x[:n_x], nlp.size - n_x
+        values, values_j, transposed, columns, once = self._mapped(samples, zx)
+        row_values, row_values_j, row_transposed, _, _ = self._mapped(restricted.row_samples, zx)
+        cost, constraints = restricted.cost(values, x), restricted.rows(row_values, x)
+        cost_j, cost_y, cost_w = restricted.cost_gradient(values_j, x)
         grad_f = ca.Function(
             "nlp_grad_f",
             [x, p],
@@ -302,26 +310,28 @@ class StructuredNlp:
             ["x", "p"],
             ["f", "grad_f_x"],
         )
-        rows_j, rows_y, rows_w = phi_jacobian(values_j, x)
+        rows_j, rows_y_transposed, rows_w = restricted.rows_jacobian(row_values_j, x)
         jac_g = ca.Function(
             "nlp_jac_g",
             [x, p],
-            [rows_j, rows_w + ca.horzcat(ca.mtimes(rows_y, transposed.T), ca.MX(n_g, n_extra))],
+            [rows_j, rows_w + ca.horzcat(ca.mtimes(row_transposed, rows_y_transposed).T, ca.MX(n_g, n_extra))],
             ["x", "p"],
             ["g", "jac_g_x"],
         )
         weight_f, weight_g = ca.MX.sym("lam_f"), ca.MX.sym("lam_g", n_g)
-        if linear or diagonal:  # no per-sample Jacobians needed (nor outputs, when linear): only the samples' Hessians
-            ybar_value, diagonal_value = phi_hessian(values if diagonal else ca.MX(m * count, 1), x, weight_f, weight_g)
+        if restricted.linear or restricted.diagonal:  # only the samples' Hessians (and outputs, when diagonal)
+            ybar_value, diagonal_value = restricted.hessian(
+                values if restricted.diagonal else ca.MX(m * count, 1), x, weight_f, weight_g
+            )
             gauss_newton = ca.MX(n_x, n_x)
         else:
-            ybar_value, gauss_newton = phi_hessian(values_j, x, weight_f, weight_g, transposed.T)
+            ybar_value, gauss_newton = restricted.hessian(values_j, x, weight_f, weight_g, transposed.T)
             diagonal_value = ca.MX(len(curved), count)
         summed = self._sample_hessian.map("hessian", "serial", count, [0], [0])(
             zx, columns, ca.reshape(ybar_value, m, count), diagonal_value
         )
         if once is not None:
-            summed = summed + self._once_hessian(zx, ca.mtimes(place.T, ybar_value))
+            summed = summed + self._once_hessian(zx, ca.mtimes(once[0].T, ybar_value))
         hessian = ca.diagcat(summed + ca.triu(gauss_newton), ca.MX(n_extra, n_extra))
         hess_lag = ca.Function(
             "nlp_hess_l",
@@ -423,28 +433,3 @@ def _closest(values: np.ndarray, taken: np.ndarray, count: int) -> np.ndarray:
     if free.size <= count:
         return free
     return free[np.argpartition(values[free], count)[:count]]
-
-
-def _diagonal_curvature(expression: ca.MX, outputs: ca.MX, m: int) -> np.ndarray | None:
-    """When ``∂²(λᵀ expression)/∂Y²`` (the cost and the rows, any weights ``λ``; ``Y``: the per-sample
-    ``outputs``, ``m`` per sample) is diagonal, the outputs ``k`` of a sample (0 ≤ k < m) where its
-    diagonal has entries (none when ``expression`` is linear in ``Y``); else None."""
-    weights = ca.MX.sym("lambda", expression.numel())
-    gradient = ca.gradient(ca.dot(weights, expression), outputs)
-    if not ca.depends_on(gradient, outputs):
-        return np.zeros(0, dtype=int)
-    rows, columns = ca.jacobian_sparsity(gradient, outputs).get_triplet()
-    if rows != columns:
-        return None
-    return np.array(sorted({row % m for row in rows}), dtype=int)
-
-
-def _linear_in(expression: ca.MX, variables: ca.MX) -> bool:
-    """Whether ``expression`` is (structurally) linear in ``variables``."""
-    if variables.numel() == 0:
-        return True
-    return _structurally_zero(ca.jacobian(ca.jacobian(expression, variables), variables))
-
-
-def _structurally_zero(expression: ca.MX) -> bool:
-    return expression.nnz() == 0 or bool(expression.is_zero())
