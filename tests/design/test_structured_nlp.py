@@ -83,12 +83,17 @@ def test_derivatives_equal_casadi_of_the_plain_nlp(make):
             assert np.allclose(a, b, rtol=1e-10, atol=1e-12 * max(1.0, np.max(np.abs(a)))), name
 
 
+@pytest.mark.parametrize("constant", [True, False], ids=["constant-row-jacobians", "scalar-graph"])
 @pytest.mark.parametrize("make", [lambda: _planar("rms"), _coils], ids=["rms", "coil-rows"])
-def test_derivatives_on_a_working_set_equal_casadi_of_the_plain_nlp(make):
+def test_derivatives_on_a_working_set_equal_casadi_of_the_plain_nlp(make, constant):
     """On a part of the rows, whose samples are fewer than the cost's (rms uses every sample), the rows and their
-    Jacobian come from those samples alone and still equal CasADi's derivatives of the plain NLP's same rows."""
+    Jacobian come from those samples alone and still equal CasADi's derivatives of the plain NLP's same rows: from
+    the affine rows' constant Jacobians, and through CasADi's scalar graph (the way of rows that are not affine)."""
     problem = make()
     structured = StructuredNlp(problem)
+    assert structured._row_jacobians is not None  # these rows are affine in the outputs and the variables
+    if not constant:
+        structured._row_jacobians = None
     every = np.arange(structured.n_rows)
     rows = every[(every % 3 == 1) & (structured._row_sample < structured.n_samples // 2)]
     x, _, constraints, derivatives = structured.callbacks(rows)

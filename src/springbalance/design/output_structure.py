@@ -38,6 +38,30 @@ def linear_in(expression: ca.MX, variables: ca.MX) -> bool:
     return second.nnz() == 0 or bool(second.is_zero())
 
 
+def affine_in(expression: ca.MX, outputs: ca.MX, variables: ca.MX) -> bool:
+    """Whether ``expression`` is (structurally) affine in ``outputs`` and ``variables`` together: its gradient along
+    any weights depends on neither (cheap: one reverse sweep, where a Jacobian's dependence would take seconds)."""
+    weights = ca.MX.sym("lambda", expression.numel())
+    weighted = ca.dot(weights, expression)
+    gradients = (ca.gradient(weighted, outputs), ca.gradient(weighted, variables))
+    return not any(ca.depends_on(gradient, symbols) for gradient in gradients for symbols in (outputs, variables))
+
+
+def row_structure(rows: ca.MX, outputs: ca.MX, variables: ca.MX, m: int) -> tuple[np.ndarray, tuple | None]:
+    """``(first, jacobians)`` of ``rows`` (expressions of ``outputs`` = vec(Y), ``m`` per sample, and of
+    ``variables``): the first sample each row depends on (the number of samples for a row of no sample: linear, or of
+    the extras only) and, when every row is affine in both (epigraphs, coil and clearance rows), their Jacobians
+    ``(∂g/∂Y, ∂g/∂w)`` as constant sparse matrices (else None)."""
+    jacobian = ca.jacobian(rows, outputs)
+    rows_of, columns_of = jacobian.sparsity().get_triplet()
+    first = np.full(rows.numel(), outputs.numel() // m)
+    np.minimum.at(first, np.asarray(rows_of, dtype=int), np.asarray(columns_of, dtype=int) // m)
+    if not affine_in(rows, outputs, variables):
+        return first, None
+    constants = ca.Function("row_jacobians", [outputs, variables], [jacobian, ca.jacobian(rows, variables)])(0, 0)
+    return first, tuple(constants)
+
+
 class RestrictedNlp(NamedTuple):
     """The NLP restricted to a working set of rows, as functions of ``(Y_local, w)``: ``Y_local`` the outputs of
     ``samples`` (the samples the cost or the rows use) or of ``row_samples`` (those the rows use), in order."""

@@ -59,7 +59,13 @@ from typing import Any, Callable
 import casadi as ca
 import numpy as np
 
-from springbalance.design.output_structure import RestrictedNlp, diagonal_curvature, linear_in, samples_of
+from springbalance.design.output_structure import (
+    RestrictedNlp,
+    diagonal_curvature,
+    linear_in,
+    row_structure,
+    samples_of,
+)
 from springbalance.design.plateau import PLATEAU_STATUS, Plateau, stops_on_plateau
 from springbalance.design.torque_model import compiled
 
@@ -125,10 +131,8 @@ class StructuredNlp:
                 return starts(problem.evaluate(problem.scale(z)).tau * problem.weights)
 
             self.extra_start = extra_start
-        # the first sample each row depends on (n_samples for rows of no sample: linear, or of the extras only)
-        rows_of, columns_of = ca.jacobian(nlp.rows, self._outputs).sparsity().get_triplet()
-        self._row_sample = np.full(self.n_rows, self.n_samples)
-        np.minimum.at(self._row_sample, np.asarray(rows_of, dtype=int), np.asarray(columns_of, dtype=int) // m)
+        # the first sample each row depends on, and the Jacobians of affine rows (constants)
+        self._row_sample, self._row_jacobians = row_structure(nlp.rows, self._outputs, nlp.z, m)
 
         # the outputs k of a sample on which ∂²L/∂Y² has its (diagonal) entries; None when it is not diagonal
         self._curved = diagonal_curvature(ca.vertcat(nlp.cost, nlp.rows), self._outputs, m)
@@ -263,12 +267,20 @@ class StructuredNlp:
                 "cost_gradient", [local, nlp.z], [f_local, ca.gradient(f_local, local), ca.gradient(f_local, nlp.z)]
             ),
             ca.Function("rows", [local_rows, nlp.z], [g_local]).expand(),
-            ca.Function(
-                "rows_jacobian",
-                [local_rows, nlp.z],
-                [g_local, ca.jacobian(g_local, local_rows).T, ca.jacobian(g_local, nlp.z)],
-            ).expand(),
+            self._rows_jacobian(rows, row_samples, local_rows, g_local),
             hessian,
+        )
+
+    def _rows_jacobian(self, rows: np.ndarray, samples: np.ndarray, local: ca.MX, g: ca.MX) -> ca.Function:
+        """``(Y_rows, w) → (g, (∂g/∂Y_rows)ᵀ, ∂g/∂w)`` of ``rows`` (``g``, an expression of ``local``: the outputs of
+        ``samples``): the Jacobians as constants when every row is affine, else through CasADi's scalar graph."""
+        w = self.nlp.z
+        if self._row_jacobians is None:
+            return ca.Function("rows_jacobian", [local, w], [g, ca.jacobian(g, local).T, ca.jacobian(g, w)]).expand()
+        by_outputs, by_variables = self._row_jacobians
+        columns = (samples[:, None] * self.n_outputs + np.arange(self.n_outputs)[None, :]).reshape(-1).tolist()
+        return ca.Function(
+            "rows_jacobian", [local, w], [g, by_outputs[rows.tolist(), columns].T, by_variables[rows.tolist(), :]]
         )
 
     def _mapped(self, samples: np.ndarray, z: ca.MX) -> tuple[ca.MX, ca.MX, ca.MX, ca.MX, tuple | None]:
