@@ -43,7 +43,7 @@ outside the set is violated: the answer then satisfies the full NLP's KKT condit
 had been there (a solve with helical coils may end on a plateau of its objective instead of at IPOPT's tolerance:
 :mod:`~springbalance.design.plateau`). The maps over the samples run only over the samples that the cost and the
 rows in the set depend on (all of them for ``rms``, a few hundred for ``peak``); the rows and their Jacobian
-only over the samples of the rows (:meth:`StructuredNlp.callbacks`). A bound over the samples (a coil's
+only over the samples of the rows (:meth:`StructuredNlp.callbacks`), that Jacobian a constant for affine rows. A bound over the samples (a coil's
 fatigue floor ``P_i - F_lo ≥ 0`` or ceiling) starts with the rows of its :data:`EXTREME_SAMPLES` smallest samples.
 
 **Rows evaluated once.** A row of no sample enters the NLP once (from sample 0's outputs), but the
