@@ -43,8 +43,9 @@ outside the set is violated: the answer then satisfies the full NLP's KKT condit
 had been there (a solve with helical coils may end on a plateau of its objective instead of at IPOPT's tolerance:
 :mod:`~springbalance.design.plateau`). The maps over the samples run only over the samples that the cost and the
 rows in the set depend on (all of them for ``rms``, a few hundred for ``peak``); the rows and their Jacobian
-only over the samples of the rows (:meth:`StructuredNlp.callbacks`), that Jacobian a constant for affine rows. A bound over the samples (a coil's
-fatigue floor ``P_i - F_lo ≥ 0`` or ceiling) starts with the rows of its :data:`EXTREME_SAMPLES` smallest samples.
+only over the samples of the rows (:meth:`StructuredNlp.callbacks`), that Jacobian a constant for affine rows.
+A bound over the samples (a coil's fatigue floor ``P_i - F_lo ≥ 0`` or ceiling) starts with the rows of its
+:data:`EXTREME_SAMPLES` smallest samples.
 
 **Rows evaluated once.** A row of no sample enters the NLP once (from sample 0's outputs), but the
 per-sample functions compute it at every sample. The rows a constraint marks ``once`` (a coil's fatigue
@@ -199,14 +200,14 @@ class StructuredNlp:
         values, transposed = self._once_jacobian(z)
         return place, values, transposed
 
+    def _positions(self, samples: np.ndarray) -> np.ndarray:
+        """The positions in vec(Y) of the outputs of ``samples``, sample by sample."""
+        return (samples[:, None] * self.n_outputs + np.arange(self.n_outputs)[None, :]).reshape(-1)
+
     def _scatter(self, samples: np.ndarray) -> ca.DM:
         """The sparse 0/1 matrix that places the outputs of ``samples`` in vec(Y) (zeros elsewhere)."""
-        m = self.n_outputs
-        positions = (samples[:, None] * m + np.arange(m)[None, :]).reshape(-1)
-        return ca.DM(
-            ca.Sparsity.triplet(m * self.n_samples, positions.size, positions.tolist(), list(range(positions.size))),
-            1.0,
-        )
+        positions, size = self._positions(samples), self.n_outputs * self.n_samples
+        return ca.DM(ca.Sparsity.triplet(size, positions.size, positions.tolist(), list(range(positions.size))), 1.0)
 
     def row_values(self, x: np.ndarray) -> np.ndarray:
         """Every row of the NLP at ``x`` (design and extra variables, scaled)."""
@@ -266,7 +267,7 @@ class StructuredNlp:
             ca.Function(
                 "cost_gradient", [local, nlp.z], [f_local, ca.gradient(f_local, local), ca.gradient(f_local, nlp.z)]
             ),
-            ca.Function("rows", [local_rows, nlp.z], [g_local]).expand(),
+            ca.Function("rows", [local_rows, nlp.z], [g_local]),
             self._rows_jacobian(rows, row_samples, local_rows, g_local),
             hessian,
         )
@@ -278,7 +279,7 @@ class StructuredNlp:
         if self._row_jacobians is None:
             return ca.Function("rows_jacobian", [local, w], [g, ca.jacobian(g, local).T, ca.jacobian(g, w)]).expand()
         by_outputs, by_variables = self._row_jacobians
-        columns = (samples[:, None] * self.n_outputs + np.arange(self.n_outputs)[None, :]).reshape(-1).tolist()
+        columns = self._positions(samples).tolist()
         return ca.Function(
             "rows_jacobian", [local, w], [g, by_outputs[rows.tolist(), columns].T, by_variables[rows.tolist(), :]]
         )
