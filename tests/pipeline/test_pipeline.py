@@ -14,7 +14,7 @@ from springbalance.errors import InputError
 from springbalance.io.catalogue import read_catalogue
 from springbalance.io.config import config_from_dict, load_config
 from springbalance.pipeline import STEPS, SolveOptions, steps
-from springbalance.pipeline.state import COIL_POLISH_FACTOR, SolveState
+from springbalance.pipeline.state import COIL_POLISH_FACTOR, FITTED_COIL_POLISH_FACTOR, SolveState
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -74,15 +74,18 @@ def test_a_config_gives_the_defaults_and_keyword_arguments_win():
         SolveOptions.merged({"start": 2}, {})
 
 
-def test_coils_that_no_fit_to_the_arm_follows_get_the_longer_polish(pendulum):
+def test_coils_get_a_longer_polish_without_a_fit_to_the_arm_and_a_shorter_one_with_it(pendulum):
     coils = load_config(ROOT / "examples/two_link.yaml").problem
     options = SolveOptions(max_iterations=50)
     assert options.for_problem(coils).polish_iterations == COIL_POLISH_FACTOR * 50
-    # given, it stays; no coils, or coils fitted to the arm after the multi-start: the solvers' own default
-    assert SolveOptions(polish_iterations=7).for_problem(coils).polish_iterations == 7
-    assert options.for_problem(pendulum).polish_iterations is None
+    # coils fitted to the arm after the multi-start: its rounds re-solve the design, a short polish
     clear = coils.with_springs(coils.springs, clearance=Clearance(margin=0.005))
-    assert options.for_problem(clear).polish_iterations is None
+    assert options.for_problem(clear).polish_iterations == FITTED_COIL_POLISH_FACTOR * 50
+    assert FITTED_COIL_POLISH_FACTOR < 4 < COIL_POLISH_FACTOR  # the solvers' own default lies between
+    # given, it stays; no coils: the solvers' own default
+    assert SolveOptions(polish_iterations=7).for_problem(coils).polish_iterations == 7
+    assert SolveOptions(polish_iterations=7).for_problem(clear).polish_iterations == 7
+    assert options.for_problem(pendulum).polish_iterations is None
 
 
 def _recorded(monkeypatch, module, name: str, keyword: str) -> list:

@@ -63,7 +63,8 @@ def solve(
         tolerance: least squares stop when a step lowers the cost by less than this fraction (1e-8); IPOPT's
             own tolerance is min(tolerance, 1e-8).
         polish_iterations: further iterations for the best starts when they stopped on the limit, and for
-            the least violated ones when no start is feasible (default 4 × max_iterations; 0 disables).
+            the least violated ones when no start is feasible (default 4 × max_iterations; with free helical
+            coils 16× without a fit to the arm and 2× with one; 0 disables).
         standard_wire: round every helical spring's free wire diameter to the preferred series and
             re-optimise the rest (True); the result's ``wire_rounding`` says what it cost.
         workers: processes that run the starts (and polish runs) at once; the design does not depend on it.

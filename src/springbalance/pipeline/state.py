@@ -35,6 +35,13 @@ VERIFY_DEFAULT = "resolve"
 #: With a fit to the arm (clearance, mountings) its rounds re-solve the design, and a longer polish only moves where
 #: they start: ur5-coils-clear at seed 3 went from 1.557 to 7.30 N·m with it, so it is not used there.
 COIL_POLISH_FACTOR = 16
+#: the polish budget (as a multiple of ``max_iterations``) of a problem with helical coils fitted to the arm: its
+#: fitting rounds re-solve the design with the rows outside the multi-start's working set, and a polish there ends
+#: where the plateau callback gives up on rows it does not see (:mod:`springbalance.design.plateau`): on
+#: ur5-coils-clear (seed 0) both 400-iteration polishes gave up at iterations 142-181 and ended on their budget
+#: outside 14-21 such rows, so neither design was kept. With 2× the five seeds ended at the same or lower
+#: objectives (seed 0: 0.777 N·m instead of 0.893) in no more time (docs/developer/performance.md, session 48).
+FITTED_COIL_POLISH_FACTOR = 2
 
 
 class ConfiguredProblem(Protocol):
@@ -56,7 +63,8 @@ class SolveOptions:
         max_iterations: iteration limit per start and phase (the screening budget).
         tolerance: relative cost change at which least squares stop.
         polish_iterations: further iterations for the best starts stopped by the limit (None: 4 × max_iterations;
-            :data:`COIL_POLISH_FACTOR` × for coils not fitted to the arm, :meth:`for_problem`).
+            :data:`COIL_POLISH_FACTOR` × for coils not fitted to the arm, :data:`FITTED_COIL_POLISH_FACTOR` × for
+            coils fitted to it, :meth:`for_problem`).
         standard_wire: round every coil's free wire diameter to the preferred series.
         workers: processes that run the starts at once (None: ``$SPRINGBALANCE_WORKERS`` or the cores).
         verify: what the verification at unseen poses does when a rule fails there: ``"resolve"`` (add the
@@ -89,16 +97,13 @@ class SolveOptions:
         return cls(**options)
 
     def for_problem(self, problem: DesignProblem) -> SolveOptions:
-        """These options with the polish budget ``problem`` needs: :data:`COIL_POLISH_FACTOR` × ``max_iterations``
-        for a problem with free helical coils that is not fitted to the arm (no clearance, no mountings), unless
-        ``polish_iterations`` was given; otherwise these options."""
-        if (
-            self.polish_iterations is not None
-            or clearance_starts.fitted_to_arm(problem)
-            or not coil_start.coil_springs(problem)
-        ):
+        """These options with the polish budget ``problem`` needs, unless ``polish_iterations`` was given: for a
+        problem with free helical coils, :data:`COIL_POLISH_FACTOR` × ``max_iterations`` when it is not fitted to the
+        arm (no clearance, no mountings), :data:`FITTED_COIL_POLISH_FACTOR` × when it is; otherwise these options."""
+        if self.polish_iterations is not None or not coil_start.coil_springs(problem):
             return self
-        return dataclasses.replace(self, polish_iterations=COIL_POLISH_FACTOR * self.max_iterations)
+        factor = FITTED_COIL_POLISH_FACTOR if clearance_starts.fitted_to_arm(problem) else COIL_POLISH_FACTOR
+        return dataclasses.replace(self, polish_iterations=factor * self.max_iterations)
 
     def solver_options(self) -> dict[str, Any]:
         """The options every solve of the pipeline passes on: method, iteration limits, tolerance."""
