@@ -10,6 +10,7 @@ import pytest
 
 import springbalance as sb
 from springbalance.design.clearance import Clearance
+from springbalance.design.solvers.multistart import POLISH_FACTOR
 from springbalance.errors import InputError
 from springbalance.io.catalogue import read_catalogue
 from springbalance.io.config import config_from_dict, load_config
@@ -81,7 +82,7 @@ def test_coils_get_a_longer_polish_without_a_fit_to_the_arm_and_a_shorter_one_wi
     # coils fitted to the arm after the multi-start: its rounds re-solve the design, a short polish
     clear = coils.with_springs(coils.springs, clearance=Clearance(margin=0.005))
     assert options.for_problem(clear).polish_iterations == FITTED_COIL_POLISH_FACTOR * 50
-    assert FITTED_COIL_POLISH_FACTOR < 4 < COIL_POLISH_FACTOR  # the solvers' own default lies between
+    assert FITTED_COIL_POLISH_FACTOR < POLISH_FACTOR < COIL_POLISH_FACTOR  # the solvers' own default lies between
     # given, it stays; no coils: the solvers' own default
     assert SolveOptions(polish_iterations=7).for_problem(coils).polish_iterations == 7
     assert SolveOptions(polish_iterations=7).for_problem(clear).polish_iterations == 7

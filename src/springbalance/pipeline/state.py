@@ -29,9 +29,10 @@ from springbalance.errors import InputError
 VERIFY_DEFAULT = "resolve"
 #: the polish budget (:attr:`SolveOptions.polish_iterations`, as a multiple of ``max_iterations``) of a problem with
 #: helical coils and no fit to the arm after its multi-start (:meth:`SolveOptions.for_problem`); the solvers' own
-#: default is 4. The coils' rules are nonlinear rows that IPOPT closes in on slowly, and there the multi-start's best
-#: start is the design: bench_real's ur5-coils at seed 1 stopped on the 4× budget at 0.468 N·m (93.16 % on the elbow,
-#: 1.95 points from the other seeds) and reached 0.410 (94.93 %) with this one, the five seeds then within 0.49 point.
+#: default is :data:`~springbalance.design.solvers.multistart.POLISH_FACTOR` (4). The coils' rules are nonlinear
+#: rows that IPOPT closes in on slowly, and there the multi-start's best start is the design: bench_real's ur5-coils
+#: at seed 1 stopped on the 4× budget at 0.468 N·m (93.16 % on the elbow, 1.95 points from the other seeds) and
+#: reached 0.410 (94.93 %) with this one, the five seeds then within 0.49 point.
 #: With a fit to the arm (clearance, mountings) its rounds re-solve the design, and a longer polish only moves where
 #: they start: ur5-coils-clear at seed 3 went from 1.557 to 7.30 N·m with it, so it is not used there.
 COIL_POLISH_FACTOR = 16

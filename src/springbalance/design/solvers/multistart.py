@@ -30,6 +30,9 @@ from springbalance.design.solvers.records import (
 from springbalance.design.solvers.starts import start_points
 from springbalance.errors import InputError, Interrupted
 
+#: the polish budget when none is given: this many times ``max_iterations`` (:func:`solve_problem`)
+POLISH_FACTOR = 4
+
 
 def solve_problem(
     problem: Problem,
@@ -51,7 +54,7 @@ def solve_problem(
 
     Screen, then polish: every start runs with ``max_iterations``; up to three feasible starts
     within 25 % of the best that stopped on the iteration limit (least squares' or IPOPT's) then
-    continue from where they stopped for up to ``polish_iterations`` (default 4 × max_iterations).
+    continue from where they stopped for up to ``polish_iterations`` (default :data:`POLISH_FACTOR` × max_iterations).
     Starts that stall far from the best cost only their budget, and the chosen design still
     converges. When no start is feasible, up to three that the limit stopped (the least violated)
     continue first.
@@ -143,7 +146,7 @@ def _solve(
     points = start_points(problem, starts, seed, initial, runner.solver.fixed)
     given = 1 if initial is None else np.atleast_2d(initial).shape[0]
     records = _screen(problem, runner, points, progress, given, multipliers, label)
-    polish = 4 * max_iterations if polish_iterations is None else int(polish_iterations)
+    polish = POLISH_FACTOR * max_iterations if polish_iterations is None else int(polish_iterations)
     polish = polish if problem.variables.size else 0
     best = polished_best(problem, runner, records, polish, len(points))
     return Solution(best.x, records, method, seed, best.status, best.multipliers)
