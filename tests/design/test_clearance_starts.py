@@ -8,15 +8,19 @@ the choice among them, not the fit itself.
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
 import springbalance as sb
 from clearance_helpers import crossing_case
-from springbalance.design import clearance_round, clearance_starts
+from springbalance.design import clearance_fit, clearance_round, clearance_starts
 from springbalance.design.clearance import FitRecord
+from springbalance.design.clearance_fit import _Checker
 from springbalance.design.solvers import Solution
 from springbalance.design.solvers.records import StartRecord
+from springbalance.design.verification import check_design
 from springbalance.design.worse_joints import weighted_joints_made_worse
 
 OPTIONS = {"method": "auto", "max_iterations": 100, "tolerance": 1e-8, "polish_iterations": None}
@@ -111,3 +115,56 @@ def test_the_fit_kept_carries_no_weighted_joint_worse_when_one_does_not(problem,
     np.testing.assert_array_equal(solution.x, idle)
     assert fit.objective > float(fitted.objective_value(fitted.evaluate(start)))  # kept although higher
     assert rows is not None
+
+
+@pytest.fixture(scope="module")
+def clear_only_at_the_fits_poses(problem):
+    """Two fits of the crossing case: the in-plane optimum, which the fit's 64 check poses find clear but the
+    verification's unseen poses do not (s1 reaches into link2 between them), and the design the fit moves it to,
+    which holds there."""
+    fitted, start = problem
+    solution, record, rows_problem = clearance_fit.fit_to_arm(
+        fitted, Solution(start, [], "auto", 0, "given"), **OPTIONS
+    )
+    checker = _Checker(fitted, fitted.clearance)
+    assert not check_design(fitted, start, 0, checker, "report").record.passed  # the premise
+    assert check_design(rows_problem, solution.x, 0, _Checker(rows_problem, fitted.clearance), "report").record.passed
+    unseen = (Solution(start, [], "auto", 0, "given"), FitRecord(0, 0, True, 1.0, 1.0), None)
+    held = (solution, FitRecord(record.rounds, 0, True, 1.0, 2.0), rows_problem.linear_rows)
+    return unseen, held
+
+
+def test_of_several_fits_the_best_that_holds_at_unseen_poses_is_kept(problem, clear_only_at_the_fits_poses):
+    fitted, _ = problem
+    unseen, held = clear_only_at_the_fits_poses
+    assert clearance_starts.held_at_unseen_poses(fitted, [unseen, held]) is held
+    assert clearance_starts.held_at_unseen_poses(fitted, [held, unseen]) is held
+    # one fit: nothing to choose, no check; none holds: the best, which the verification then re-solves
+    assert clearance_starts.held_at_unseen_poses(fitted, [unseen]) is unseen
+    other = (unseen[0], FitRecord(0, 0, True, 1.0, 1.5), None)
+    assert clearance_starts.held_at_unseen_poses(fitted, [unseen, other]) is unseen
+
+
+@pytest.mark.parametrize("verified", [True, False])
+def test_fit_from_starts_ranks_its_fits_at_unseen_poses_when_the_design_is_verified(
+    problem, clear_only_at_the_fits_poses, monkeypatch, verified
+):
+    """Two designs fitted (``Clearance.starts`` 2), scripted as the fits of :func:`clear_only_at_the_fits_poses`,
+    neither making a joint worse: the lower is kept unless the design is to be verified (the solve's ``verify`` is
+    not "off"), when the one that holds at unseen poses is."""
+    fitted, start = problem
+    fitted = fitted.with_springs(fitted.springs, clearance=dataclasses.replace(fitted.clearance, starts=2))
+    unseen, held = clear_only_at_the_fits_poses
+
+    def scripted(problem, solution, kept=None, trusted_first=False, tighten=False, **options):
+        fit = unseen if np.array_equal(solution.x, start) else held
+        return fit[0], fit[1], problem.with_linear_rows(fit[2])
+
+    monkeypatch.setattr(clearance_starts, "fit_to_arm", scripted)
+    monkeypatch.setattr(clearance_starts, "weighted_joints_made_worse", lambda problem, x: [])
+    records = [_record(0, start, 1.0), _record(1, np.array(held[0].x), 2.0)]
+    solution, fit, _ = clearance_starts.fit_from_starts(
+        fitted, Solution(start, records, "auto", 0, "given"), verified=verified, **OPTIONS
+    )
+    assert fit.starts == 2
+    np.testing.assert_array_equal(solution.x, (held if verified else unseen)[0].x)

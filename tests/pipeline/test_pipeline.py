@@ -121,6 +121,19 @@ def test_the_fit_to_the_arm_tightens_the_designs_of_problems_without_free_coils(
     assert asked == [True] and result.fit is not None and result.fit.converged
 
 
+@pytest.mark.parametrize(("verify", "verified"), [("resolve", True), ("report", True), ("off", False)])
+def test_the_fits_are_ranked_at_unseen_poses_unless_the_design_is_not_verified(monkeypatch, verify, verified):
+    """docs/model.md §11: of several fits, the lowest that holds where the verification looks, unless
+    ``verify: off``."""
+    from clearance_helpers import crossing_case
+    from springbalance.design import clearance_starts
+
+    asked = _recorded(monkeypatch, clearance_starts, "fit_from_starts", "verified")
+    problem, _ = crossing_case(0.005)
+    sb.solve(problem, starts=2, progress=False, verify=verify)
+    assert asked == [verified]
+
+
 def test_solve_names_what_it_was_given_when_it_is_neither_a_problem_nor_a_config():
     with pytest.raises(InputError, match="DesignProblem or a Config, got str"):
         sb.solve("examples/two_link.yaml")

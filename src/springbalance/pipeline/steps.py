@@ -153,7 +153,12 @@ def fit_to_arm(state: SolveState) -> SolveState:
     twin = state.twin or twin_record(problem, state.solved.x, FIT_TWIN_SOURCE)
     with _interrupted_after_starts(state, "fitting the springs to the arm"):
         solution, fit, problem = clearance_starts.fit_from_starts(
-            problem, state.solved, state.kept_rows, tighten=tightened(problem), **state.options.solver_options()
+            problem,
+            state.solved,
+            state.kept_rows,
+            tighten=tightened(problem),
+            verified=verification_loop.check_mode(state.options.verify) != "off",
+            **state.options.solver_options(),
         )
     return state.but(problem=problem, solution=solution, fit=fit, twin=twin)
 
