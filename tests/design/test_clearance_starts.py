@@ -168,3 +168,39 @@ def test_fit_from_starts_ranks_its_fits_at_unseen_poses_when_the_design_is_verif
     )
     assert fit.starts == 2
     np.testing.assert_array_equal(solution.x, (held if verified else unseen)[0].x)
+
+
+def test_the_thin_stage_is_the_clearance_with_thin_lines_and_no_margin(problem):
+    fitted, _ = problem
+    thin = clearance_starts.thin_clearance(fitted.clearance)
+    assert thin.radius == clearance_starts.THIN_RADIUS and thin.margin == 0.0
+    assert thin.check_samples == fitted.clearance.check_samples and thin.rounds == fitted.clearance.rounds
+    assert fitted.clearance.margin == 0.005  # the problem's own is left as it was
+
+
+def test_a_fit_from_thin_springs_first_ends_clear_and_counts_both_stages(problem, monkeypatch):
+    """The crossing case fitted in two stages (real fits): thin lines first, then the capsules and margin asked; the
+    design kept holds at the verification's unseen poses, and the record counts both stages' rounds."""
+    fitted, start = problem
+    stages: list[tuple[float, int]] = []
+    ends: list[tuple[np.ndarray, np.ndarray]] = []  # (start, fitted design) of each fit
+    real = clearance_starts.fit_to_arm
+
+    def recorded(problem, solution, *args, **kwargs):
+        out = real(problem, solution, *args, **kwargs)
+        stages.append((problem.clearance.margin, out[1].rounds))
+        ends.append((np.array(solution.x), np.array(out[0].x)))
+        return out
+
+    monkeypatch.setattr(clearance_starts, "fit_to_arm", recorded)
+    records = [_record(0, start, float(fitted.objective_value(fitted.evaluate(start))))]
+    solution, fit, rows_problem = clearance_starts.fit_from_starts(
+        fitted, Solution(start, records, "auto", 0, "given"), thin_first=True, **OPTIONS
+    )
+    # thin first (one design), then as asked (from there, and the next design when the fit moved it)
+    assert stages[0][0] == 0.0 and len(stages) >= 2 and all(margin == 0.005 for margin, _ in stages[1:])
+    np.testing.assert_array_equal(ends[1][0], ends[0][1])  # the fit as asked starts where the thin one ended
+    assert fit.converged and fit.rounds == sum(rounds for _, rounds in stages)
+    assert fit.objective_before == pytest.approx(float(fitted.objective_value(fitted.evaluate(start))))
+    checker = _Checker(rows_problem, fitted.clearance)
+    assert check_design(rows_problem, solution.x, 0, checker, "report").record.passed

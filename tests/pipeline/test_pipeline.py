@@ -134,6 +134,22 @@ def test_the_fits_are_ranked_at_unseen_poses_unless_the_design_is_not_verified(m
     assert asked == [verified]
 
 
+def test_the_fit_starts_from_thin_springs_with_a_clearance_and_no_free_coils(pendulum, monkeypatch):
+    """docs/model.md §11: ideal springs with a clearance are fitted as thin lines first; free coils (whose
+    capsules are their coils') and problems without a clearance are not."""
+    from clearance_helpers import crossing_case
+    from springbalance.design import clearance_starts
+
+    problem, _ = crossing_case(0.005)
+    coils = load_config(ROOT / "examples/two_link.yaml").problem
+    clear_coils = coils.with_springs(coils.springs, clearance=Clearance(margin=0.005))
+    assert steps.thin_first(problem) and not steps.thin_first(clear_coils)
+    assert not steps.thin_first(pendulum) and not steps.thin_first(coils)
+    asked = _recorded(monkeypatch, clearance_starts, "fit_from_starts", "thin_first")
+    result = sb.solve(problem, starts=2, progress=False)
+    assert asked == [True] and result.fit is not None and result.fit.converged
+
+
 def test_solve_names_what_it_was_given_when_it_is_neither_a_problem_nor_a_config():
     with pytest.raises(InputError, match="DesignProblem or a Config, got str"):
         sb.solve("examples/two_link.yaml")

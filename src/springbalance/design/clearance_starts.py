@@ -6,17 +6,19 @@ the next ranked ones are fitted too depends on how the fits before them ended
 core's work, so the fits run on the solve's worker processes, the next one started before its need is known
 (:func:`~springbalance.design.solvers.forked.run_in_order`): the same fits, bit for bit, as one after the other.
 Of several fits, the one kept is the best that also holds where the verification will look
-(:func:`held_at_unseen_poses`).
+(:func:`held_at_unseen_poses`). A fit of ideal springs starts from a fit of the same springs as thin lines
+(:func:`fit_from_starts`'s ``thin_first``).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from typing import Any, Callable
 
 import numpy as np
 
-from springbalance.design.clearance import FitRecord, LinearRows
+from springbalance.design.clearance import Clearance, FitRecord, LinearRows
 from springbalance.design.clearance_fit import _Checker, fit_to_arm
 from springbalance.design.clearance_round import FALLBACK_STARTS, fall_back
 from springbalance.design.problem import DesignProblem
@@ -29,6 +31,8 @@ Fitted = tuple[Solution, FitRecord, "LinearRows | None"]
 #: Designs of the multi-start that lie within this fraction of every variable's range of a better one are that
 #: design again, and are not fitted (:func:`distinct_designs`).
 SAME_DESIGN = 1e-2
+#: the capsule radius [m] of the springs in the first stage of a fit from thin springs (:func:`thin_clearance`)
+THIN_RADIUS = 1e-3
 
 
 def fitted_to_arm(problem: DesignProblem) -> bool:
@@ -44,6 +48,7 @@ def fit_from_starts(
     trusted_first: bool = False,
     tighten: bool = False,
     verified: bool = False,
+    thin_first: bool = False,
     **solve_options: Any,
 ) -> tuple[Solution, FitRecord, DesignProblem]:
     """:func:`~springbalance.design.clearance_fit.fit_to_arm` from the :attr:`Clearance.starts` best distinct
@@ -55,8 +60,24 @@ def fit_from_starts(
     converged only after its rounds moved the design, the next ranked one is fitted too (once). ``trusted_first``:
     each fit's first run has a trust region; ``tighten``: each fitted design is tightened (:func:`fit_to_arm`);
     ``verified``: of several such fits, the best that holds at the verification's unseen poses
-    (:func:`held_at_unseen_poses`). Returns the fit kept with the problem that carries its rows; its record's ``seconds`` are the wall time of all
+    (:func:`held_at_unseen_poses`); ``thin_first``: the fits start from a fit of the springs as thin lines
+    (:func:`fit_thin_first`). Returns the fit kept with the problem that carries its rows; its record's ``seconds`` are the wall time of all
     the fits."""
+    if thin_first and problem.clearance is not None:
+        return fit_thin_first(problem, solution, kept, trusted_first, tighten, verified, **solve_options)
+    return _fitted_starts(problem, solution, kept, trusted_first, tighten, verified, **solve_options)
+
+
+def _fitted_starts(
+    problem: DesignProblem,
+    solution: Solution,
+    kept: LinearRows | None,
+    trusted_first: bool,
+    tighten: bool,
+    verified: bool,
+    **solve_options: Any,
+) -> tuple[Solution, FitRecord, DesignProblem]:
+    """:func:`fit_from_starts` without ``thin_first``."""
     count = problem.clearance.starts if problem.clearance is not None else 1
 
     def fit(x: np.ndarray) -> Callable[[], Fitted]:
@@ -87,6 +108,47 @@ def fit_from_starts(
         record.rounds = sum(fit[1].rounds for fit in done)
         record.seconds = time.perf_counter() - clock
     return fitted, record, problem.with_linear_rows(rows)
+
+
+def fit_thin_first(
+    problem: DesignProblem,
+    solution: Solution,
+    kept: LinearRows | None = None,
+    trusted_first: bool = False,
+    tighten: bool = False,
+    verified: bool = False,
+    **solve_options: Any,
+) -> tuple[Solution, FitRecord, DesignProblem]:
+    """The fit in two stages, a continuation in the springs' thickness: :func:`fit_from_starts` of the springs
+    as thin lines (:func:`thin_clearance`), then from its design with the clearance as asked (the multi-start's other
+    designs behind it). The record counts the rounds and time of both; its objective before is the multi-start's.
+
+    A round's rows are the tangent planes of the distances where the round starts; at a design whose springs lie deep
+    in a link they exclude the designs nearby, and a third of the rounds of bench_real's ur5-mounted-clear then had
+    no design meeting them (the solver's least violating point, up to 10× the objective, came next). Thin lines
+    reach shallow contacts only, and from their fit the capsules grow by their radius and margin, a short step. On
+    ur5-mounted-clear the five seeds' lift and elbow cuts came within 0.84 / 0.72 points (1.12 / 4.68 without), each
+    objective as low or lower (docs/developer/performance.md, session 49)."""
+    assert problem.clearance is not None  # (the caller's condition)
+    thin = problem.with_springs(problem.springs, clearance=thin_clearance(problem.clearance))
+    first, first_fit, _ = _fitted_starts(thin, solution, kept, trusted_first, tighten, False, **solve_options)
+    start = Solution(np.array(first.x, dtype=float), solution.starts, solution.method, solution.seed, solution.status)
+    fitted, record, fitted_problem = _fitted_starts(
+        problem, start, kept, trusted_first, tighten, verified, **solve_options
+    )
+    record = dataclasses.replace(
+        record,
+        rounds=first_fit.rounds + record.rounds,
+        seconds=first_fit.seconds + record.seconds,
+        objective_before=first_fit.objective_before,
+    )
+    return fitted, record, fitted_problem
+
+
+def thin_clearance(clearance: Clearance) -> Clearance:
+    """``clearance`` with the capsule of every spring without a coil of its own :data:`THIN_RADIUS` in radius (a
+    coil's is half its outer diameter) and no margin: the first stage of :func:`fit_thin_first`."""
+    return dataclasses.replace(clearance, radius=THIN_RADIUS, margin=0.0, buffer=None)
 
 
 def distinct_designs(problem: DesignProblem, solution: Solution) -> list[np.ndarray]:

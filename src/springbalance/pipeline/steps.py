@@ -145,6 +145,13 @@ def tightened(problem: DesignProblem) -> bool:
     return not coil_start.coil_springs(problem)
 
 
+def thin_first(problem: DesignProblem) -> bool:
+    """Whether the fit to the arm starts from a fit of the springs as thin lines
+    (:func:`~springbalance.design.clearance_starts.fit_thin_first`): with a clearance and without free helical coils,
+    whose capsules are their own coils' (a thin stage would be the same fit again)."""
+    return problem.clearance is not None and not coil_start.coil_springs(problem)
+
+
 def fit_to_arm(state: SolveState) -> SolveState:
     """Clearance and mountings: the fitted design and the problem with its final rows."""
     problem = state.problem
@@ -158,6 +165,7 @@ def fit_to_arm(state: SolveState) -> SolveState:
             state.kept_rows,
             tighten=tightened(problem),
             verified=verification_loop.check_mode(state.options.verify) != "off",
+            thin_first=thin_first(problem),
             **state.options.solver_options(),
         )
     return state.but(problem=problem, solution=solution, fit=fit, twin=twin)
