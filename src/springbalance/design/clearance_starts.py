@@ -63,9 +63,13 @@ def fit_from_starts(
     (:func:`held_at_unseen_poses`); ``thin_first``: the fits start from a fit of the springs as thin lines
     (:func:`fit_thin_first`). Returns the fit kept with the problem that carries its rows; its record's ``seconds`` are the wall time of all
     the fits."""
+
+    def fit(problem: DesignProblem, solution: Solution, verified: bool) -> tuple[Solution, FitRecord, DesignProblem]:
+        return _fitted_starts(problem, solution, kept, trusted_first, tighten, verified, **solve_options)
+
     if thin_first and problem.clearance is not None:
-        return fit_thin_first(problem, solution, kept, trusted_first, tighten, verified, **solve_options)
-    return _fitted_starts(problem, solution, kept, trusted_first, tighten, verified, **solve_options)
+        return fit_thin_first(problem, solution, verified, fit)
+    return fit(problem, solution, verified)
 
 
 def _fitted_starts(
@@ -113,15 +117,13 @@ def _fitted_starts(
 def fit_thin_first(
     problem: DesignProblem,
     solution: Solution,
-    kept: LinearRows | None = None,
-    trusted_first: bool = False,
-    tighten: bool = False,
-    verified: bool = False,
-    **solve_options: Any,
+    verified: bool,
+    fit: Callable[[DesignProblem, Solution, bool], tuple[Solution, FitRecord, DesignProblem]],
 ) -> tuple[Solution, FitRecord, DesignProblem]:
-    """The fit in two stages, a continuation in the springs' thickness: :func:`fit_from_starts` of the springs
-    as thin lines (:func:`thin_clearance`), then from its design with the clearance as asked (the multi-start's other
-    designs behind it). The record counts the rounds and time of both; its objective before is the multi-start's.
+    """The fit in two stages, a continuation in the springs' thickness: ``fit`` (:func:`fit_from_starts`'s own,
+    ``verified`` in the second stage) of the springs as thin lines (:func:`thin_clearance`), then from its design
+    with the clearance as asked (the multi-start's other designs behind it). The record counts the rounds and time of
+    both; its objective before is the multi-start's.
 
     A round's rows are the tangent planes of the distances where the round starts; at a design whose springs lie deep
     in a link they exclude the designs nearby, and a third of the rounds of bench_real's ur5-mounted-clear then had
@@ -131,11 +133,9 @@ def fit_thin_first(
     objective as low or lower (docs/developer/performance.md, session 49)."""
     assert problem.clearance is not None  # (the caller's condition)
     thin = problem.with_springs(problem.springs, clearance=thin_clearance(problem.clearance))
-    first, first_fit, _ = _fitted_starts(thin, solution, kept, trusted_first, tighten, False, **solve_options)
+    first, first_fit, _ = fit(thin, solution, False)
     start = Solution(np.array(first.x, dtype=float), solution.starts, solution.method, solution.seed, solution.status)
-    fitted, record, fitted_problem = _fitted_starts(
-        problem, start, kept, trusted_first, tighten, verified, **solve_options
-    )
+    fitted, record, fitted_problem = fit(problem, start, verified)
     record = dataclasses.replace(
         record,
         rounds=first_fit.rounds + record.rounds,
