@@ -61,8 +61,8 @@ def fit_from_starts(
     each fit's first run has a trust region; ``tighten``: each fitted design is tightened (:func:`fit_to_arm`);
     ``verified``: of several such fits, the best that holds at the verification's unseen poses
     (:func:`held_at_unseen_poses`); ``thin_first``: the fits start from a fit of the springs as thin lines
-    (:func:`fit_thin_first`). Returns the fit kept with the problem that carries its rows; its record's ``seconds`` are the wall time of all
-    the fits."""
+    (:func:`fit_thin_first`). Returns the fit kept with the problem that carries its rows; its record's ``seconds``
+    are the wall time of all the fits."""
 
     def fit(problem: DesignProblem, solution: Solution, verified: bool) -> tuple[Solution, FitRecord, DesignProblem]:
         return _fitted_starts(problem, solution, kept, trusted_first, tighten, verified, **solve_options)
