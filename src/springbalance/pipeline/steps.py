@@ -138,10 +138,10 @@ def _multi_started(state: SolveState, problem: DesignProblem, progress: bool | N
 
 def tightened(problem: DesignProblem) -> bool:
     """Whether the fit to the arm tightens its fitted designs
-    (:class:`~springbalance.design.clearance_round.Tightening`): without free helical coils. With them, on bench_real's UR5 with three coils on its links'
-    surfaces, tightened fits moved the designs where rounding the wires then made the elbow's peak worse than the
-    bare arm's at two of five seeds (exit 3; they passed untightened), and ur5-coils-clear's 4× search failed its
-    verification at unseen poses."""
+    (:class:`~springbalance.design.clearance_round.Tightening`): without free helical coils. With them, on
+    bench_real's UR5 with three coils on its links' surfaces, tightened fits moved the designs where rounding the
+    wires then made the elbow's peak worse than the bare arm's at two of five seeds (exit 3; they passed
+    untightened), and ur5-coils-clear's 4× search failed its verification at unseen poses."""
     return not coil_start.coil_springs(problem)
 
 
