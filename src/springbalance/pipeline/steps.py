@@ -149,7 +149,7 @@ def thin_first(problem: DesignProblem) -> bool:
     """Whether the fit to the arm starts from a fit of the springs as thin lines
     (:func:`~springbalance.design.clearance_starts.fit_thin_first`): with a clearance and without free helical coils,
     whose capsules are their own coils' (a thin stage would be the same fit again)."""
-    return problem.clearance is not None and not coil_start.coil_springs(problem)
+    return problem.clearance is not None and tightened(problem)
 
 
 def fit_to_arm(state: SolveState) -> SolveState:
