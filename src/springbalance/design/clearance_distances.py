@@ -21,13 +21,14 @@ from typing import Protocol, TypeAlias
 
 import numpy as np
 
-from springbalance.design.clearance_rows import _ends_of
 from springbalance.design.problem import DesignProblem
 from springbalance.model.collision import CollisionScene, segment_distances
 from springbalance.springs.laws import Spring
 
 #: A pair checked: ``(kind, spring, object index or other spring, scenario)``, kind ``"object"`` or ``"spring"``.
 Pair: TypeAlias = tuple[str, str, "int | str", int]
+#: The springs' world ends [m] at one pose: ``(spring, scenario) → (start, end)``.
+WorldEnds: TypeAlias = dict[tuple[str, int], tuple[np.ndarray, np.ndarray]]
 
 
 class Checker(Protocol):
@@ -38,8 +39,15 @@ class Checker(Protocol):
     by_name: dict[str, Spring]
     frame_ids: dict[str, tuple[int, ...]]
 
-    def placed_distances(self, pairs: list[Pair], x: np.ndarray, radius: dict[str, float]) -> list[float]:
-        """coal's distance [m] of every pair at the pose the scene is placed at."""
+    def body_points(self, x: np.ndarray, scenario: int) -> dict[str, tuple[np.ndarray, ...]]:
+        """Each spring's anchor points [m] in its end bodies' frames at design ``x`` (in ``scenario``)."""
+        ...
+
+    def placed_distances(
+        self, pairs: list[Pair], x: np.ndarray, radius: dict[str, float], ends: WorldEnds | None = None
+    ) -> list[float]:
+        """coal's distance [m] of every pair at the pose the scene is placed at (``ends``: the springs' world ends
+        there)."""
         ...
 
 
@@ -60,17 +68,25 @@ def pair_distances(
 ) -> np.ndarray:
     """Distances [m] (poses × pairs) of every pair at the configurations ``poses`` (see the module docstring):
     coal's where the bound is within ``threshold`` and at each pair's least, the bound elsewhere."""
-    bounds = _bounds(checker, pairs, x, radius, poses)
+    bounds, ends = _bounds(checker, pairs, x, radius, poses)
     distances = bounds.copy()
     exact = bounds <= threshold + BOUND_SLACK
     # a pair with no bound within the threshold: coal's at its pose of lowest bound, an upper bound u of its least
     lacking = np.flatnonzero(~exact.any(axis=0))
     exact[np.argmin(bounds[:, lacking], axis=0), lacking] = True
-    _fill(checker, pairs, x, radius, poses, distances, exact)
+    _fill(checker, pairs, x, radius, poses, distances, exact, ends)
     # then coal's at every pose whose bound is within the least found, at once
     least = np.min(np.where(exact, distances, np.inf), axis=0)
-    _fill(checker, pairs, x, radius, poses, distances, ~exact & (bounds <= least[None, :] + BOUND_SLACK))
+    _fill(checker, pairs, x, radius, poses, distances, ~exact & (bounds <= least[None, :] + BOUND_SLACK), ends)
     return distances
+
+
+def placed_points(rotations: np.ndarray, translations: np.ndarray, point: np.ndarray) -> np.ndarray:
+    """``R p + t`` [m] at every pose (rotations poses × 3 × 3, translations poses × 3), summed column by column,
+    ``R[:, 0] p₀ + R[:, 1] p₁ + R[:, 2] p₂``: the order in which NumPy's ``R @ p`` sums one pose's rotation as
+    Pinocchio gives it (column-major), so the world ends equal the per-pose ones (checked on 8,192 UR5 poses: bit
+    for bit), which an ``einsum`` does not (3,790 of 24,576 coordinates differ in their last bits)."""
+    return rotations[..., 0] * point[0] + rotations[..., 1] * point[1] + rotations[..., 2] * point[2] + translations
 
 
 def _fill(
@@ -81,17 +97,23 @@ def _fill(
     poses: Poses,
     distances: np.ndarray,
     wanted: np.ndarray,
+    ends: dict[tuple[str, int], tuple[np.ndarray, np.ndarray]],
 ) -> None:
-    """Write coal's distance into ``distances`` wherever ``wanted`` (poses × pairs) is set, pose by pose."""
+    """Write coal's distance into ``distances`` wherever ``wanted`` (poses × pairs) is set, pose by pose; ``ends``:
+    each spring's world ends at every pose (``(spring, scenario) → (starts, ends)``, poses × 3 each)."""
     for sample in np.flatnonzero(wanted.any(axis=1)):
         columns = np.flatnonzero(wanted[sample])
         checker.scene.place(poses[int(sample)])
-        distances[sample, columns] = checker.placed_distances([pairs[c] for c in columns], x, radius)
+        placed = {key: (starts[sample], finishes[sample]) for key, (starts, finishes) in ends.items()}
+        distances[sample, columns] = checker.placed_distances([pairs[c] for c in columns], x, radius, placed)
 
 
-def _bounds(checker: Checker, pairs: list[Pair], x: np.ndarray, radius: dict[str, float], poses: Poses) -> np.ndarray:
-    """Lower bounds [m] of every pair's distance at every pose (poses × pairs)."""
-    scene, model = checker.scene, checker.problem.model
+def _bounds(
+    checker: Checker, pairs: list[Pair], x: np.ndarray, radius: dict[str, float], poses: Poses
+) -> tuple[np.ndarray, dict[tuple[str, int], tuple[np.ndarray, np.ndarray]]]:
+    """Lower bounds [m] of every pair's distance at every pose (poses × pairs), and each spring's world ends at
+    every pose (``(spring, scenario) → (starts, ends)``, :func:`placed_points`) for coal's capsules."""
+    scene = checker.scene
     frames = sorted({frame for ids in checker.frame_ids.values() for frame in ids})
     where = {frame: index for index, frame in enumerate(frames)}
     n = len(poses)
@@ -113,17 +135,17 @@ def _bounds(checker: Checker, pairs: list[Pair], x: np.ndarray, radius: dict[str
     object_start = np.einsum("poij,oj->poi", object_rotations, starts) + object_translations
     object_end = np.einsum("poij,oj->poi", object_rotations, ends) + object_translations
     segments: dict[tuple[str, int], tuple[np.ndarray, np.ndarray]] = {}
+    placed: dict[tuple[str, int], tuple[np.ndarray, np.ndarray]] = {}
 
     def segment(name: str, scenario: int) -> tuple[np.ndarray, np.ndarray]:
         """The spring's two ends (world, poses × 3) in ``scenario``."""
         if (name, scenario) not in segments:
-            spring = checker.by_name[name]
-            points = []
-            for end, frame in zip(_ends_of(spring), checker.frame_ids[name]):
-                body_point = model.anchor_point(spring, end, x, scenario)
+            points, exact = [], []
+            for body_point, frame in zip(checker.body_points(x, scenario)[name], checker.frame_ids[name]):
                 rotation, translation = frame_rotations[:, where[frame]], frame_translations[:, where[frame]]
                 points.append(np.einsum("pij,j->pi", rotation, body_point) + translation)
-            segments[name, scenario] = (points[0], points[1])
+                exact.append(placed_points(rotation, translation, body_point))
+            segments[name, scenario], placed[name, scenario] = (points[0], points[1]), (exact[0], exact[1])
         return segments[name, scenario]
 
     bounds = np.empty((n, len(pairs)))
@@ -137,4 +159,4 @@ def _bounds(checker: Checker, pairs: list[Pair], x: np.ndarray, radius: dict[str
             assert isinstance(second, str)  # a spring pair names the other spring
             gap = segment_distances(start, end, *segment(second, scenario))
             bounds[:, column] = gap - radius[first] - radius[second]
-    return bounds
+    return bounds, placed

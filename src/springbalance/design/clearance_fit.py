@@ -13,7 +13,7 @@ from typing import Any, Iterable, Iterator, TypeAlias
 import numpy as np
 
 from springbalance.design.clearance import FIT_ROUNDS, Clearance, FitRecord, LinearRows, stacked_rows
-from springbalance.design.clearance_distances import Pair, pair_distances
+from springbalance.design.clearance_distances import Pair, WorldEnds, pair_distances
 from springbalance.design.clearance_round import (
     INFEASIBLE_NOTE,
     INFEASIBLE_ROUNDS,
@@ -90,6 +90,7 @@ class _Checker:
             _named(spring): self.scene.indices_except([spring.anchors[e].body for e in _ends_of(spring)])
             for spring in self.springs
         }
+        self._points: dict[bytes, dict[int, dict[str, tuple[np.ndarray, ...]]]] = {}  # (:meth:`body_points`)
         self.frame_ids = {
             _named(spring): tuple(mechanism.frame_id(spring.anchors[e].body) for e in _ends_of(spring))
             for spring in self.springs
@@ -114,6 +115,20 @@ class _Checker:
             for name, (rotation, translation) in zip(_ends_of(spring), frames)
         ]
         return start, end
+
+    def body_points(self, x: np.ndarray, scenario: int) -> dict[str, tuple[np.ndarray, ...]]:
+        """Each spring's anchor points [m] in its bodies' frames at design ``x`` (in ``scenario``), once per design."""
+        design = np.asarray(x, dtype=float).tobytes()
+        if design not in self._points:
+            self._points = {design: {}}  # the last design's only
+        by_scenario = self._points[design]
+        if scenario not in by_scenario:
+            model = self.problem.model
+            by_scenario[scenario] = {
+                name: tuple(model.anchor_point(s, e, x, scenario) for e in _ends_of(s))
+                for name, s in self.by_name.items()
+            }
+        return by_scenario[scenario]
 
     def _radii(self, x: np.ndarray) -> dict[str, float]:
         default = self.clearance.radius or DEFAULT_RADIUS
@@ -173,16 +188,24 @@ class _Checker:
                 below[pair + (pose_set, int(hit))] = float(distances[hit, column])
         return below, closest, nearest
 
-    def placed_distances(self, pairs: list[Pair], x: np.ndarray, radius: dict[str, float]) -> list[float]:
-        """The distance [m] of every pair at the placed pose: :meth:`_contact`'s, with each spring's ends and
-        capsule computed once for all the objects it is checked against."""
+    def placed_distances(
+        self, pairs: list[Pair], x: np.ndarray, radius: dict[str, float], ends: WorldEnds | None = None
+    ) -> list[float]:
+        """The distance [m] of every pair at the placed pose: :meth:`_contact`'s, each spring's capsule built once
+        for all its objects, from ``ends`` (its world ends there, :mod:`~springbalance.design.clearance_distances`)."""
         capsules: dict[tuple[str, int], tuple] = {}
 
         def placed(name: str, scenario: int) -> tuple:
             key = (name, scenario)
             if key not in capsules:
-                spring = self.by_name[name]
-                start, end = self._ends(spring, self._frames(spring), x, scenario)
+                if ends is not None:
+                    start, end = ends[key]
+                else:
+                    frames = (self.scene.frame(frame) for frame in self.frame_ids[name])
+                    start, end = [
+                        frame.rotation @ point + frame.translation
+                        for frame, point in zip(frames, self.body_points(x, scenario)[name])
+                    ]
                 capsules[key] = (start, end, capsule(start, end, radius[name]))
             return capsules[key]
 
