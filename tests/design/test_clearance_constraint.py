@@ -278,8 +278,10 @@ def test_bad_clearance_and_mounting_input_gets_one_line_naming_the_culprit(tmp_p
 
 
 def test_the_checkers_batched_distances_equal_each_contacts_distance(arm, workspace):
-    """The fit's check measures every pair at a pose with each spring's capsule built once; the distances are
-    those of the contact of each pair computed alone (coal's witness-point query), at every pose."""
+    """The fit's check takes each spring's world ends and capsule placement at all its poses at once, and builds
+    each capsule once per pose for all the objects. With no bound to spare coal a query (an infinite threshold),
+    its distances equal, bit for bit, those of each pair's contact computed alone at the placed pose (the ends
+    from the frames there, coal's witness-point query), objects and springs alike."""
     from springbalance.design.clearance_fit import _Checker
 
     problem = sb.DesignProblem(
@@ -290,11 +292,12 @@ def test_the_checkers_batched_distances_equal_each_contacts_distance(arm, worksp
     radius = checker._radii(x)
     pairs = list(checker._pairs())
     assert any(kind == "spring" for kind, *_ in pairs) and any(kind == "object" for kind, *_ in pairs)
-    for q in checker.pose_sets[0][:12]:
+    poses = checker.pose_sets[0][:12]
+    batched = pair_distances(checker, pairs, x, radius, poses, np.inf)
+    for sample, q in enumerate(poses):
         checker.scene.place(q)
-        batched = checker.placed_distances(pairs, x, radius)
         alone = [checker._contact(pair, x, radius)[0].distance for pair in pairs]
-        assert batched == pytest.approx(alone, abs=1e-12)
+        assert batched[sample].tolist() == alone
 
 
 def test_mounting_rows_are_linearised_where_the_free_optimum_puts_the_anchors():
@@ -348,8 +351,10 @@ def _ur5_shoulder_springs():
 @pytest.mark.parametrize("setting", ["two_link", "ur5"])
 def test_the_checks_bounded_distances_are_coals_wherever_they_count(arm, workspace, setting):
     """The check asks coal only where a lower bound (bounding capsules of the objects) cannot decide. Against
-    coal's distance of every pair at every pose: equal, bit for bit, wherever within the margin and descent
-    band and at each pair's least; below it (a lower bound) everywhere else."""
+    coal's distance of every pair at every pose, pose by pose as the cuts take it (each spring's ends from its
+    frames at the placed pose, its capsule built there): equal, bit for bit, wherever within the margin and descent
+    band and at each pair's least; below it (a lower bound) everywhere else. (The check takes the springs' ends and
+    capsules of all poses at once.)"""
     if setting == "ur5":
         problem, x = _ur5_shoulder_springs()
     else:
@@ -364,7 +369,7 @@ def test_the_checks_bounded_distances_are_coals_wherever_they_count(arm, workspa
     coal_distances = np.empty_like(found)
     for sample, q in enumerate(poses):
         checker.scene.place(q)
-        coal_distances[sample] = checker.placed_distances(pairs, x, radius)
+        coal_distances[sample] = [checker._contact(pair, x, radius)[0].distance for pair in pairs]
     near = coal_distances <= threshold
     assert near.any() and (~near).any()  # the design comes close at some poses, not at others
     assert np.array_equal(found[near], coal_distances[near])

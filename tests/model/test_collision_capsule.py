@@ -69,3 +69,26 @@ def test_segment_distances_are_coals_capsule_distances_and_no_more_than_any_two_
     for i in range(0, n, 20):
         a, b = p1[i] + along * (q1[i] - p1[i]), p2[i] + along * (q2[i] - p2[i])
         assert found[i] <= np.min(np.linalg.norm(a[:, None] - b[None], axis=-1)) + 1e-12
+
+
+def test_the_placements_of_many_segments_at_once_are_each_capsules_bit_for_bit():
+    """A clearance check takes the capsules of all its poses at once (capsule_placements) and makes coal's objects
+    of each (placed_capsule): the same shape and placement as capsule() of that segment alone, bit for bit, for
+    segments along every axis and a point segment (a sphere)."""
+    from springbalance.model.collision import capsule_placements, placed_capsule
+
+    rng = np.random.default_rng(7)
+    starts = rng.normal(size=(2000, 3)) * 0.3
+    ends = starts + rng.normal(size=(2000, 3)) * rng.uniform(0.0, 0.5, size=(2000, 1))
+    for index, (start, end) in enumerate(SEGMENTS):
+        starts[index], ends[index] = start, end
+    ends[len(SEGMENTS)] = starts[len(SEGMENTS)]  # a point
+    lengths, centres, rotations = capsule_placements(starts, ends)
+    for index in range(len(starts)):
+        shape, placement = capsule(starts[index], ends[index], 0.02)
+        batched, batched_placement = placed_capsule(0.02, lengths[index], centres[index], rotations[index])
+        assert type(batched) is type(shape)
+        assert np.array_equal(batched_placement.getRotation(), placement.getRotation())
+        assert np.array_equal(batched_placement.getTranslation(), placement.getTranslation())
+        assert getattr(batched, "halfLength", None) == getattr(shape, "halfLength", None)
+    assert isinstance(placed_capsule(0.02, lengths[len(SEGMENTS)], centres[0], rotations[0])[0], coal.Sphere)

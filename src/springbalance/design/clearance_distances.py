@@ -17,18 +17,20 @@ each spring's closest, the closest poses within the descent band) sees the value
 
 from __future__ import annotations
 
+from collections.abc import Iterator, Mapping
 from typing import Protocol, TypeAlias
 
 import numpy as np
 
 from springbalance.design.problem import DesignProblem
-from springbalance.model.collision import CollisionScene, segment_distances
+from springbalance.model.collision import CollisionScene, capsule_placements, segment_distances
 from springbalance.springs.laws import Spring
 
 #: A pair checked: ``(kind, spring, object index or other spring, scenario)``, kind ``"object"`` or ``"spring"``.
 Pair: TypeAlias = tuple[str, str, "int | str", int]
-#: The springs' world ends [m] at one pose: ``(spring, scenario) → (start, end)``.
-WorldEnds: TypeAlias = dict[tuple[str, int], tuple[np.ndarray, np.ndarray]]
+#: Each spring's capsule at one pose: ``(spring, scenario) → (start, end, length, centre, rotation)``, its world ends
+#: [m] and :func:`~springbalance.model.collision.capsule_placements`' placement.
+WorldEnds: TypeAlias = Mapping[tuple[str, int], tuple]
 
 
 class Checker(Protocol):
@@ -44,9 +46,9 @@ class Checker(Protocol):
         ...
 
     def placed_distances(
-        self, pairs: list[Pair], x: np.ndarray, radius: dict[str, float], ends: WorldEnds | None = None
+        self, pairs: list[Pair], x: np.ndarray, radius: dict[str, float], ends: WorldEnds
     ) -> list[float]:
-        """coal's distance [m] of every pair at the pose the scene is placed at (``ends``: the springs' world ends
+        """coal's distance [m] of every pair at the pose the scene is placed at (``ends``: the springs' capsules
         there)."""
         ...
 
@@ -97,22 +99,38 @@ def _fill(
     poses: Poses,
     distances: np.ndarray,
     wanted: np.ndarray,
-    ends: dict[tuple[str, int], tuple[np.ndarray, np.ndarray]],
+    capsules: dict[tuple[str, int], tuple[np.ndarray, ...]],
 ) -> None:
-    """Write coal's distance into ``distances`` wherever ``wanted`` (poses × pairs) is set, pose by pose; ``ends``:
-    each spring's world ends at every pose (``(spring, scenario) → (starts, ends)``, poses × 3 each)."""
+    """Write coal's distance into ``distances`` wherever ``wanted`` (poses × pairs) is set, pose by pose;
+    ``capsules``: each spring's :data:`WorldEnds` entry at every pose (arrays over the poses)."""
     for sample in np.flatnonzero(wanted.any(axis=1)):
         columns = np.flatnonzero(wanted[sample])
         checker.scene.place(poses[int(sample)])
-        placed = {key: (starts[sample], finishes[sample]) for key, (starts, finishes) in ends.items()}
+        placed = _AtPose(capsules, int(sample))
         distances[sample, columns] = checker.placed_distances([pairs[c] for c in columns], x, radius, placed)
+
+
+class _AtPose(Mapping):
+    """The :data:`WorldEnds` of one pose, each spring's taken from the arrays over the poses when it is asked for."""
+
+    def __init__(self, capsules: dict[tuple[str, int], tuple[np.ndarray, ...]], sample: int) -> None:
+        self.capsules, self.sample = capsules, sample
+
+    def __getitem__(self, key: tuple[str, int]) -> tuple:
+        return tuple(array[self.sample] for array in self.capsules[key])
+
+    def __iter__(self) -> Iterator[tuple[str, int]]:
+        return iter(self.capsules)
+
+    def __len__(self) -> int:
+        return len(self.capsules)
 
 
 def _bounds(
     checker: Checker, pairs: list[Pair], x: np.ndarray, radius: dict[str, float], poses: Poses
-) -> tuple[np.ndarray, dict[tuple[str, int], tuple[np.ndarray, np.ndarray]]]:
-    """Lower bounds [m] of every pair's distance at every pose (poses × pairs), and each spring's world ends at
-    every pose (``(spring, scenario) → (starts, ends)``, :func:`placed_points`) for coal's capsules."""
+) -> tuple[np.ndarray, dict[tuple[str, int], tuple[np.ndarray, ...]]]:
+    """Lower bounds [m] of every pair's distance at every pose (poses × pairs), and each spring's capsule at every
+    pose (:data:`WorldEnds`' entries as arrays over the poses: ends from :func:`placed_points`) for coal's."""
     scene = checker.scene
     frames = sorted({frame for ids in checker.frame_ids.values() for frame in ids})
     where = {frame: index for index, frame in enumerate(frames)}
@@ -135,7 +153,7 @@ def _bounds(
     object_start = np.einsum("poij,oj->poi", object_rotations, starts) + object_translations
     object_end = np.einsum("poij,oj->poi", object_rotations, ends) + object_translations
     segments: dict[tuple[str, int], tuple[np.ndarray, np.ndarray]] = {}
-    placed: dict[tuple[str, int], tuple[np.ndarray, np.ndarray]] = {}
+    placed: dict[tuple[str, int], tuple[np.ndarray, ...]] = {}
 
     def segment(name: str, scenario: int) -> tuple[np.ndarray, np.ndarray]:
         """The spring's two ends (world, poses × 3) in ``scenario``."""
@@ -145,7 +163,8 @@ def _bounds(
                 rotation, translation = frame_rotations[:, where[frame]], frame_translations[:, where[frame]]
                 points.append(np.einsum("pij,j->pi", rotation, body_point) + translation)
                 exact.append(placed_points(rotation, translation, body_point))
-            segments[name, scenario], placed[name, scenario] = (points[0], points[1]), (exact[0], exact[1])
+            segments[name, scenario] = (points[0], points[1])
+            placed[name, scenario] = (exact[0], exact[1], *capsule_placements(exact[0], exact[1]))
         return segments[name, scenario]
 
     bounds = np.empty((n, len(pairs)))

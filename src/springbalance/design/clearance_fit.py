@@ -31,9 +31,9 @@ from springbalance.model.collision import (
     DEFAULT_RADIUS,
     CollisionScene,
     Contact,
-    capsule,
     capsule_contact,
     collision_geometry,
+    placed_capsule,
 )
 from springbalance.model.workspace import Workspace
 from springbalance.springs.laws import Spring
@@ -189,7 +189,7 @@ class _Checker:
         return below, closest, nearest
 
     def placed_distances(
-        self, pairs: list[Pair], x: np.ndarray, radius: dict[str, float], ends: WorldEnds | None = None
+        self, pairs: list[Pair], x: np.ndarray, radius: dict[str, float], ends: WorldEnds
     ) -> list[float]:
         """The distance [m] of every pair at the placed pose: :meth:`_contact`'s, each spring's capsule built once
         for all its objects, from ``ends`` (its world ends there, :mod:`~springbalance.design.clearance_distances`)."""
@@ -198,15 +198,8 @@ class _Checker:
         def placed(name: str, scenario: int) -> tuple:
             key = (name, scenario)
             if key not in capsules:
-                if ends is not None:
-                    start, end = ends[key]
-                else:
-                    frames = (self.scene.frame(frame) for frame in self.frame_ids[name])
-                    start, end = [
-                        frame.rotation @ point + frame.translation
-                        for frame, point in zip(frames, self.body_points(x, scenario)[name])
-                    ]
-                capsules[key] = (start, end, capsule(start, end, radius[name]))
+                start, end, length, centre, rotation = ends[key]
+                capsules[key] = (start, end, placed_capsule(radius[name], length, centre, rotation))
             return capsules[key]
 
         values = []

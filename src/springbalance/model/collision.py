@@ -125,6 +125,53 @@ def capsule(start: np.ndarray, end: np.ndarray, radius: float) -> tuple[coal.Col
     return coal.Capsule(radius, length), coal.Transform3s(rotation, centre)
 
 
+def capsule_placements(starts: np.ndarray, ends: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`capsule`'s length [m], centre [m] and rotation for each of the segments ``starts``–``ends``
+    (poses × 3) at once: lengths (poses), centres (poses × 3), rotations (poses × 3 × 3). The same operations,
+    element by element, in the same order (a 3-vector's ``a·a`` as NumPy's dot sums it, ``(a₀² + a₁²) + a₂²``),
+    so each equals :func:`capsule`'s bit for bit; :func:`placed_capsule` makes coal's objects of one."""
+    axis = ends - starts
+    length = np.sqrt((axis[:, 0] * axis[:, 0] + axis[:, 1] * axis[:, 1]) + axis[:, 2] * axis[:, 2])
+    centre = (starts + ends) / 2
+    with np.errstate(divide="ignore", invalid="ignore"):  # a point segment: placed_capsule makes it a sphere
+        z = axis / length[:, None]
+    m, zero = np.abs(z), np.zeros(len(z))
+    across = np.where(
+        ((m[:, 0] <= m[:, 1]) & (m[:, 0] <= m[:, 2]))[:, None],
+        np.stack([zero, -z[:, 2], z[:, 1]], axis=1),  # e_x × z
+        np.where(
+            (m[:, 1] <= m[:, 2])[:, None],
+            np.stack([z[:, 2], zero, -z[:, 0]], axis=1),  # e_y × z
+            np.stack([-z[:, 1], z[:, 0], zero], axis=1),  # e_z × z
+        ),
+    )
+    x = (
+        across
+        / np.sqrt((across[:, 0] * across[:, 0] + across[:, 1] * across[:, 1]) + across[:, 2] * across[:, 2])[:, None]
+    )
+    y = np.stack(
+        [
+            z[:, 1] * x[:, 2] - z[:, 2] * x[:, 1],
+            z[:, 2] * x[:, 0] - z[:, 0] * x[:, 2],
+            z[:, 0] * x[:, 1] - z[:, 1] * x[:, 0],
+        ],
+        axis=1,
+    )
+    return length, centre, np.stack([x, y, z], axis=2)
+
+
+def placed_capsule(
+    radius: float, length: float, centre: np.ndarray, rotation: np.ndarray
+) -> tuple[coal.CollisionGeometry, coal.Transform3s]:
+    """coal's capsule of ``radius`` [m] and placement from one of :func:`capsule_placements` (a sphere at the
+    centre where the segment is a point), as :func:`capsule` builds them."""
+    import coal
+
+    if length < 1e-12:
+        return coal.Sphere(radius), coal.Transform3s(np.eye(3), centre)
+    return coal.Capsule(radius, float(length)), coal.Transform3s(rotation, centre)
+
+
 @dataclasses.dataclass(frozen=True)
 class Contact:
     """The closest approach of a capsule and one collision object.
