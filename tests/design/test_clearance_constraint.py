@@ -300,6 +300,27 @@ def test_the_checkers_batched_distances_equal_each_contacts_distance(arm, worksp
         assert batched[sample].tolist() == alone
 
 
+def test_a_pose_sets_kinematics_are_computed_once_for_every_design_checked(arm, workspace, monkeypatch):
+    """Where a pose set puts the arm's frames and objects does not depend on the design: the first check of the set
+    computes it (one placement per pose), the checks of other designs (a fit's rounds) take it as it is, and find
+    what a new checker finds for them."""
+    problem = sb.DesignProblem(
+        arm, workspace, crossing_springs(0.02), clearance=sb.Clearance(margin=0.005, between_springs=True)
+    )
+    checker = _Checker(problem, problem.clearance)
+    lower, upper = (np.asarray(bound, dtype=float) for bound in problem.variables.bounds())
+    designs = [lower + (upper - lower) * share for share in np.random.default_rng(5).random((3, lower.size))]
+    placed = []
+    original = checker.scene.object_placements
+    monkeypatch.setattr(checker.scene, "object_placements", lambda: placed.append(1) or original())
+    found = [checker.measure(x, 1) for x in designs]
+    assert len(placed) == len(checker.pose_sets[1])  # the first design's check only
+    for x, (below, closest, nearest) in zip(designs, found):
+        fresh = _Checker(problem, problem.clearance).measure(x, 1)
+        assert below == fresh[0] and closest == fresh[1] and nearest == fresh[2]
+    assert len({tuple(sorted(closest.items())) for _, closest, _ in found}) == 3  # three designs, three answers
+
+
 def test_mounting_rows_are_linearised_where_the_free_optimum_puts_the_anchors():
     """The UR5 with two springs whose four anchors sit 20 mm off its links (shoulder → upper arm, upper arm →
     forearm). A mounting row is a tangent plane of the anchor's offset surface: linearised at the boxes' centres,

@@ -40,6 +40,8 @@ class Checker(Protocol):
     scene: CollisionScene
     by_name: dict[str, Spring]
     frame_ids: dict[str, tuple[int, ...]]
+    #: what :func:`_pose_placements` keeps: ``id(poses) → (poses, len(poses), placements)``
+    pose_placements: dict[int, tuple]
 
     def body_points(self, x: np.ndarray, scenario: int) -> dict[str, tuple[np.ndarray, ...]]:
         """Each spring's anchor points [m] in its end bodies' frames at design ``x`` (in ``scenario``)."""
@@ -126,11 +128,20 @@ class _AtPose(Mapping):
         return len(self.capsules)
 
 
-def _bounds(
-    checker: Checker, pairs: list[Pair], x: np.ndarray, radius: dict[str, float], poses: Poses
-) -> tuple[np.ndarray, dict[tuple[str, int], tuple[np.ndarray, ...]]]:
-    """Lower bounds [m] of every pair's distance at every pose (poses × pairs), and each spring's capsule at every
-    pose (:data:`WorldEnds`' entries as arrays over the poses: ends from :func:`placed_points`) for coal's."""
+#: What a pose set's placements are, whatever the design: its spring frames' rotations (poses × frames × 3 × 3) and
+#: translations, each frame's index there, and the objects' bounding capsules' axes (poses × objects × 3, both ends)
+#: and radii.
+PosePlacements: TypeAlias = tuple[np.ndarray, np.ndarray, dict[int, int], np.ndarray, np.ndarray, np.ndarray]
+
+
+def _pose_placements(checker: Checker, poses: Poses) -> PosePlacements:
+    """The placements of ``poses`` that do not depend on the design (:data:`PosePlacements`), computed once per
+    pose set and kept in ``checker.pose_placements`` (by the pose set's identity and size: the descent's set grows):
+    every round of a fit checks the same poses, and their kinematics were two fifths of the check's time."""
+    key = id(poses)
+    kept = checker.pose_placements.get(key)
+    if kept is not None and kept[0] is poses and kept[1] == len(poses):
+        return kept[2]
     scene = checker.scene
     frames = sorted({frame for ids in checker.frame_ids.values() for frame in ids})
     where = {frame: index for index, frame in enumerate(frames)}
@@ -152,6 +163,18 @@ def _bounds(
     starts, ends, widths = scene.bounding_capsules()
     object_start = np.einsum("poij,oj->poi", object_rotations, starts) + object_translations
     object_end = np.einsum("poij,oj->poi", object_rotations, ends) + object_translations
+    placements = (frame_rotations, frame_translations, where, object_start, object_end, widths)
+    checker.pose_placements[key] = (poses, len(poses), placements)
+    return placements
+
+
+def _bounds(
+    checker: Checker, pairs: list[Pair], x: np.ndarray, radius: dict[str, float], poses: Poses
+) -> tuple[np.ndarray, dict[tuple[str, int], tuple[np.ndarray, ...]]]:
+    """Lower bounds [m] of every pair's distance at every pose (poses × pairs), and each spring's capsule at every
+    pose (:data:`WorldEnds`' entries as arrays over the poses: ends from :func:`placed_points`) for coal's."""
+    frame_rotations, frame_translations, where, object_start, object_end, widths = _pose_placements(checker, poses)
+    n = len(poses)
     segments: dict[tuple[str, int], tuple[np.ndarray, np.ndarray]] = {}
     placed: dict[tuple[str, int], tuple[np.ndarray, ...]] = {}
 

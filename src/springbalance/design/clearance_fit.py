@@ -91,6 +91,7 @@ class _Checker:
             for spring in self.springs
         }
         self._points: dict[bytes, dict[int, dict[str, tuple[np.ndarray, ...]]]] = {}  # (:meth:`body_points`)
+        self.pose_placements: dict[int, tuple] = {}  # each pose set's (clearance_distances._pose_placements)
         self.frame_ids = {
             _named(spring): tuple(mechanism.frame_id(spring.anchors[e].body) for e in _ends_of(spring))
             for spring in self.springs
