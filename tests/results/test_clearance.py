@@ -196,6 +196,22 @@ def test_a_mechanism_without_collision_geometry_is_refused():
         design(model_only, [spring], [[0.0, 0.0]]).clearance()
 
 
+def test_a_mechanisms_collision_geometry_is_loaded_once_and_errors_every_time(arm):
+    """Every fit and verification asks for the arm's collision geometry: it is loaded once per mechanism (the same
+    model each time; another mechanism of the same URDF loads its own), and an arm without any is refused at every
+    ask, not only the first."""
+    from springbalance.model.collision import collision_geometry
+
+    geometry = collision_geometry(arm)
+    assert geometry.ngeoms > 0 and collision_geometry(arm) is geometry
+    again = sb.Mechanism.from_urdf(URDF / "two_link_planar_collision.urdf")
+    assert collision_geometry(again) is not geometry and collision_geometry(again).ngeoms == geometry.ngeoms
+    bare = sb.Mechanism.from_urdf(URDF / "two_link_planar.urdf")
+    for _ in range(2):
+        with pytest.raises(sb.InputError, match="'two_link_planar' has no collision geometry"):
+            collision_geometry(bare)
+
+
 def test_bad_arguments_are_input_errors(arm):
     result = design(arm, [through_spring()], [[0.0, 0.0]])
     for options in (
