@@ -175,20 +175,17 @@ def _bounds(
     pose (:data:`WorldEnds`' entries as arrays over the poses: ends from :func:`placed_points`) for coal's."""
     frame_rotations, frame_translations, where, object_start, object_end, widths = _pose_placements(checker, poses)
     n = len(poses)
-    segments: dict[tuple[str, int], tuple[np.ndarray, np.ndarray]] = {}
     placed: dict[tuple[str, int], tuple[np.ndarray, ...]] = {}
 
     def segment(name: str, scenario: int) -> tuple[np.ndarray, np.ndarray]:
         """The spring's two ends (world, poses × 3) in ``scenario``."""
-        if (name, scenario) not in segments:
-            points, exact = [], []
-            for body_point, frame in zip(checker.body_points(x, scenario)[name], checker.frame_ids[name]):
-                rotation, translation = frame_rotations[:, where[frame]], frame_translations[:, where[frame]]
-                points.append(np.einsum("pij,j->pi", rotation, body_point) + translation)
-                exact.append(placed_points(rotation, translation, body_point))
-            segments[name, scenario] = (points[0], points[1])
-            placed[name, scenario] = (exact[0], exact[1], *capsule_placements(exact[0], exact[1]))
-        return segments[name, scenario]
+        if (name, scenario) not in placed:
+            start, end = (
+                placed_points(frame_rotations[:, where[frame]], frame_translations[:, where[frame]], body_point)
+                for body_point, frame in zip(checker.body_points(x, scenario)[name], checker.frame_ids[name])
+            )
+            placed[name, scenario] = (start, end, *capsule_placements(start, end))
+        return placed[name, scenario][0], placed[name, scenario][1]
 
     bounds = np.empty((n, len(pairs)))
     for column, (kind, first, second, scenario) in enumerate(pairs):

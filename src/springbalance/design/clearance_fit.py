@@ -112,8 +112,8 @@ class _Checker:
     def _ends(self, spring: Spring, frames: Frames, x: np.ndarray, scenario: int) -> tuple[np.ndarray, np.ndarray]:
         """World points [m] of the two ends of ``spring``'s capsule (its body: :func:`_ends_of`)."""
         start, end = [
-            rotation @ self.problem.model.anchor_point(spring, name, x, scenario) + translation
-            for name, (rotation, translation) in zip(_ends_of(spring), frames)
+            rotation @ point + translation
+            for point, (rotation, translation) in zip(self.body_points(x, scenario)[_named(spring)], frames)
         ]
         return start, end
 
