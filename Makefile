@@ -5,15 +5,17 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 DOCS_STAMP := $(VENV)/.docs-installed
+# every package of the environment pinned (`make lock` writes it from .venv)
+CONSTRAINTS := constraints.txt
 
-.PHONY: bytecode demo lint test test-fast bench bench-buildable bench-clearance bench-explore bench-startup bench-workers bench-memory bench-cli-memory bench-evaluation bench-ipopt bench-distance-check bench-real clean chromium demo-check docs test-drake bench-demo
+.PHONY: lock bytecode demo lint test test-fast bench bench-buildable bench-clearance bench-explore bench-startup bench-workers bench-memory bench-cli-memory bench-evaluation bench-ipopt bench-distance-check bench-real clean chromium demo-check docs test-drake bench-demo
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 
-$(STAMP): $(BIN)/python pyproject.toml
-	$(BIN)/python -m pip install --quiet -e ".[test]"
+$(STAMP): $(BIN)/python pyproject.toml $(CONSTRAINTS)
+	$(BIN)/python -m pip install --quiet -c $(CONSTRAINTS) -e ".[test]"
 	touch $(STAMP)
 
 # An editable install has no compiled bytecode (pip compiles a wheel's at install): without it, and
@@ -37,7 +39,7 @@ test-fast: lint
 # Drake's check of an exported pseudo-base arm alone (tests/io/test_export_pseudo_bases.py). `make test`
 # installs Drake with the test extras and runs it too; the test skips, saying why, where no wheel exists.
 test-drake: $(STAMP)
-	$(BIN)/python -m pip install --quiet drake
+	$(BIN)/python -m pip install --quiet -c $(CONSTRAINTS) drake
 	$(BIN)/python -m pytest -q tests/io/test_export_pseudo_bases.py
 
 # The code's shape before any test: ruff's format and lint (imports sorted), mypy on src/ (pyproject.toml),
@@ -85,8 +87,8 @@ demo-check: bytecode chromium
 # generates from the docstrings, built into site/. --strict makes every warning an error (a
 # docstring that griffe cannot parse, a broken link). NO_MKDOCS_2_WARNING silences the banner
 # that mkdocs-material prints about its end of life and MkDocs 2.0 (not a build warning).
-$(DOCS_STAMP): $(BIN)/python pyproject.toml
-	$(BIN)/python -m pip install --quiet -e ".[docs]"
+$(DOCS_STAMP): $(BIN)/python pyproject.toml $(CONSTRAINTS)
+	$(BIN)/python -m pip install --quiet -c $(CONSTRAINTS) -e ".[docs]"
 	touch $(DOCS_STAMP)
 
 docs: $(DOCS_STAMP)
@@ -144,6 +146,11 @@ bench-demo: $(STAMP)
 # pass options through ARGS, e.g. make bench-real ARGS="--cases ur5-ideal --parts a" or ARGS=--quick
 bench-real: $(STAMP)
 	$(BIN)/python benchmarks/bench_real.py $(ARGS)
+
+# Pin the environment .venv holds now (after an upgrade made on purpose, with the tests and bench_real run on it)
+lock: $(STAMP) $(DOCS_STAMP)
+	@{ sed -n '/^#/p' $(CONSTRAINTS); $(BIN)/python -m pip freeze --exclude-editable; } > $(CONSTRAINTS).new
+	mv $(CONSTRAINTS).new $(CONSTRAINTS)
 
 clean:
 	rm -rf $(VENV) design.json site

@@ -86,10 +86,11 @@ def pair_distances(
 
 
 def placed_points(rotations: np.ndarray, translations: np.ndarray, point: np.ndarray) -> np.ndarray:
-    """``R p + t`` [m] at every pose (rotations poses × 3 × 3, translations poses × 3), summed column by column,
-    ``R[:, 0] p₀ + R[:, 1] p₁ + R[:, 2] p₂``: the order in which NumPy's ``R @ p`` sums one pose's rotation as
-    Pinocchio gives it (column-major), so the world ends equal the per-pose ones (checked on 8,192 UR5 poses: bit
-    for bit), which an ``einsum`` does not (3,790 of 24,576 coordinates differ in their last bits)."""
+    """``R p + t`` [m] at every pose (rotations poses × 3 × 3, translations poses × 3; or one pose, 3 × 3 and 3),
+    summed column by column, ``R[:, 0] p₀ + R[:, 1] p₁ + R[:, 2] p₂``, each product and sum rounded on its own. The
+    cuts take one pose's ends with it too (:meth:`~springbalance.design.clearance_fit._Checker._ends`), so both
+    agree bit for bit whatever NumPy's own kernels do: NumPy 2.4's ``R @ p`` and an ``einsum`` differ from it in the
+    last bits (on 8,192 UR5 poses, 3,790 of 24,576 coordinates for the ``einsum``)."""
     return rotations[..., 0] * point[0] + rotations[..., 1] * point[1] + rotations[..., 2] * point[2] + translations
 
 

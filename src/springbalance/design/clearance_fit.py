@@ -13,7 +13,7 @@ from typing import Any, Iterable, Iterator, TypeAlias
 import numpy as np
 
 from springbalance.design.clearance import FIT_ROUNDS, Clearance, FitRecord, LinearRows, stacked_rows
-from springbalance.design.clearance_distances import Pair, WorldEnds, pair_distances
+from springbalance.design.clearance_distances import Pair, WorldEnds, pair_distances, placed_points
 from springbalance.design.clearance_round import (
     INFEASIBLE_NOTE,
     INFEASIBLE_ROUNDS,
@@ -112,7 +112,7 @@ class _Checker:
     def _ends(self, spring: Spring, frames: Frames, x: np.ndarray, scenario: int) -> tuple[np.ndarray, np.ndarray]:
         """World points [m] of the two ends of ``spring``'s capsule (its body: :func:`_ends_of`)."""
         start, end = [
-            rotation @ point + translation
+            placed_points(rotation, translation, point)
             for point, (rotation, translation) in zip(self.body_points(x, scenario)[_named(spring)], frames)
         ]
         return start, end

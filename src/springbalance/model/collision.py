@@ -112,17 +112,18 @@ def capsule(start: np.ndarray, end: np.ndarray, radius: float) -> tuple[coal.Col
 
     A clearance check builds one per spring and pose, hundreds of thousands of times: the columns are
     computed on Python floats (``e_k × z`` has a zero and two entries of ``z``), 2.5× faster than NumPy's
-    small-array operations and equal to them bit for bit (a placement turned about the capsule's axis is the
-    same capsule, but coal's distances then differ by up to 1e-7 m, enough to move a fit's path)."""
+    small-array operations. Each sum is written out as :func:`capsule_placements` sums it, so the two agree bit for
+    bit whatever NumPy's dot does (a placement turned about the capsule's axis is the same capsule, but coal's
+    distances then differ by up to 1e-7 m, enough to move a fit's path)."""
     import coal
 
     start, end = np.asarray(start, dtype=float), np.asarray(end, dtype=float)
     axis = end - start
-    length = math.sqrt(float(axis.dot(axis)))  # as np.linalg.norm computes it, bit for bit
+    a0, a1, a2 = axis.tolist()
+    length = math.sqrt((a0 * a0 + a1 * a1) + a2 * a2)
     centre = (start + end) / 2
     if length < 1e-12:
         return coal.Sphere(radius), coal.Transform3s(np.eye(3), centre)
-    a0, a1, a2 = axis.tolist()
     z0, z1, z2 = a0 / length, a1 / length, a2 / length
     m0, m1, m2 = abs(z0), abs(z1), abs(z2)
     if m0 <= m1 and m0 <= m2:  # e_x × z
@@ -131,8 +132,7 @@ def capsule(start: np.ndarray, end: np.ndarray, radius: float) -> tuple[coal.Col
         x0, x1, x2 = z2, 0.0, -z0
     else:  # e_z × z
         x0, x1, x2 = -z1, z0, 0.0
-    across = np.array([x0, x1, x2])
-    norm = math.sqrt(float(across.dot(across)))
+    norm = math.sqrt((x0 * x0 + x1 * x1) + x2 * x2)
     x0, x1, x2 = x0 / norm, x1 / norm, x2 / norm
     y0, y1, y2 = z1 * x2 - z2 * x1, z2 * x0 - z0 * x2, z0 * x1 - z1 * x0  # z × x
     rotation = np.array([[x0, y0, z0], [x1, y1, z1], [x2, y2, z2]])
@@ -142,8 +142,8 @@ def capsule(start: np.ndarray, end: np.ndarray, radius: float) -> tuple[coal.Col
 def capsule_placements(starts: np.ndarray, ends: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """:func:`capsule`'s length [m], centre [m] and rotation for each of the segments ``starts``–``ends``
     (poses × 3) at once: lengths (poses), centres (poses × 3), rotations (poses × 3 × 3). The same operations,
-    element by element, in the same order (a 3-vector's ``a·a`` as NumPy's dot sums it, ``(a₀² + a₁²) + a₂²``),
-    so each equals :func:`capsule`'s bit for bit; :func:`placed_capsule` makes coal's objects of one."""
+    element by element, in the same order (a 3-vector's ``a·a`` summed ``(a₀² + a₁²) + a₂²``), so each equals
+    :func:`capsule`'s bit for bit; :func:`placed_capsule` makes coal's objects of one."""
     axis = ends - starts
     length = np.sqrt((axis[:, 0] * axis[:, 0] + axis[:, 1] * axis[:, 1]) + axis[:, 2] * axis[:, 2])
     centre = (starts + ends) / 2
