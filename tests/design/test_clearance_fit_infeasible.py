@@ -223,10 +223,17 @@ def test_a_fit_that_had_to_move_its_design_is_compared_with_the_next_design_once
     # the best start converged only after 4 rounds moved it: the next ranked design is fitted too, once
     assert clearance_round.fall_back([_fit(4, True)], 0)
     assert not clearance_round.fall_back([_fit(4, True), _fit(0, True)], 1)
-    # a start clear as it stands (0 rounds) is not compared; an unconverged fit without an infeasible round stops
+    # a start clear as it stands (0 rounds) is not compared
     assert not clearance_round.fall_back([_fit(0, True)], 0)
-    assert not clearance_round.fall_back([_fit(12, False)], 0)
-    # while no fit converged and a round stopped infeasible, up to FALLBACK_STARTS more
+
+
+def test_while_no_fit_converged_the_next_designs_are_fitted():
+    # whether a round stopped infeasible or the rounds ran out: up to FALLBACK_STARTS more, not one beyond
     stopped = _fit(3, False, f"ipopt: Solve_Succeeded; {clearance_round.INFEASIBLE_NOTE} (x)")
-    assert clearance_round.fall_back([stopped], clearance_round.FALLBACK_STARTS - 1)
-    assert not clearance_round.fall_back([stopped], clearance_round.FALLBACK_STARTS)
+    ran_out = _fit(48, False)
+    for fit in (stopped, ran_out):
+        assert clearance_round.fall_back([fit], 0)
+        assert clearance_round.fall_back([fit, fit], clearance_round.FALLBACK_STARTS - 1)
+        assert not clearance_round.fall_back([fit, fit, fit], clearance_round.FALLBACK_STARTS)
+    # once one converged (to an accepted design clear as it stood), no more
+    assert not clearance_round.fall_back([ran_out, _fit(0, True)], 1)

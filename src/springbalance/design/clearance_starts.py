@@ -54,9 +54,8 @@ def fit_from_starts(
     """:func:`~springbalance.design.clearance_fit.fit_to_arm` from the :attr:`Clearance.starts` best distinct
     designs of the multi-start (:func:`distinct_designs`); keeps the converged fit of lowest objective among those
     that carry no weighted joint worse than the bare arm (peak and RMS at the samples: a design the command would
-    refuse, ``worse_joint``), else among the converged ones, else the first. When no fit converged and a fitting
-    round stopped infeasible, or when every converged fit carries a joint worse, the next ranked designs are fitted
-    too, up to :data:`~springbalance.design.clearance_round.FALLBACK_STARTS` more; when every accepted fit
+    refuse, ``worse_joint``), else among the converged ones, else the first. When no fit converged, or when every
+    converged fit carries a joint worse, the next ranked designs are fitted too, up to :data:`~springbalance.design.clearance_round.FALLBACK_STARTS` more; when every accepted fit
     converged only after its rounds moved the design, the next ranked one is fitted too (once). ``trusted_first``:
     each fit's first run has a trust region; ``tighten``: each fitted design is tightened (:func:`fit_to_arm`);
     ``verified``: of several such fits, the best that holds at the verification's unseen poses
