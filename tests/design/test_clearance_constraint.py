@@ -20,10 +20,11 @@ import springbalance as sb
 from clearance_helpers import crossing_springs
 from springbalance.cli import main
 from springbalance.design.clearance_distances import pair_distances
-from springbalance.design.clearance_fit import DESCENT_BAND, _Checker, fit_to_arm
+from springbalance.design.clearance_fit import DESCENT_BAND, _Checker, _worst, fit_to_arm
 from springbalance.design.clearance_round import FALLBACK_STARTS
 from springbalance.design.mounts import MOUNT_ACCEPT
 from springbalance.design.solvers import Solution
+from springbalance.design.verification_loop import _closest_nearby
 
 URDF = Path(__file__).resolve().parents[2] / "urdf"
 LINK1_CENTRE, LINK1_HALF = np.array([0.25, 0.0, 0.0]), np.array([0.25, 0.02, 0.02])  # [m], link1 frame
@@ -400,3 +401,24 @@ def test_the_checks_bounded_distances_are_coals_wherever_they_count(arm, workspa
     computed = np.sum(found == coal_distances)
     if setting == "ur5":  # the bounds decide most pairs without coal
         assert computed < 0.5 * found.size
+
+
+def test_the_verification_also_cuts_each_contact_at_the_closest_approach_near_it(arm, workspace):
+    """A contact below the margin at an unseen pose is one sample of a continuum of close poses: the verification
+    loop also cuts at the closest approach near it, found by a descent over the joints from its pose, which comes
+    no farther than the contact's pose and closer where that pose is not itself a minimum."""
+    problem = sb.DesignProblem(
+        arm, workspace, crossing_springs(0.02), clearance=sb.Clearance(margin=0.005, between_springs=True)
+    )
+    x = np.asarray(problem.variables.start, dtype=float)
+    checker = _Checker(problem, problem.clearance)
+    unseen = checker.add_pose_set(sb.Workspace.sobol(arm, 64, seed=5).joint_values)
+    below, _, _ = checker.measure(x, unseen)
+    contacts = _worst(below)
+    assert contacts
+    nearby = _closest_nearby(checker, x, contacts)
+    assert nearby and all(key[4] == 2 for key in nearby)  # poses the descent found, in the checker's pose set 2
+    for pair in {key[:4] for key in nearby}:
+        sampled = min(below[key] for key in contacts if key[:4] == pair)
+        assert min(value for key, value in nearby.items() if key[:4] == pair) <= sampled + 1e-12
+    assert min(nearby.values()) < min(below[key] for key in contacts) - 1e-6
