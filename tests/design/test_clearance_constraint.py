@@ -19,6 +19,7 @@ import pytest
 import springbalance as sb
 from clearance_helpers import crossing_springs
 from springbalance.cli import main
+from springbalance.design import verification_loop
 from springbalance.design.clearance_distances import pair_distances
 from springbalance.design.clearance_fit import DESCENT_BAND, _Checker, _worst, fit_to_arm
 from springbalance.design.clearance_round import FALLBACK_STARTS
@@ -422,3 +423,25 @@ def test_the_verification_also_cuts_each_contact_at_the_closest_approach_near_it
         sampled = min(below[key] for key in contacts if key[:4] == pair)
         assert min(value for key, value in nearby.items() if key[:4] == pair) <= sampled + 1e-12
     assert min(nearby.values()) < min(below[key] for key in contacts) - 1e-6
+
+
+def test_where_no_re_solve_meets_the_cuts_the_verification_fits_the_design_again(arm, workspace, in_plane, monkeypatch):
+    """The verification finds the optimum through link2 at its unseen poses. When no single re-solve with the cuts
+    there is feasible (held so here), the loop fits the design to the arm again from where it is, the contacts it
+    found watched in every round; the design then holds at the next fresh poses and at 10× the poses."""
+    margin = 0.005
+    problem = sb.DesignProblem(
+        arm, workspace, crossing_springs(0.1), clearance=sb.Clearance(margin=margin, check_samples=CHECK)
+    )
+    start = np.array([in_plane.variables.get(name, 0.0) for name in problem.variables.names])
+    refits = []
+    monkeypatch.setattr(verification_loop, "_round", lambda *args: None)
+    refit = verification_loop._refit
+    monkeypatch.setattr(verification_loop, "_refit", lambda *args: refits.append(1) or refit(*args))
+    options = {"method": "auto", "max_iterations": 100, "tolerance": 1e-8, "polish_iterations": None}
+    solution, record, fitted = verification_loop.verify_and_resolve(
+        problem, Solution(start, [], "auto", 0, "given"), "resolve", **options
+    )
+    assert refits and record.rounds == len(refits) and record.passed
+    assert fitted.linear_rows is not None and fitted.linear_violation(solution.x) <= 1e-6
+    assert sb.DesignResult(fitted, solution.x).clearance(samples=DENSE).row("s1").distance >= margin - 1e-6

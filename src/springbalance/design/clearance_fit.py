@@ -353,10 +353,12 @@ def fit_to_arm(
     kept: LinearRows | None = None,
     trusted_first: bool = False,
     tighten: bool = False,
+    checker: _Checker | None = None,
     **solve_options: Any,
 ) -> tuple[Solution, FitRecord, DesignProblem]:
     """Enforce the problem's clearance and mountings from ``solution`` (see the module documentation); each
     round's rows come after ``kept`` (rows found before: those of the ideal twin's fit, which the coils keep).
+    ``checker``: the clearance's checker, with the poses found before in its pose set 2 (the verification's).
 
     When the rounds do not converge, the loop runs again from ``solution`` with a trust region in each round
     (:func:`~springbalance.design.clearance_round.trust_rows`), and keeps that fit when it converges; the
@@ -373,10 +375,10 @@ def fit_to_arm(
     (``problem`` itself when no round ran).
     """
     clock = time.perf_counter()
-    fitted = _fitted(problem, solution, kept, trusted_first, solve_options, tighten)
+    fitted = _fitted(problem, solution, kept, trusted_first, solve_options, tighten, checker)
     if fitted[1].converged or fitted[1].rounds == 0:
         return fitted
-    retried = _fitted(problem, solution, kept, not trusted_first, solve_options, tighten)
+    retried = _fitted(problem, solution, kept, not trusted_first, solve_options, tighten, checker)
     chosen = retried if retried[1].converged else fitted
     chosen[1].rounds = fitted[1].rounds + retried[1].rounds
     chosen[1].seconds = time.perf_counter() - clock
@@ -390,14 +392,15 @@ def _fitted(
     trusted: bool,
     solve_options: dict[str, Any],
     tighten: bool = False,
+    given: _Checker | None = None,
 ) -> tuple[Solution, FitRecord, DesignProblem]:
     """The loop of :func:`fit_to_arm`; ``trusted``: each round inside its trust region first; ``tighten``: the
-    rounds of :class:`~springbalance.design.clearance_round.Tightening` after a fitted design."""
+    rounds of :class:`~springbalance.design.clearance_round.Tightening` after a fitted design; ``given``: the checker."""
     clock = time.perf_counter()
     clearance = problem.clearance
     x = np.array(solution.x, dtype=float)
     before = problem.objective_value(problem.evaluate(x))
-    checker = _Checker(problem, clearance) if clearance is not None else None
+    checker = given or (_Checker(problem, clearance) if clearance is not None else None)
     geometry = collision_geometry(problem.mechanism) if problem.mounts else None
     watched: set[Key] = set()
     planes = mount_planes(problem, np.asarray(problem.variables.start, dtype=float)) if problem.mounts else {}
