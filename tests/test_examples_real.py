@@ -14,7 +14,9 @@ The floors are not this test's own output. They come from other runs of the same
   (benchmarks/bench_real.py --cases example-ur5 --parts c; 4× the starts: 76.18 / 41.72 %); after the
   coils' length rules and body stresses were searched to the joint limits, 76.21 / 76.06 / 76.14 / 76.03 /
   76.17 % and 41.64 / 43.12 / 41.74 / 43.34 / 41.69 % (seeds 1, 0, 2, 3, 4; 1 ships); at 512 poses
-  1.2 kg of coils cut 75.1 / 38.2 % and 1.6 kg 77.0 / 44.3 %. The floors, 74 % and 39.5 %, sit about 2 points
+  1.2 kg of coils cut 75.1 / 38.2 % and 1.6 kg 77.0 / 44.3 %. In the environment constraints.txt pins (2026-11-28)
+  seeds 1 (the shipped one), 0, 2, 4 cut 75.61 / 76.04 / 75.47 / 75.94 % and 41.75 / 43.23 / 42.11 / 43.20 %, and
+  seed 3 fails its verification (74.86 / 35.84 %, exit 3). The floors, 74 % and 39.5 %, sit about 2 points
   below the worst seed, so a platform whose rounding lands on another of these optima still passes, while a
   broken pipeline does not (before the fall-back, seed 2 ended at 72.4 / 37.5 % and ``worse_joint``: its ideal
   twin's fit to the arm kept a round that had stopped infeasible, objective 6.17 instead of 0.087, and the
