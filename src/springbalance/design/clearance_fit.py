@@ -394,8 +394,8 @@ def _fitted(
     tighten: bool = False,
     given: _Checker | None = None,
 ) -> tuple[Solution, FitRecord, DesignProblem]:
-    """The loop of :func:`fit_to_arm`; ``trusted``: each round inside its trust region first; ``tighten``: the
-    rounds of :class:`~springbalance.design.clearance_round.Tightening` after a fitted design; ``given``: the checker."""
+    """The loop of :func:`fit_to_arm`; ``trusted``: each round inside its trust region first; ``tighten``: the rounds
+    of :class:`~springbalance.design.clearance_round.Tightening` after a fitted design; ``given``: its checker."""
     clock = time.perf_counter()
     clearance = problem.clearance
     x = np.array(solution.x, dtype=float)

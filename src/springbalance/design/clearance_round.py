@@ -14,8 +14,8 @@ clear, they fitted the UR5 example's ideal twin at 70× its objective). After :d
 rounds in a row that broke a rule, or when the loop ends on one, it falls back to the last design that met its rows (:func:`fell_back`); that one was
 not clear of the arm (else the loop would have stopped there), so the fit is not converged, and
 :func:`~springbalance.design.clearance_starts.fit_from_starts` fits the next ranked designs of the
-multi-start (:func:`fall_back`), as it does after a fit that ran out of rounds. It fits the next one also when every fit converged only after its rounds moved
-the design: a design clear as it stands may end better.
+multi-start (:func:`fall_back`), as it does after a fit that ran out of rounds. It fits the next one also when
+every fit converged only after its rounds moved the design: a design clear as it stands may end better.
 """
 
 from __future__ import annotations
@@ -155,8 +155,8 @@ def fall_back(
     converged (a fitting round stopped infeasible, or the rounds ran out) and fewer than :data:`FALLBACK_STARTS`
     were added (bench_real's ur5-coils-clear at seed 2: the coils' fit ran out of its 24 rounds and of 24 more
     inside trust regions, and the design failed as overlapping; the next ranked design fitted in one round, and the
-    design passed at 0.985 N·m); while every fit that converged did so to a design that is not ``accepted`` (default: every converged
-    design is; :func:`~springbalance.design.clearance_starts.fit_from_starts` refuses one that carries a weighted
+    design passed at 0.985 N·m); while every fit that converged did so to a design that is not ``accepted``
+    (default: every converged design is; :func:`~springbalance.design.clearance_starts.fit_from_starts` refuses one that carries a weighted
     joint worse than the bare arm); or, once, when every accepted fit had to move its design (a round or more):
     the next ranked design may be clear as it stands and end better than a design the rounds moved (the Panda
     example: its best start fitted in 4 rounds at 3.17 N·m, its second clear at 2.89), unless an accepted fit ends

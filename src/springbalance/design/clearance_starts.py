@@ -55,8 +55,9 @@ def fit_from_starts(
     designs of the multi-start (:func:`distinct_designs`); keeps the converged fit of lowest objective among those
     that carry no weighted joint worse than the bare arm (peak and RMS at the samples: a design the command would
     refuse, ``worse_joint``), else among the converged ones, else the first. When no fit converged, or when every
-    converged fit carries a joint worse, the next ranked designs are fitted too, up to :data:`~springbalance.design.clearance_round.FALLBACK_STARTS` more; when every accepted fit
-    converged only after its rounds moved the design, the next ranked one is fitted too (once). ``trusted_first``:
+    converged fit carries a joint worse, the next ranked designs are fitted too, up to
+    :data:`~springbalance.design.clearance_round.FALLBACK_STARTS` more; when every accepted fit converged only
+    after its rounds moved the design, the next ranked one is fitted too (once). ``trusted_first``:
     each fit's first run has a trust region; ``tighten``: each fitted design is tightened (:func:`fit_to_arm`);
     ``verified``: of several such fits, the best that holds at the verification's unseen poses
     (:func:`held_at_unseen_poses`); ``thin_first``: the fits start from a fit of the springs as thin lines

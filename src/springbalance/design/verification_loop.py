@@ -105,12 +105,12 @@ def verify_and_resolve(
 
 
 def _closest_nearby(checker: _Checker, x: np.ndarray, contacts: Sequence[Key]) -> dict[Key, float]:
-    """The closest approach near each of the ``contacts`` below the margin (contacts of pose set 2 → distance [m]
-    where below the margin too): a bounded
-    descent over the joint coordinates from its pose (:meth:`~springbalance.design.clearance_fit._Checker.descend`,
-    as the fit searches between its samples). The unseen poses are samples too, and cuts at them alone leave the
-    poses between them below the margin: on bench_real's ur5-coils-clear (seed 0) each of three re-solves met its
-    cuts and the next fresh set of poses found another contact a fraction of a millimetre below the margin."""
+    """The closest approach near each of the ``contacts`` below the margin, by a bounded descent over the joint
+    coordinates from its pose (:meth:`~springbalance.design.clearance_fit._Checker.descend`, as the fit searches
+    between its samples): contacts of the checker's pose set 2 → distance [m], where below the margin too. The
+    unseen poses are samples too, and cuts at them alone leave the poses between them below the margin: on
+    bench_real's ur5-coils-clear (seed 0) each of three re-solves met its cuts and the next fresh set of poses
+    found another contact a fraction of a millimetre below the margin."""
     nearest: Nearest = {}
     for key in contacts:
         nearest.setdefault(key[:4], []).append((-np.inf, key[4], key[5]))
