@@ -95,3 +95,26 @@ def test_new_figure_draws_on_an_agg_canvas():
 
     figure = plots.new_figure(figsize=(2.0, 1.5))
     assert isinstance(figure.canvas, FigureCanvasAgg) and tuple(figure.get_size_inches()) == (2.0, 1.5)
+
+
+def test_a_joint_without_gravity_torque_is_plotted_flat_on_the_arms_scale():
+    """a1 of the KR-like arm is vertical: its gravity torque is round-off, which on its own scale looks like a torque;
+    its panel spans a twentieth of the largest torque and says there is none (the spring pulls from a point on that
+    axis, so it adds no torque there either)."""
+    mechanism = sb.Mechanism.from_urdf(URDF / "kr_like_6r.urdf")
+    ranges = {"a1": [-90, 90], "a2": [-60, 60], "a3": [-60, 60], "a4": [0, 0], "a5": [0, 0], "a6": [0, 0]}
+    workspace = sb.Workspace.sobol(mechanism, 64, ranges=ranges, degrees=True)
+    spring = sb.ZeroFreeLengthSpring(
+        sb.Anchor("base_link", (0, 0, 0.1)), sb.Anchor("link2", (0.2, 0, 0)), stiffness=1.0
+    )
+    result = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [spring]), np.zeros(0))
+    figure = plots.plot_torques(result, points=21)
+    axes = {a.get_xlabel(): a for a in figure.axes if a.lines}
+    vertical = axes["a1 [deg]"]
+    assert np.max(np.abs(vertical.lines[0].get_ydata())) < 1e-9  # Pinocchio's torque on a vertical axis: none
+    largest = max(np.max(np.abs(line.get_ydata())) for a in axes.values() for line in a.lines[:2])
+    assert largest > 10.0
+    np.testing.assert_allclose(vertical.get_ylim(), (-plots.FLAT_SPAN * largest, plots.FLAT_SPAN * largest))
+    assert [t.get_text() for t in vertical.texts] == ["no gravity torque on this joint"]
+    lift = axes["a2 [deg]"]
+    assert not lift.texts and lift.get_ylim()[1] - lift.get_ylim()[0] > 0.5 * largest

@@ -30,6 +30,11 @@ if TYPE_CHECKING:
 
 BEFORE_COLOR = "#7f7f7f"
 AFTER_COLOR = "#d7301f"
+#: A joint whose torques along its sweep stay within this fraction of the largest torque of any joint carries none:
+#: its values are round-off (the UR5's pan, about 1e-14 N·m against the lift's 60), plotted flat on a shared scale.
+ROUND_OFF = 1e-9
+#: The half-height of such a panel, as a fraction of the largest torque of any joint.
+FLAT_SPAN = 0.05
 
 
 def new_figure(**options: Any) -> Figure:
@@ -74,6 +79,7 @@ def plot_torques(result: EvaluatedDesign, points: int = 121, path: str | Path | 
     ``path`` (optional): also save the figure there as PNG and SVG (see :func:`save_figure`).
     """
     rows = torque_sweeps(result, points)
+    largest = max((float(np.max(np.abs(np.concatenate([r["before"], r["after"]])))) for r in rows), default=0.0)
     columns = min(len(rows), 3) or 1
     lines = int(np.ceil(len(rows) / columns)) or 1
     figure = new_figure(figsize=(4.2 * columns, 3.2 * lines), layout="constrained")
@@ -91,6 +97,7 @@ def plot_torques(result: EvaluatedDesign, points: int = 121, path: str | Path | 
         axes.set_xlabel(label)
         axes.set_ylabel(f"{joint.name} torque [{joint.torque_unit}]")
         axes.grid(True, alpha=0.3)
+        _flat_if_none(axes, row, largest)
         if index == 0:
             axes.legend(loc="best", fontsize="small")
     figure.suptitle(
@@ -99,6 +106,17 @@ def plot_torques(result: EvaluatedDesign, points: int = 121, path: str | Path | 
     if path is not None:
         save_figure(figure, path)
     return figure
+
+
+def _flat_if_none(axes: Any, row: dict[str, Any], largest: float) -> None:
+    """A panel whose joint carries no torque (every value within :data:`ROUND_OFF` of ``largest`` [N·m or N], the
+    largest of any joint) spans ±:data:`FLAT_SPAN` ``largest`` and says so: on its own scale its round-off would look
+    like a torque."""
+    values = np.concatenate([row["before"], row["after"]])
+    if largest <= 0.0 or float(np.max(np.abs(values))) > ROUND_OFF * largest:
+        return
+    axes.set_ylim(-FLAT_SPAN * largest, FLAT_SPAN * largest)
+    axes.text(0.5, 0.8, "no gravity torque on this joint", transform=axes.transAxes, ha="center", fontsize="small")
 
 
 def plot_histogram(result: EvaluatedDesign, bins: int = 40, path: str | Path | None = None) -> Figure:
