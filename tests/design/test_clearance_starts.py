@@ -145,9 +145,37 @@ def test_of_several_fits_the_best_that_holds_at_unseen_poses_is_kept(problem, cl
     assert clearance_starts.held_at_unseen_poses(fitted, [unseen, other]) is unseen
 
 
-@pytest.mark.parametrize("verified", [True, False])
+def test_with_repair_a_better_fit_repaired_at_unseen_poses_beats_a_worse_one_that_held(
+    problem, clear_only_at_the_fits_poses, monkeypatch
+):
+    """The fit that does not hold is repaired as the verification would (re-solved with the poses and cuts where it
+    fails); repaired it holds, and is kept when its objective is the lower, with that objective in its record and the
+    cuts in its rows. The next fit here holds as it stands but carries nothing (the held fit's anchors, every
+    stiffness 0: the bare arm's objective). When the repair does not hold, that next fit is kept."""
+    fitted, _ = problem
+    unseen, held = clear_only_at_the_fits_poses
+    idle_x = _stiffness_free(fitted, held[0].x)
+    idle = (Solution(idle_x, [], "auto", 0, "given"), FitRecord(0, 0, True, 1.0, 3.0), held[2])
+    bare = float(fitted.objective_value(fitted.evaluate(idle_x)))
+    solution, record, rows = clearance_starts.held_at_unseen_poses(fitted, [unseen, idle], repair=True, **OPTIONS)
+    repaired = fitted.with_linear_rows(rows)
+    assert check_design(repaired, solution.x, 0, _Checker(repaired, fitted.clearance), "report").record.passed
+    kept = float(fitted.objective_value(fitted.evaluate(solution.x)))
+    assert record.objective == pytest.approx(kept, rel=1e-12) and kept < 0.5 * bare
+    assert not np.allclose(solution.x, unseen[0].x)  # moved off the design that failed
+    assert len(rows) > len(unseen[2] or ())  # with the cuts where it failed
+
+    def unrepaired(problem, solution, mode, fixed=(), **options):
+        record = check_design(problem, solution.x, 0, _Checker(problem, problem.clearance), "report").record
+        return solution, record, problem
+
+    monkeypatch.setattr(clearance_starts, "verify_and_resolve", unrepaired)
+    assert clearance_starts.held_at_unseen_poses(fitted, [unseen, idle], repair=True, **OPTIONS) is idle
+
+
+@pytest.mark.parametrize("verify", ["report", "off"])
 def test_fit_from_starts_ranks_its_fits_at_unseen_poses_when_the_design_is_verified(
-    problem, clear_only_at_the_fits_poses, monkeypatch, verified
+    problem, clear_only_at_the_fits_poses, monkeypatch, verify
 ):
     """Two designs fitted (``Clearance.starts`` 2), scripted as the fits of :func:`clear_only_at_the_fits_poses`,
     neither making a joint worse: the lower is kept unless the design is to be verified (the solve's ``verify`` is
@@ -164,10 +192,10 @@ def test_fit_from_starts_ranks_its_fits_at_unseen_poses_when_the_design_is_verif
     monkeypatch.setattr(clearance_starts, "weighted_joints_made_worse", lambda problem, x: [])
     records = [_record(0, start, 1.0), _record(1, np.array(held[0].x), 2.0)]
     solution, fit, _ = clearance_starts.fit_from_starts(
-        fitted, Solution(start, records, "auto", 0, "given"), verified=verified, **OPTIONS
+        fitted, Solution(start, records, "auto", 0, "given"), verify=verify, **OPTIONS
     )
     assert fit.starts == 2
-    np.testing.assert_array_equal(solution.x, (held if verified else unseen)[0].x)
+    np.testing.assert_array_equal(solution.x, (held if verify == "report" else unseen)[0].x)
 
 
 def test_the_thin_stage_is_the_clearance_with_thin_lines_and_no_margin(problem):

@@ -121,17 +121,17 @@ def test_the_fit_to_the_arm_tightens_the_designs_of_problems_without_free_coils(
     assert asked == [True] and result.fit is not None and result.fit.converged
 
 
-@pytest.mark.parametrize(("verify", "verified"), [("resolve", True), ("report", True), ("off", False)])
-def test_the_fits_are_ranked_at_unseen_poses_unless_the_design_is_not_verified(monkeypatch, verify, verified):
-    """docs/model.md §11: of several fits, the lowest that holds where the verification looks, unless
-    ``verify: off``."""
+@pytest.mark.parametrize("verify", ["resolve", "report", "off"])
+def test_the_fits_are_ranked_at_unseen_poses_in_the_verifications_mode(monkeypatch, verify):
+    """docs/model.md §11: of several fits, the lowest that holds where the verification looks (repaired there first
+    in mode "resolve"), unless ``verify: off``: the fit is given the solve's mode."""
     from clearance_helpers import crossing_case
     from springbalance.design import clearance_starts
 
-    asked = _recorded(monkeypatch, clearance_starts, "fit_from_starts", "verified")
+    asked = _recorded(monkeypatch, clearance_starts, "fit_from_starts", "verify")
     problem, _ = crossing_case(0.005)
     sb.solve(problem, starts=2, progress=False, verify=verify)
-    assert asked == [verified]
+    assert asked == [verify]
 
 
 def test_the_fit_starts_from_thin_springs_with_a_clearance_and_no_free_coils(pendulum, monkeypatch):

@@ -164,7 +164,7 @@ def fit_to_arm(state: SolveState) -> SolveState:
             state.solved,
             state.kept_rows,
             tighten=tightened(problem),
-            verified=verification_loop.check_mode(state.options.verify) != "off",
+            verify=verification_loop.check_mode(state.options.verify),
             thin_first=thin_first(problem),
             **state.options.solver_options(),
         )
