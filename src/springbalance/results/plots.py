@@ -109,21 +109,30 @@ def plot_torques(result: EvaluatedDesign, points: int = 121, path: str | Path | 
 
 
 def _flat_if_none(axes: Any, row: dict[str, Any], largest: float) -> None:
-    """A panel whose joint carries no torque (every value within :data:`ROUND_OFF` of ``largest`` [N·m or N], the
-    largest of any joint) spans ±:data:`FLAT_SPAN` ``largest`` and says so: on its own scale its round-off would look
-    like a torque."""
-    values = np.concatenate([row["before"], row["after"]])
-    if largest <= 0.0 or float(np.max(np.abs(values))) > ROUND_OFF * largest:
-        return
-    axes.set_ylim(-FLAT_SPAN * largest, FLAT_SPAN * largest)
+    """A sweep's panel whose joint carries no torque (:func:`_carries_none`) spans ±:data:`FLAT_SPAN` ``largest``
+    and says so: on its own scale its round-off would look like a torque."""
+    if _carries_none(np.concatenate([row["before"], row["after"]]), largest):
+        axes.set_ylim(-FLAT_SPAN * largest, FLAT_SPAN * largest)
+        _say_none(axes)
+
+
+def _carries_none(values: np.ndarray, largest: float) -> bool:
+    """Whether torques ``values`` [N·m or N] are round-off: every one within :data:`ROUND_OFF` of ``largest``, the
+    largest torque of any joint."""
+    return largest > 0.0 and float(np.max(np.abs(values))) <= ROUND_OFF * largest
+
+
+def _say_none(axes: Any) -> None:
     axes.text(0.5, 0.8, "no gravity torque on this joint", transform=axes.transAxes, ha="center", fontsize="small")
 
 
 def plot_histogram(result: EvaluatedDesign, bins: int = 40, path: str | Path | None = None) -> Figure:
-    """Histogram of every joint's torque over the design's workspace samples, before and after."""
+    """Histogram of every joint's torque over the design's workspace samples, before and after. A joint that carries
+    none (:func:`_carries_none`) is binned over ±:data:`FLAT_SPAN` of the largest torque of any joint, and says so."""
     problem = result.problem
     before = problem.workspace.kinematics().gravity_torque
     after = result.evaluation.tau
+    largest = float(max(np.max(np.abs(before), initial=0.0), np.max(np.abs(after), initial=0.0)))
     joints = problem.mechanism.joints
     columns = min(len(joints), 3)
     lines = int(np.ceil(len(joints) / columns))
@@ -131,8 +140,9 @@ def plot_histogram(result: EvaluatedDesign, bins: int = 40, path: str | Path | N
     for index, joint in enumerate(joints):
         axes = figure.add_subplot(lines, columns, index + 1)
         j = joint.index_v
-        low = min(before[:, j].min(), after[:, j].min())
-        high = max(before[:, j].max(), after[:, j].max())
+        none = _carries_none(np.concatenate([before[:, j], after[:, j]]), largest)
+        low = -FLAT_SPAN * largest if none else min(before[:, j].min(), after[:, j].min())
+        high = FLAT_SPAN * largest if none else max(before[:, j].max(), after[:, j].max())
         edges = np.linspace(low, high, bins + 1) if high > low else bins
         axes.hist(
             before[:, j],
@@ -151,6 +161,8 @@ def plot_histogram(result: EvaluatedDesign, bins: int = 40, path: str | Path | N
         axes.set_xlabel(f"{joint.name} torque [{joint.torque_unit}]")
         axes.set_ylabel("samples")
         axes.grid(True, alpha=0.3)
+        if none:
+            _say_none(axes)
         if index == 0:
             axes.legend(loc="best", fontsize="small")
     figure.suptitle(
