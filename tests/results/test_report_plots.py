@@ -23,6 +23,7 @@ import pytest
 
 import springbalance as sb
 from scene_helpers import URDF, two_link_design
+from springbalance.results import plots
 from springbalance.results.coil_plots import plot_coils
 from springbalance.results.html_report import write_report
 from springbalance.results.spread_plots import plot_residual_spread, plot_tolerance_band
@@ -192,3 +193,34 @@ def test_the_report_shows_the_plots_and_the_text_report_prints_counts_bare(tmp_p
         assert (tmp_path / f"{name}.svg").is_file() and (tmp_path / f"{name}.png").is_file()
     text = design.table()
     assert "active_coils 30  initial_tension 15 N" in text and "active_coils 12  free_length 0.3 m" in text
+
+
+def test_a_joint_without_gravity_torque_is_flat_in_the_spread_and_tolerance_plots():
+    """a1 of the KR-like arm is vertical, and the extension spring pulls from a point on its axis: a1's torques are
+    round-off. In the spread plot and the tolerance band its panel spans a twentieth of the largest torque of any
+    joint and says there is none; a2's (the shoulder pitch) keeps its own scale."""
+    mechanism = sb.Mechanism.from_urdf(URDF / "kr_like_6r.urdf")
+    ranges = {"a1": [-90, 90], "a2": [-60, 60], "a3": [-60, 60], "a4": [0, 0], "a5": [0, 0], "a6": [0, 0]}
+    workspace = sb.Workspace.sobol(mechanism, 64, ranges=ranges, degrees=True)
+    spring = sb.ExtensionSpring(
+        sb.Anchor("base_link", (0, 0, 0.1)), sb.Anchor("link2", (0.2, 0, 0)), "s", stiffness=300.0, free_length=0.1
+    )
+    design = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [spring]), np.zeros(0), tolerance=SPEC)
+    gravity = workspace.kinematics().gravity_torque
+    residual = design.residual_torque(workspace.joint_values)
+    assert np.max(np.abs(gravity[:, 0])) < 1e-9 and np.max(np.abs(residual[:, 0])) < 1e-9  # the premise
+    largest = max(np.max(np.abs(gravity)), np.max(np.abs(residual)))  # of any joint, at the samples
+    for name, figure in [
+        ("spread", plot_residual_spread(design, bins=5)),
+        ("band", plot_tolerance_band(design, bins=5)),
+    ]:
+        panels = {axes.get_xlabel(): axes for axes in figure.axes}
+        vertical, pitch = panels["a1 [deg]"], panels["a2 [deg]"]
+        low, high = vertical.get_ylim()
+        assert low == -high
+        if name == "spread":  # the samples' torques: the largest is this one
+            assert high == pytest.approx(plots.FLAT_SPAN * largest, rel=1e-12)
+        else:  # the band holds the nominal residual, and spreads wider
+            assert plots.FLAT_SPAN * largest <= high < 3 * plots.FLAT_SPAN * largest
+        assert [text.get_text() for text in vertical.texts] == ["no gravity torque on this joint"]
+        assert not pitch.texts and pitch.get_ylim()[1] - pitch.get_ylim()[0] > 4 * high

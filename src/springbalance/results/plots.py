@@ -97,7 +97,7 @@ def plot_torques(result: EvaluatedDesign, points: int = 121, path: str | Path | 
         axes.set_xlabel(label)
         axes.set_ylabel(f"{joint.name} torque [{joint.torque_unit}]")
         axes.grid(True, alpha=0.3)
-        _flat_if_none(axes, row, largest)
+        flat_if_none(axes, np.concatenate([row["before"], row["after"]]), largest)
         if index == 0:
             axes.legend(loc="best", fontsize="small")
     figure.suptitle(
@@ -108,10 +108,11 @@ def plot_torques(result: EvaluatedDesign, points: int = 121, path: str | Path | 
     return figure
 
 
-def _flat_if_none(axes: Any, row: dict[str, Any], largest: float) -> None:
-    """A sweep's panel whose joint carries no torque (:func:`_carries_none`) spans ±:data:`FLAT_SPAN` ``largest``
-    and says so: on its own scale its round-off would look like a torque."""
-    if _carries_none(np.concatenate([row["before"], row["after"]]), largest):
+def flat_if_none(axes: Any, values: np.ndarray, largest: float) -> None:
+    """A panel of torques ``values`` [N·m or N] that are round-off (:func:`_carries_none`: the joint carries none)
+    spans ±:data:`FLAT_SPAN` ``largest`` on its torque axis (y) and says so: on its own scale its round-off would
+    look like a torque."""
+    if _carries_none(values, largest):
         axes.set_ylim(-FLAT_SPAN * largest, FLAT_SPAN * largest)
         _say_none(axes)
 
