@@ -64,8 +64,8 @@ def fit_from_starts(
     each fit's first run has a trust region; ``tighten``: each fitted design is tightened (:func:`fit_to_arm`);
     ``verify``: the solve's verification mode (:data:`~springbalance.design.verification_loop.MODES`); unless
     ``"off"``, of several such fits the best that holds at the verification's unseen poses, in mode ``"resolve"``
-    repaired there first (:func:`held_at_unseen_poses`); ``thin_first``: the fits start from a fit of the springs as thin lines
-    (:func:`fit_thin_first`). Returns the fit kept with the problem that carries its rows; its record's ``seconds``
+    repaired there first (:func:`held_at_unseen_poses`); ``thin_first``: the fits start from a fit of the springs
+    as thin lines (:func:`fit_thin_first`). Returns the fit kept with the problem that carries its rows; its record's ``seconds``
     are the wall time of all the fits."""
 
     def fit(problem: DesignProblem, solution: Solution, verify: str) -> tuple[Solution, FitRecord, DesignProblem]:

@@ -30,8 +30,8 @@ if TYPE_CHECKING:
 
 BEFORE_COLOR = "#7f7f7f"
 AFTER_COLOR = "#d7301f"
-#: A joint whose torques along its sweep stay within this fraction of the largest torque of any joint carries none:
-#: its values are round-off (the UR5's pan, about 1e-14 N·m against the lift's 60), plotted flat on a shared scale.
+#: A joint whose torques in a plot stay within this fraction of the largest torque of any joint carries none: its
+#: values are round-off (the UR5's pan, about 1e-14 N·m against the lift's 60), plotted flat on a shared scale.
 ROUND_OFF = 1e-9
 #: The half-height of such a panel, as a fraction of the largest torque of any joint.
 FLAT_SPAN = 0.05
@@ -79,7 +79,7 @@ def plot_torques(result: EvaluatedDesign, points: int = 121, path: str | Path | 
     ``path`` (optional): also save the figure there as PNG and SVG (see :func:`save_figure`).
     """
     rows = torque_sweeps(result, points)
-    largest = max((float(np.max(np.abs(np.concatenate([r["before"], r["after"]])))) for r in rows), default=0.0)
+    largest = largest_torque(*(np.concatenate([row["before"], row["after"]]) for row in rows))
     columns = min(len(rows), 3) or 1
     lines = int(np.ceil(len(rows) / columns)) or 1
     figure = new_figure(figsize=(4.2 * columns, 3.2 * lines), layout="constrained")
@@ -117,6 +117,11 @@ def flat_if_none(axes: Any, values: np.ndarray, largest: float) -> None:
         _say_none(axes)
 
 
+def largest_torque(*torques: np.ndarray) -> float:
+    """The largest magnitude [N·m or N] in any of the arrays ``torques`` (0 when they are empty)."""
+    return float(max((np.max(np.abs(values), initial=0.0) for values in torques), default=0.0))
+
+
 def _carries_none(values: np.ndarray, largest: float) -> bool:
     """Whether torques ``values`` [N·m or N] are round-off: every one within :data:`ROUND_OFF` of ``largest``, the
     largest torque of any joint."""
@@ -133,7 +138,7 @@ def plot_histogram(result: EvaluatedDesign, bins: int = 40, path: str | Path | N
     problem = result.problem
     before = problem.workspace.kinematics().gravity_torque
     after = result.evaluation.tau
-    largest = float(max(np.max(np.abs(before), initial=0.0), np.max(np.abs(after), initial=0.0)))
+    largest = largest_torque(before, after)
     joints = problem.mechanism.joints
     columns = min(len(joints), 3)
     lines = int(np.ceil(len(joints) / columns))

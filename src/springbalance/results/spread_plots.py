@@ -23,7 +23,14 @@ from springbalance.design.robust import nominal_design
 from springbalance.design.tolerance import analyse_tolerance
 from springbalance.model import sweeps
 from springbalance.model.mechanism import Joint
-from springbalance.results.plots import AFTER_COLOR, BEFORE_COLOR, flat_if_none, new_figure, save_figure
+from springbalance.results.plots import (
+    AFTER_COLOR,
+    BEFORE_COLOR,
+    flat_if_none,
+    largest_torque,
+    new_figure,
+    save_figure,
+)
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -82,11 +89,6 @@ def _panels(
     return figure, panels
 
 
-def _largest(*torques: np.ndarray) -> float:
-    """The largest magnitude [N·m or N] of any joint's torque in ``torques`` (each N×nv)."""
-    return float(max(np.max(np.abs(values), initial=0.0) for values in torques))
-
-
 def _band(axes: Axes, x: np.ndarray, low: np.ndarray, high: np.ndarray, bins: int, gid: str, **style: Any) -> None:
     steps, lower, upper = binned_band(x, low, high, bins)
     band = axes.fill_between(steps, lower, upper, linewidth=0, **style)
@@ -105,7 +107,7 @@ def plot_residual_spread(result: EvaluatedDesign, bins: int = BINS, path: str | 
         problem.workspace.joint_values,
         f"{problem.mechanism.name}: torque at the {problem.workspace.size} workspace samples, and its spread",
     )
-    largest = _largest(before, after)
+    largest = largest_torque(before, after)
     for number, (joint, axes, x, _) in enumerate(panels):
         j = joint.index_v
         flat_if_none(axes, np.concatenate([before[:, j], after[:, j]]), largest)
@@ -137,7 +139,7 @@ def plot_tolerance_band(result: EvaluatedDesign, bins: int = BINS, path: str | P
         problem.workspace.joint_values,
         f"{problem.mechanism.name}: residual over the tolerance box of {len(analysis.boxes)} spring(s) ({sources})",
     )
-    largest = _largest(analysis.lower, analysis.upper, tau)
+    largest = largest_torque(analysis.lower, analysis.upper, tau)
     for number, (joint, axes, x, _) in enumerate(panels):
         j = joint.index_v
         flat_if_none(axes, np.concatenate([analysis.lower[:, j], analysis.upper[:, j], tau[:, j]]), largest)
