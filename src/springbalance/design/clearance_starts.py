@@ -190,7 +190,7 @@ def held_at_unseen_poses(
 
     On bench_real's ur5-mounted-clear with 8 fits (seed 4) the best (0.5607 N·m) broke its clearance at unseen
     poses, and the verification's re-solves moved it to 1.577 N·m; the next (0.6666) held, and is kept. On
-    ur5-coils-clear at seed 2 the best (1.330) did not hold either, but repaired it held at 1.069, below the next
+    ur5-coils-clear at seed 2 the best (1.330) did not hold either, but repaired it held at 1.064, below the next
     (1.845, which held as it stood)."""
     if len(ranked) < 2:
         return ranked[0]
