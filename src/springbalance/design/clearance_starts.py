@@ -198,18 +198,22 @@ def held_at_unseen_poses(
     repairs = REPAIRS if repair else 0
     for fit in ranked:
         checked = problem.with_linear_rows(fit[2])
-        checker = _Checker(checked, checked.clearance) if checked.clearance is not None else None
-        if check_design(checked, fit[0].x, 0, checker, "report").record.passed:
-            held.append((_objective(problem, fit[0].x), fit))
-            break
-        if repairs > 0:
+        if repairs > 0:  # the verification's own first check is round 0's: it returns at once when the fit holds
             repairs -= 1
             solution, verification, repaired = verify_and_resolve(checked, fit[0], "resolve", **solve_options)
+            if verification.passed and verification.rounds == 0:
+                held.append((_objective(problem, fit[0].x), fit))
+                break
             if verification.passed:
                 objective = _objective(problem, solution.x)
                 held.append(
                     (objective, (solution, dataclasses.replace(fit[1], objective=objective), repaired.linear_rows))
                 )
+            continue
+        checker = _Checker(checked, checked.clearance) if checked.clearance is not None else None
+        if check_design(checked, fit[0].x, 0, checker, "report").record.passed:
+            held.append((_objective(problem, fit[0].x), fit))
+            break
     return min(held, key=lambda item: item[0])[1] if held else ranked[0]
 
 
