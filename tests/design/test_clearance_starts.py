@@ -164,6 +164,10 @@ def test_with_repair_a_better_fit_repaired_at_unseen_poses_beats_a_worse_one_tha
     assert record.objective == pytest.approx(kept, rel=1e-12) and kept < 0.5 * bare
     assert not np.allclose(solution.x, unseen[0].x)  # moved off the design that failed
     assert len(rows) > len(unseen[2] or ())  # with the cuts where it failed
+    # the record describes the repaired design: its re-solves, its rows, its distances at the fit's poses (clear)
+    assert record.rounds > unseen[1].rounds and record.rows == len(rows)
+    assert set(record.closest) == {spring.name for spring in fitted.springs}  # (the scripted fit's record has none)
+    assert min(record.closest.values()) >= fitted.clearance.margin - 1e-9
 
     def unrepaired(problem, solution, mode, fixed=(), **options):
         record = check_design(problem, solution.x, 0, _Checker(problem, problem.clearance), "report").record

@@ -39,6 +39,7 @@ def test_the_steps_run_in_the_documented_order():
         "multi_start",
         "fit_to_arm",
         "round_wires",
+        "hold_joints",
         "verify",
     ]
 
@@ -106,6 +107,16 @@ def test_every_solve_of_the_steps_gets_the_polish_budget(monkeypatch):
     budgets = _recorded(monkeypatch, steps, "solve_problem", "polish_iterations")
     sb.solve(load_config(ROOT / "examples/two_link.yaml"), starts=2, max_iterations=30, progress=False)
     assert budgets and set(budgets) == {COIL_POLISH_FACTOR * 30}
+
+
+def test_the_joints_are_held_with_the_wires_the_rounding_chose(monkeypatch):
+    """docs/model.md §6, "Held when made worse": the held solve keeps the rounded wires at their standard sizes."""
+    from springbalance.design import joint_hold
+
+    fixed = _recorded(monkeypatch, joint_hold, "held_within_bare_arm", "fixed")
+    result = sb.solve(load_config(ROOT / "examples/two_link.yaml"), starts=2, max_iterations=30, progress=False)
+    assert result.wire_rounding is not None and result.wire_rounding.wires
+    assert fixed == [[f"{name}.wire_diameter" for name in result.wire_rounding.wires]]
 
 
 def test_the_fit_to_the_arm_tightens_the_designs_of_problems_without_free_coils(pendulum, monkeypatch):

@@ -19,13 +19,15 @@ from typing import Any, Callable
 import numpy as np
 
 from springbalance.design.clearance import Clearance, FitRecord, LinearRows
-from springbalance.design.clearance_fit import _Checker, fit_to_arm
+from springbalance.design.clearance_fit import _Checker, _violations, fit_to_arm
 from springbalance.design.clearance_round import FALLBACK_STARTS, fall_back
+from springbalance.design.clearance_rows import _mount_errors
 from springbalance.design.problem import DesignProblem
 from springbalance.design.solvers import Solution, forked
 from springbalance.design.verification import check_design
 from springbalance.design.verification_loop import verify_and_resolve
 from springbalance.design.worse_joints import weighted_joints_made_worse
+from springbalance.model.collision import collision_geometry
 
 #: a fit as a worker returns it: the problem does not pickle, its rows do
 Fitted = tuple[Solution, FitRecord, "LinearRows | None"]
@@ -205,16 +207,34 @@ def held_at_unseen_poses(
                 held.append((_objective(problem, fit[0].x), fit))
                 break
             if verification.passed:
-                objective = _objective(problem, solution.x)
-                held.append(
-                    (objective, (solution, dataclasses.replace(fit[1], objective=objective), repaired.linear_rows))
-                )
+                record = repaired_record(fit[1], repaired, solution.x, verification.rounds)
+                held.append((record.objective, (solution, record, repaired.linear_rows)))
             continue
         checker = _Checker(checked, checked.clearance) if checked.clearance is not None else None
         if check_design(checked, fit[0].x, 0, checker, "report").record.passed:
             held.append((_objective(problem, fit[0].x), fit))
             break
     return min(held, key=lambda item: item[0])[1] if held else ranked[0]
+
+
+def repaired_record(record: FitRecord, repaired: DesignProblem, x: np.ndarray, rounds: int) -> FitRecord:
+    """The fit's ``record`` for its design repaired at unseen poses, ``x`` of the problem ``repaired`` (the fit's with
+    the cuts the repair added): its objective, the repair's ``rounds`` (re-solves) added to the fit's, the rows the
+    design ends with, and each spring's closest distance [m] and each mounted anchor's distance from its surface
+    measured at ``x`` as the fit measures them (at its check poses, then denser, then between them)."""
+    closest, mounts = dict(record.closest), dict(record.mounts)
+    if repaired.clearance is not None:
+        closest = _violations(_Checker(repaired, repaired.clearance), x)[1]
+    if repaired.mounts:
+        mounts = _mount_errors(repaired, x, collision_geometry(repaired.mechanism))
+    return dataclasses.replace(
+        record,
+        rounds=record.rounds + rounds,
+        rows=len(repaired.linear_rows) if repaired.linear_rows is not None else 0,
+        objective=_objective(repaired, x),
+        closest={name: float(value) for name, value in closest.items()},
+        mounts={name: float(value) for name, value in mounts.items()},
+    )
 
 
 def _objective(problem: DesignProblem, x: np.ndarray) -> float:

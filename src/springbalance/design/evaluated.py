@@ -19,6 +19,7 @@ import numpy as np
 import numpy.typing as npt
 
 from springbalance.design.clearance import FitRecord
+from springbalance.design.joint_hold import JointHold
 from springbalance.design.objectives import OBJECTIVES
 from springbalance.design.problem import DesignProblem, Evaluation
 from springbalance.design.solvers import StartRecord
@@ -76,6 +77,7 @@ class EvaluatedDesign:
         seed: int | None = None,
         status: str = "evaluated",
         wire_rounding: WireRounding | None = None,
+        joint_hold: JointHold | None = None,
         fit: FitRecord | None = None,
         stock: StockSelection | None = None,
         verification: VerificationRecord | None = None,
@@ -89,6 +91,8 @@ class EvaluatedDesign:
         self.method, self.seed, self.status = method, seed, status
         #: what rounding the coils' wires to standard sizes cost (None when nothing was rounded)
         self.wire_rounding = wire_rounding
+        #: what holding the weighted joints within the bare arm's peaks did (None when none was carried worse)
+        self.joint_hold = joint_hold
         #: what fitting the springs to the arm (clearance, mounting) did and cost (None when not asked for)
         self.fit = fit
         #: the catalogue parts chosen for the springs (None when no catalogue was given)

@@ -31,6 +31,7 @@ def run_steps(problem: DesignProblem, options: SolveOptions) -> DesignResult:
         seed=solution.seed,
         status=solution.status,
         wire_rounding=state.wire_rounding,
+        joint_hold=state.joint_hold,
         fit=state.fit,
         verification=state.verification,
         twin=state.twin,

@@ -17,6 +17,7 @@ import numpy as np
 
 from springbalance.design import clearance_starts, coil_start
 from springbalance.design.clearance import FitRecord, LinearRows
+from springbalance.design.joint_hold import JointHold
 from springbalance.design.problem import DesignProblem
 from springbalance.design.solvers import Solution
 from springbalance.design.standard_wire import WireRounding
@@ -127,6 +128,8 @@ class SolveState:
         solution: the best design so far (None before the multi-start).
         fit: what fitting the springs to the arm did (None when not asked for).
         wire_rounding: what rounding the coils' wires cost (None when nothing was rounded).
+        joint_hold: what holding the joints within the bare arm's peaks did (None when no weighted joint was
+            carried worse).
         verification: what verifying the design at unseen poses found (None when not verified).
         twin: what the ideal twin achieved (the coils' ideal twin, else the optimum before the fit to the
             arm; None for a problem that has neither coils nor clearance or mountings).
@@ -139,6 +142,7 @@ class SolveState:
     solution: Solution | None = None
     fit: FitRecord | None = None
     wire_rounding: WireRounding | None = None
+    joint_hold: JointHold | None = None
     verification: VerificationRecord | None = None
     twin: TwinRecord | None = None
     kept_rows: LinearRows | None = None

@@ -14,7 +14,10 @@ is absent:
    multi-start's optimum before the fit is the twin;
 5. :func:`round_wires`: every coil's free wire to the preferred series, the rest re-optimised
    (:mod:`springbalance.design.standard_wire`);
-6. :func:`verify`: every rule, the residual and the clearance at 10× as many unseen poses; where a rule
+6. :func:`hold_joints`: a design that carries a weighted joint worse than the bare arm is solved again from
+   itself with every weighted joint held within the bare arm's peak, the wires held
+   (:mod:`springbalance.design.joint_hold`);
+7. :func:`verify`: every rule, the residual and the clearance at 10× as many unseen poses; where a rule
    fails, the worst poses join the samples and the design is solved again (mode ``"resolve"``)
    (:mod:`springbalance.design.verification_loop`).
 
@@ -27,7 +30,14 @@ from typing import Callable
 
 import numpy as np
 
-from springbalance.design import clearance_rows, clearance_starts, coil_start, standard_wire, verification_loop
+from springbalance.design import (
+    clearance_rows,
+    clearance_starts,
+    coil_start,
+    joint_hold,
+    standard_wire,
+    verification_loop,
+)
 from springbalance.design.problem import DesignProblem
 from springbalance.design.solvers import Solution, solve_problem
 from springbalance.design.twin import twin_record
@@ -180,18 +190,33 @@ def round_wires(state: SolveState) -> SolveState:
     return state.but(solution=solution, wire_rounding=rounding)
 
 
+def hold_joints(state: SolveState) -> SolveState:
+    """A design that carries a weighted joint worse than the bare arm: solved again from itself with every weighted
+    joint held within the bare arm's peak, the rounded wires held, and kept when it makes no weighted joint worse
+    (:func:`~springbalance.design.joint_hold.held_within_bare_arm`); what that did is the state's ``joint_hold``."""
+    with _interrupted_after_starts(state, "holding the joints within the bare arm's peaks"):
+        solution, hold = joint_hold.held_within_bare_arm(
+            state.problem, state.solved, fixed=_rounded_wires(state), **state.options.solver_options()
+        )
+    return state.but(solution=solution, joint_hold=hold)
+
+
 def verify(state: SolveState) -> SolveState:
     """The design at unseen poses: its record, and in mode "resolve" the design re-solved where a rule fails."""
     mode = verification_loop.check_mode(state.options.verify)
     if mode == "off":
         return state
-    rounded = state.wire_rounding.wires if state.wire_rounding is not None else {}
-    fixed = [f"{name}.{standard_wire.WIRE}" for name in rounded]
     with _interrupted_after_starts(state, "verifying the design at unseen poses"):
         solution, record, problem = verification_loop.verify_and_resolve(
-            state.problem, state.solved, mode, fixed, **state.options.solver_options()
+            state.problem, state.solved, mode, _rounded_wires(state), **state.options.solver_options()
         )
     return state.but(problem=problem, solution=solution, verification=record)
+
+
+def _rounded_wires(state: SolveState) -> list[str]:
+    """The design variables of the wires rounded to standard sizes (held by the steps after the rounding)."""
+    rounded = state.wire_rounding.wires if state.wire_rounding is not None else {}
+    return [f"{name}.{standard_wire.WIRE}" for name in rounded]
 
 
 class _interrupted_after_starts:
@@ -222,5 +247,6 @@ STEPS: tuple[Callable[[SolveState], SolveState], ...] = (
     multi_start,
     fit_to_arm,
     round_wires,
+    hold_joints,
     verify,
 )

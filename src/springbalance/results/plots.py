@@ -134,7 +134,8 @@ def _say_none(axes: Any) -> None:
 
 def plot_histogram(result: EvaluatedDesign, bins: int = 40, path: str | Path | None = None) -> Figure:
     """Histogram of every joint's torque over the design's workspace samples, before and after. A joint that carries
-    none (:func:`_carries_none`) is binned over ±:data:`FLAT_SPAN` of the largest torque of any joint, and says so."""
+    none (:func:`_carries_none`) is binned over ±:data:`FLAT_SPAN` of the largest torque of any joint, in an odd
+    number of bins (its round-off in the one about zero), and says so."""
     problem = result.problem
     before = problem.workspace.kinematics().gravity_torque
     after = result.evaluation.tau
@@ -149,7 +150,8 @@ def plot_histogram(result: EvaluatedDesign, bins: int = 40, path: str | Path | N
         none = _carries_none(np.concatenate([before[:, j], after[:, j]]), largest)
         low = -FLAT_SPAN * largest if none else min(before[:, j].min(), after[:, j].min())
         high = FLAT_SPAN * largest if none else max(before[:, j].max(), after[:, j].max())
-        edges = np.linspace(low, high, bins + 1) if high > low else bins
+        count = bins + 1 if none and bins % 2 == 0 else bins  # (round-off in one bar about zero, not split at it)
+        edges = np.linspace(low, high, count + 1) if high > low else bins
         axes.hist(
             before[:, j],
             bins=edges,  # type: ignore[arg-type]  # matplotlib stub: bins may be an array

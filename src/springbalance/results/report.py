@@ -9,6 +9,7 @@ import numpy as np
 
 from springbalance.design.clearance import FitRecord
 from springbalance.design.evaluated import EvaluatedDesign
+from springbalance.design.joint_hold import JointHold
 from springbalance.design.solvers import FEASIBILITY_TOLERANCE
 from springbalance.design.spring_mass import SpringMass
 from springbalance.design.standard_wire import WireRounding
@@ -37,6 +38,7 @@ def result_table(result: EvaluatedDesign) -> str:
     lines.append("")
     lines.extend(spring_lines(result))
     lines.extend(wire_rounding_lines(result.wire_rounding))
+    lines.extend(joint_hold_lines(result.joint_hold))
     lines.extend(fit_lines(result.fit))
     lines.extend(helical_sizing_lines(result))
     lines.extend(spring_mass_lines(result))
@@ -136,6 +138,21 @@ def wire_rounding_lines(rounding: WireRounding | None) -> list[str]:
     ]
     lines.extend(f"  wire of {name} left continuous: {reason}" for name, reason in rounding.unrounded.items())
     return lines
+
+
+def joint_hold_lines(hold: JointHold | None) -> list[str]:
+    """What holding the weighted joints within the bare arm's peaks did and cost (empty when no joint was
+    carried worse)."""
+    if hold is None:
+        return []
+    joints = ", ".join(hold.joints)
+    if not hold.held:
+        return [f"  {joints} carried worse than the bare arm; no design near it holds them within its peaks"]
+    change = 100.0 * (hold.objective - hold.objective_before) / hold.objective_before if hold.objective_before else 0.0
+    return [
+        f"  {joints} held within the bare arm's peak(s) ({hold.seconds:.1f} s): objective "
+        f"{hold.objective_before:.6g} → {hold.objective:.6g} ({change:+.2f} %)"
+    ]
 
 
 def fit_lines(fit: FitRecord | None) -> list[str]:

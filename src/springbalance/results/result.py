@@ -17,6 +17,7 @@ import numpy.typing as npt
 from springbalance.design.bounds import check_magnitudes
 from springbalance.design.clearance import FitRecord
 from springbalance.design.evaluated import EvaluatedDesign
+from springbalance.design.joint_hold import JointHold
 from springbalance.design.objectives import OBJECTIVES
 from springbalance.design.problem import DesignProblem
 from springbalance.design.solvers.auxiliary import design_from_values
@@ -147,6 +148,7 @@ class DesignResult(EvaluatedDesign):
                 "spread": self.spread(),
                 "starts": [record.to_dict() for record in self.starts],
                 **({"standard_wire": self.wire_rounding.to_dict()} if self.wire_rounding else {}),
+                **({"joint_hold": self.joint_hold.to_dict()} if self.joint_hold else {}),
                 **({"fit": self.fit.to_dict()} if self.fit else {}),
                 **({"verification": self.verification.to_dict()} if self.verification else {}),
                 **({"twin": self.twin.to_dict()} if self.twin else {}),
@@ -234,6 +236,7 @@ class DesignResult(EvaluatedDesign):
             seed=solver.get("seed"),
             status=solver.get("status", "loaded"),
             fit=FitRecord.from_dict(solver.get("fit")),
+            joint_hold=JointHold.from_dict(solver.get("joint_hold")),
             verification=VerificationRecord.from_dict(solver.get("verification")),
             # the twin was solved on the design's own workspace: no reference on another one
             twin=TwinRecord.from_dict(solver.get("twin")) if own_workspace else None,
