@@ -50,6 +50,13 @@ class JointHold:
     held: bool
     seconds: float
 
+    @property
+    def cost_percent(self) -> float:
+        """How much worse the objective got [%]."""
+        if self.objective_before <= 0:
+            return 0.0
+        return 100.0 * (self.objective - self.objective_before) / self.objective_before
+
     def to_dict(self) -> dict[str, Any]:
         """The record as JSON-ready values (``design.json``'s ``solver.joint_hold``)."""
         return dataclasses.asdict(self)
@@ -79,9 +86,11 @@ def held_within_bare_arm(
     module), ``fixed`` design variables held at their values (the rounded wires), and the :class:`JointHold`.
     ``solve_options`` go to :func:`~springbalance.design.solvers.solve_problem`. The held design's status names
     the joints and ends with its solve's own status."""
+    if problem.no_joint_worse:
+        return solution, None
     x = np.asarray(solution.x, dtype=float)
     worse = weighted_joints_made_worse(problem, x)
-    if not worse or problem.no_joint_worse:
+    if not worse:
         return solution, None
     clock = time.perf_counter()
     before = _objective(problem, x)

@@ -148,10 +148,9 @@ def joint_hold_lines(hold: JointHold | None) -> list[str]:
     joints = ", ".join(hold.joints)
     if not hold.held:
         return [f"  {joints} carried worse than the bare arm; no design near it holds them within its peaks"]
-    change = 100.0 * (hold.objective - hold.objective_before) / hold.objective_before if hold.objective_before else 0.0
     return [
         f"  {joints} held within the bare arm's peak(s) ({hold.seconds:.1f} s): objective "
-        f"{hold.objective_before:.6g} → {hold.objective:.6g} ({change:+.2f} %)"
+        f"{hold.objective_before:.6g} → {hold.objective:.6g} ({hold.cost_percent:+.2f} %)"
     ]
 
 
