@@ -17,8 +17,8 @@ SOURCE = Path(__file__).resolve().parents[1] / "src"
 PACKAGE = "springbalance"
 #: the deprecated shims of DesignProblem (removed in 0.3) reach up to the pipeline and the results
 DEPRECATED_SHIMS = {
-    ("springbalance.design.problem", "springbalance.pipeline.run"),
-    ("springbalance.design.problem", "springbalance.results.result"),
+    ("springbalance.design.problem_deprecated", "springbalance.pipeline.run"),
+    ("springbalance.design.problem_deprecated", "springbalance.results.result"),
 }
 #: generated-code templates may be long (a function's length is its code, without signature and docstring)
 LONG_FUNCTIONS_ALLOWED = {("springbalance.design.block_kernel", "block_kernel_code")}

@@ -258,3 +258,20 @@ def test_no_joint_worse_between_the_samples_holds_the_bare_arm_where_it_carries_
     np.testing.assert_allclose(at_samples, (peak**2 - result.evaluation.tau**2) / peak, rtol=1e-9, atol=1e-12)
     elbow = next(rule for rule in result.verification.rules if rule.rule == "no_joint_worse.elbow")
     assert elbow.passed and result.verification.passed
+
+
+@pytest.mark.parametrize("objective", ["rms", "peak", "joint_peaks"])
+def test_objective_at_a_design_is_the_objective_of_its_weighted_residual_torques(arm, objective):
+    """``DesignProblem.objective_at(x)``: the objective over the samples of ``x``'s weighted torques, as written out
+    from the residual ``tau`` (the weighted RMS, the largest |w τ|, the sum of the per-joint peaks)."""
+    mechanism, workspace, springs, weights, _ = arm
+    problem = sb.DesignProblem(mechanism, workspace, springs, objective=objective, weights=weights)
+    x = 0.5 * np.add(*problem.variables.bounds())  # the boxes' centres
+    weighted = problem.evaluate(x).tau * problem.weights
+    expected = {
+        "rms": float(np.sqrt(np.mean(weighted**2))),
+        "peak": float(np.max(np.abs(weighted))),
+        "joint_peaks": float(np.sum(np.max(np.abs(weighted), axis=0))),
+    }[objective]
+    assert problem.objective_at(x) == pytest.approx(expected, rel=1e-12)
+    assert problem.objective_at(list(x)) == problem.objective_at(x)  # any array-like design

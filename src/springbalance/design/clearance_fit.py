@@ -399,7 +399,7 @@ def _fitted(
     clock = time.perf_counter()
     clearance = problem.clearance
     x = np.array(solution.x, dtype=float)
-    before = problem.objective_value(problem.evaluate(x))
+    before = problem.objective_at(x)
     checker = given or (_Checker(problem, clearance) if clearance is not None else None)
     geometry = collision_geometry(problem.mechanism) if problem.mounts else None
     watched: set[Key] = set()
@@ -423,7 +423,7 @@ def _fitted(
             met = (x, solution, problem, closest, mounts, rounds)
         converged = converged and not stopped and not outside  # a design that broke its rows is no fit
         if converged and rounds and tighten:  # fitted: go on with the rows linearised here while the objective falls
-            converged = not tightening.goes_on(float(problem.objective_value(problem.evaluate(x))), met, rounds, limit)
+            converged = not tightening.goes_on(problem.objective_at(x), met, rounds, limit)
         if converged or rounds >= limit or stopped >= INFEASIBLE_ROUNDS:
             break
         watched.update(new)

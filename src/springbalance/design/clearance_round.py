@@ -220,7 +220,7 @@ def finished(
 ) -> tuple[Solution, FitRecord, DesignProblem]:
     """The fit's solution at ``x``, its :class:`FitRecord` (``poses``: how many were checked; ``clock``: when the
     loop started) and ``problem``."""
-    objective = problem.objective_value(problem.evaluate(x))
+    objective = problem.objective_at(x)
     record = FitRecord(
         rounds,
         len(problem.linear_rows) if problem.linear_rows is not None else 0,

@@ -204,7 +204,7 @@ def held_at_unseen_poses(
             repairs -= 1
             solution, verification, repaired = verify_and_resolve(checked, fit[0], "resolve", **solve_options)
             if verification.passed and verification.rounds == 0:
-                held.append((_objective(problem, fit[0].x), fit))
+                held.append((problem.objective_at(fit[0].x), fit))
                 break
             if verification.passed:
                 record = repaired_record(fit[1], repaired, solution.x, verification.rounds)
@@ -212,7 +212,7 @@ def held_at_unseen_poses(
             continue
         checker = _Checker(checked, checked.clearance) if checked.clearance is not None else None
         if check_design(checked, fit[0].x, 0, checker, "report").record.passed:
-            held.append((_objective(problem, fit[0].x), fit))
+            held.append((problem.objective_at(fit[0].x), fit))
             break
     return min(held, key=lambda item: item[0])[1] if held else ranked[0]
 
@@ -231,12 +231,7 @@ def repaired_record(record: FitRecord, repaired: DesignProblem, x: np.ndarray, r
         record,
         rounds=record.rounds + rounds,
         rows=len(repaired.linear_rows) if repaired.linear_rows is not None else 0,
-        objective=_objective(repaired, x),
+        objective=repaired.objective_at(x),
         closest={name: float(value) for name, value in closest.items()},
         mounts={name: float(value) for name, value in mounts.items()},
     )
-
-
-def _objective(problem: DesignProblem, x: np.ndarray) -> float:
-    """``problem``'s objective at design ``x`` [physical units]."""
-    return float(problem.objective_value(problem.evaluate(np.asarray(x, dtype=float))))

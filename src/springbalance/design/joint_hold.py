@@ -93,7 +93,7 @@ def held_within_bare_arm(
     if not worse:
         return solution, None
     clock = time.perf_counter()
-    before = _objective(problem, x)
+    before = problem.objective_at(x)
     held_problem = problem.with_springs(problem.springs, no_joint_worse=True)
     try:
         found = solve_problem(held_problem, starts=1, initial=x, fixed=list(fixed), progress=False, **solve_options)
@@ -105,9 +105,4 @@ def held_within_bare_arm(
     status = f"{solution.status}; solved again with {', '.join(worse)} held within the bare arm's peak: {found.status}"
     # the held problem's multipliers belong to its own rows, not to the problem's: none are kept
     held = Solution(held_x, solution.starts, solution.method, solution.seed, status)
-    return held, JointHold(worse, before, _objective(problem, held_x), True, time.perf_counter() - clock)
-
-
-def _objective(problem: DesignProblem, x: np.ndarray) -> float:
-    """The objective of design ``x`` [the problem's unit]."""
-    return float(problem.objective_value(problem.evaluate(x)))
+    return held, JointHold(worse, before, problem.objective_at(held_x), True, time.perf_counter() - clock)

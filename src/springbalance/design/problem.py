@@ -25,13 +25,13 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 import numpy.typing as npt
 
-from springbalance.deprecation import warn_deprecated
 from springbalance.design.block_kernel import KERNEL_MIN_SAMPLES
 from springbalance.design.bounds import check_cable
 from springbalance.design.clearance import Clearance, LinearRows
 from springbalance.design.evaluation import Evaluation, row_units
 from springbalance.design.mounts import check_mounts, resolve_mounts
 from springbalance.design.objectives import Objective, ScenarioAggregate
+from springbalance.design.problem_deprecated import DeprecatedProblemMethods
 from springbalance.design.problem_inputs import (
     AGGREGATES,
     joint_limits,
@@ -55,7 +55,7 @@ from springbalance.springs.laws import Spring, TwoPointSpring
 from springbalance.springs.records import spring_from_dict
 
 
-class DesignProblem(ProblemNlp):
+class DesignProblem(ProblemNlp, DeprecatedProblemMethods):
     """Choose spring parameters so that the actuators carry as little gravity torque as possible.
 
     Args:
@@ -252,51 +252,12 @@ class DesignProblem(ProblemNlp):
         return self._compiled.nlps
 
     def objective_value(self, evaluation: Evaluation) -> float:
+        """The objective [its unit] of an evaluation of this problem (weighted torques, potentials, path steps)."""
         return self.objective.value(evaluation.tau * self.weights, evaluation.potential, self.path_steps)
 
-    # ---------------------------------------------------------------- deprecated (removed in 0.3)
-    def solve(
-        self,
-        starts: int = 8,
-        seed: int = 0,
-        method: str = "auto",
-        progress: bool | None = None,
-        max_iterations: int = 100,
-        tolerance: float = 1e-8,
-        polish_iterations: int | None = None,
-        standard_wire: bool = True,
-        workers: int | None = None,
-    ) -> Any:
-        """Deprecated: ``springbalance.solve(problem, ...)`` (same options, same design)."""
-        from springbalance.pipeline.run import solve  # deprecated shim: the one upward import, listed in pyproject
-
-        warn_deprecated("DesignProblem.solve(...)", "springbalance.solve(problem, ...)")
-        return solve(
-            self,
-            starts=starts,
-            seed=seed,
-            method=method,
-            progress=progress,
-            max_iterations=max_iterations,
-            tolerance=tolerance,
-            polish_iterations=polish_iterations,
-            standard_wire=standard_wire,
-            workers=workers,
-        )
-
-    def result(self, x: np.ndarray, **info: Any) -> Any:
-        """Deprecated: ``springbalance.DesignResult(problem, x, **info)`` (no optimisation)."""
-        from springbalance.results.result import DesignResult  # deprecated shim, listed in pyproject
-
-        warn_deprecated("DesignProblem.result(x)", "springbalance.DesignResult(problem, x)")
-        return DesignResult(self, np.asarray(x, dtype=float), **info)
-
-    def scenario_results(self, x: np.ndarray) -> list:
-        """Deprecated: ``DesignResult(problem, x).scenario_results()``."""
-        from springbalance.results.result import DesignResult  # deprecated shim, listed in pyproject
-
-        warn_deprecated("DesignProblem.scenario_results(x)", "DesignResult(problem, x).scenario_results()")
-        return DesignResult(self, np.asarray(x, dtype=float)).scenario_results()
+    def objective_at(self, x: npt.ArrayLike) -> float:
+        """The objective [its unit] of design ``x`` (physical units) over the problem's samples."""
+        return float(self.objective_value(self.evaluate(np.asarray(x, dtype=float))))
 
     # ---------------------------------------------------------------- scenarios
     def scenario_springs(self, x: np.ndarray, scenario: int = 0) -> list[Spring]:

@@ -106,7 +106,7 @@ def round_wires(problem: DesignProblem, solution: Solution, **solve_options: Any
     """
     names = problem.variables.names
     x = np.array(solution.x, dtype=float)
-    continuous = problem.objective_value(problem.evaluate(x))
+    continuous = problem.objective_at(x)
     joint = _joint_rounding(problem, solution, continuous, solve_options)
     if joint is not None:
         return joint
@@ -182,7 +182,7 @@ def _best_candidate(
             continue
         design = np.array(record.x, dtype=float)
         design[held] = starts[record.index, held]  # exactly the standard sizes
-        objective = problem.objective_value(problem.evaluate(design))
+        objective = problem.objective_at(design)
         ranked.append((_refused(problem, design), objective, record.index, design, record))
     if not ranked:
         return None
@@ -262,7 +262,7 @@ def _joint_rounding(
     for record in feasible:
         design = np.array(record.x, dtype=float)
         design[held] = starts[record.index, held]  # exactly the standard sizes
-        objective = problem.objective_value(problem.evaluate(design))
+        objective = problem.objective_at(design)
         results.append((_refused(problem, design), objective, record.index, design, record))
     _, objective, index, design, record = min(results, key=lambda item: item[:3])
     kinematics = problem.workspace.kinematics()  # the arm without springs: gravity alone

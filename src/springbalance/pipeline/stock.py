@@ -69,7 +69,7 @@ def select_stock(
     parts = list(parts)
     names = _stock_springs(problem, x, parts, candidates)
     objective = _inner_objective(problem)
-    continuous_value = problem.objective_value(problem.evaluate(x))
+    continuous_value = problem.objective_at(x)
     options = SolveOptions(
         starts=int(starts),
         seed=int(seed),
