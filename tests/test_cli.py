@@ -127,6 +127,14 @@ CASES = {
         lambda tmp: edited(mechanism={"urdf": "missing.urdf"}),
         ["mechanism.urdf: URDF file", "missing.urdf' does not exist"],
     ),
+    "seed and seeds": (
+        lambda tmp: edited(solve={"seed": 1, "seeds": [0, 1]}),
+        ["solve: give seed (one) or seeds (solve at each, keep the best), not both"],
+    ),
+    "repeated seeds": (
+        lambda tmp: edited(solve={"seeds": [2, 2]}),
+        ["solve.seeds: seeds must be distinct, got [2, 2]"],
+    ),
     "zero-length spring": (
         lambda tmp: edited(
             springs__0__a={"body": "universe", "point": [0, 0, 0]}, springs__0__b={"body": "link1", "point": [0, 0, 0]}
@@ -257,6 +265,41 @@ def test_bad_option_values_are_usage_errors(tmp_path, capsys):
     assert exit_info.value.code == 2
     assert "--starts: must be ≥ 1" in capsys.readouterr().err
     assert not (tmp_path / "d.json").exists()
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["--seeds", "3-1"], "--seeds: a range of seeds goes up, got '3-1'"),
+        (["--seeds", "0,x"], "--seeds: expected an integer, got 'x'"),
+        (["--seeds", "0-2,1"], "--seeds: seeds must be distinct, got '0-2,1'"),
+        (["--seeds", "0-99"], "--seeds: at most 64 seeds, got '0-99'"),
+        (["--seeds", "0-1", "--seed", "2"], "--seed: not allowed with argument --seeds"),
+    ],
+)
+def test_bad_seeds_are_usage_errors(tmp_path, capsys, argv, message):
+    with pytest.raises(SystemExit) as exit_info:
+        main(["design", str(write_config(tmp_path)), "--out", str(tmp_path / "d.json"), *argv])
+    assert exit_info.value.code == 2
+    assert message in capsys.readouterr().err
+    assert not (tmp_path / "d.json").exists()
+
+
+def test_design_at_several_seeds_keeps_the_best_and_reports_each(tmp_path, capsys):
+    """``--seeds 0-2,5``: four solves, the design of the lowest kept, each seed's outcome in the report and the file;
+    a config's ``solve.seed`` does not apply."""
+    out = tmp_path / "design.json"
+    config = write_config(tmp_path, edited(solve={"starts": 2, "seed": 3}))
+    assert main(["design", str(config), "--out", str(out), "--seeds", "0-2,5"]) == 0
+    printed = capsys.readouterr().out
+    record = json.loads(out.read_text())["solver"]
+    runs = record["seeds"]["runs"]
+    assert [run["seed"] for run in runs] == [0, 1, 2, 5]
+    kept = min(runs, key=lambda run: run["objective"])  # they all pass here
+    assert record["seeds"]["kept"] == record["seed"] == kept["seed"]
+    assert f"kept the design of seed {kept['seed']}:" in printed
+    for run in runs:
+        assert f"seed {run['seed']}: {run['objective']:.6g} N·m, passes" in printed
 
 
 # ---------------------------------------------------------------------- the installed console script

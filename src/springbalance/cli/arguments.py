@@ -37,3 +37,27 @@ def nonnegative_int(text: str) -> int:
     if value < 0:
         raise argparse.ArgumentTypeError(f"must be ≥ 0, got {text!r}")
     return value
+
+
+#: most seeds ``--seeds`` takes (each is a whole solve)
+MAX_SEEDS = 64
+
+
+def seed_list(text: str) -> list[int]:
+    """Distinct integers ≥ 0, as ``0-4`` (a range, both ends included) or ``0,3,7`` (a list), or both
+    (``0-2,7``); at most :data:`MAX_SEEDS` of them."""
+    seeds: list[int] = []
+    for part in text.split(","):
+        low, dash, high = part.strip().partition("-")
+        first = nonnegative_int(low)
+        last = nonnegative_int(high) if dash else first
+        if last < first:
+            raise argparse.ArgumentTypeError(f"a range of seeds goes up, got {part.strip()!r}")
+        if last - first >= MAX_SEEDS:
+            raise argparse.ArgumentTypeError(f"at most {MAX_SEEDS} seeds, got {part.strip()!r}")
+        seeds.extend(range(first, last + 1))
+    if len(set(seeds)) != len(seeds):
+        raise argparse.ArgumentTypeError(f"seeds must be distinct, got {text!r}")
+    if len(seeds) > MAX_SEEDS:
+        raise argparse.ArgumentTypeError(f"at most {MAX_SEEDS} seeds, got {len(seeds)}")
+    return seeds

@@ -12,7 +12,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from springbalance.cli.arguments import nonnegative_int, positive_int
+from springbalance.cli.arguments import nonnegative_int, positive_int, seed_list
 from springbalance.cli.formatting import PROG, interrupted_message
 from springbalance.cli.inputs import check_output
 from springbalance.cli.outcome import INTERRUPTED, failure_summary, outcome, print_failures
@@ -49,9 +49,7 @@ def add_parser(commands: argparse._SubParsersAction, common: argparse.ArgumentPa
     design.add_argument(
         "--starts", type=positive_int, metavar="N", help="number of starts of the multi-start (overrides solve.starts)"
     )
-    design.add_argument(
-        "--seed", type=nonnegative_int, metavar="S", help="seed of the start points (overrides solve.seed)"
-    )
+    _add_seed_options(design)
     design.add_argument(
         "--method",
         choices=METHODS,
@@ -90,6 +88,21 @@ def add_parser(commands: argparse._SubParsersAction, common: argparse.ArgumentPa
     design.set_defaults(handler=handle)
 
 
+def _add_seed_options(design: argparse.ArgumentParser) -> None:
+    """``--seed`` and ``--seeds``, one or the other."""
+    seeds = design.add_mutually_exclusive_group()
+    seeds.add_argument(
+        "--seed", type=nonnegative_int, metavar="S", help="seed of the start points (overrides solve.seed and seeds)"
+    )
+    seeds.add_argument(
+        "--seeds",
+        type=seed_list,
+        metavar="LIST",
+        help="solve at each of these seeds (0-4, or 0,3,7) and keep the best design: the first that passes every "
+        "check, by objective; the report lists what each seed gave (overrides solve.seed and seeds)",
+    )
+
+
 def handle(args: argparse.Namespace) -> int:
     """Solve, (pick stock springs,) print the report and save atomically; 3 (nothing saved without
     ``--partial``) when the design fails a check, 130 when Ctrl-C stops the solve."""
@@ -106,6 +119,7 @@ def handle(args: argparse.Namespace) -> int:
     overrides = {
         "starts": args.starts,
         "seed": args.seed,
+        "seeds": args.seeds,
         "method": args.method,
         "workers": args.workers,
         "verify": args.verify,

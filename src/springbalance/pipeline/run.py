@@ -13,6 +13,8 @@ and gives the next; the problem passed in is never changed.
 
 from __future__ import annotations
 
+import dataclasses
+import time
 from typing import Sequence
 
 from springbalance.design.problem import DesignProblem
@@ -21,11 +23,12 @@ from springbalance.design.stock import StockPart, StockSelection
 from springbalance.design.twin import twin_record
 from springbalance.design.verification_loop import check_mode, verify_and_resolve
 from springbalance.design.verification_record import VerificationRecord
-from springbalance.errors import InputError
+from springbalance.errors import InputError, Interrupted, SolverError
 from springbalance.pipeline.sequence import run_steps
 from springbalance.pipeline.state import ConfiguredProblem, SolveOptions
 from springbalance.pipeline.stock import select_stock
 from springbalance.results.result import DesignResult
+from springbalance.results.seed_search import SeedRun, SeedSearch, best_run
 
 #: what the twin of a stock design is (without coils or a fit to the arm), in the words of its record
 STOCK_TWIN_SOURCE = "the continuous design before the stock parts were chosen"
@@ -47,6 +50,7 @@ def solve(
     workers: int | None = None,
     stock: Sequence[StockPart] | None = None,
     verify: str | None = None,
+    seeds: Sequence[int] | None = None,
 ) -> DesignResult:
     """Design the springs: the best feasible design of a multi-start solve, as a :class:`DesignResult`.
 
@@ -77,6 +81,10 @@ def solve(
             ``"resolve"`` (the default, :data:`~springbalance.pipeline.state.VERIFY_DEFAULT`) re-solves with the
             worst poses added where a rule fails there, ``"report"`` only reports, ``"off"`` skips it.
             The result's ``verification`` is its record (of the stock design, reported only, with ``stock``).
+        seeds: solve at each of these seeds (instead of ``seed``) and keep the best design: the first that passes
+            every check, by objective (:mod:`springbalance.results.seed_search`); the result's ``seed_search``
+            says what each seed gave. Default: a Config's ``solve.seeds``, else one seed. ``seed`` and ``seeds``
+            exclude each other; either one given here overrides the other in a Config.
 
     Returns:
         The design, also when it fails a check (an unconverged fit to the arm, a spring overlapping a
@@ -102,14 +110,64 @@ def solve(
             "standard_wire": standard_wire,
             "workers": workers,
             "verify": verify,
+            "seeds": seeds,
         },
     )
-    result = run_steps(problem, options)
+    if options.seeds is not None:
+        result, kept = _best_of_seeds(problem, options)
+        options = dataclasses.replace(options, seed=kept, seeds=None)  # the stock parts' solves at the kept seed
+    else:
+        result = run_steps(problem, options)
     result.tolerance = getattr(problem_or_config, "tolerance", None)  # a config's tolerance section
     if stock is None:
         return result
     # the problem as the steps left it (with the rows of the fit), as the parts are fitted to the arm the same way
     return _stocked(result, _select_stock(result.problem, result, stock, options), options)
+
+
+def _best_of_seeds(problem: DesignProblem, options: SolveOptions) -> tuple[DesignResult, int]:
+    """The design of ``problem`` solved at each of ``options.seeds``, the best kept
+    (:func:`~springbalance.results.seed_search.best_run`), with its ``seed_search``, and its seed; SolverError when
+    no seed found a design."""
+    assert options.seeds is not None  # the caller's condition
+    runs: list[SeedRun] = []
+    best: tuple[SeedRun, DesignResult] | None = None
+    for seed in options.seeds:
+        clock = time.perf_counter()
+        try:
+            result = run_steps(problem, dataclasses.replace(options, seed=seed, seeds=None))
+        except SolverError as error:
+            runs.append(SeedRun(seed, None, seconds=time.perf_counter() - clock, error=str(error)))
+            continue
+        except Interrupted as stop:
+            raise _interrupted_at(stop, seed, len(runs), len(options.seeds), best) from None
+        kinds = tuple(dict.fromkeys(flag.kind for flag in result.failures()))
+        run = SeedRun(seed, result.problem.objective_at(result.x), kinds, time.perf_counter() - clock)
+        runs.append(run)
+        if best is None or run.rank() < best[0].rank():  # only the best design is kept in memory
+            best = (run, result)
+    if best is None:
+        raise SolverError("no seed gave a feasible design: " + "; ".join(f"seed {r.seed}: {r.error}" for r in runs))
+    assert best_run(runs) == best[0]  # the order of best_run, applied as the seeds came
+    best[1].seed_search = SeedSearch(tuple(runs), best[0].seed)
+    return best[1], best[0].seed
+
+
+def _interrupted_at(
+    stop: Interrupted, seed: int, finished: int, total: int, best: tuple[SeedRun, DesignResult] | None
+) -> Interrupted:
+    """Ctrl-C while solving at ``seed``: ``stop`` itself when no seed had finished with a design, else the
+    interruption with the best finished seed's design as the best so far."""
+    if best is None:
+        return stop
+    run, result = best
+    return Interrupted(
+        f"interrupted at seed {seed} ({finished} of {total} seeds finished, the design of seed {run.seed} the best)",
+        problem=result.problem,
+        starts=result.starts,
+        total=len(result.starts),
+        best_x=result.x,
+    )
 
 
 def _stocked(result: DesignResult, selection: StockSelection, options: SolveOptions) -> DesignResult:

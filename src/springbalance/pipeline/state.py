@@ -72,6 +72,8 @@ class SolveOptions:
         verify: what the verification at unseen poses does when a rule fails there: ``"resolve"`` (add the
             worst poses as samples and solve again), ``"report"`` (report only) or ``"off"`` (no verification);
             :mod:`springbalance.design.verification_loop`.
+        seeds: solve at each of these seeds and keep the best design (:mod:`springbalance.results.seed_search`),
+            or None: solve at ``seed`` alone.
     """
 
     starts: int = 8
@@ -84,18 +86,30 @@ class SolveOptions:
     standard_wire: bool = True
     workers: int | None = None
     verify: str = VERIFY_DEFAULT
+    seeds: tuple[int, ...] | None = None
 
     @classmethod
     def merged(cls, given: Mapping[str, Any], overrides: Mapping[str, Any]) -> SolveOptions:
         """The options of ``given`` (a config's ``solve`` section) overridden by the ``overrides`` that are
-        not None; the rest take the defaults above."""
+        not None; the rest take the defaults above. ``seed`` and ``seeds`` exclude each other: given together in
+        either, an InputError; a ``seed`` override drops the ``seeds`` given, and a ``seeds`` override the ``seed``."""
         names = {field.name for field in dataclasses.fields(cls)}
-        options = {**given, **{key: value for key, value in overrides.items() if value is not None}}
+        chosen = {key: value for key, value in overrides.items() if value is not None}
+        for source, where in ((given, "the solve section"), (chosen, "the options")):
+            if "seed" in source and "seeds" in source:
+                raise InputError(f"{where} give both seed and seeds: one seed, or the seeds to keep the best of")
+        options = {**given, **chosen}
+        if "seed" in chosen:  # one seed asked for wins over the seeds given, and the other way round
+            options.pop("seeds", None)
+        elif "seeds" in chosen:
+            options.pop("seed", None)
         unknown = sorted(set(options) - names)
         if unknown:
             raise InputError(
                 f"unknown solve option(s) {', '.join(map(repr, unknown))}; valid: {', '.join(sorted(names))}"
             )
+        if options.get("seeds") is not None:
+            options["seeds"] = checked_seeds(options["seeds"])
         return cls(**options)
 
     def for_problem(self, problem: DesignProblem) -> SolveOptions:
@@ -157,3 +171,15 @@ class SolveState:
     def but(self, **changes: Any) -> SolveState:
         """This state with ``changes`` (a step's output)."""
         return dataclasses.replace(self, **changes)
+
+
+def checked_seeds(seeds: Any) -> tuple[int, ...]:
+    """``seeds`` as a tuple of distinct integers ≥ 0, in order; InputError naming the value otherwise."""
+    if isinstance(seeds, (str, bytes)) or not hasattr(seeds, "__iter__"):
+        raise InputError(f"seeds must be a list of integers >= 0, got {seeds!r}")
+    values = list(seeds)
+    if not values or any(isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 0 for v in values):
+        raise InputError(f"seeds must be a non-empty list of integers >= 0, got {values!r}")
+    if len(set(values)) != len(values):
+        raise InputError(f"seeds must be distinct, got {values!r}")
+    return tuple(int(v) for v in values)

@@ -206,8 +206,14 @@ def head_html(result: EvaluatedDesign) -> list[str]:
         f'<p class="note">{problem.workspace.size} workspace samples ({e(str(problem.workspace.description.get("kind")))}), '
         f"objective <code>{e(problem.objective.name)}</code>, solver status <code>{e(str(result.status))}</code>, "
         f"method <code>{e(str(result.method))}</code>. springbalance {e(__version__)}, "
-        f"{datetime.date.today().isoformat()}.</p>",
+        f"{datetime.date.today().isoformat()}.{_seeds_note(result)}</p>",
     ]
+
+
+def _seeds_note(result: EvaluatedDesign) -> str:
+    """The head's sentence on a design solved at several seeds (empty for one seed)."""
+    search = getattr(result, "seed_search", None)  # a DesignResult's (results.seed_search.SeedSearch)
+    return "" if search is None else " " + html.escape(search.summary(result.problem.objective.unit))
 
 
 def links_html(scene: str | None, legend: str, exports: Iterable[str]) -> list[str]:

@@ -25,7 +25,8 @@ def result_table(result: EvaluatedDesign) -> str:
     """What the actuators still carry, before/after, plus the spring design.
 
     The sections, in order: the header (:func:`header_lines`), the springs (:func:`spring_lines`), what
-    rounding the wires and fitting to the arm cost (:func:`wire_rounding_lines`, :func:`fit_lines`), the
+    rounding the wires and fitting to the arm cost (:func:`wire_rounding_lines`, :func:`fit_lines`), what each seed gave
+    when the design was solved at several (:func:`seed_search_lines`), the
     helical sizing (:func:`helical_sizing_lines`), the springs' mass (:func:`spring_mass_lines`), the pseudo-bases'
     mass and weight (:func:`~springbalance.results.pseudo_base_report.pseudo_base_lines`), the torque and
     objective tables (:func:`torque_lines`), the balance statement, the scenarios, the clearance table, the
@@ -39,6 +40,7 @@ def result_table(result: EvaluatedDesign) -> str:
     lines.extend(spring_lines(result))
     lines.extend(wire_rounding_lines(result.wire_rounding))
     lines.extend(joint_hold_lines(result.joint_hold))
+    lines.extend(seed_search_lines(result))
     lines.extend(fit_lines(result.fit))
     lines.extend(helical_sizing_lines(result))
     lines.extend(spring_mass_lines(result))
@@ -138,6 +140,12 @@ def wire_rounding_lines(rounding: WireRounding | None) -> list[str]:
     ]
     lines.extend(f"  wire of {name} left continuous: {reason}" for name, reason in rounding.unrounded.items())
     return lines
+
+
+def seed_search_lines(result: EvaluatedDesign) -> list[str]:
+    """What each seed gave when the design was solved at several, and which was kept (empty for one seed)."""
+    search = getattr(result, "seed_search", None)  # a DesignResult's (results.seed_search.SeedSearch)
+    return [] if search is None else search.lines(result.problem.objective.unit)
 
 
 def joint_hold_lines(hold: JointHold | None) -> list[str]:

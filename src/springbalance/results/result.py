@@ -38,6 +38,7 @@ from springbalance.results.html_report import write_report
 from springbalance.results.plots import plot_torques
 from springbalance.results.pseudo_base_report import pseudo_base_record
 from springbalance.results.report import result_table
+from springbalance.results.seed_search import SeedSearch
 from springbalance.results.tolerance_report import tolerance_record
 from springbalance.springs.records import spring_from_dict
 from springbalance.viz.live import LiveScene
@@ -57,6 +58,10 @@ class DesignResult(EvaluatedDesign):
     :func:`~springbalance.results.clearance.clearance`, :func:`~springbalance.viz.scene.show`, the exports);
     each method below calls one of them.
     """
+
+    #: what each seed gave when the design was solved at several (``springbalance.solve(..., seeds=[...])``), the
+    #: design being the best of them; None for a design solved at one seed
+    seed_search: SeedSearch | None = None
 
     def warnings(self) -> list[Flag]:
         """Every finding about the design, failures first: each :class:`~springbalance.results.flag.Flag`
@@ -152,6 +157,7 @@ class DesignResult(EvaluatedDesign):
                 **({"fit": self.fit.to_dict()} if self.fit else {}),
                 **({"verification": self.verification.to_dict()} if self.verification else {}),
                 **({"twin": self.twin.to_dict()} if self.twin else {}),
+                **({"seeds": self.seed_search.to_dict()} if self.seed_search else {}),
             },
             "metrics": self.metrics(),
             "spring_mass": self.spring_mass().to_dict(),
@@ -229,7 +235,7 @@ class DesignResult(EvaluatedDesign):
             raise InputError(f"{label} is damaged: {' '.join(str(error).split())[:300]}") from None
         solver = record.get("solver", {})
         partial = (record.get("partial_reason") or "saved as partial") if record.get("partial") else None
-        return cls(
+        result = cls(
             problem,
             x,
             method=solver.get("method", "evaluate"),
@@ -243,6 +249,8 @@ class DesignResult(EvaluatedDesign):
             partial=partial,
             tolerance=_saved_tolerance(record, label),
         )
+        result.seed_search = SeedSearch.from_dict(solver.get("seeds"))
+        return result
 
     def __repr__(self) -> str:
         return f"DesignResult({self.problem!r}, status={self.status!r})"

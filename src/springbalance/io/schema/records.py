@@ -22,7 +22,6 @@ from springbalance.io.schema.fields import (
     Counting,
     Direction,
     Interval,
-    Method,
     NonNegative,
     Number,
     Positive,
@@ -31,7 +30,6 @@ from springbalance.io.schema.fields import (
     Text,
     Vector2,
     Vector3,
-    VerifyMode,
     WorkspaceKind,
     at_most_one,
     by_shape,
@@ -40,6 +38,7 @@ from springbalance.io.schema.fields import (
     expect,
     optional,
 )
+from springbalance.io.schema.solve_record import SolveRecord
 
 
 class FreeRecord(Record, title="Free"):
@@ -297,46 +296,6 @@ class WorkspaceRecord(Record, title="Workspace"):
     )
     ordered: bool = Field(
         default=True, description="array: the rows form a path (a trajectory), which the energy objective needs"
-    )
-
-
-if TYPE_CHECKING:  # what by_shape builds at run time (a tagged union), as mypy can read it
-    _StockSpec = Union[str, list[str]]
-else:
-    _StockSpec = by_shape(list=Annotated[list[Text], annotated_types.MinLen(1)], scalar=Text)
-
-
-class SolveRecord(Record, title="Solve"):
-    """Options of the multi-start solve (the command line's --starts, --seed, --method, --workers override them)."""
-
-    starts: Counting = optional(
-        "starts of the multi-start: the initial guess, then scrambled Sobol points of the bounds", shown=8
-    )
-    seed: Seed = optional("seed of the start points; results are deterministic given it", shown=0)
-    method: Method = optional(
-        "least_squares (bounded Gauss-Newton, for rms and pe_variance), ipopt (general NLP) or auto", shown="auto"
-    )
-    max_iterations: Counting = optional("iteration budget of each start (and of each IPOPT phase)", shown=100)
-    tolerance: Positive = optional(
-        "least squares stop when a step lowers the cost by less than this "
-        "fraction [1]; IPOPT uses min(tolerance, 1e-8)",
-        shown=1e-8,
-    )
-    workers: Counting = optional(
-        "processes that run the starts at once (the design does not depend on it); "
-        "default $SPRINGBALANCE_WORKERS, else the number of cores, once a start "
-        "lasts long enough to pay for the pool"
-    )
-    verify: VerifyMode = optional(
-        "the check of the design at 10x as many unseen poses (docs/model.md §12): resolve (re-solve with the "
-        "worst poses added where a rule fails there), report (only report) or off",
-        shown="resolve",
-    )
-    stock: _StockSpec = optional(
-        "then replace each extension and compression spring by a stock part and re-optimise the anchors: "
-        "ms24585 (compression), ms24586 (extension), the standard catalogues, or a CSV catalogue (relative "
-        "to the config file); a list, or one string separated by commas (the command line's --stock "
-        "overrides it; docs/guides/coils-and-stock.md)"
     )
 
 
