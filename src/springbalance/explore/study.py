@@ -169,11 +169,13 @@ class Study:
         unknown = [key for key in explore if key not in EXPLORE_KEYS]
         if unknown:
             raise InputError(f"{label}: explore: unknown key {unknown[0]!r}; valid keys: {', '.join(EXPLORE_KEYS)}")
+        if "seeds" in (record.get("solve") or {}):  # not dropped in silence: each topology is solved at one seed
+            raise InputError(
+                f"{label}: solve.seeds: a study solves each topology at one seed (explore.seed or solve.seed)"
+            )
         self.label, self.base_dir = label, Path(base_dir)
         self.base = {key: value for key, value in record.items() if key != "explore"}
-        self.explore = dict(explore)
-        if max_springs is not None:
-            self.explore["max_springs"] = max_springs
+        self.explore = {**explore, **({} if max_springs is None else {"max_springs": max_springs})}  # --max-springs
         self.max_springs = self.explore.get("max_springs", 2)
         if isinstance(self.max_springs, bool) or not isinstance(self.max_springs, int) or self.max_springs < 1:
             raise InputError(
