@@ -7,8 +7,8 @@ import springbalance as sb
 from springbalance.design.objectives import JointPeaks, Peak, PeakThenJoints
 from springbalance.design.problem_inputs import JOINT_LIMIT_FLOOR
 from springbalance.design.problem_inputs import joint_limits as _joint_limits
+from two_link_helpers import URDF, spring_per_joint
 
-URDF = "urdf/two_link_planar.urdf"
 TOLERANCE = 1e-6  # relative
 
 
@@ -29,20 +29,7 @@ def arm():
     workspace = sb.Workspace.grid(mechanism, n=9, ranges={"shoulder": [-90, 90], "elbow": [-45, 45]}, degrees=True)
     unbalanced = np.max(np.abs(workspace.kinematics().gravity_torque), axis=0)
     weights = {joint: 1.0 / peak for joint, peak in zip(mechanism.joint_names, unbalanced)}
-    springs = [
-        sb.ExtensionSpring(
-            sb.Anchor("universe", sb.Free([-0.1, 0, 0.02], [0.1, 0, 0.3])),
-            sb.Anchor("link1", sb.Free([0.05, 0, -0.05], [0.45, 0, 0.05])),
-            stiffness=sb.Free(0, 5000),
-            free_length=sb.Free(0.0, 0.5),
-        ),
-        sb.ExtensionSpring(
-            sb.Anchor("link1", sb.Free([0.0, 0, -0.1], [0.45, 0, 0.1])),
-            sb.Anchor("link2", sb.Free([-0.1, 0, -0.05], [0.3, 0, 0.05])),
-            stiffness=sb.Free(0, 5000),
-            free_length=sb.Free(0.0, 0.5),
-        ),
-    ]
+    springs = spring_per_joint()
     results = {
         objective: sb.solve(
             sb.DesignProblem(mechanism, workspace, springs, objective=objective, weights=weights), starts=3

@@ -12,8 +12,8 @@ from springbalance.errors import InputError
 from springbalance.pipeline.state import SolveOptions
 from springbalance.results.html_report import head_html
 from springbalance.results.result import DesignResult
+from two_link_helpers import URDF, spring_per_joint
 
-URDF = "urdf/two_link_planar.urdf"
 #: a budget too short for the starts to converge, so that each seed's Sobol starts end at another design
 SHORT = {"starts": 3, "max_iterations": 3, "polish_iterations": 0, "progress": False}
 
@@ -23,20 +23,7 @@ def problem():
     """The two-link arm with a spring on each joint, over shoulder ±90° and elbow ±45°."""
     mechanism = sb.Mechanism.from_urdf(URDF)
     workspace = sb.Workspace.grid(mechanism, n=5, ranges={"shoulder": [-90, 90], "elbow": [-45, 45]}, degrees=True)
-    springs = [
-        sb.ExtensionSpring(
-            sb.Anchor("universe", sb.Free([-0.1, 0, 0.02], [0.1, 0, 0.3])),
-            sb.Anchor("link1", sb.Free([0.05, 0, -0.05], [0.45, 0, 0.05])),
-            stiffness=sb.Free(0, 5000),
-            free_length=sb.Free(0.0, 0.5),
-        ),
-        sb.ExtensionSpring(
-            sb.Anchor("link1", sb.Free([0.0, 0, -0.1], [0.45, 0, 0.1])),
-            sb.Anchor("link2", sb.Free([0.0, 0, -0.1], [0.4, 0, 0.1])),
-            stiffness=sb.Free(0, 5000),
-            free_length=sb.Free(0.0, 0.5),
-        ),
-    ]
+    springs = spring_per_joint()
     return sb.DesignProblem(mechanism, workspace, springs)
 
 
