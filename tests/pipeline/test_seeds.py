@@ -133,3 +133,11 @@ def test_ctrl_c_at_a_later_seed_keeps_the_best_finished_design(problem, alone, m
     best = min((4, 0), key=lambda seed: (bool(alone[seed][1]), len(alone[seed][1]), alone[seed][0]))
     assert f"interrupted at seed 2 (2 of 3 seeds finished, the design of seed {best} the best)" in str(stop.value)
     assert (stop.value.best_x == real(problem, SolveOptions.merged({}, {**SHORT, "seed": best})).x).all()
+
+
+def test_with_progress_each_seed_is_announced_before_its_bars(problem, capsys):
+    sb.solve(problem, seeds=[4, 0], **{**SHORT, "progress": True})
+    err = capsys.readouterr().err
+    assert err.index("seed 4 (1 of 2)") < err.index("seed 0 (2 of 2)")
+    sb.solve(problem, seeds=[4, 0], **SHORT)  # progress off: nothing
+    assert "of 2)" not in capsys.readouterr().err

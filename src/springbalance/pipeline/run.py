@@ -14,6 +14,7 @@ and gives the next; the problem passed in is never changed.
 from __future__ import annotations
 
 import dataclasses
+import sys
 import time
 from typing import Sequence
 
@@ -83,7 +84,8 @@ def solve(
             The result's ``verification`` is its record (of the stock design, reported only, with ``stock``).
         seeds: solve at each of these seeds (instead of ``seed``) and keep the best design: the first that passes
             every check, by objective (:mod:`springbalance.results.seed_search`); the result's ``seed_search``
-            says what each seed gave. Default: a Config's ``solve.seeds``, else one seed. ``seed`` and ``seeds``
+            says what each seed gave; with a progress bar, each seed is announced on stderr before its bars
+            ("seed 2 (3 of 5)"). Default: a Config's ``solve.seeds``, else one seed. ``seed`` and ``seeds``
             exclude each other; either one given here overrides the other in a Config.
 
     Returns:
@@ -132,7 +134,10 @@ def _best_of_seeds(problem: DesignProblem, options: SolveOptions) -> tuple[Desig
     assert options.seeds is not None  # the caller's condition
     runs: list[SeedRun] = []
     best: tuple[SeedRun, DesignResult] | None = None
-    for seed in options.seeds:
+    shown = options.progress if options.progress is not None else sys.stderr.isatty()  # as the starts' bars are
+    for number, seed in enumerate(options.seeds, 1):
+        if shown:  # which seed the bars below belong to
+            print(f"seed {seed} ({number} of {len(options.seeds)})", file=sys.stderr, flush=True)
         clock = time.perf_counter()
         try:
             result = run_steps(problem, dataclasses.replace(options, seed=seed, seeds=None))
