@@ -99,8 +99,8 @@ def test_seed_and_seeds_override_each_other(given, overrides, seed, seeds):
 @pytest.mark.parametrize(
     ("given", "overrides", "message"),
     [
-        ({"seed": 1, "seeds": [0, 1]}, {}, "the solve section give both seed and seeds"),
-        ({}, {"seed": 1, "seeds": [0, 1]}, "the options give both seed and seeds"),
+        ({"seed": 1, "seeds": [0, 1]}, {}, "solve section: both seed and seeds given"),
+        ({}, {"seed": 1, "seeds": [0, 1]}, "options: both seed and seeds given"),
         ({}, {"seeds": []}, "non-empty"),
         ({}, {"seeds": [0, 0]}, "distinct"),
         ({}, {"seeds": [1, -2]}, "integers >= 0"),

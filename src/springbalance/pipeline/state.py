@@ -95,9 +95,9 @@ class SolveOptions:
         either, an InputError; a ``seed`` override drops the ``seeds`` given, and a ``seeds`` override the ``seed``."""
         names = {field.name for field in dataclasses.fields(cls)}
         chosen = {key: value for key, value in overrides.items() if value is not None}
-        for source, where in ((given, "the solve section"), (chosen, "the options")):
+        for source, where in ((given, "solve section"), (chosen, "options")):
             if "seed" in source and "seeds" in source:
-                raise InputError(f"{where} give both seed and seeds: one seed, or the seeds to keep the best of")
+                raise InputError(f"{where}: both seed and seeds given; give one seed, or the seeds to keep the best of")
         options = {**given, **chosen}
         if "seed" in chosen:  # one seed asked for wins over the seeds given, and the other way round
             options.pop("seeds", None)
