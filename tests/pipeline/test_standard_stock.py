@@ -114,6 +114,21 @@ def test_a_part_that_cannot_live_its_duty_is_not_chosen():
         select_stock(problem, continuous, sb.load_stock("ms24586"), candidates=2, starts=1)
 
 
+def test_stock_parts_for_the_best_of_several_seeds_keep_the_seeds_record():
+    """With ``seeds``, the parts replace the kept seed's continuous design, and the stock design keeps the record of
+    what each seed gave."""
+    lift = sb.HelicalExtensionSpring(
+        sb.Anchor("ground", sb.Free([0, -0.02, 0.02], [0, 0.02, 0.15])),
+        sb.Anchor("arm", sb.Free([0, 0, 0.01], [0, 0, 0.15])),
+        "lift",
+    )
+    result = sb.solve(lamp(lift), seeds=[1, 0], starts=2, progress=False, stock=sb.load_stock("ms24586"))
+    assert result.stock is not None and result.seed_search is not None
+    assert [run.seed for run in result.seed_search.runs] == [1, 0]
+    assert result.seed == result.seed_search.kept
+    assert result.to_dict()["solver"]["seeds"] == result.seed_search.to_dict()
+
+
 def test_the_springs_duty_goes_with_the_part():
     lift = sb.HelicalExtensionSpring(
         sb.Anchor("ground", sb.Free([0, -0.02, 0.02], [0, 0.02, 0.15])),

@@ -124,7 +124,9 @@ def solve(
     if stock is None:
         return result
     # the problem as the steps left it (with the rows of the fit), as the parts are fitted to the arm the same way
-    return _stocked(result, _select_stock(result.problem, result, stock, options), options)
+    stocked = _stocked(result, _select_stock(result.problem, result, stock, options), options)
+    stocked.seed_search = result.seed_search  # the seeds of the continuous design the parts replace
+    return stocked
 
 
 def _best_of_seeds(problem: DesignProblem, options: SolveOptions) -> tuple[DesignResult, int]:
