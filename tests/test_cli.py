@@ -200,6 +200,13 @@ def test_solver_failure_exits_1_with_statuses(tmp_path, capsys):
     line = run_error(capsys, ["design", str(write_config(tmp_path, record)), "--out", str(out)], code=1)
     assert "no start gave a feasible design" in line and "start 0: ipopt:" in line
     assert not out.exists()
+    # at several seeds: every seed named with why it found no design, and nothing saved
+    line = run_error(
+        capsys, ["design", str(write_config(tmp_path, record)), "--out", str(out), "--seeds", "0-1"], code=1
+    )
+    assert "no seed gave a feasible design: seed 0: no start gave a feasible design" in line
+    assert "; seed 1: no start gave a feasible design" in line
+    assert not out.exists()
 
 
 def test_evaluate_errors(tmp_path, capsys):
