@@ -55,6 +55,7 @@ from typing import Any
 
 import numpy as np
 
+from springbalance.design.objectives import percent_change
 from springbalance.errors import InputError
 
 #: most re-solves of a fitting loop (:attr:`Clearance.rounds`; also the mountings' without a clearance)
@@ -164,9 +165,7 @@ class FitRecord:
     @property
     def cost_percent(self) -> float:
         """How much worse the objective got [%]."""
-        if self.objective_before <= 0:
-            return 0.0
-        return 100.0 * (self.objective - self.objective_before) / self.objective_before
+        return percent_change(self.objective_before, self.objective)
 
     def to_dict(self) -> dict[str, Any]:
         return {**dataclasses.asdict(self), "cost_percent": self.cost_percent}

@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
 
+from springbalance.design.objectives import percent_change
 from springbalance.design.solvers import Solution, solve_problem
 from springbalance.design.worse_joints import weighted_joints_made_worse
 from springbalance.errors import SolverError
@@ -53,9 +54,7 @@ class JointHold:
     @property
     def cost_percent(self) -> float:
         """How much worse the objective got [%]."""
-        if self.objective_before <= 0:
-            return 0.0
-        return 100.0 * (self.objective - self.objective_before) / self.objective_before
+        return percent_change(self.objective_before, self.objective)
 
     def to_dict(self) -> dict[str, Any]:
         """The record as JSON-ready values (``design.json``'s ``solver.joint_hold``)."""

@@ -372,3 +372,12 @@ def _epigraph(piece: NlpPieces) -> _Epigraph:
     ):
         raise AssertionError("an objective with epigraph variables must give their bounds, start and rows")
     return _Epigraph(piece.variables, piece.lower, piece.upper, piece.start, piece.rows)
+
+
+def percent_change(before: float, after: float) -> float:
+    """How much worse an objective got from ``before`` to ``after`` [%] (negative: better): ``100 (after − before) /
+    before``, and 0 when ``before`` ≤ 0 (nothing to compare with). What a step of the solve cost (the fit to the arm,
+    the wire rounding, the joint hold)."""
+    if before <= 0:
+        return 0.0
+    return 100.0 * (after - before) / before

@@ -26,6 +26,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from springbalance.design.objectives import percent_change
 from springbalance.design.solvers import Solution, StartRecord, solve_problem
 from springbalance.design.worse_joints import weighted_joints_made_worse
 from springbalance.errors import SolverError
@@ -63,9 +64,7 @@ class WireRounding:
     @property
     def cost_percent(self) -> float:
         """How much worse the objective got [%] (negative: better)."""
-        if self.continuous_objective <= 0:
-            return 0.0
-        return 100.0 * (self.objective - self.continuous_objective) / self.continuous_objective
+        return percent_change(self.continuous_objective, self.objective)
 
     def to_dict(self) -> dict:
         return {

@@ -29,7 +29,7 @@ from springbalance.pipeline.sequence import run_steps
 from springbalance.pipeline.state import ConfiguredProblem, SolveOptions
 from springbalance.pipeline.stock import select_stock
 from springbalance.results.result import DesignResult
-from springbalance.results.seed_search import SeedRun, SeedSearch, best_run
+from springbalance.results.seed_search import SeedRun, SeedSearch
 
 #: what the twin of a stock design is (without coils or a fit to the arm), in the words of its record
 STOCK_TWIN_SOURCE = "the continuous design before the stock parts were chosen"
@@ -151,11 +151,10 @@ def _best_of_seeds(problem: DesignProblem, options: SolveOptions) -> tuple[Desig
         kinds = tuple(dict.fromkeys(flag.kind for flag in result.failures()))
         run = SeedRun(seed, result.problem.objective_at(result.x), kinds, time.perf_counter() - clock)
         runs.append(run)
-        if best is None or run.rank() < best[0].rank():  # only the best design is kept in memory
+        if best is None or run.rank() < best[0].rank():  # best_run's order as the seeds come; one design in memory
             best = (run, result)
     if best is None:
         raise SolverError("no seed gave a feasible design: " + "; ".join(f"seed {r.seed}: {r.error}" for r in runs))
-    assert best_run(runs) == best[0]  # the order of best_run, applied as the seeds came
     best[1].seed_search = SeedSearch(tuple(runs), best[0].seed)
     return best[1], best[0].seed
 
