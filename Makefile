@@ -31,10 +31,10 @@ demo: bytecode
 # `make test` runs every test (CI calls it); `make test-fast` leaves out the tests marked `slow` (whole
 # studies, notebooks, the browser, the documentation's Python examples, anything over ~5 s).
 test: lint chromium
-	$(BIN)/python -m pytest -q -n auto --dist loadfile
+	$(BIN)/python -m pytest -q -n auto --maxprocesses 4 --dist loadfile
 
 test-fast: lint
-	$(BIN)/python -m pytest -q -n auto --dist loadfile -m "not slow"
+	$(BIN)/python -m pytest -q -n auto --maxprocesses 4 --dist loadfile -m "not slow"
 
 # Drake's check of an exported pseudo-base arm alone (tests/io/test_export_pseudo_bases.py). `make test`
 # installs Drake with the test extras and runs it too; the test skips, saying why, where no wheel exists.

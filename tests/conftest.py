@@ -3,7 +3,7 @@
 - The compiled residuals go to a temporary cache folder (``SPRINGBALANCE_CACHE_DIR``), removed at
   the end: tests neither read nor fill the user's cache. Within the session, a problem met twice
   is compiled once. Subprocesses (the CLI tests) inherit the variable.
-- ``make test`` spreads the test files over the cores (pytest-xdist, ``-n auto --dist loadfile``): the
+- ``make test`` spreads the test files over the cores (pytest-xdist, ``-n auto --maxprocesses 4 --dist loadfile``): the
   main process makes the folder, its workers (started with its environment) share it, and the main
   process removes it. The library writes it atomically (:mod:`springbalance.design.compile_cache`).
 - Solves run their starts in this process (``SPRINGBALANCE_WORKERS=1``): the test problems are
