@@ -2,7 +2,7 @@
 
 The solver treats the wire diameter ``d`` [m] of a coil as continuous. A spring maker draws wire
 in preferred sizes (:data:`~springbalance.springs.sizing.PREFERRED_WIRE_DIAMETERS`, within the
-material's range). :func:`round_wires` takes the continuous optimum and, one coil after the other,
+material's range, or the sizes a user's spring maker stocks: ``solve.wire_sizes``, :func:`checked_wire_sizes`). :func:`round_wires` takes the continuous optimum and, one coil after the other,
 fixes its ``d`` to the preferred size just below and just above, re-optimises every other
 variable from the current design, and keeps the better feasible one. The two candidates are two
 starts of one solve of the same problem with the rounded wires held, each warm from the current
@@ -22,14 +22,14 @@ coil as above.
 from __future__ import annotations
 
 import dataclasses
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
 
 from springbalance.design.objectives import percent_change
 from springbalance.design.solvers import Solution, StartRecord, solve_problem
 from springbalance.design.worse_joints import weighted_joints_made_worse
-from springbalance.errors import SolverError
+from springbalance.errors import InputError, SolverError
 from springbalance.springs.params import Free
 from springbalance.springs.sizing import PREFERRED_WIRE_DIAMETERS
 
@@ -43,6 +43,8 @@ JOINT_ACCEPT = 0.05
 #: a continuous wire within this fraction of its nearest standard size is that size: the joint rounding does not
 #: also start from it at its other neighbour (:func:`_combinations`)
 AT_SIZE = 0.01
+#: the largest wire size [m] a list of sizes may hold: a larger one is a size in millimetres given as metres
+LARGEST_WIRE = 0.05
 
 
 @dataclasses.dataclass
@@ -85,28 +87,54 @@ def coils_with_free_wire(problem: DesignProblem) -> list:
     ]
 
 
-def standard_neighbours(diameter: float, lower: float, upper: float) -> list[float]:
-    """The preferred wire sizes just below and just above ``diameter`` [m], within ``[lower, upper]``."""
-    sizes = np.array([d for d in PREFERRED_WIRE_DIAMETERS if lower * (1 - 1e-9) <= d <= upper * (1 + 1e-9)])
-    if sizes.size == 0:
+def checked_wire_sizes(sizes: Any, label: str = "wire_sizes") -> tuple[float, ...]:
+    """``sizes``, the wire diameters [m] a spring maker draws, as a sorted tuple; InputError naming ``label`` and the
+    value when it is not a non-empty list of distinct numbers in ``(0, LARGEST_WIRE)``."""
+    if isinstance(sizes, (str, bytes)) or not hasattr(sizes, "__iter__"):
+        raise InputError(f"{label} must be a list of wire diameters [m], got {sizes!r}")
+    values = list(sizes)
+    if not values or any(
+        isinstance(v, bool) or not isinstance(v, (int, float, np.floating, np.integer)) for v in values
+    ):
+        raise InputError(f"{label} must be a non-empty list of wire diameters [m], got {values!r}")
+    for value in values:
+        if not 0 < value < LARGEST_WIRE:
+            hint = f" (diameters in metres: {value:g} mm is {value * 1e-3:g})" if value >= LARGEST_WIRE else ""
+            raise InputError(f"{label}: each wire diameter must lie in (0, {LARGEST_WIRE:g}) m, got {value!r}{hint}")
+    if len(set(values)) != len(values):
+        raise InputError(f"{label} must be distinct, got {values!r}")
+    return tuple(sorted(float(v) for v in values))
+
+
+def standard_neighbours(
+    diameter: float, lower: float, upper: float, sizes: Sequence[float] | None = None
+) -> list[float]:
+    """The standard wire sizes just below and just above ``diameter`` [m], within ``[lower, upper]``: of ``sizes``
+    [m], default the preferred series."""
+    series = PREFERRED_WIRE_DIAMETERS if sizes is None else sizes
+    within = np.array([d for d in series if lower * (1 - 1e-9) <= d <= upper * (1 + 1e-9)])
+    if within.size == 0:
         return []
-    below, above = sizes[sizes <= diameter], sizes[sizes >= diameter]
+    below, above = within[within <= diameter], within[within >= diameter]
     return sorted(
         {float(value) for value in ([below.max()] if below.size else []) + ([above.min()] if above.size else [])}
     )
 
 
-def round_wires(problem: DesignProblem, solution: Solution, **solve_options: Any) -> tuple[Solution, WireRounding]:
+def round_wires(
+    problem: DesignProblem, solution: Solution, sizes: Sequence[float] | None = None, **solve_options: Any
+) -> tuple[Solution, WireRounding]:
     """Fix every coil's wire to a standard size and re-optimise the rest (see the module docstring).
 
     Returns the solution of ``problem`` with the standard wires (the wire variables at their
-    standard values) and the :class:`WireRounding`. ``solve_options`` go to
-    :func:`~springbalance.design.solvers.solve_problem` (``method``, ``max_iterations``, ...).
+    standard values) and the :class:`WireRounding`. ``sizes``: the standard sizes [m] (default the preferred
+    series). ``solve_options`` go to :func:`~springbalance.design.solvers.solve_problem` (``method``,
+    ``max_iterations``, ...).
     """
     names = problem.variables.names
     x = np.array(solution.x, dtype=float)
     continuous = problem.objective_at(x)
-    joint = _joint_rounding(problem, solution, continuous, solve_options)
+    joint = _joint_rounding(problem, solution, continuous, sizes, solve_options)
     if joint is not None:
         return joint
     fixed: dict[str, float] = {}  # variable name → standard wire [m]
@@ -119,7 +147,7 @@ def round_wires(problem: DesignProblem, solution: Solution, **solve_options: Any
             continue
         free = spring.parameters[WIRE]
         value = x[names.index(name)]
-        candidates = standard_neighbours(value, float(free.lower), float(free.upper))
+        candidates = standard_neighbours(value, float(free.lower), float(free.upper), sizes)
         best = _best_candidate(problem, x, multipliers, fixed, name, candidates, solve_options)
         if best is None:
             rounding.unrounded[spring.name] = (
@@ -218,7 +246,11 @@ def _combinations(choices: list[list[float]], values: list[float]) -> list[list[
 
 
 def _joint_rounding(
-    problem: DesignProblem, solution: Solution, continuous: float, solve_options: dict[str, Any]
+    problem: DesignProblem,
+    solution: Solution,
+    continuous: float,
+    sizes: Sequence[float] | None,
+    solve_options: dict[str, Any],
 ) -> tuple[Solution, WireRounding] | None:
     """Every coil's wire rounded at once (see the module docstring), or None to go coil by coil: fewer than two
     coils to round, a per-scenario wire, neither start feasible, or a cost above :data:`JOINT_ACCEPT`."""
@@ -232,7 +264,7 @@ def _joint_rounding(
         free = spring.parameters[WIRE]
         value = float(x[names.index(name)])
         candidates = sorted(
-            standard_neighbours(value, float(free.lower), float(free.upper)), key=lambda d: abs(d - value)
+            standard_neighbours(value, float(free.lower), float(free.upper), sizes), key=lambda d: abs(d - value)
         )
         if not candidates:
             return None

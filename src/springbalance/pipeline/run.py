@@ -48,6 +48,7 @@ def solve(
     tolerance: float | None = None,
     polish_iterations: int | None = None,
     standard_wire: bool | None = None,
+    wire_sizes: Sequence[float] | None = None,
     workers: int | None = None,
     stock: Sequence[StockPart] | None = None,
     verify: str | None = None,
@@ -70,8 +71,12 @@ def solve(
         polish_iterations: further iterations for the best starts when they stopped on the limit, and for
             the least violated ones when no start is feasible (default 4 × max_iterations; with free helical
             coils 16× without a fit to the arm and 2× with one; 0 disables).
-        standard_wire: round every helical spring's free wire diameter to the preferred series and
-            re-optimise the rest (True); the result's ``wire_rounding`` says what it cost.
+        standard_wire: round every helical spring's free wire diameter to the standard sizes (``wire_sizes``)
+            and re-optimise the rest (True); the result's ``wire_rounding`` says what it cost.
+        wire_sizes: the wire diameters [m] your spring maker draws: the sizes the wires are rounded to and that
+            the report judges each coil's wire against (``off_series_wire``); kept as the result's ``wire_sizes``.
+            Default: a Config's ``solve.wire_sizes``, else the preferred metric series
+            (:data:`~springbalance.springs.sizing.PREFERRED_WIRE_DIAMETERS`).
         workers: processes that run the starts (and polish runs) at once; the design does not depend on it.
             Default: ``$SPRINGBALANCE_WORKERS``, else ``os.cpu_count()`` (1 for a small problem).
         stock: stock parts (:func:`springbalance.load_stock`: ``sb.load_stock("ms24586")``, the standard
@@ -110,6 +115,7 @@ def solve(
             "tolerance": tolerance,
             "polish_iterations": polish_iterations,
             "standard_wire": standard_wire,
+            "wire_sizes": wire_sizes,
             "workers": workers,
             "verify": verify,
             "seeds": seeds,
@@ -121,11 +127,13 @@ def solve(
     else:
         result = run_steps(problem, options)
     result.tolerance = getattr(problem_or_config, "tolerance", None)  # a config's tolerance section
+    result.wire_sizes = options.wire_sizes
     if stock is None:
         return result
     # the problem as the steps left it (with the rows of the fit), as the parts are fitted to the arm the same way
     stocked = _stocked(result, _select_stock(result.problem, result, stock, options), options)
     stocked.seed_search = result.seed_search  # the seeds of the continuous design the parts replace
+    stocked.wire_sizes = options.wire_sizes
     return stocked
 
 

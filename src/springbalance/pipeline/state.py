@@ -15,7 +15,7 @@ from typing import Any, Mapping, Protocol
 
 import numpy as np
 
-from springbalance.design import clearance_starts, coil_start
+from springbalance.design import clearance_starts, coil_start, standard_wire
 from springbalance.design.clearance import FitRecord, LinearRows
 from springbalance.design.joint_hold import JointHold
 from springbalance.design.problem import DesignProblem
@@ -67,7 +67,10 @@ class SolveOptions:
         polish_iterations: further iterations for the best starts stopped by the limit (None: 4 × max_iterations;
             :data:`COIL_POLISH_FACTOR` × for coils not fitted to the arm, :data:`FITTED_COIL_POLISH_FACTOR` × for
             coils fitted to it, :meth:`for_problem`).
-        standard_wire: round every coil's free wire diameter to the preferred series.
+        standard_wire: round every coil's free wire diameter to the standard sizes (``wire_sizes``).
+        wire_sizes: the wire diameters [m] the spring maker draws, sorted: what the rounding rounds to and what the
+            report judges a wire against (None: the preferred series,
+            :data:`~springbalance.springs.sizing.PREFERRED_WIRE_DIAMETERS`).
         workers: processes that run the starts at once (None: ``$SPRINGBALANCE_WORKERS`` or the cores).
         verify: what the verification at unseen poses does when a rule fails there: ``"resolve"`` (add the
             worst poses as samples and solve again), ``"report"`` (report only) or ``"off"`` (no verification);
@@ -84,6 +87,7 @@ class SolveOptions:
     tolerance: float = 1e-8
     polish_iterations: int | None = None
     standard_wire: bool = True
+    wire_sizes: tuple[float, ...] | None = None
     workers: int | None = None
     verify: str = VERIFY_DEFAULT
     seeds: tuple[int, ...] | None = None
@@ -110,6 +114,8 @@ class SolveOptions:
             )
         if options.get("seeds") is not None:
             options["seeds"] = checked_seeds(options["seeds"])
+        if options.get("wire_sizes") is not None:
+            options["wire_sizes"] = standard_wire.checked_wire_sizes(options["wire_sizes"])
         return cls(**options)
 
     def for_problem(self, problem: DesignProblem) -> SolveOptions:

@@ -182,11 +182,13 @@ def fit_to_arm(state: SolveState) -> SolveState:
 
 
 def round_wires(state: SolveState) -> SolveState:
-    """Coils with a free wire: standard wire sizes, the rest re-optimised."""
+    """Coils with a free wire: standard wire sizes (the options' ``wire_sizes``), the rest re-optimised."""
     if not state.options.standard_wire or not standard_wire.coils_with_free_wire(state.problem):
         return state
     with _interrupted_after_starts(state, "rounding the wires"):
-        solution, rounding = standard_wire.round_wires(state.problem, state.solved, **state.options.solver_options())
+        solution, rounding = standard_wire.round_wires(
+            state.problem, state.solved, state.options.wire_sizes, **state.options.solver_options()
+        )
     return state.but(solution=solution, wire_rounding=rounding)
 
 

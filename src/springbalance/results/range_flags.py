@@ -7,8 +7,9 @@
   have none. The arm cannot take such poses, so the design is balanced for motion it will not make (and
   may be the worse where it will). :func:`beyond_joint_limits` checks a mechanism's joint values before
   a solve (the command line warns early).
-- ``off_series_wire``: a helical coil (not a stock part) whose wire diameter is not one of the preferred sizes
-  (:data:`~springbalance.springs.sizing.PREFERRED_WIRE_DIAMETERS`, within a relative 1e-6): standard
+- ``off_series_wire``: a helical coil (not a stock part) whose wire diameter is not one of the standard sizes
+  (the design's ``solve.wire_sizes`` when given, else the preferred series
+  :data:`~springbalance.springs.sizing.PREFERRED_WIRE_DIAMETERS`, within a relative 1e-6): standard
   wire was turned off, or the rounding left it continuous (``wire_rounding.unrounded`` says why).
 """
 
@@ -85,6 +86,8 @@ def beyond_joint_limits_flags(result: EvaluatedDesign) -> list[Flag]:
 def off_series_wire_flags(result: EvaluatedDesign) -> list[Flag]:
     """``off_series_wire``: helical coils whose wire diameter is not a preferred size (see the module)."""
     unrounded = result.wire_rounding.unrounded if result.wire_rounding is not None else {}
+    series = getattr(result, "wire_sizes", None) or PREFERRED_WIRE_DIAMETERS  # a DesignResult's solve.wire_sizes
+    named = "one of solve.wire_sizes" if getattr(result, "wire_sizes", None) else "a preferred size"
     found = []
     for record in result.springs:
         if not isinstance(record.get("helical"), dict) or "wire_diameter" not in record:
@@ -92,15 +95,15 @@ def off_series_wire_flags(result: EvaluatedDesign) -> list[Flag]:
         if record.get("part_number") is not None:  # a bought part: its wire is the part's (MS parts: inch sizes)
             continue
         wire = float(record["wire_diameter"])  # [m]
-        if any(math.isclose(wire, size, rel_tol=1e-6) for size in PREFERRED_WIRE_DIAMETERS):
+        if any(math.isclose(wire, size, rel_tol=1e-6) for size in series):
             continue
-        nearest = min(PREFERRED_WIRE_DIAMETERS, key=lambda size: abs(size - wire))
+        nearest = min(series, key=lambda size: abs(size - wire))
         reason = unrounded.get(record["name"])
         found.append(
             Flag(
                 "off_series_wire",
                 record["name"],
-                f"spring {record['name']!r} has a wire of {1e3 * wire:.4g} mm, not a preferred size (nearest "
+                f"spring {record['name']!r} has a wire of {1e3 * wire:.4g} mm, not {named} (nearest "
                 f"{1e3 * nearest:.4g} mm)" + (f"; the rounding left it: {reason}" if reason else ""),
                 "turn standard_wire on (solve.standard_wire) or fix the wire at a preferred size; a spring maker "
                 "draws wire in those sizes, another one is a special order",

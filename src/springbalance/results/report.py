@@ -38,7 +38,7 @@ def result_table(result: EvaluatedDesign) -> str:
     lines = header_lines(result)
     lines.append("")
     lines.extend(spring_lines(result))
-    lines.extend(wire_rounding_lines(result.wire_rounding))
+    lines.extend(wire_rounding_lines(result.wire_rounding, getattr(result, "wire_sizes", None)))
     lines.extend(joint_hold_lines(result.joint_hold))
     lines.extend(seed_search_lines(result))
     lines.extend(fit_lines(result.fit))
@@ -129,13 +129,15 @@ def _spring_lines(spring: Spring, record: dict[str, Any], states: np.ndarray, fo
     return lines
 
 
-def wire_rounding_lines(rounding: WireRounding | None) -> list[str]:
-    """What rounding the coils' wires to standard sizes did [mm] and cost (empty when nothing was rounded)."""
+def wire_rounding_lines(rounding: WireRounding | None, sizes: tuple[float, ...] | None = None) -> list[str]:
+    """What rounding the coils' wires to standard sizes did [mm] and cost (empty when nothing was rounded); with
+    ``sizes``, the design's ``solve.wire_sizes`` [m], it says they were the sizes."""
     if rounding is None:
         return []
     wires = ", ".join(f"{name} {1e3 * pair[0]:.3f} → {1e3 * pair[1]:.2f} mm" for name, pair in rounding.wires.items())
+    series = f" (of solve.wire_sizes, {len(sizes)} sizes)" if sizes else ""
     lines = [
-        f"  standard wire: {wires or 'none rounded'}; objective {rounding.continuous_objective:.6g} → "
+        f"  standard wire{series}: {wires or 'none rounded'}; objective {rounding.continuous_objective:.6g} → "
         f"{rounding.objective:.6g} ({rounding.cost_percent:+.2f} %)"
     ]
     lines.extend(f"  wire of {name} left continuous: {reason}" for name, reason in rounding.unrounded.items())

@@ -21,6 +21,7 @@ from springbalance.design.joint_hold import JointHold
 from springbalance.design.objectives import OBJECTIVES
 from springbalance.design.problem import DesignProblem
 from springbalance.design.solvers.auxiliary import design_from_values
+from springbalance.design.standard_wire import checked_wire_sizes
 from springbalance.design.tolerance_spec import ToleranceSpec
 from springbalance.design.twin import TwinRecord
 from springbalance.design.verification_record import VerificationRecord
@@ -62,6 +63,9 @@ class DesignResult(EvaluatedDesign):
     #: what each seed gave when the design was solved at several (``springbalance.solve(..., seeds=[...])``), the
     #: design being the best of them; None for a design solved at one seed
     seed_search: SeedSearch | None = None
+    #: the wire diameters [m] the spring maker draws, given as ``solve.wire_sizes`` (sorted): the sizes the wires
+    #: were rounded to and ``off_series_wire`` judges against; None for the preferred series
+    wire_sizes: tuple[float, ...] | None = None
 
     def warnings(self) -> list[Flag]:
         """Every finding about the design, failures first: each :class:`~springbalance.results.flag.Flag`
@@ -158,6 +162,7 @@ class DesignResult(EvaluatedDesign):
                 **({"verification": self.verification.to_dict()} if self.verification else {}),
                 **({"twin": self.twin.to_dict()} if self.twin else {}),
                 **({"seeds": self.seed_search.to_dict()} if self.seed_search else {}),
+                **({"wire_sizes": list(self.wire_sizes)} if self.wire_sizes else {}),
             },
             "metrics": self.metrics(),
             "spring_mass": self.spring_mass().to_dict(),
@@ -250,6 +255,8 @@ class DesignResult(EvaluatedDesign):
             tolerance=_saved_tolerance(record, label),
         )
         result.seed_search = SeedSearch.from_dict(solver.get("seeds"))
+        if solver.get("wire_sizes") is not None:
+            result.wire_sizes = checked_wire_sizes(solver["wire_sizes"], f"{label}: solver.wire_sizes")
         return result
 
     def __repr__(self) -> str:

@@ -155,6 +155,7 @@ Vector2 = Annotated[list[Number], annotated_types.Len(2, 2), expect("two numbers
 Interval = Annotated[list[Number], annotated_types.Len(2, 2), expect("[lower, upper] (numbers)")]
 Counting = integer_at_least(1)  # an integer ≥ 1 (a count)
 Seed = integer_at_least(0)  # an integer ≥ 0
+NonNegativeCount = integer_at_least(0)  # an integer ≥ 0: a budget that may be none
 WorkspaceKind = choice(WORKSPACE_KINDS, "workspace kind")
 Objective = choice(OBJECTIVES, "objective")
 Method = choice(METHODS, "method")

@@ -7,9 +7,11 @@ from typing import TYPE_CHECKING, Annotated, Union
 import annotated_types
 from pydantic import ConfigDict
 
+from springbalance.design.standard_wire import LARGEST_WIRE
 from springbalance.io.schema.fields import (
     Counting,
     Method,
+    NonNegativeCount,
     Positive,
     Record,
     Seed,
@@ -41,6 +43,18 @@ class SolveRecord(Record, title="Solve"):
         seeds = data.get("seeds")
         if isinstance(seeds, list) and len(set(map(repr, seeds))) != len(seeds):
             raise fail("repeated_seed", f"seeds must be distinct, got {abbreviated(seeds)}", "seeds")
+        sizes = data.get("wire_sizes")
+        if isinstance(sizes, list):
+            large = [size for size in sizes if isinstance(size, (int, float)) and size >= LARGEST_WIRE]
+            if large:
+                raise fail(
+                    "wire_size_in_mm",
+                    f"wire diameters are in metres (3.2 mm is 0.0032), got {large[0]!r}: each must be below "
+                    f"{LARGEST_WIRE:g} m",
+                    "wire_sizes",
+                )
+            if len(set(map(repr, sizes))) != len(sizes):
+                raise fail("repeated_wire_size", f"the sizes must be distinct, got {abbreviated(sizes)}", "wire_sizes")
 
     starts: Counting = optional(
         "starts of the multi-start: the initial guess, then scrambled Sobol points of the bounds", shown=8
@@ -58,6 +72,20 @@ class SolveRecord(Record, title="Solve"):
         "least squares stop when a step lowers the cost by less than this "
         "fraction [1]; IPOPT uses min(tolerance, 1e-8)",
         shown=1e-8,
+    )
+    polish_iterations: NonNegativeCount = optional(
+        "further iterations for the best starts when they stopped on the iteration limit (0: none); default 4x "
+        "max_iterations, and with free helical coils 16x without a fit to the arm and 2x with one"
+    )
+    standard_wire: bool = optional(
+        "after the solve, round every coil's free wire diameter to a standard size (wire_sizes) and re-optimise "
+        "the rest (docs/model.md §3.8)",
+        shown=True,
+    )
+    wire_sizes: Annotated[list[Positive], annotated_types.MinLen(1)] = optional(
+        "the wire diameters [m] your spring maker draws (for example [0.0030, 0.0032, 0.0034]): the sizes the wires "
+        "are rounded to and that the report judges each coil's wire against; default the preferred metric series "
+        "(docs/guides/coils-and-stock.md)"
     )
     workers: Counting = optional(
         "processes that run the starts at once (the design does not depend on it); "
