@@ -176,8 +176,8 @@ def test_the_screen_key_is_checked_and_zero_solves_every_topology(tmp_path: Path
     }
     with pytest.raises(InputError, match=r"arm.yaml: explore.screen must be an integer ≥ 0"):
         Study(record, tmp_path, "arm.yaml")
-    with pytest.raises(InputError, match=r"arm.yaml: solve.seeds: a study solves each topology at one seed"):
-        Study({**record, "solve": {"seeds": [0, 1]}}, tmp_path, "arm.yaml")  # not silently dropped
+    with pytest.raises(InputError, match=r"arm.yaml: solve.seeds must be distinct, got \[1, 1\]"):
+        Study({**record, "solve": {"seeds": [1, 1]}}, tmp_path, "arm.yaml")
     plain = Study({**record, "explore": {**record["explore"], "screen": 0}}, tmp_path, "arm.yaml")
     assert plain.search is None and len(plain.tasks) == 6 - 4  # every topology not proven unreachable
 

@@ -26,7 +26,7 @@ def _point_box(point: list[float]) -> dict:
     return {"lower": point, "upper": point}
 
 
-def _study(folder):
+def _study(folder, **sections):
     record = {
         "mechanism": THROUGH["mechanism"],
         "workspace": THROUGH["workspace"],
@@ -48,6 +48,7 @@ def _study(folder):
             "spring": {"type": "zero_free_length", "stiffness": {"lower": 0, "upper": 1000}},
             "reports": False,  # the design files only (designs/<id>.json): no page per design, faster
         },
+        **sections,
     }
     return config_file(folder, record, "study.yaml")
 
@@ -74,3 +75,21 @@ def test_each_topology_says_whether_its_design_passes_every_check(tmp_path, caps
     assert "<td>pass</td>" in page and "<td>fails: " in page and "overlap" in page.split("<td>fails: ", 1)[1]
     # the best one-spring design is the one that passes: the summary does not flag it
     assert "best with 1 spring(s): universe→link1" in summary and "FAILS" not in summary
+
+
+def test_a_study_with_seeds_solves_each_topology_at_each_and_keeps_the_best(tmp_path):
+    """``solve.seeds`` in a study: each topology is solved at each seed (as ``springbalance design --seeds``), its
+    design is the best run's (the first that passes every check, by objective), and its row names the seed kept."""
+    out = tmp_path / "study"
+    study = _study(tmp_path, solve={"seeds": [2, 0, 1]})
+    assert main(["explore", str(study), "--out", str(out), "--sequential"]) == 0
+    rows = [json.loads(path.read_text()) for path in (out / "results").glob("*.json")]
+    assert len(rows) == 2
+    for row in rows:
+        search = row["design"]["solver"]["seeds"]
+        assert [run["seed"] for run in search["runs"]] == [2, 0, 1]
+        passing = [run for run in search["runs"] if not run["failures"]] or search["runs"]
+        best = min(passing, key=lambda run: run["objective"])
+        assert search["kept"] == row["seed"] == best["seed"]
+        assert row["objective_value"] == best["objective"]
+        assert row["design"]["solver"]["seed"] == row["seed"]

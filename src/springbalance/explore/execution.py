@@ -49,10 +49,16 @@ def progress_bar(total: int, show: bool, desc: str = "topologies") -> ProgressBa
 
 
 def execute(
-    tasks: Sequence[Task], client: Client | None, base_dir: Path, starts: int, seed: int
+    tasks: Sequence[Task],
+    client: Client | None,
+    base_dir: Path,
+    starts: int,
+    seed: int,
+    seeds: Sequence[int] | None = None,
 ) -> Iterator[dict[str, Any]]:
-    """Yield each task's result as it finishes (in this process, or on the Dask cluster)."""
-    payloads = [task_payload(task, base_dir, starts, seed) for task in tasks]
+    """Yield each task's result as it finishes (in this process, or on the Dask cluster): solved at ``seed``, or at
+    each of ``seeds`` with the best design kept."""
+    payloads = [task_payload(task, base_dir, starts, seed, seeds) for task in tasks]
     if client is None:
         for payload in payloads:
             yield solve_task(payload)

@@ -86,6 +86,7 @@ from springbalance.explore.topology import (
 from springbalance.files import write_json_atomic, write_text_atomic
 from springbalance.io.config import config_from_dict, mechanism_from_dict, read_config_file
 from springbalance.model.mechanism import Mechanism
+from springbalance.pipeline.state import checked_seeds
 
 if TYPE_CHECKING:
     from distributed import Client
@@ -169,10 +170,9 @@ class Study:
         unknown = [key for key in explore if key not in EXPLORE_KEYS]
         if unknown:
             raise InputError(f"{label}: explore: unknown key {unknown[0]!r}; valid keys: {', '.join(EXPLORE_KEYS)}")
-        if "seeds" in (record.get("solve") or {}):  # not dropped in silence: each topology is solved at one seed
-            raise InputError(
-                f"{label}: solve.seeds: a study solves each topology at one seed (explore.seed or solve.seed)"
-            )
+        seeds = (record.get("solve") or {}).get("seeds")
+        #: each topology solved at each of these seeds, its best design kept (None: at ``seed`` alone)
+        self.seeds = None if seeds is None else checked_seeds(seeds, f"{label}: solve.seeds")
         self.label, self.base_dir = label, Path(base_dir)
         self.base = {key: value for key, value in record.items() if key != "explore"}
         self.explore = {**explore, **({} if max_springs is None else {"max_springs": max_springs})}  # --max-springs
@@ -188,7 +188,7 @@ class Study:
             )
         self.law = law
         self.starts = self.explore.get("starts", (self.base.get("solve") or {}).get("starts", 4))
-        self.seed = self.explore.get("seed", (self.base.get("solve") or {}).get("seed", 0))
+        self.seed = self.explore.get("seed", (self.base.get("solve") or {}).get("seed", (self.seeds or [0])[0]))
         for key, value in (("starts", self.starts), ("seed", self.seed)):
             if isinstance(value, bool) or not isinstance(value, int) or value < (1 if key == "starts" else 0):
                 raise InputError(
@@ -337,7 +337,8 @@ class Study:
                 level = self.search.tasks(count, level, self.approximate)
                 self.tasks.extend(level)
                 level = [task for task in level if task.id not in done]
-            for record in execute(level, client, self.base_dir, 1 if self.search else self.starts, self.seed):
+            starts = 1 if self.search else self.starts
+            for record in execute(level, client, self.base_dir, starts, self.seed, self.seeds):
                 write_json_atomic(results_dir / f"{record['id']}.json", record)
                 done[record["id"]] = record
                 solved.append(record["id"])

@@ -13,7 +13,7 @@ from __future__ import annotations
 import dataclasses
 import time
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Sequence
 
 from springbalance.design.torque_model import one_thread
 from springbalance.errors import SolverError, SpringBalanceError
@@ -46,9 +46,11 @@ class Task:
         return len(self.topology)
 
 
-def task_payload(task: Task, base_dir: Path, starts: int, seed: int) -> dict[str, Any]:
+def task_payload(
+    task: Task, base_dir: Path, starts: int, seed: int, seeds: Sequence[int] | None = None
+) -> dict[str, Any]:
     """The mapping :func:`solve_task` takes: the task's record, the folder its relative paths start from,
-    and the multi-start's ``starts`` and ``seed``."""
+    and the multi-start's ``starts`` and ``seed`` (or ``seeds``: solved at each, the best design kept)."""
     return {
         "id": task.id,
         "labels": list(task.labels),
@@ -57,6 +59,7 @@ def task_payload(task: Task, base_dir: Path, starts: int, seed: int) -> dict[str
         "base_dir": str(base_dir),
         "starts": starts,
         "seed": seed,
+        **({"seeds": list(seeds)} if seeds is not None else {}),
         "pruned": task.pruned,
     }
 
@@ -80,7 +83,9 @@ def solve_task(payload: dict[str, Any]) -> dict[str, Any]:
         config = config_from_dict(payload["record"], payload["base_dir"], f"task {payload['id']}")
         # one process and one thread per task: the study spreads tasks over the cores, not the starts of one task
         with one_thread():
-            result = solve(config, starts=payload["starts"], seed=payload["seed"], progress=False, workers=1)
+            seeds = payload.get("seeds")  # solved at each, the best kept (the row's seed: the kept one)
+            seed = None if seeds else payload["seed"]
+            result = solve(config, starts=payload["starts"], seed=seed, seeds=seeds, progress=False, workers=1)
     except (SolverError, SpringBalanceError) as error:
         message = str(error).splitlines()[0]
     except (
@@ -90,7 +95,8 @@ def solve_task(payload: dict[str, Any]) -> dict[str, Any]:
     ) as error:  # numerical trouble: this topology fails, not the study
         message = f"{type(error).__name__}: {str(error).splitlines()[0]}"
     else:
-        return {**row, **_solved_row(result), "seconds": time.perf_counter() - clock}
+        kept = {"seed": result.seed} if payload.get("seeds") else {}
+        return {**row, **kept, **_solved_row(result), "seconds": time.perf_counter() - clock}
     failed = {"status": "failed", "error": message, "exact": False, "ok": False, "failures": [], "design": None}
     return {**row, **failed, "seconds": time.perf_counter() - clock}
 

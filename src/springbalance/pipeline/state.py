@@ -179,13 +179,13 @@ class SolveState:
         return dataclasses.replace(self, **changes)
 
 
-def checked_seeds(seeds: Any) -> tuple[int, ...]:
-    """``seeds`` as a tuple of distinct integers ≥ 0, in order; InputError naming the value otherwise."""
+def checked_seeds(seeds: Any, label: str = "seeds") -> tuple[int, ...]:
+    """``seeds`` as a tuple of distinct integers ≥ 0, in order; InputError naming ``label`` and the value otherwise."""
     if isinstance(seeds, (str, bytes)) or not hasattr(seeds, "__iter__"):
-        raise InputError(f"seeds must be a list of integers >= 0, got {seeds!r}")
+        raise InputError(f"{label} must be a list of integers >= 0, got {seeds!r}")
     values = list(seeds)
     if not values or any(isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 0 for v in values):
-        raise InputError(f"seeds must be a non-empty list of integers >= 0, got {values!r}")
+        raise InputError(f"{label} must be a non-empty list of integers >= 0, got {values!r}")
     if len(set(values)) != len(values):
-        raise InputError(f"seeds must be distinct, got {values!r}")
+        raise InputError(f"{label} must be distinct, got {values!r}")
     return tuple(int(v) for v in values)
