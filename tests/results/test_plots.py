@@ -12,6 +12,7 @@ import springbalance as sb
 from scene_helpers import URDF, two_link_design
 from springbalance.model import sweeps
 from springbalance.results import plots
+from springbalance.results.spread_plots import plot_residual_spread
 
 
 @pytest.fixture(scope="module")
@@ -135,3 +136,25 @@ def test_a_joint_without_gravity_torque_is_plotted_flat_on_the_arms_scale():
     assert len(heights) == 13  # an odd number of bins: one about zero, not two split at it
     assert heights[6] == result.problem.workspace.size  # every sample within the bin about zero
     assert [t.get_text() for t in vertical.texts] == ["no gravity torque on this joint"] and not lift.texts
+
+
+def test_a_joint_the_springs_do_not_act_on_says_so_in_every_picture():
+    """A spring from the ground to link1 of the two-link arm acts on the shoulder only: the elbow's torque with it
+    is gravity's, to the last bit, so its "with springs" marks hide the "gravity only" ones. That panel's title says
+    so in the sweep, the histogram and the spread; the shoulder's, which the spring changes, has none."""
+    mechanism = sb.Mechanism.from_urdf(URDF / "two_link_planar.urdf")
+    workspace = sb.Workspace.sobol(mechanism, 64, ranges={"shoulder": [-90, 90], "elbow": [-90, 90]}, degrees=True)
+    spring = sb.ZeroFreeLengthSpring(
+        sb.Anchor("universe", (0, 0, 0.1)), sb.Anchor("link1", (0.3, 0, 0)), stiffness=500.0
+    )
+    result = sb.DesignResult(sb.DesignProblem(mechanism, workspace, [spring]), np.zeros(0))
+    kinematics = workspace.kinematics()
+    np.testing.assert_array_equal(result.evaluation.tau[:, 1], kinematics.gravity_torque[:, 1])  # the elbow: untouched
+    assert np.max(np.abs(result.evaluation.tau[:, 0] - kinematics.gravity_torque[:, 0])) > 1.0  # the shoulder: not
+    said = "the springs do not act on this joint: before and after coincide"
+    sweep = {a.get_xlabel(): a.get_title() for a in plots.plot_torques(result, points=21).axes}
+    assert sweep == {"shoulder [deg]": "", "elbow [deg]": said}
+    histogram = {a.get_xlabel(): a.get_title() for a in plots.plot_histogram(result, bins=12).axes}
+    assert histogram == {"shoulder torque [N·m]": "", "elbow torque [N·m]": said}
+    spread = {a.get_xlabel(): a.get_title() for a in plot_residual_spread(result).axes}
+    assert spread == {"shoulder [deg]": "", "elbow [deg]": said}

@@ -98,6 +98,7 @@ def plot_torques(result: EvaluatedDesign, points: int = 121, path: str | Path | 
         axes.set_ylabel(f"{joint.name} torque [{joint.torque_unit}]")
         axes.grid(True, alpha=0.3)
         flat_if_none(axes, np.concatenate([row["before"], row["after"]]), largest)
+        say_if_unchanged(axes, row["before"], row["after"], largest)
         if index == 0:
             axes.legend(loc="best", fontsize="small")
     figure.suptitle(
@@ -115,6 +116,15 @@ def flat_if_none(axes: Any, values: np.ndarray, largest: float) -> None:
     if _carries_none(values, largest):
         axes.set_ylim(-FLAT_SPAN * largest, FLAT_SPAN * largest)
         _say_none(axes)
+
+
+def say_if_unchanged(axes: Any, before: np.ndarray, after: np.ndarray, largest: float) -> None:
+    """A panel of a joint that gravity loads but the springs do not (every ``|after − before|`` within
+    :data:`ROUND_OFF` of ``largest``, the largest torque of any joint [N·m or N]) says so: its "with springs" marks
+    lie on the "gravity only" ones and hide them (a wrist beyond every spring's anchors); the panel's title says so."""
+    if _carries_none(np.concatenate([before, after]), largest) or not _carries_none(after - before, largest):
+        return
+    axes.set_title("the springs do not act on this joint: before and after coincide", fontsize="small")  # over the data
 
 
 def largest_torque(*torques: np.ndarray) -> float:
@@ -171,6 +181,7 @@ def plot_histogram(result: EvaluatedDesign, bins: int = 40, path: str | Path | N
         axes.grid(True, alpha=0.3)
         if none:
             _say_none(axes)
+        say_if_unchanged(axes, before[:, j], after[:, j], largest)
         if index == 0:
             axes.legend(loc="best", fontsize="small")
     figure.suptitle(

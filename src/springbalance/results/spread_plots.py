@@ -30,6 +30,7 @@ from springbalance.results.plots import (
     largest_torque,
     new_figure,
     save_figure,
+    say_if_unchanged,
 )
 
 if TYPE_CHECKING:
@@ -111,6 +112,7 @@ def plot_residual_spread(result: EvaluatedDesign, bins: int = BINS, path: str | 
     for number, (joint, axes, x, _) in enumerate(panels):
         j = joint.index_v
         flat_if_none(axes, np.concatenate([before[:, j], after[:, j]]), largest)
+        say_if_unchanged(axes, before[:, j], after[:, j], largest)
         _band(axes, x, before[:, j], before[:, j], bins, "before-band", color=BEFORE_COLOR, alpha=0.18)
         _band(axes, x, after[:, j], after[:, j], bins, "after-band", color=AFTER_COLOR, alpha=0.25)
         points = axes.scatter(x, before[:, j], s=7, color=BEFORE_COLOR, alpha=0.6, label="gravity only")
