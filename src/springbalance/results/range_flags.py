@@ -105,8 +105,8 @@ def off_series_wire_flags(result: EvaluatedDesign) -> list[Flag]:
                 record["name"],
                 f"spring {record['name']!r} has a wire of {1e3 * wire:.4g} mm, not {named} (nearest "
                 f"{1e3 * nearest:.4g} mm)" + (f"; the rounding left it: {reason}" if reason else ""),
-                "turn standard_wire on (solve.standard_wire) or fix the wire at a preferred size; a spring maker "
-                "draws wire in those sizes, another one is a special order",
+                "turn standard_wire on (solve.standard_wire) or fix the wire at a standard size; a spring maker "
+                "draws wire in its sizes (give yours as solve.wire_sizes [m]), another one is a special order",
             )
         )
     return found
