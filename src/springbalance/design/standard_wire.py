@@ -88,21 +88,21 @@ def coils_with_free_wire(problem: DesignProblem) -> list:
 
 
 def checked_wire_sizes(sizes: Any, label: str = "wire_sizes") -> tuple[float, ...]:
-    """``sizes``, the wire diameters [m] a spring maker draws, as a sorted tuple; InputError naming ``label`` and the
-    value when it is not a non-empty list of distinct numbers in ``(0, LARGEST_WIRE)``."""
+    """``sizes``, the wire diameters [m] a spring maker draws, as a sorted tuple; InputError ``"<label>: ..."`` naming
+    the value when it is not a non-empty list of distinct numbers in ``(0, LARGEST_WIRE)``."""
     if isinstance(sizes, (str, bytes)) or not hasattr(sizes, "__iter__"):
-        raise InputError(f"{label} must be a list of wire diameters [m], got {sizes!r}")
+        raise InputError(f"{label}: expected a list of wire diameters [m], got {sizes!r}")
     values = list(sizes)
     if not values or any(
         isinstance(v, bool) or not isinstance(v, (int, float, np.floating, np.integer)) for v in values
     ):
-        raise InputError(f"{label} must be a non-empty list of wire diameters [m], got {values!r}")
+        raise InputError(f"{label}: expected a non-empty list of wire diameters [m], got {values!r}")
     for value in values:
         if not 0 < value < LARGEST_WIRE:
-            hint = f" (diameters in metres: {value:g} mm is {value * 1e-3:g})" if value >= LARGEST_WIRE else ""
+            hint = f" (diameters are in metres ({value:g} mm is {value * 1e-3:g}))" if value >= LARGEST_WIRE else ""
             raise InputError(f"{label}: each wire diameter must lie in (0, {LARGEST_WIRE:g}) m, got {value!r}{hint}")
     if len(set(values)) != len(values):
-        raise InputError(f"{label} must be distinct, got {values!r}")
+        raise InputError(f"{label}: the sizes must be distinct, got {values!r}")
     return tuple(sorted(float(v) for v in values))
 
 

@@ -86,8 +86,8 @@ def beyond_joint_limits_flags(result: EvaluatedDesign) -> list[Flag]:
 def off_series_wire_flags(result: EvaluatedDesign) -> list[Flag]:
     """``off_series_wire``: helical coils whose wire diameter is not a preferred size (see the module)."""
     unrounded = result.wire_rounding.unrounded if result.wire_rounding is not None else {}
-    series = getattr(result, "wire_sizes", None) or PREFERRED_WIRE_DIAMETERS  # a DesignResult's solve.wire_sizes
-    named = "one of solve.wire_sizes" if getattr(result, "wire_sizes", None) else "a preferred size"
+    given = getattr(result, "wire_sizes", None)  # a DesignResult's solve.wire_sizes
+    series, named = (given, "one of solve.wire_sizes") if given else (PREFERRED_WIRE_DIAMETERS, "a preferred size")
     found = []
     for record in result.springs:
         if not isinstance(record.get("helical"), dict) or "wire_diameter" not in record:

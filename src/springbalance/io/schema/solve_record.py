@@ -7,7 +7,8 @@ from typing import TYPE_CHECKING, Annotated, Union
 import annotated_types
 from pydantic import ConfigDict
 
-from springbalance.design.standard_wire import LARGEST_WIRE
+from springbalance.design.standard_wire import checked_wire_sizes
+from springbalance.errors import InputError
 from springbalance.io.schema.fields import (
     Counting,
     Method,
@@ -43,18 +44,12 @@ class SolveRecord(Record, title="Solve"):
         seeds = data.get("seeds")
         if isinstance(seeds, list) and len(set(map(repr, seeds))) != len(seeds):
             raise fail("repeated_seed", f"seeds must be distinct, got {abbreviated(seeds)}", "seeds")
-        sizes = data.get("wire_sizes")
-        if isinstance(sizes, list):
-            large = [size for size in sizes if isinstance(size, (int, float)) and size >= LARGEST_WIRE]
-            if large:
-                raise fail(
-                    "wire_size_in_mm",
-                    f"wire diameters are in metres (3.2 mm is 0.0032), got {large[0]!r}: each must be below "
-                    f"{LARGEST_WIRE:g} m",
-                    "wire_sizes",
-                )
-            if len(set(map(repr, sizes))) != len(sizes):
-                raise fail("repeated_wire_size", f"the sizes must be distinct, got {abbreviated(sizes)}", "wire_sizes")
+        sizes = data.get("wire_sizes")  # numbers > 0 here; the fields' own checks say what else is wrong
+        if isinstance(sizes, list) and sizes and all(type(size) in (int, float) and size > 0 for size in sizes):
+            try:
+                checked_wire_sizes(sizes)
+            except InputError as error:
+                raise fail("wire_sizes", str(error).removeprefix("wire_sizes: "), "wire_sizes") from None
 
     starts: Counting = optional(
         "starts of the multi-start: the initial guess, then scrambled Sobol points of the bounds", shown=8
