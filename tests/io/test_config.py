@@ -245,6 +245,26 @@ def test_wrong_types(tmp_path):
     )
 
 
+@pytest.mark.parametrize(
+    ("spring", "message"),
+    [
+        (
+            {"type": "gas", "a": SHOULDER_SPRING["a"], "b": SHOULDER_SPRING["b"], "free_length": 0.3},
+            "springs[0] 's1': missing key 'stiffness': the gas spring's rate k [N/m], "
+            "a number (fixed) or {lower, upper} (a design variable)",
+        ),
+        (
+            {"type": "torsional", "joint": "elbow", "stiffness": 5.0},
+            "springs[0] 's1': missing key 'neutral_angle': the torsional spring's neutral angle q0 [rad], "
+            "a number (fixed) or {lower, upper} (a design variable)",
+        ),
+    ],
+    ids=["gas-without-rate", "torsional-without-neutral-angle"],
+)
+def test_a_missing_parameter_is_named_with_its_meaning_unit_and_form(tmp_path, spring, message):
+    assert config_error(tmp_path, edited(springs=[{"name": "s1", **spring}])).endswith(message)
+
+
 def test_key_of_another_workspace_kind(tmp_path):
     message = config_error(tmp_path, edited(workspace__joint="shoulder"))
     assert "workspace: key 'joint' does not apply to kind 'sobol' (only to sweep)" in message

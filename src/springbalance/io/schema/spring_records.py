@@ -221,9 +221,19 @@ def _spring_union(laws: tuple) -> Any:
         if ideal and f"{kind}:ideal" not in keys:
             variants = ", ".join(key.split(":")[0] for key in keys if key.endswith(":ideal"))
             raise fail("no_ideal_variant", f"a {kind!r} spring has no ideal variant (only {variants} do)", key="ideal")
-        hint = ideal_law_hint(dict(laws)[f"{kind}:ideal" if ideal else kind], value)
+        law = dict(laws)[f"{kind}:ideal" if ideal else kind]
+        hint = ideal_law_hint(law, value)
         if hint:
             raise fail("ideal_law_key", hint)
+        known = {"name", "type", "ideal", *law.ends, *law.parameter_units, *law.option_types}
+        missing = [key for key in law.parameter_units if key not in law.defaults and key not in value]
+        if missing and known.issuperset(value):  # (a misspelt key is the error to report: the record's own)
+            key = missing[0]
+            raise fail(
+                "missing_parameter",
+                f"missing key {key!r}: the {kind} spring's {_PARAMETER_TEXT.get(key, key)} "
+                f"[{law.parameter_units[key]}], a number (fixed) or {{lower, upper}} (a design variable)",
+            )
         return value
 
     members = tuple(Annotated[spring_model(cls), Tag(kind)] for kind, cls in laws) + (
