@@ -53,12 +53,18 @@ def verify_and_resolve(
     solution: Solution,
     mode: str = "resolve",
     fixed: Sequence[str] = (),
+    held: bool = False,
     **solve_options: Any,
 ) -> tuple[Solution, VerificationRecord, DesignProblem]:
     """Verify ``solution`` of ``problem`` at unseen poses; in mode ``"resolve"``, re-solve where a rule fails.
 
-    ``fixed``: design variables held in the re-solves (the wires rounded to standard sizes);
-    ``solve_options`` go to :func:`~springbalance.design.solvers.solve_problem`. Returns the solution, its
+    ``fixed``: design variables held in the re-solves (the wires rounded to standard sizes); ``held``: the design
+    was solved again with every weighted joint held within the bare arm's peak
+    (:func:`~springbalance.design.joint_hold.held_within_bare_arm`), and the re-solves keep those rows
+    (``no_joint_worse``), else a re-solve that meets a rule at a new pose may load the joint again: the two-link
+    arm of tests/design/test_verification_hold.py ended ``worse_joint`` after three re-solves of its held design.
+    The rules are checked on ``problem`` as given. ``solve_options`` go to
+    :func:`~springbalance.design.solvers.solve_problem`. Returns the solution, its
     :class:`~springbalance.design.verification_record.VerificationRecord` and ``problem`` (with the
     clearance cuts the loop added to its linear rows, if any).
     """
@@ -69,6 +75,7 @@ def verify_and_resolve(
     added = np.empty((0, problem.mechanism.nv))
     watched: set[Key] = set()
     result_problem, rounds = problem, 0
+    solved = problem.with_springs(problem.springs, no_joint_worse=True) if held else problem  # what re-solves solve
     while True:
         check = check_design(problem, x, rounds, checker, mode)
         if check.record.passed or mode != "resolve" or rounds >= VERIFY_ROUNDS:
@@ -81,10 +88,10 @@ def verify_and_resolve(
         if checker is not None and watched:
             object_cuts, spring_cuts = checker.cuts(x, watched)
             rows = stacked_rows(rows, _rows(problem, x, object_cuts, spring_cuts, None))
-        extended = (problem.with_samples(added) if added.shape[0] else problem).with_linear_rows(rows)
+        extended = (solved.with_samples(added) if added.shape[0] else solved).with_linear_rows(rows)
         resolved = _round(extended, x, solution, fixed, solve_options)
         if resolved is None and checker is not None and watched:
-            resolved, rows = _refit(problem, solution, checker, fixed, solve_options)
+            resolved, rows = _refit(solved, solution, checker, fixed, solve_options)
         if resolved is None:
             break
         solution, x, rounds = resolved, np.array(resolved.x, dtype=float), rounds + 1

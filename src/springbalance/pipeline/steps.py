@@ -204,13 +204,15 @@ def hold_joints(state: SolveState) -> SolveState:
 
 
 def verify(state: SolveState) -> SolveState:
-    """The design at unseen poses: its record, and in mode "resolve" the design re-solved where a rule fails."""
+    """The design at unseen poses: its record, and in mode "resolve" the design re-solved where a rule fails (with
+    the joints held within the bare arm's peaks when :func:`hold_joints` held them)."""
     mode = verification_loop.check_mode(state.options.verify)
     if mode == "off":
         return state
+    held = state.joint_hold is not None and state.joint_hold.held  # (its re-solves keep the joints held)
     with _interrupted_after_starts(state, "verifying the design at unseen poses"):
         solution, record, problem = verification_loop.verify_and_resolve(
-            state.problem, state.solved, mode, _rounded_wires(state), **state.options.solver_options()
+            state.problem, state.solved, mode, _rounded_wires(state), held, **state.options.solver_options()
         )
     return state.but(problem=problem, solution=solution, verification=record)
 
