@@ -8,6 +8,7 @@ import springbalance as sb
 from springbalance.design.joint_hold import JointHold, held_within_bare_arm
 from springbalance.design.solvers import solve_problem
 from springbalance.design.worse_joints import TORQUE_TOLERANCE, weighted_joints_made_worse
+from two_link_helpers import crossing_spring
 
 URDF = "urdf/two_link_planar.urdf"
 
@@ -19,14 +20,7 @@ def crossing():
     N·m); the multi-start's design, before the pipeline holds the joints."""
     mechanism = sb.Mechanism.from_urdf(URDF)
     workspace = sb.Workspace.grid(mechanism, n=9, ranges={"shoulder": [-90, 90], "elbow": [-90, 90]}, degrees=True)
-    spring = sb.ExtensionSpring(
-        sb.Anchor("universe", sb.Free([-0.1, 0, 0.02], [0.1, 0, 0.4])),
-        sb.Anchor("link2", sb.Free([-0.1, 0, -0.05], [0.3, 0, 0.05])),
-        name="s1",
-        stiffness=sb.Free(0, 5000),
-        free_length=sb.Free(0.0, 0.8),
-    )
-    problem = sb.DesignProblem(mechanism, workspace, [spring], weights={"shoulder": 1.0, "elbow": 0.01})
+    problem = sb.DesignProblem(mechanism, workspace, [crossing_spring()], weights={"shoulder": 1.0, "elbow": 0.01})
     solution = solve_problem(problem, starts=2, progress=False)
     return problem, solution
 

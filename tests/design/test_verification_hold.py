@@ -9,6 +9,7 @@ import springbalance as sb
 from springbalance.design.solvers import Solution
 from springbalance.design.verification_loop import verify_and_resolve
 from springbalance.design.worse_joints import weighted_joints_made_worse
+from two_link_helpers import crossing_spring
 
 URDF = "urdf/two_link_planar.urdf"
 
@@ -21,15 +22,8 @@ def _crossing(n: int, max_length: float) -> sb.DesignProblem:
     mechanism = sb.Mechanism.from_urdf(URDF)
     ranges = {"shoulder": [-90, 90], "elbow": [-90, 90]}
     workspace = sb.Workspace.sobol(mechanism, n=n, seed=0, ranges=ranges, degrees=True)
-    spring = sb.ExtensionSpring(
-        sb.Anchor("universe", sb.Free([-0.1, 0, 0.02], [0.1, 0, 0.4])),
-        sb.Anchor("link2", sb.Free([-0.1, 0, -0.05], [0.3, 0, 0.05])),
-        name="s1",
-        stiffness=sb.Free(0, 5000),
-        free_length=sb.Free(0.0, 0.8),
-        max_length=max_length,
-    )
-    return sb.DesignProblem(mechanism, workspace, [spring], weights={"shoulder": 1.0, "elbow": 0.01})
+    springs = [crossing_spring(max_length=max_length)]
+    return sb.DesignProblem(mechanism, workspace, springs, weights={"shoulder": 1.0, "elbow": 0.01})
 
 
 @pytest.mark.parametrize(("n", "max_length"), [(24, 0.6), (32, 0.6), (32, 0.7)])
