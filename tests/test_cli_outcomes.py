@@ -34,6 +34,16 @@ def test_a_failing_design_exits_3_prints_its_failures_and_saves_nothing(tmp_path
     (line,) = failure_lines(captured.err)
     assert line.startswith("springbalance: failure: [overlap] spring 'through'") and "overlaps link link1" in line
     assert "nothing saved" in captured.err.splitlines()[-1] and "--partial" in captured.err.splitlines()[-1]
+    # solved at one seed, an overlap may be another start's to avoid: the hint says how to try several
+    (hint,) = [line for line in captured.err.splitlines() if line.startswith("springbalance: hint: ")]
+    assert "another seed may pass" in hint and "--seeds 0-4" in hint
+
+
+def test_a_design_kept_from_several_seeds_gets_no_seeds_hint(tmp_path, capsys):
+    out = tmp_path / "design.json"
+    assert main(["design", str(config_file(tmp_path, THROUGH)), "--out", str(out), "--seeds", "0-1", "--quiet"]) == 3
+    captured = capsys.readouterr()
+    assert failure_kinds(captured.err) == ["overlap"] and "hint:" not in captured.err
 
 
 def test_an_existing_output_is_left_untouched_by_a_failing_design(tmp_path, capsys):

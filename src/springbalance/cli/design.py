@@ -142,6 +142,7 @@ def handle(args: argparse.Namespace) -> int:
     print_failures(
         failures,
         f"saved to {out} marked partial" if saved else f"nothing saved ({out} is unchanged; --partial saves it)",
+        one_seed=result.seed_search is None,
     )
     return outcome(failures)
 

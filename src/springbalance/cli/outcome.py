@@ -32,12 +32,25 @@ INTERRUPTED = 130
 CLOSED_PIPE = 141
 
 
-def print_failures(failures: Sequence[Flag], consequence: str | None = None) -> None:
-    """One line per failure on stderr: ``springbalance: failure: [kind] message``; then, given a
-    ``consequence`` (what the command did about them), ``springbalance: the design fails N check(s);
+#: failures that another start of the same search may avoid: the fit to the arm, the verification's re-solves and the
+#: hold of a joint are local solves whose end depends on where the multi-start left the design
+SEARCH_DEPENDENT = ("not_converged", "overlap", "not_verified", "worse_joint")
+#: the hint under such failures of a design solved at one seed
+SEEDS_HINT = (
+    "the fit to the arm is a chain of local solves whose end depends on where the search starts: another seed may "
+    "pass (--seeds 0-4 solves at five seeds and keeps the best design that passes)"
+)
+
+
+def print_failures(failures: Sequence[Flag], consequence: str | None = None, one_seed: bool = False) -> None:
+    """One line per failure on stderr: ``springbalance: failure: [kind] message``; for a design solved at
+    ``one_seed`` with a failure of :data:`SEARCH_DEPENDENT` kind, ``springbalance: hint:`` :data:`SEEDS_HINT`; then,
+    given a ``consequence`` (what the command did about them), ``springbalance: the design fails N check(s);
     <consequence>``."""
     for flag in failures:
         print(f"{PROG}: failure: [{flag.kind}] {' '.join(flag.message.split())}", file=sys.stderr)
+    if one_seed and any(flag.kind in SEARCH_DEPENDENT for flag in failures):
+        print(f"{PROG}: hint: {SEEDS_HINT}", file=sys.stderr)
     if failures and consequence is not None:
         print(f"{PROG}: the design fails {len(failures)} check(s); {consequence}", file=sys.stderr)
 
