@@ -26,7 +26,7 @@ def _crossing(n: int, max_length: float) -> sb.DesignProblem:
     return sb.DesignProblem(mechanism, workspace, springs, weights={"shoulder": 1.0, "elbow": 0.01})
 
 
-@pytest.mark.parametrize(("n", "max_length"), [(24, 0.6), (32, 0.6), (32, 0.7)])
+@pytest.mark.parametrize(("n", "max_length"), [(24, 0.6), (24, 0.7), (32, 0.6), (32, 0.7)])
 def test_the_verifications_re_solves_keep_the_held_joints_held(n, max_length):
     result = sb.solve(_crossing(n, max_length), starts=2, progress=False)
     assert result.joint_hold is not None and result.joint_hold.held and result.joint_hold.joints == ["elbow"]

@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 import springbalance as sb
+from springbalance.design.solvers.records import FEASIBILITY_TOLERANCE
 from springbalance.design.worse_joints import TORQUE_TOLERANCE, weighted_joints_made_worse, worse_rows
 
 
@@ -23,6 +24,17 @@ def test_a_joint_is_worse_when_its_peak_or_its_rms_grows_beyond_round_off():
     found = worse_rows(rows)
     assert [row["joint"] for row in found] == ["elbow", "wrist"]
     assert found[0]["worse"] == ["peak"] and found[1]["worse"] == ["RMS"]
+
+
+def test_a_peak_within_the_solvers_feasibility_tolerance_of_the_bare_arms_is_not_worse():
+    """A design held within the bare arm's peaks meets those rows within the solver's tolerance [N·m]: a peak that
+    much above the bare arm's is no worse, even where that is more than the round-off of the largest peak."""
+    largest = 3.9  # N·m: TORQUE_TOLERANCE × 3.9 is far below the solver's tolerance
+    assert TORQUE_TOLERANCE * largest < 0.1 * FEASIBILITY_TOLERANCE
+    within = _row("elbow", (largest, largest + 0.5 * FEASIBILITY_TOLERANCE), (3.0, 1.9))
+    beyond = _row("elbow", (largest, largest + 2.0 * FEASIBILITY_TOLERANCE), (3.0, 1.9))
+    assert worse_rows([within]) == []
+    assert [row["worse"] for row in worse_rows([beyond])] == [["peak"]]
 
 
 def test_without_gravity_the_springs_own_largest_peak_sets_the_round_off():
