@@ -10,6 +10,7 @@ import pytest
 
 import springbalance as sb
 from springbalance.cli import main
+from springbalance.design.worse_joints import weighted_joints_made_worse
 from springbalance.pipeline.stock import select_stock
 from springbalance.springs.fatigue import Duty, fatigue_margins
 from springbalance.springs.tolerance_grades import grade_box
@@ -34,6 +35,21 @@ def extension_design():
         "lift",
     )
     return sb.solve(lamp(lift), starts=2, progress=False, stock=sb.load_stock("ms24586"))
+
+
+def test_a_stock_design_keeps_the_users_no_joint_worse():
+    """The part's re-solve is a problem like the user's, no_joint_worse included (it used to be dropped: the stock
+    design's problem, and the design file, said no_joint_worse false)."""
+    lift = sb.HelicalExtensionSpring(
+        sb.Anchor("ground", sb.Free([0, -0.02, 0.02], [0, 0.02, 0.15])),
+        sb.Anchor("arm", sb.Free([0, 0, 0.01], [0, 0, 0.15])),
+        "lift",
+    )
+    problem = lamp(lift).with_springs([lift], no_joint_worse=True)
+    result = sb.solve(problem, starts=2, progress=False, stock=sb.load_stock("ms24586"))
+    assert result.stock is not None and result.problem.no_joint_worse
+    assert result.to_dict()["no_joint_worse"] is True  # the design file says what the user asked for
+    assert weighted_joints_made_worse(result.problem, result.x) == [] and result.ok, result.failures()
 
 
 def test_the_lamp_is_balanced_by_an_ms24586_part(extension_design):

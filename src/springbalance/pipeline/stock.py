@@ -209,15 +209,16 @@ def _inner_objective(problem: DesignProblem) -> Objective:
 
 
 def _like(problem: DesignProblem, springs: list[Spring], objective: Objective) -> tuple[DesignProblem, list[str]]:
-    """A problem like ``problem`` with other springs; per-scenario entries that no longer name a
-    variable (a parameter the stock part fixed) are dropped and returned."""
+    """A problem like ``problem`` with other springs (its options kept: ``no_joint_worse`` too, so that a part's
+    re-solve keeps each weighted joint within the bare arm's peak when the user asked for it); per-scenario entries
+    that no longer name a variable (a parameter the stock part fixed) are dropped and returned."""
     keep: list[str] = []
     dropped: list[str] = []
     variables = _variable_names(springs)
     for entry in problem.per_scenario:
         matches = any(name == entry or name.startswith(entry + ".") for name in variables)
         (keep if matches else dropped).append(entry)
-    return problem.with_springs(springs, objective=objective, per_scenario=keep, no_joint_worse=False), dropped
+    return problem.with_springs(springs, objective=objective, per_scenario=keep), dropped
 
 
 def _variable_names(springs: list[Spring]) -> list[str]:
