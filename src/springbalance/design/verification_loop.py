@@ -75,7 +75,7 @@ def verify_and_resolve(
     added = np.empty((0, problem.mechanism.nv))
     watched: set[Key] = set()
     result_problem, rounds = problem, 0
-    solved = problem.with_springs(problem.springs, no_joint_worse=True) if held else problem  # what re-solves solve
+    solved = problem  # what the re-solves solve: with the hold's rows when ``held`` (built at the first re-solve)
     while True:
         check = check_design(problem, x, rounds, checker, mode)
         if check.record.passed or mode != "resolve" or rounds >= VERIFY_ROUNDS:
@@ -88,6 +88,8 @@ def verify_and_resolve(
         if checker is not None and watched:
             object_cuts, spring_cuts = checker.cuts(x, watched)
             rows = stacked_rows(rows, _rows(problem, x, object_cuts, spring_cuts, None))
+        if held and solved is problem:
+            solved = problem.with_springs(problem.springs, no_joint_worse=True)
         extended = (solved.with_samples(added) if added.shape[0] else solved).with_linear_rows(rows)
         resolved = _round(extended, x, solution, fixed, solve_options)
         if resolved is None and checker is not None and watched:
