@@ -17,7 +17,8 @@ from springbalance.design.clearance import LinearRows
 from springbalance.design.mounts import MOUNT_TOLERANCE
 from springbalance.design.problem import DesignProblem
 from springbalance.design.solvers import FEASIBILITY_TOLERANCE
-from springbalance.model.collision import collision_geometry, surface_distance
+from springbalance.model.collision import collision_geometry
+from springbalance.model.surfaces import surface_distance
 from springbalance.springs.laws import Spring
 
 

@@ -14,8 +14,9 @@ from typing import Any
 import numpy as np
 
 from springbalance.errors import InputError
-from springbalance.model.collision import body_objects, collision_geometry, hull, surface_distance
+from springbalance.model.collision import collision_geometry, hull
 from springbalance.model.mechanism import Mechanism
+from springbalance.model.surfaces import body_objects, surface_distance
 from springbalance.springs.laws import Spring
 from springbalance.springs.params import Free
 

@@ -38,7 +38,12 @@ def mechanism_from_record(model: MechanismRecord, base_dir: str | Path, where: s
         raise ConfigError(
             f"{where}: give exactly one of 'urdf' (a file) or 'robot' (an example-robot-data name){given}"
         )
-    options: dict[str, Any] = {"gravity": model.gravity, "mimic": model.mimic, "validate": model.validate}
+    options: dict[str, Any] = {
+        "gravity": model.gravity,
+        "mimic": model.mimic,
+        "validate": model.validate,
+        "floor": model.floor,
+    }
     if model.pseudo_bases:
         options["pseudo_bases"] = [base if isinstance(base, str) else base.model_dump() for base in model.pseudo_bases]
     if model.urdf is not None:

@@ -10,7 +10,7 @@ that the design does not include:
 - not its clearance: the springs alone are kept clear of the links.
 
 The bracket here is the straight segment from the anchor to the nearest point of its link's collision geometry
-(meshes as their convex hulls, :func:`~springbalance.model.collision.surface_distance`): the shortest one it
+(meshes as their convex hulls, :func:`~springbalance.model.surfaces.surface_distance`): the shortest one it
 can be. Where that segment passes through another link at some pose (:func:`bracket_crossings`), the bracket
 must go round it. Lengths in m; points in the link's (body's) frame.
 """
@@ -24,8 +24,9 @@ import numpy as np
 import pinocchio as pin
 
 from springbalance.errors import InputError
-from springbalance.model.collision import CollisionScene, body_objects, collision_geometry, surface_distance
+from springbalance.model.collision import CollisionScene, collision_geometry
 from springbalance.model.mechanism import Mechanism
+from springbalance.model.surfaces import body_objects, surface_distance
 
 
 @dataclasses.dataclass(frozen=True)

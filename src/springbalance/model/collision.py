@@ -9,7 +9,7 @@ them at a configuration (:class:`CollisionScene`), and measures signed distances
 - capsule to collision object (:meth:`CollisionScene.capsule_distance`), with the witness
   points and the unit normal, from which the clearance constraints of the optimisation are
   linearised (:mod:`springbalance.design.clearance`);
-- point in a body's frame to that body's own collision surface (:func:`surface_distance`),
+- point in a body's frame to that body's own collision surface (:func:`~springbalance.model.surfaces.surface_distance`),
   for anchors mounted on a link (``on: collision``).
 
 A distance is negative when the shapes overlap (the penetration depth). For mesh geometry coal
@@ -31,6 +31,7 @@ import pinocchio as pin
 
 from springbalance.errors import InputError
 from springbalance.model import robots
+from springbalance.model.floor import FLOOR, FLOOR_OBJECT, capsule_height, floor_contact, floor_tops, with_floor
 from springbalance.model.mechanism import Mechanism
 from springbalance.model.native import quiet_native_stderr
 
@@ -67,7 +68,7 @@ def collision_geometry(mechanism: Mechanism) -> pin.GeometryModel:
     """
     loaded = _LOADED.get(mechanism)
     if loaded is None:
-        loaded = _LOADED[mechanism] = _loaded_geometry(mechanism)
+        loaded = _LOADED[mechanism] = with_floor(_loaded_geometry(mechanism), mechanism.floor)
     return loaded
 
 
@@ -97,7 +98,7 @@ def _loaded_geometry(mechanism: Mechanism) -> pin.GeometryModel:
             f"mechanism {mechanism.name!r}: the collision geometry of {where} could not be loaded: "
             f"{' '.join(str(error).split())[:300]}"
         ) from None
-    if geometry.ngeoms == 0:
+    if geometry.ngeoms == 0 and mechanism.floor is None:
         raise InputError(
             f"mechanism {mechanism.name!r} has no collision geometry: the URDF {where} has no "
             "<collision> elements, so there is nothing to keep the springs clear of"
@@ -251,8 +252,11 @@ class CollisionScene:
         self.geometry = _convex(geometry) if convex else geometry
         self.objects = list(self.geometry.geometryObjects)
         model = mechanism.model
-        #: the body (URDF link) that carries each collision object
-        self.links = [model.frames[obj.parentFrame].name for obj in self.objects]
+        #: the body (URDF link, or the ground for the floor) that carries each collision object
+        self.bodies = [model.frames[obj.parentFrame].name for obj in self.objects]
+        #: what reports call each object's link: its body, or :data:`FLOOR` for the floor
+        self.links = [FLOOR if obj.name == FLOOR_OBJECT else body for obj, body in zip(self.objects, self.bodies)]
+        self._floors = floor_tops(self.objects)  # (measured in closed form: floor.py)
         self._data, self._geometry_data = model.createData(), self.geometry.createData()
         self._request = coal.DistanceRequest()
         self._request.enable_signed_distance = True
@@ -260,8 +264,9 @@ class CollisionScene:
         self._bounds: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None  # bounding_capsules, once
 
     def indices_except(self, bodies: Sequence[str]) -> list[int]:
-        """Indices of the collision objects not carried by any of ``bodies``."""
-        return [i for i, link in enumerate(self.links) if link not in bodies]
+        """Indices of the collision objects not carried by any of ``bodies`` (a spring anchored on the ground is
+        exempt from the floor, which the ground carries)."""
+        return [i for i, body in enumerate(self.bodies) if body not in bodies]
 
     def place(self, configuration: np.ndarray) -> None:
         """Move the arm and its collision objects to configuration ``q`` (Pinocchio's order)."""
@@ -322,6 +327,8 @@ class CollisionScene:
         checked against many objects (built once)."""
         import coal
 
+        if index in self._floors and isinstance(shape, coal.Capsule):
+            return capsule_height(shape, placement, self._floors[index])
         return float(
             coal.distance(
                 shape,
@@ -337,6 +344,10 @@ class CollisionScene:
         """Signed distance from the capsule ``start``–``end`` of ``radius`` [m] (world) to object ``index``."""
         import coal
 
+        if index in self._floors:
+            return Contact(
+                *floor_contact(np.asarray(start, float), np.asarray(end, float), radius, self._floors[index], index)
+            )
         shape, placement = capsule(start, end, radius)
         result = coal.DistanceResult()
         distance = coal.distance(
@@ -402,49 +413,3 @@ def capsule_contact(
     return Contact(
         float(distance), -1, np.array(result.getNearestPoint1()), np.array(result.getNearestPoint2()), normal
     )
-
-
-def body_objects(mechanism: Mechanism, geometry: pin.GeometryModel, body: str) -> list:
-    """The collision objects carried by ``body`` (or by links welded to it by fixed joints are *not*
-    included: only the objects whose parent frame is the body's own link frame)."""
-    return [obj for obj in geometry.geometryObjects if mechanism.model.frames[obj.parentFrame].name == body]
-
-
-def surface_distance(
-    mechanism: Mechanism, geometry: pin.GeometryModel, body: str, point: np.ndarray
-) -> tuple[float, np.ndarray, np.ndarray]:
-    """Signed distance [m] from ``point`` (body frame, [m]) to the union of ``body``'s collision objects,
-    the closest surface point (body frame) and the unit outward normal there (body frame).
-
-    Meshes count as their convex hulls. Raises :class:`InputError` when ``body`` has no collision geometry.
-    """
-    import coal
-
-    objects = body_objects(mechanism, geometry, body)
-    if not objects:
-        raise InputError(
-            f"body {body!r} has no collision geometry in the URDF, so an anchor cannot be mounted "
-            "on it with 'on: collision'; give a box, point, segment or plane instead"
-        )
-    frame = mechanism.model.frames[mechanism.frame_id(body)].placement  # the body frame in its joint's frame
-    request = coal.DistanceRequest()
-    request.enable_signed_distance = True
-    probe = coal.Sphere(1e-9)
-    best = None
-    for obj in objects:
-        shape = hull(obj.geometry)
-        local = frame.actInv(obj.placement)  # the object in the body frame
-        result = coal.DistanceResult()
-        distance = coal.distance(
-            probe,
-            coal.Transform3s(np.eye(3), np.asarray(point, dtype=float)),
-            shape,
-            coal.Transform3s(np.array(local.rotation), np.array(local.translation)),
-            request,
-            result,
-        )
-        distance = float(distance) + 1e-9
-        if best is None or distance < best[0]:
-            best = (distance, np.array(result.getNearestPoint2()), -np.array(result.normal))
-    assert best is not None  # objects is not empty (checked above)
-    return best

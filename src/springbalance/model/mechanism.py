@@ -28,6 +28,8 @@ from springbalance.model.urdf_build import build_model as _build
 GROUND = "universe"
 #: the largest magnitude of gravity [m/s²] taken (about 100 g): beyond it a number is a typo
 MAX_GRAVITY = 1e3
+#: the largest floor height accepted [m] (a height in millimetres given as metres is refused)
+MAX_FLOOR = 100.0
 
 
 class Mechanism:
@@ -44,6 +46,8 @@ class Mechanism:
         model: the ``pinocchio.Model`` (gravity already set).
         joints: the degrees of freedom, in the order of the torque vector.
         source: how to rebuild this mechanism (saved with designs).
+        floor: the height [m] of the floor (or table) the arm stands on, the world plane ``z = floor``, or None:
+            a collision object below it that springs keep clear of (:func:`~springbalance.model.collision.collision_geometry`).
     """
 
     def __init__(
@@ -52,6 +56,7 @@ class Mechanism:
         source: dict[str, Any] | None = None,
         gravity: npt.ArrayLike | None = None,
         validate: bool = True,
+        floor: float | None = None,
     ) -> None:
         self.model = model.copy() if hasattr(model, "copy") else pin.Model(model)
         if gravity is not None:
@@ -62,6 +67,9 @@ class Mechanism:
         elif self.source.get("kind") == "model":  # a URDF was checked before Pinocchio read it
             validation.check_model(self.model, f"mechanism {self.model.name!r}")
         self.source["gravity"] = [float(v) for v in self.model.gravity.linear]
+        self.floor = _floor_height(floor if floor is not None else self.source.get("floor"), self.model.name)
+        if self.floor is not None:
+            self.source["floor"] = self.floor
         self.joints = degrees_of_freedom(self.model)
         if len(self.joints) != self.model.nv:
             raise InputError(
@@ -82,11 +90,14 @@ class Mechanism:
         mimic: bool = False,
         validate: bool = True,
         pseudo_bases: Iterable[str | dict | PseudoBase] | None = None,
+        floor: float | None = None,
     ) -> Mechanism:
         """Load a URDF file. ``gravity``: magnitude g (then (0, 0, -g)) or a 3-vector [m/s²];
         ``validate``: check the physics (see the class documentation); ``pseudo_bases``: joints (names,
         ``{joint, mass [kg], com [m]}`` records or :class:`~springbalance.model.pseudo_bases.PseudoBase`) that get
-        a pseudo-base ``pb_<joint>`` (:mod:`springbalance.model.pseudo_bases`; mimic joints are then coupled)."""
+        a pseudo-base ``pb_<joint>`` (:mod:`springbalance.model.pseudo_bases`; mimic joints are then coupled);
+        ``floor``: the height [m] of the world plane the arm stands on, which springs keep clear of (see the class
+        documentation)."""
         path = Path(path)
         where = f"URDF file {str(path)!r}"
         bases = pseudo_bases_from(pseudo_bases)
@@ -94,7 +105,7 @@ class Mechanism:
         validation.check_urdf(text, where, physics=validate)
         model = _build(text, where, mimic, bases, path, str(path))
         source = {"kind": "urdf", "path": str(path.resolve()), "mimic": mimic or bool(bases), **_bases_record(bases)}
-        return cls(model, source=source, gravity=gravity, validate=validate)
+        return cls(model, source=source, gravity=gravity, validate=validate, floor=floor)
 
     @classmethod
     def from_urdf_string(
@@ -104,15 +115,16 @@ class Mechanism:
         mimic: bool = False,
         validate: bool = True,
         pseudo_bases: Iterable[str | dict | PseudoBase] | None = None,
+        floor: float | None = None,
     ) -> Mechanism:
-        """Parse a URDF given as XML text (``validate``, ``pseudo_bases``: as :meth:`from_urdf`)."""
+        """Parse a URDF given as XML text (``validate``, ``pseudo_bases``, ``floor``: as :meth:`from_urdf`)."""
         if not isinstance(text, str):
             raise InputError(f"a URDF string must be text, got {type(text).__name__}")
         bases = pseudo_bases_from(pseudo_bases)
         validation.check_urdf(text, "URDF string", physics=validate)
         model = _build(text, "URDF string", mimic, bases, None, "URDF string")
         source = {"kind": "urdf_string", "text": text, "mimic": mimic or bool(bases), **_bases_record(bases)}
-        return cls(model, source=source, gravity=gravity, validate=validate)
+        return cls(model, source=source, gravity=gravity, validate=validate, floor=floor)
 
     @classmethod
     def from_robot(
@@ -122,11 +134,14 @@ class Mechanism:
         mimic: bool = False,
         validate: bool = True,
         pseudo_bases: Iterable[str | dict | PseudoBase] | None = None,
+        floor: float | None = None,
     ) -> Mechanism:
-        """Load a robot of example-robot-data by name (``"ur5"``, ``"panda"``, ...; ``validate``, ``pseudo_bases``:
-        as :meth:`from_urdf`)."""
+        """Load a robot of example-robot-data by name (``"ur5"``, ``"panda"``, ...; ``validate``, ``pseudo_bases``,
+        ``floor``: as :meth:`from_urdf`)."""
         path = robots.robot_urdf(name)
-        mechanism = cls.from_urdf(path, gravity=gravity, mimic=mimic, validate=validate, pseudo_bases=pseudo_bases)
+        mechanism = cls.from_urdf(
+            path, gravity=gravity, mimic=mimic, validate=validate, pseudo_bases=pseudo_bases, floor=floor
+        )
         mechanism.source = {**mechanism.source, "kind": "robot", "robot": name}
         return mechanism
 
@@ -143,6 +158,7 @@ class Mechanism:
         mimic = bool(source.get("mimic", False))
         options: dict[str, Any] = {"mimic": mimic, "validate": source.get("validate", True) is not False}
         options["pseudo_bases"] = source.get("pseudo_bases")
+        options["floor"] = source.get("floor")
         if kind == "robot":
             return cls.from_robot(source["robot"], gravity=gravity, **options)
         if kind == "urdf":
@@ -407,3 +423,19 @@ def _gravity_vector(gravity: npt.ArrayLike) -> np.ndarray:
 def _clean(value: float) -> float:
     """``value`` rounded to 1e-12, without a negative zero."""
     return float(round(float(value), 12)) + 0.0
+
+
+def _floor_height(floor: object, name: str) -> float | None:
+    """The floor's height [m] (a finite number), None for none; InputError naming the mechanism otherwise."""
+    if floor is None:
+        return None
+    try:
+        height = float(floor)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        height = float("nan")
+    if isinstance(floor, bool) or not np.isfinite(height) or abs(height) > MAX_FLOOR:
+        raise InputError(
+            f"mechanism {name!r}: floor must be a finite height [m] of the world plane z = floor, within "
+            f"±{MAX_FLOOR:g} m, got {floor!r}"
+        )
+    return height

@@ -32,8 +32,9 @@ import numpy as np
 
 from springbalance.design.evaluated import EvaluatedDesign
 from springbalance.errors import InputError
-from springbalance.model.collision import CollisionScene, capsule_radius, collision_geometry, surface_distance
+from springbalance.model.collision import CollisionScene, capsule_radius, collision_geometry
 from springbalance.model.inside_link import DEPTH_TOLERANCE, OWN_STRETCH, centre_line_inside
+from springbalance.model.surfaces import surface_distance
 
 __all__ = ["DEPTH_TOLERANCE", "OWN_STRETCH", "OwnLinkFinding", "inside_own_link"]
 _CACHE: weakref.WeakKeyDictionary[EvaluatedDesign, list[OwnLinkFinding]] = weakref.WeakKeyDictionary()
@@ -124,7 +125,7 @@ def _ends(result: EvaluatedDesign, scene: CollisionScene, geometry: Any) -> list
         if len(variants) == 1:
             variants = [(None, variants[0][1])]
         for own in (0, 1):
-            objects = [i for i, link in enumerate(scene.links) if link == bodies[own]]
+            objects = [i for i, link in enumerate(scene.bodies) if link == bodies[own]]
             if not objects:
                 continue
             for scenario, points in variants:

@@ -16,9 +16,10 @@ from collections.abc import Collection
 import numpy as np
 
 from springbalance.errors import InputError
-from springbalance.model.collision import CollisionScene, capsule_radius, collision_geometry, surface_distance
+from springbalance.model.collision import CollisionScene, capsule_radius, collision_geometry
 from springbalance.model.inside_link import DEPTH_TOLERANCE, centre_line_inside
 from springbalance.model.mechanism import Mechanism
+from springbalance.model.surfaces import surface_distance
 from springbalance.viz.tracks import SpringTrack
 
 
@@ -47,7 +48,7 @@ def add_own_link(
         track.inside = np.zeros(len(configurations))
         track.inside_point = np.full((len(configurations), 3), np.nan)
         for own, (body, point) in enumerate(zip(track.bodies, track.points)):
-            objects = [i for i, link in enumerate(scene.links) if link == body]
+            objects = [i for i, link in enumerate(scene.bodies) if link == body]
             if objects:
                 depth = max(0.0, -surface_distance(mechanism, geometry, body, point)[0])
                 positions = (track.starts, track.ends) if own == 0 else (track.ends, track.starts)

@@ -219,6 +219,10 @@ with warnings.catch_warnings():
         ] = optional(
             "magnitude g [m/s²], meaning (0, 0, -g), or the gravity vector [m/s²] in the world frame", shown=9.81
         )
+        floor: Number = optional(
+            "height [m] of the floor or table the arm stands on, the world plane z = floor: with a clearance, the "
+            "springs keep its margin above it (a spring anchored on the ground is exempt)"
+        )
         mimic: bool = Field(False, description="parse URDF mimic joints as coupled joints (closed chains)")
         pseudo_bases: list[_PseudoBase] = optional(
             "joints that get a pseudo-base pb_<joint> (a joint name or {joint, mass, com}); see docs/model.md §1.1"
