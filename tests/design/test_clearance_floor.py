@@ -48,6 +48,7 @@ def test_the_floor_is_an_object_of_the_ground_named_floor_and_ground_springs_are
     floor = scene.links.index(FLOOR)
     assert scene.bodies[floor] == "universe"
     assert floor not in scene.indices_except(["universe", "link1"])  # a ground → link1 spring
+    assert floor not in scene.indices_except(["base", "link2"])  # a spring from the arm's base (welded to the ground)
     assert floor in scene.indices_except(["link1", "link2"])
     scene.place(np.zeros(arm.nv))
     for z, expected in ((0.1, 0.1 - FLOOR_HEIGHT - 0.01), (-0.2, -0.2 - FLOOR_HEIGHT - 0.01)):

@@ -264,9 +264,10 @@ class CollisionScene:
         self._bounds: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None  # bounding_capsules, once
 
     def indices_except(self, bodies: Sequence[str]) -> list[int]:
-        """Indices of the collision objects not carried by any of ``bodies`` (a spring anchored on the ground is
-        exempt from the floor, which the ground carries)."""
-        return [i for i, body in enumerate(self.bodies) if body not in bodies]
+        """Indices of the collision objects not carried by any of ``bodies``; the floor is left out too when one of
+        ``bodies`` is the ground or a link welded to it (a spring anchored on the arm's base stands on the floor)."""
+        grounded = any(self.mechanism.is_ground(body) for body in bodies)
+        return [i for i, body in enumerate(self.bodies) if body not in bodies and not (grounded and i in self._floors)]
 
     def place(self, configuration: np.ndarray) -> None:
         """Move the arm and its collision objects to configuration ``q`` (Pinocchio's order)."""

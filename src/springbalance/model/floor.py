@@ -4,7 +4,7 @@
 The floor is the world plane ``z = h`` [m]. It joins the arm's collision geometry
 (:func:`~springbalance.model.collision.collision_geometry`) as a box of the ground whose top face is that plane
 (:func:`floor_object`), so that the clearance check, the fit to the arm, the verification and the reports keep the
-springs ``margin`` above it as they keep them from the links; a spring anchored on the ground is exempt, as a
+springs ``margin`` above it as they keep them from the links; a spring anchored on the ground or the arm's base is exempt, as a
 spring is from its anchor bodies. The box is :data:`FLOOR_THICKNESS` deep, so that a spring below the floor lies
 inside it (a negative distance, and a normal that lifts it), not clear beneath it.
 

@@ -221,7 +221,7 @@ with warnings.catch_warnings():
         )
         floor: Number = optional(
             "height [m] of the floor or table the arm stands on, the world plane z = floor: with a clearance, the "
-            "springs keep its margin above it (a spring anchored on the ground is exempt)"
+            "springs keep its margin above it (a spring anchored on the ground or the arm's base is exempt)"
         )
         mimic: bool = Field(False, description="parse URDF mimic joints as coupled joints (closed chains)")
         pseudo_bases: list[_PseudoBase] = optional(
