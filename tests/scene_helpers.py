@@ -38,8 +38,9 @@ URDF = ROOT / "urdf"
 LINK1_RGB = (0.2, 0.3, 0.8)
 
 
-def two_link_design(n: int = 7) -> sb.DesignResult:
-    mechanism = sb.Mechanism.from_urdf(URDF / "two_link_planar.urdf")
+def two_link_design(n: int = 7, floor: float | None = None) -> sb.DesignResult:
+    """The two-link arm with a ground spring and an elbow spring (``floor`` [m]: the mechanism's floor)."""
+    mechanism = sb.Mechanism.from_urdf(URDF / "two_link_planar.urdf", floor=floor)
     workspace = sb.Workspace.grid(mechanism, n, ranges={"shoulder": [-80, 80], "elbow": [-100, 100]}, degrees=True)
     springs = [
         sb.ExtensionSpring(

@@ -69,6 +69,17 @@ def test_camera_looks_at_the_middle_of_the_arm_and_the_grid_is_under_it():
         assert spread.max() >= least, (len(poses), spread)
 
 
+def test_the_grid_lies_on_the_mechanisms_floor_when_it_has_one():
+    """The floor (``mechanism.floor``) is the table the springs keep clear of: the grid is drawn there, 1 m below
+    the shoulder and so well below the arm's lowest point (which is where it goes without one)."""
+    design = two_link_design(floor=-1.0)
+    path = sweeps.animation_path(design, frames_per_joint=4)
+    scene = viz.DesignScene(design, path)
+    grid = _transform(record_scene(scene).tree["Grid"])[2, 3] + scene.camera_target[2]
+    assert grid == pytest.approx(-1.0, abs=1e-12)
+    assert grid < arm_points(design, path).min(axis=0)[2] - 0.05
+
+
 def test_anchor_regions_are_hidden_wireframes():
     design = two_link_design()
     scene = viz.DesignScene(design, sweeps.animation_path(design, 4))

@@ -415,14 +415,15 @@ class DesignScene:
     def _set_camera(self, visualizer: Any, arm: Any) -> None:
         """Frame the arm and its springs (not the hidden anchor regions): the first pose as large as the view
         allows with every pose of the path in view, from a three-quarter view (:func:`~springbalance.viz.framing.best_view`);
-        the grid under the arm."""
+        the grid under the arm, or on the mechanism's floor when it has one (the table its springs keep clear of)."""
         model = self.mechanism.model
         motion = view_points(self.springs, model, arm.visual_model, self.configurations)
         view = best_view(motion, view_points(self.springs, model, arm.visual_model, self.configurations, slice(0, 1)))
         self.camera_target, self.camera_position, self.camera_share = view
         self.camera_center = view.target
         self.camera_radius = float(np.max(np.linalg.norm(motion - view.target, axis=1)))
-        place_camera(visualizer, view.position, view.target, float(motion[:, 2].min()), self.camera_radius)
+        floor = self.mechanism.floor if self.mechanism.floor is not None else float(motion[:, 2].min())
+        place_camera(visualizer, view.position, view.target, floor, self.camera_radius)
 
     # ---------------------------------------------------------------- exports
     def labels(self) -> str:
