@@ -47,7 +47,7 @@ class Mechanism:
         joints: the degrees of freedom, in the order of the torque vector.
         source: how to rebuild this mechanism (saved with designs).
         floor: the height [m] of the floor (or table) the arm stands on, the world plane ``z = floor``, or None:
-            a collision object below it that springs keep clear of (:func:`~springbalance.model.collision.collision_geometry`).
+            a collision object below it that springs keep clear of (:mod:`springbalance.model.floor`).
     """
 
     def __init__(
@@ -67,9 +67,9 @@ class Mechanism:
         elif self.source.get("kind") == "model":  # a URDF was checked before Pinocchio read it
             validation.check_model(self.model, f"mechanism {self.model.name!r}")
         self.source["gravity"] = [float(v) for v in self.model.gravity.linear]
-        self.floor = _floor_height(floor if floor is not None else self.source.get("floor"), self.model.name)
-        if self.floor is not None:
-            self.source["floor"] = self.floor
+        self._floor = _floor_height(floor if floor is not None else self.source.get("floor"), self.model.name)
+        if self._floor is not None:
+            self.source["floor"] = self._floor
         self.joints = degrees_of_freedom(self.model)
         if len(self.joints) != self.model.nv:
             raise InputError(
@@ -168,6 +168,12 @@ class Mechanism:
         raise InputError(f"cannot rebuild a mechanism from source kind {kind!r} (a bare Pinocchio model is not saved)")
 
     # ----------------------------------------------------------------- names
+    @property
+    def floor(self) -> float | None:
+        """The height [m] of the floor the arm stands on (the world plane ``z = floor``), or None; fixed at
+        construction, as the collision geometry is built with it."""
+        return self._floor
+
     @property
     def name(self) -> str:
         """The model name (the URDF ``<robot name>``)."""
