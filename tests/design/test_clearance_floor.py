@@ -84,7 +84,8 @@ def test_the_floor_is_saved_with_the_design_and_checked_again_from_the_file(tmp_
     result.save(path)
     loaded = sb.DesignResult.load(path)
     assert loaded.problem.mechanism.floor == FLOOR_HEIGHT
-    assert loaded.clearance(samples=CHECK).row("hanging").link == FLOOR
+    report = loaded.clearance(samples=CHECK)
+    assert report.row("hanging").link == FLOOR and "and to the floor" in str(report).splitlines()[0]
     assert main(["clearance", str(path), "--samples", str(CHECK)]) == 3  # the spring through the floor fails
 
 

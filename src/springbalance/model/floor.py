@@ -23,10 +23,11 @@ import pinocchio as pin
 if TYPE_CHECKING:
     import coal
 
-#: the name of the floor's collision object (:func:`floor_object`); reports call it :data:`FLOOR`
-FLOOR_OBJECT = "springbalance_floor"
 #: what reports call the floor (in place of the ground body that carries it)
 FLOOR = "floor"
+#: the name of the floor's collision object (:func:`floor_object`): no URDF's object is named so (Pinocchio names
+#: them ``<link>_<index>``)
+FLOOR_OBJECT = FLOOR
 #: half the floor slab's side [m] (it is centred under the world origin) and its thickness [m]: thick enough
 #: that a spring below the floor is inside the slab (a negative distance, pushed up), not clear beneath it
 FLOOR_HALF_SIDE, FLOOR_THICKNESS = 50.0, 20.0

@@ -39,6 +39,7 @@ from springbalance.design.problem import DesignProblem
 from springbalance.errors import InputError
 from springbalance.export.common import spring_name
 from springbalance.model.collision import CollisionScene, capsule_radius, collision_geometry
+from springbalance.model.floor import FLOOR
 from springbalance.model.workspace import Workspace
 
 
@@ -155,8 +156,9 @@ class ClearanceReport:
 
         Distances are printed in mm, the pose's angles in degrees and prismatic joints in m.
         """
+        floor = " and to the floor" if FLOOR in self.collision_objects else ""
         header = (
-            f"Clearance of the springs to the collision geometry of {self.mechanism!r} "
+            f"Clearance of the springs to the collision geometry of {self.mechanism!r}{floor} "
             f"over {self.poses} poses (margin {self.margin * 1e3:.1f} mm; a spring's anchor bodies are exempt)"
         )
         table = [["spring", "radius [mm]", "clearance [mm]", "closest link", "status", "at pose"]]
