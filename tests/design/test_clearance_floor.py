@@ -98,7 +98,9 @@ springs:
 """
 
 
-@pytest.mark.parametrize("floor, culprit", [("[0, 0]", "mechanism.floor"), ("1.0e+3", "floor"), (".nan", "floor")])
+@pytest.mark.parametrize(
+    "floor, culprit", [("[0, 0]", "mechanism.floor"), ("1.0e+3", "mechanism.floor"), (".nan", "floor")]
+)
 def test_a_bad_floor_gets_one_line_naming_it(tmp_path, capsys, floor, culprit):
     config = tmp_path / "floor.yaml"
     config.write_text(CONFIG.format(urdf=URDF, floor=floor))

@@ -4,9 +4,9 @@
 The floor is the world plane ``z = h`` [m]. It joins the arm's collision geometry
 (:func:`~springbalance.model.collision.collision_geometry`) as a box of the ground whose top face is that plane
 (:func:`floor_object`), so that the clearance check, the fit to the arm, the verification and the reports keep the
-springs ``margin`` above it as they keep them from the links; a spring anchored on the ground or the arm's base is exempt, as a
-spring is from its anchor bodies. The box is :data:`FLOOR_THICKNESS` deep, so that a spring below the floor lies
-inside it (a negative distance, and a normal that lifts it), not clear beneath it.
+springs ``margin`` above it as they keep them from the links; a spring anchored on the ground or the arm's base is
+exempt, as a spring is from its anchor bodies. The box is :data:`FLOOR_THICKNESS` deep, so that a spring below the
+floor lies inside it (a negative distance, and a normal that lifts it), not clear beneath it.
 
 A capsule's distance to the floor is measured in closed form (:func:`floor_contact`, :func:`capsule_height`): the
 height of its axis' lower end above the plane less its radius, with the normal ``+z``. (GJK on a face parallel to

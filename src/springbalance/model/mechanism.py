@@ -67,7 +67,7 @@ class Mechanism:
         elif self.source.get("kind") == "model":  # a URDF was checked before Pinocchio read it
             validation.check_model(self.model, f"mechanism {self.model.name!r}")
         self.source["gravity"] = [float(v) for v in self.model.gravity.linear]
-        self._floor = _floor_height(floor if floor is not None else self.source.get("floor"), self.model.name)
+        self._floor = checked_floor(floor if floor is not None else self.source.get("floor"), self.model.name)
         if self._floor is not None:
             self.source["floor"] = self._floor
         self.joints = degrees_of_freedom(self.model)
@@ -431,7 +431,7 @@ def _clean(value: float) -> float:
     return float(round(float(value), 12)) + 0.0
 
 
-def _floor_height(floor: object, name: str) -> float | None:
+def checked_floor(floor: object, name: str) -> float | None:
     """The floor's height [m] (a finite number), None for none; InputError naming the mechanism otherwise."""
     if floor is None:
         return None
