@@ -341,6 +341,10 @@ class CollisionScene:
             )
         )
 
+    def between(self, first: int, second: int) -> float:
+        """Signed distance [m] between objects ``first`` and ``second`` at the placed configuration."""
+        return self.distance_to(self.objects[first].geometry, self._placement(first), second)
+
     def capsule_distance(self, start: np.ndarray, end: np.ndarray, radius: float, index: int) -> Contact:
         """Signed distance from the capsule ``start``–``end`` of ``radius`` [m] (world) to object ``index``."""
         import coal

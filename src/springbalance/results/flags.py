@@ -38,6 +38,7 @@ The warnings:
   beyond its anchor (:mod:`springbalance.results.own_link`; only with collision geometry).
 - ``weak_design``: see :mod:`springbalance.results.weak_design`.
 - ``beyond_joint_limits``, ``off_series_wire``: see :mod:`springbalance.results.range_flags`.
+- ``arm_through_floor``: see :mod:`springbalance.results.floor_flags`.
 - ``short_life``: a coil without a stated duty that would not live the default one; see
   :mod:`springbalance.results.fatigue_flags`.
 - ``long_bracket``: an anchor that stands far off its link (a bracket the design leaves out); see
@@ -62,6 +63,7 @@ from springbalance.results.brackets import long_bracket_flags
 from springbalance.results.failure_flags import infeasible_flags, not_converged_flags, overlap_flags, partial_flags
 from springbalance.results.fatigue_flags import short_life_flags
 from springbalance.results.flag import FAILURE, WARNING, Flag, failures_first
+from springbalance.results.floor_flags import arm_through_floor_flags
 from springbalance.results.own_link import inside_own_link
 from springbalance.results.range_flags import beyond_joint_limits_flags, off_series_wire_flags
 from springbalance.results.rules import BOUND_TOLERANCE, at_bounds
@@ -86,6 +88,7 @@ KINDS = {
     "unbuildable_ideal": WARNING,
     "weak_design": WARNING,
     "beyond_joint_limits": WARNING,
+    "arm_through_floor": WARNING,
     "off_series_wire": WARNING,
     "heavy_springs": WARNING,
     "not_verified": FAILURE,
@@ -384,6 +387,7 @@ CHECKS: tuple[Callable[[EvaluatedDesign], list[Flag]], ...] = (
     unbuildable_flags,
     weak_design_flags,
     beyond_joint_limits_flags,
+    arm_through_floor_flags,
     off_series_wire_flags,
     short_life_flags,
     heavy_springs_flags,
