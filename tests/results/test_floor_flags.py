@@ -17,6 +17,8 @@ import pinocchio as pin
 import pytest
 
 import springbalance as sb
+from springbalance.model.collision import CollisionScene
+from springbalance.model.floor import FLOOR
 from springbalance.results.floor_flags import FLOOR_TOLERANCE, arm_through_floor_flags
 
 URDF = Path(__file__).resolve().parents[2] / "urdf" / "two_link_planar_collision.urdf"
@@ -71,3 +73,15 @@ def test_a_floor_below_the_arm_or_none_is_not_reported(floor):
     design = _design(floor)
     assert _lowest(design).min() > -0.95
     assert arm_through_floor_flags(design) == []
+
+
+def test_an_arm_without_a_urdf_has_the_floor_alone_and_no_warning():
+    """A mechanism built from a Pinocchio model has no links' geometry: its collision geometry is the floor alone
+    (the springs can still be kept above it), and the warning has no link to measure (it raised before)."""
+    arm = sb.Mechanism(sb.Mechanism.from_urdf(URDF).model, floor=0.0)
+    assert CollisionScene(arm).links == [FLOOR]
+    workspace = sb.Workspace.sobol(arm, n=8, seed=0)
+    spring = sb.ZeroFreeLengthSpring(sb.Anchor("link1", (0.3, 0, 0)), sb.Anchor("link2", (0.2, 0, 0)), stiffness=50)
+    problem = sb.DesignProblem(arm, workspace, [spring])
+    design = sb.DesignResult(problem, np.asarray(problem.variables.start, dtype=float))
+    assert arm_through_floor_flags(design) == [] and "arm_through_floor" not in {w.kind for w in design.warnings()}

@@ -77,6 +77,8 @@ def _loaded_geometry(mechanism: Mechanism) -> pin.GeometryModel:
     source = mechanism.source
     kind = source.get("kind")
     if kind not in ("urdf", "robot", "urdf_string"):
+        if mechanism.floor is not None:  # no links' geometry: the floor alone (:func:`with_floor` adds it)
+            return pin.GeometryModel()
         raise InputError(
             f"mechanism {mechanism.name!r} was not loaded from a URDF (source {kind!r}); "
             "clearance and mounting need the URDF's collision geometry"
