@@ -23,7 +23,7 @@ from springbalance.io.schema import (
     SolveRecord,
     WorkspaceRecord,
 )
-from springbalance.model.mechanism import Mechanism, checked_floor
+from springbalance.model.mechanism import Mechanism
 from springbalance.model.workspace import Coupling, Workspace
 from springbalance.springs.laws import Spring
 from springbalance.springs.records import spring_from_dict
@@ -38,8 +38,6 @@ def mechanism_from_record(model: MechanismRecord, base_dir: str | Path, where: s
         raise ConfigError(
             f"{where}: give exactly one of 'urdf' (a file) or 'robot' (an example-robot-data name){given}"
         )
-    with prefixed(f"{where}.floor"):  # (named here: the mechanism would name its source key)
-        checked_floor(model.floor, str(model.robot or model.urdf))
     options: dict[str, Any] = {
         "gravity": model.gravity,
         "mimic": model.mimic,

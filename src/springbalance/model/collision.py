@@ -31,7 +31,7 @@ import pinocchio as pin
 
 from springbalance.errors import InputError
 from springbalance.model import robots
-from springbalance.model.floor import FLOOR, FLOOR_OBJECT, capsule_height, floor_contact, floor_tops, with_floor
+from springbalance.model.floor import FLOOR, capsule_height, floor_contact, floor_tops, with_floor
 from springbalance.model.mechanism import Mechanism
 from springbalance.model.native import quiet_native_stderr
 
@@ -257,7 +257,7 @@ class CollisionScene:
         #: the body (URDF link, or the ground for the floor) that carries each collision object
         self.bodies = [model.frames[obj.parentFrame].name for obj in self.objects]
         #: what reports call each object's link: its body, or :data:`FLOOR` for the floor
-        self.links = [FLOOR if obj.name == FLOOR_OBJECT else body for obj, body in zip(self.objects, self.bodies)]
+        self.links = [FLOOR if obj.name == FLOOR else body for obj, body in zip(self.objects, self.bodies)]
         self._floors = floor_tops(self.objects)  # (measured in closed form: floor.py)
         self._data, self._geometry_data = model.createData(), self.geometry.createData()
         self._request = coal.DistanceRequest()

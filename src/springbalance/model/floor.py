@@ -23,11 +23,9 @@ import pinocchio as pin
 if TYPE_CHECKING:
     import coal
 
-#: what reports call the floor (in place of the ground body that carries it)
+#: the name of the floor's collision object (:func:`floor_object`), which reports give in place of the ground body
+#: that carries it: no URDF's object is named so (Pinocchio names them ``<link>_<index>``)
 FLOOR = "floor"
-#: the name of the floor's collision object (:func:`floor_object`): no URDF's object is named so (Pinocchio names
-#: them ``<link>_<index>``)
-FLOOR_OBJECT = FLOOR
 #: half the floor slab's side [m] (it is centred under the world origin) and its thickness [m]: thick enough
 #: that a spring below the floor is inside the slab (a negative distance, pushed up), not clear beneath it
 FLOOR_HALF_SIDE, FLOOR_THICKNESS = 50.0, 20.0
@@ -40,7 +38,7 @@ def floor_object(height: float) -> pin.GeometryObject:
 
     below = pin.SE3(np.eye(3), np.array([0.0, 0.0, height - FLOOR_THICKNESS / 2]))
     box = coal.Box(2 * FLOOR_HALF_SIDE, 2 * FLOOR_HALF_SIDE, FLOOR_THICKNESS)
-    return pin.GeometryObject(FLOOR_OBJECT, 0, 0, below, box)
+    return pin.GeometryObject(FLOOR, 0, 0, below, box)
 
 
 def with_floor(geometry: pin.GeometryModel, height: float | None) -> pin.GeometryModel:
@@ -55,7 +53,7 @@ def floor_tops(objects: Sequence[pin.GeometryObject]) -> dict[int, float]:
     return {
         index: float(obj.placement.translation[2] + obj.geometry.halfSide[2])
         for index, obj in enumerate(objects)
-        if obj.name == FLOOR_OBJECT
+        if obj.name == FLOOR
     }
 
 

@@ -11,9 +11,12 @@ and how many poses do it.
 
 from __future__ import annotations
 
+import weakref
+
 import numpy as np
 
 from springbalance.design.evaluated import EvaluatedDesign
+from springbalance.design.problem import DesignProblem
 from springbalance.model.collision import CollisionScene, collision_geometry
 from springbalance.model.floor import FLOOR
 from springbalance.results.flag import Flag
@@ -23,12 +26,25 @@ from springbalance.results.verification_report import pose_text
 FLOOR_TOLERANCE = 0.005
 
 
+#: problem → its flags: they depend on the mechanism and the workspace alone, and a design's findings are asked for
+#: several times (three in a run of ``springbalance design``)
+_FOUND: weakref.WeakKeyDictionary[DesignProblem, list[Flag]] = weakref.WeakKeyDictionary()
+
+
 def arm_through_floor_flags(result: EvaluatedDesign) -> list[Flag]:
     """``arm_through_floor``: one warning when links of the arm pass through its floor at poses of the workspace."""
-    mechanism = result.problem.mechanism
-    if mechanism.floor is None:
+    problem = result.problem
+    if problem.mechanism.floor is None:
         return []
-    joint_values = result.problem.base_workspace.joint_values
+    if problem not in _FOUND:
+        _FOUND[problem] = _through_floor(problem)
+    return list(_FOUND[problem])
+
+
+def _through_floor(problem: DesignProblem) -> list[Flag]:
+    """:func:`arm_through_floor_flags` of ``problem``'s workspace."""
+    mechanism = problem.mechanism
+    joint_values = problem.base_workspace.joint_values
     depths, deepest = _depths(CollisionScene(mechanism, collision_geometry(mechanism), convex=True), joint_values)
     through = depths > FLOOR_TOLERANCE
     if not np.any(through):
@@ -52,13 +68,9 @@ def arm_through_floor_flags(result: EvaluatedDesign) -> list[Flag]:
 
 def _depths(scene: CollisionScene, joint_values: np.ndarray) -> tuple[np.ndarray, list[str]]:
     """Per pose, how deep [m] the arm's moving links reach below the floor (≤ 0: above it) and the deepest link."""
-    import coal
-
     mechanism = scene.mechanism
     floor = scene.links.index(FLOOR)
     moving = [i for i, body in enumerate(scene.bodies) if i != floor and not mechanism.is_ground(body)]
-    request = coal.DistanceRequest()
-    request.enable_signed_distance = True
     depths, deepest = np.zeros(joint_values.shape[0]), [""] * joint_values.shape[0]
     for sample, q in enumerate(mechanism.configurations(joint_values)):
         scene.place(q)

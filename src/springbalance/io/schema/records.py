@@ -39,6 +39,7 @@ from springbalance.io.schema.fields import (
     optional,
 )
 from springbalance.io.schema.solve_record import SolveRecord
+from springbalance.model.mechanism import MAX_FLOOR
 
 
 class FreeRecord(Record, title="Free"):
@@ -219,7 +220,7 @@ with warnings.catch_warnings():
         ] = optional(
             "magnitude g [m/s²], meaning (0, 0, -g), or the gravity vector [m/s²] in the world frame", shown=9.81
         )
-        floor: Number = optional(
+        floor: Annotated[Number, annotated_types.Interval(ge=-MAX_FLOOR, le=MAX_FLOOR)] = optional(
             "height [m] of the floor or table the arm stands on, the world plane z = floor: with a clearance, the "
             "springs keep its margin above it (a spring anchored on the ground or the arm's base is exempt)"
         )
